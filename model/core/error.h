@@ -1,0 +1,47 @@
+// Errors of orcs: bad user input and failed runs.
+//
+// Every input is checked where it enters (DESIGN.md, "Errors and bad input"). An InputError names the
+// source (a file, or a field of a message), the line where there is one, what was expected and what was
+// found, in one line: "scenarios/x.xml:12: object 'Box': attribute 'mass' expected a number, found 'abc'".
+// Internal invariants are checked with assert(); they are programming errors, not user errors.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace orcs {
+
+/// Bad input from a user: a file, a command-line option, a message. Command-line programs print what()
+/// and exit with code 2.
+class InputError : public std::runtime_error {
+ public:
+  /// @param source  file name or field path the problem is in ("" when there is none).
+  /// @param line    1-based line number, or 0 when the source has no lines.
+  /// @param what    the problem, naming what was expected and what was found.
+  InputError(std::string source, int line, const std::string& what)
+      : std::runtime_error(Format(source, line, what)), source_(std::move(source)), line_(line) {}
+
+  explicit InputError(const std::string& what) : InputError("", 0, what) {}
+
+  const std::string& source() const { return source_; }
+  int line() const { return line_; }
+
+ private:
+  static std::string Format(const std::string& source, int line, const std::string& what) {
+    if (source.empty()) return what;
+    if (line <= 0) return source + ": " + what;
+    return source + ":" + std::to_string(line) + ": " + what;
+  }
+
+  std::string source_;
+  int line_ = 0;
+};
+
+/// The physics engine reported an error (ODE's error or debug handler fired). The world that raised it is
+/// no longer usable; the run ends with an error status instead of the process aborting.
+class PhysicsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace orcs

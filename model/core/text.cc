@@ -1,0 +1,103 @@
+#include "model/core/text.h"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <system_error>
+
+namespace orcs::text {
+
+std::string_view Trim(std::string_view text) {
+  const auto is_space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  while (!text.empty() && is_space(text.front())) text.remove_prefix(1);
+  while (!text.empty() && is_space(text.back())) text.remove_suffix(1);
+  return text;
+}
+
+std::string ToLower(std::string_view text) {
+  std::string lower(text);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower;
+}
+
+bool EqualsIgnoreCase(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i])))
+      return false;
+  }
+  return true;
+}
+
+std::optional<double> ParseDouble(std::string_view text) {
+  text = Trim(text);
+  if (!text.empty() && text.front() == '+') {
+    text.remove_prefix(1);
+    if (!text.empty() && text.front() == '-') return std::nullopt;  // "+-2" is not a number
+  }
+  if (text.empty()) return std::nullopt;
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || std::isnan(value)) return std::nullopt;
+  return value;
+}
+
+std::optional<long long> ParseInt(std::string_view text) {
+  text = Trim(text);
+  if (!text.empty() && text.front() == '+') {
+    text.remove_prefix(1);
+    if (!text.empty() && text.front() == '-') return std::nullopt;  // "+-2" is not a number
+  }
+  if (text.empty()) return std::nullopt;
+  long long value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+std::string FormatDouble(double value) {
+  char buffer[32];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return error == std::errc() ? std::string(buffer, end) : std::string("nan");
+}
+
+std::optional<std::vector<double>> ParseNumberTuple(std::string_view text) {
+  text = Trim(text);
+  if (text.size() >= 2 && text.front() == '(' && text.back() == ')') text = Trim(text.substr(1, text.size() - 2));
+  std::vector<double> numbers;
+  if (text.empty()) return numbers;
+  // Commas separate when present ("1, 2,3"); otherwise white space does ("1 2 3").
+  std::vector<std::string_view> fields;
+  if (text.find(',') != std::string_view::npos) {
+    fields = Split(text, ',');
+  } else {
+    for (std::string_view field : Split(text, ' ')) {
+      if (!Trim(field).empty()) fields.push_back(field);
+    }
+  }
+  for (std::string_view field : fields) {
+    const auto number = ParseDouble(field);
+    if (!number) return std::nullopt;
+    numbers.push_back(*number);
+  }
+  return numbers;
+}
+
+std::vector<std::string_view> Split(std::string_view text, char separator) {
+  std::vector<std::string_view> fields;
+  size_t pos = 0;
+  while (true) {
+    const size_t end = text.find(separator, pos);
+    fields.push_back(text.substr(pos, end == std::string_view::npos ? text.npos : end - pos));
+    if (end == std::string_view::npos) return fields;
+    pos = end + 1;
+  }
+}
+
+std::string Quote(std::string_view text) {
+  constexpr size_t kMax = 40;
+  if (text.size() > kMax) return "'" + std::string(text.substr(0, kMax)) + "...'";
+  return "'" + std::string(text) + "'";
+}
+
+}  // namespace orcs::text

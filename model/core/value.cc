@@ -1,0 +1,169 @@
+#include "model/core/value.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <optional>
+
+#include "model/core/text.h"
+
+namespace orcs {
+namespace {
+
+struct NamedColor {
+  std::string_view name;
+  Color color;
+};
+
+// Names the original's environment files use, plus the usual basic colours.
+constexpr std::array<NamedColor, 16> kNamedColors{{
+    {"black", {0, 0, 0, 255}},       {"white", {255, 255, 255, 255}},  {"red", {255, 0, 0, 255}},
+    {"green", {0, 255, 0, 255}},     {"blue", {0, 0, 255, 255}},       {"yellow", {255, 255, 0, 255}},
+    {"cyan", {0, 255, 255, 255}},    {"magenta", {255, 0, 255, 255}},  {"orange", {255, 165, 0, 255}},
+    {"gray", {128, 128, 128, 255}},  {"grey", {128, 128, 128, 255}},   {"lightgray", {211, 211, 211, 255}},
+    {"darkgray", {64, 64, 64, 255}}, {"brown", {139, 69, 19, 255}},    {"purple", {128, 0, 128, 255}},
+    {"transparent", {0, 0, 0, 0}},
+}};
+
+std::optional<bool> ParseBool(std::string_view text) {
+  text = text::Trim(text);
+  for (std::string_view yes : {"T", "true", "1"})
+    if (text::EqualsIgnoreCase(text, yes)) return true;
+  for (std::string_view no : {"F", "false", "0"})
+    if (text::EqualsIgnoreCase(text, no)) return false;
+  return std::nullopt;
+}
+
+template <int N>
+std::optional<Eigen::Matrix<double, N, 1>> ParseFixedTuple(std::string_view text) {
+  const auto numbers = text::ParseNumberTuple(text);
+  if (!numbers || numbers->size() != N) return std::nullopt;
+  Eigen::Matrix<double, N, 1> result;
+  for (int i = 0; i < N; ++i) result[i] = (*numbers)[i];
+  return result;
+}
+
+std::string FormatTuple(std::initializer_list<double> numbers) {
+  std::string out = "(";
+  for (double number : numbers) {
+    if (out.size() > 1) out += ',';
+    out += text::FormatDouble(number);
+  }
+  return out + ")";
+}
+
+}  // namespace
+
+std::string_view ValueTypeName(ValueType type) {
+  switch (type) {
+    case ValueType::kBool: return "bool";
+    case ValueType::kInt: return "int";
+    case ValueType::kDouble: return "double";
+    case ValueType::kString: return "string";
+    case ValueType::kColor: return "color";
+    case ValueType::kVector3: return "vector3d";
+    case ValueType::kQuaternion: return "quaternion";
+  }
+  return "?";
+}
+
+std::optional<Color> ParseColor(std::string_view text) {
+  text = text::Trim(text);
+  for (const NamedColor& named : kNamedColors)
+    if (text::EqualsIgnoreCase(text, named.name)) return named.color;
+  const auto numbers = text::ParseNumberTuple(text);
+  if (!numbers || (numbers->size() != 3 && numbers->size() != 4)) return std::nullopt;
+  std::array<int, 4> channels{0, 0, 0, 255};
+  for (size_t i = 0; i < numbers->size(); ++i) {
+    const double channel = (*numbers)[i];
+    if (channel < 0 || channel > 255 || channel != std::floor(channel)) return std::nullopt;
+    channels[i] = static_cast<int>(channel);
+  }
+  return Color{channels[0], channels[1], channels[2], channels[3]};
+}
+
+Eigen::Quaterniond Value::as_quaternion() const {
+  const auto& q = std::get<Eigen::Vector4d>(data_);
+  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+}
+
+std::string Value::ToString() const {
+  switch (type()) {
+    case ValueType::kBool: return as_bool() ? "T" : "F";
+    case ValueType::kInt: return std::to_string(as_int());
+    case ValueType::kDouble: return text::FormatDouble(as_double());
+    case ValueType::kString: return as_string();
+    case ValueType::kColor: {
+      const Color c = as_color();
+      return "(" + std::to_string(c.r) + "," + std::to_string(c.g) + "," + std::to_string(c.b) + "," +
+             std::to_string(c.a) + ")";
+    }
+    case ValueType::kVector3: {
+      const auto& v = as_vector3();
+      return FormatTuple({v.x(), v.y(), v.z()});
+    }
+    case ValueType::kQuaternion: {
+      const auto& q = std::get<Eigen::Vector4d>(data_);
+      return FormatTuple({q[0], q[1], q[2], q[3]});
+    }
+  }
+  return "";
+}
+
+std::optional<Value::Data> Value::Parse(ValueType type, std::string_view text, std::string& expected) {
+  // Each branch: parse, and either return the new data or say what was expected.
+  const auto result = [&expected](const auto& parsed, std::string_view what) -> std::optional<Data> {
+    if (!parsed) {
+      expected = what;
+      return std::nullopt;
+    }
+    return Data(*parsed);
+  };
+  switch (type) {
+    case ValueType::kBool: return result(ParseBool(text), "T or F");
+    case ValueType::kInt: {
+      const auto parsed = text::ParseInt(text);
+      return result(parsed ? std::optional<std::int64_t>(*parsed) : std::nullopt, "an integer");
+    }
+    case ValueType::kDouble: return result(text::ParseDouble(text), "a number");
+    case ValueType::kString: return Data(std::string(text));
+    case ValueType::kColor: return result(ParseColor(text), "a colour name or (r,g,b[,a]) with channels 0..255");
+    case ValueType::kVector3: return result(ParseFixedTuple<3>(text), "a vector (x,y,z)");
+    case ValueType::kQuaternion: return result(ParseFixedTuple<4>(text), "a quaternion (w,x,y,z)");
+  }
+  expected = "a value";
+  return std::nullopt;
+}
+
+std::string Value::SetFromString(std::string_view text) {
+  std::string expected;
+  std::optional<Data> parsed = Parse(type(), text, expected);
+  if (!parsed) return expected;
+  if (!(*parsed == data_)) {
+    data_ = std::move(*parsed);
+    Notify();
+  }
+  return "";
+}
+
+std::string Value::CheckString(std::string_view text) const {
+  std::string expected;
+  Parse(type(), text, expected);
+  return expected;
+}
+
+int Value::AddObserver(Observer observer) {
+  observers_.emplace_back(next_observer_id_, std::move(observer));
+  return next_observer_id_++;
+}
+
+void Value::RemoveObserver(int id) {
+  std::erase_if(observers_, [id](const auto& entry) { return entry.first == id; });
+}
+
+void Value::Notify() const {
+  for (const auto& [id, observer] : observers_) observer(*this);
+}
+
+}  // namespace orcs

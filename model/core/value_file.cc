@@ -1,0 +1,92 @@
+#include "model/core/value_file.h"
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+
+#include "model/core/atomic_file.h"
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+namespace orcs {
+namespace {
+
+constexpr std::string_view kInclude = "#include";
+
+void ReadInto(const std::filesystem::path& file, int depth, std::vector<ValueAssignment>& out);
+
+// "#include <other.val>" or "#include other.val"; the file name relative to the including file.
+void ReadInclude(const std::filesystem::path& file, int line_number, std::string_view line, int depth,
+                 std::vector<ValueAssignment>& out) {
+  std::string_view name = text::Trim(line.substr(kInclude.size()));
+  if (name.size() >= 2 && name.front() == '<' && name.back() == '>') name = text::Trim(name.substr(1, name.size() - 2));
+  if (name.empty()) throw InputError(file.string(), line_number, "#include expected a file name, found nothing");
+  if (depth + 1 > ValueFile::kMaxIncludeDepth) {
+    throw InputError(file.string(), line_number,
+                     "#include nested deeper than " + std::to_string(ValueFile::kMaxIncludeDepth) +
+                         " files (an include cycle?)");
+  }
+  const std::filesystem::path included = file.parent_path() / std::string(name);
+  if (!std::filesystem::is_regular_file(included)) {
+    throw InputError(file.string(), line_number, "#include: cannot read '" + included.string() + "'");
+  }
+  ReadInto(included, depth + 1, out);
+}
+
+void ReadInto(const std::filesystem::path& file, int depth, std::vector<ValueAssignment>& out) {
+  std::ifstream in(file);
+  if (!in || std::filesystem::is_directory(file)) throw InputError(file.string(), 0, "cannot read the file");
+  std::string raw;
+  for (int line_number = 1; std::getline(in, raw); ++line_number) {
+    const std::string_view line = text::Trim(raw);
+    if (line.starts_with(kInclude) &&
+        (line.size() == kInclude.size() || !std::isalnum(static_cast<unsigned char>(line[kInclude.size()])))) {
+      ReadInclude(file, line_number, line, depth, out);
+      continue;
+    }
+    if (line.empty() || line.front() == '#') continue;
+    const size_t equals = line.find('=');
+    if (equals == std::string_view::npos) {
+      throw InputError(file.string(), line_number, "expected 'path=value', found " + text::Quote(line));
+    }
+    const std::string_view path = text::Trim(line.substr(0, equals));
+    if (path.empty()) throw InputError(file.string(), line_number, "expected a path before '=', found nothing");
+    out.push_back({std::string(path), std::string(text::Trim(line.substr(equals + 1))), file.string(), line_number});
+  }
+}
+
+}  // namespace
+
+std::vector<ValueAssignment> ValueFile::Read(const std::string& file) {
+  std::vector<ValueAssignment> assignments;
+  ReadInto(file, 0, assignments);
+  return assignments;
+}
+
+void ValueFile::Apply(const std::string& file, VariableRepository& repository) {
+  const std::vector<ValueAssignment> assignments = Read(file);
+  // Check everything first, so that a bad line leaves the repository as it was.
+  for (const ValueAssignment& assignment : assignments) {
+    const Value* value = repository.Find(assignment.path);
+    if (value == nullptr) {
+      throw InputError(assignment.file, assignment.line, "unknown repository path '" + assignment.path + "'");
+    }
+    if (const std::string expected = value->CheckString(assignment.value); !expected.empty()) {
+      throw InputError(assignment.file, assignment.line,
+                       assignment.path + ": expected " + expected + ", found " + text::Quote(assignment.value));
+    }
+  }
+  for (const ValueAssignment& assignment : assignments) repository.Set(assignment.path, assignment.value);
+}
+
+void ValueFile::Save(const std::string& file, const VariableRepository& repository, const std::string& saved_at,
+                     const std::string& regular_expression) {
+  AtomicFile out(file);
+  out.stream() << "#ORCS Values\n#Saved at: " << saved_at << "\n";
+  for (int id : repository.Match(regular_expression)) {
+    out.stream() << repository.path(id) << "=" << repository.value(id).ToString() << "\n";
+  }
+  out.Commit();
+}
+
+}  // namespace orcs

@@ -1,0 +1,42 @@
+// Value files (.val) of the original (spec/osp.md "Value files"): lines "path=value", trimmed; '#' starts a
+// comment; "#include <file>" loads another file relative to the including one; booleans are T/F. Saved files
+// begin with a "#ORCS Values" header and a "#Saved at:" line.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model/core/variable_repository.h"
+
+namespace orcs {
+
+/// One "path=value" line, with where it came from (for error messages).
+struct ValueAssignment {
+  std::string path;   ///< repository path, trimmed
+  std::string value;  ///< value text, trimmed
+  std::string file;   ///< file the line is in
+  int line = 0;       ///< 1-based line number
+};
+
+class ValueFile {
+ public:
+  /// Reads a value file and everything it includes, in order. Throws InputError naming the file and line for
+  /// an unreadable file, a line without '=', an empty path, a malformed or missing #include, or includes
+  /// nested deeper than kMaxIncludeDepth (an include cycle).
+  static std::vector<ValueAssignment> Read(const std::string& file);
+
+  /// Reads a value file and applies every assignment to `repository`, in order. Throws InputError naming the
+  /// file and line for an unknown path or a value that does not parse; the repository is left unchanged then
+  /// (the whole file is checked before anything is set).
+  static void Apply(const std::string& file, VariableRepository& repository);
+
+  /// Writes every value whose path matches `regular_expression` (all by default) to `file`, via a temporary
+  /// name and a rename. `saved_at` is the text of the "#Saved at:" line. Throws InputError when the file cannot
+  /// be written.
+  static void Save(const std::string& file, const VariableRepository& repository, const std::string& saved_at,
+                   const std::string& regular_expression = ".*");
+
+  static constexpr int kMaxIncludeDepth = 16;
+};
+
+}  // namespace orcs

@@ -1,0 +1,109 @@
+#include "model/core/value_logger.h"
+
+#include <algorithm>
+
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+namespace orcs {
+namespace {
+
+// Suffixes of the columns a value of each type spreads over ("" = one column named by the path).
+std::vector<std::string_view> ComponentSuffixes(ValueType type) {
+  switch (type) {
+    case ValueType::kVector3: return {".x", ".y", ".z"};
+    case ValueType::kQuaternion: return {".w", ".x", ".y", ".z"};
+    case ValueType::kColor: return {".r", ".g", ".b", ".a"};
+    default: return {""};
+  }
+}
+
+// Appends a string field, quoted when it holds a separator or a quote (RFC 4180).
+void AppendStringField(std::string& row, const std::string& field) {
+  if (field.find_first_of(",\"\n") == std::string::npos) {
+    row += field;
+    return;
+  }
+  row += '"';
+  for (char c : field) {
+    if (c == '"') row += '"';
+    row += c;
+  }
+  row += '"';
+}
+
+void AppendValue(std::string& row, const Value& value) {
+  switch (value.type()) {
+    case ValueType::kBool: row += value.as_bool() ? "1" : "0"; break;
+    case ValueType::kInt: row += std::to_string(value.as_int()); break;
+    case ValueType::kDouble: row += text::FormatDouble(value.as_double()); break;
+    case ValueType::kString: AppendStringField(row, value.as_string()); break;
+    case ValueType::kColor: {
+      const Color c = value.as_color();
+      row += std::to_string(c.r) + ',' + std::to_string(c.g) + ',' + std::to_string(c.b) + ',' + std::to_string(c.a);
+      break;
+    }
+    case ValueType::kVector3: {
+      const auto& v = value.as_vector3();
+      row += text::FormatDouble(v.x()) + ',' + text::FormatDouble(v.y()) + ',' + text::FormatDouble(v.z());
+      break;
+    }
+    case ValueType::kQuaternion: {
+      const auto q = value.as_quaternion();
+      row += text::FormatDouble(q.w()) + ',' + text::FormatDouble(q.x()) + ',' + text::FormatDouble(q.y()) + ',' +
+             text::FormatDouble(q.z());
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+ValueLogger::ValueLogger(const VariableRepository& repository, const std::vector<std::string>& regular_expressions)
+    : repository_(repository) {
+  for (const std::string& expression : regular_expressions) {
+    const std::vector<int> matched = repository.Match(expression);
+    if (matched.empty()) throw InputError("--log '" + expression + "': matches no repository value");
+    ids_.insert(ids_.end(), matched.begin(), matched.end());
+  }
+  std::sort(ids_.begin(), ids_.end());
+  ids_.erase(std::unique(ids_.begin(), ids_.end()), ids_.end());
+}
+
+std::vector<std::string> ValueLogger::column_names() const {
+  std::vector<std::string> names{"time"};
+  for (int id : ids_) {
+    for (std::string_view suffix : ComponentSuffixes(repository_.value(id).type())) {
+      names.push_back(repository_.path(id) + std::string(suffix));
+    }
+  }
+  return names;
+}
+
+void ValueLogger::Open(const std::string& path, const std::vector<std::string>& comments) {
+  file_.reset();  // an earlier, unfinished file first: it shares the temporary name and would remove ours
+  file_ = std::make_unique<AtomicFile>(path);
+  for (const std::string& comment : comments) file_->stream() << "# " << comment << '\n';
+  file_->stream() << "# columns: ";
+  const std::vector<std::string> names = column_names();
+  for (size_t i = 0; i < names.size(); ++i) file_->stream() << (i ? "," : "") << names[i];
+  file_->stream() << '\n';
+}
+
+void ValueLogger::Sample(double time) {
+  row_.clear();
+  row_ += text::FormatDouble(time);
+  for (int id : ids_) {
+    row_ += ',';
+    AppendValue(row_, repository_.value(id));
+  }
+  row_ += '\n';
+  file_->stream() << row_;
+}
+
+void ValueLogger::Finish() {
+  file_->Commit();
+  file_.reset();
+}
+
+}  // namespace orcs

@@ -1,0 +1,45 @@
+// Logs selected repository values once per step to a CSV file — the native trace format of orcs, shared by
+// simulated and measured runs (docs/formats.md):
+//
+//   # <comment lines: program, environment, seed, ...>
+//   # columns: time,/Sim/SecondSphere/Position.x,/Sim/SecondSphere/Position.y,...
+//   0.01,0.5,0.4995,...
+//
+// A vector3d value is three columns (path.x, .y, .z), a quaternion four (.w .x .y .z), a colour four
+// (.r .g .b .a); a bool is 0 or 1. Numbers print in shortest round-trip form. The file is written under a
+// temporary name and appears under its own name only at Finish().
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/core/atomic_file.h"
+#include "model/core/variable_repository.h"
+
+namespace orcs {
+
+class ValueLogger {
+ public:
+  /// Selects every value whose path matches one of `regular_expressions`, in repository order, each once.
+  /// Throws InputError when an expression is invalid or matches nothing (naming it).
+  ValueLogger(const VariableRepository& repository, const std::vector<std::string>& regular_expressions);
+
+  /// Column names: "time" first, then one per logged component.
+  std::vector<std::string> column_names() const;
+
+  /// Starts writing to `path`: the comment lines (each prefixed "# "), then the column line.
+  void Open(const std::string& path, const std::vector<std::string>& comments);
+  /// Appends one row with the current values; `time` in seconds. Only after Open().
+  void Sample(double time);
+  /// Completes the file (rename onto its name). Throws InputError when writing failed.
+  void Finish();
+
+ private:
+  const VariableRepository& repository_;
+  std::vector<int> ids_;
+  std::unique_ptr<AtomicFile> file_;
+  std::string row_;  // reused buffer, so sampling does not allocate once warm
+};
+
+}  // namespace orcs
