@@ -1,0 +1,46 @@
+// Run-time physics parameters: the per-run context of a world (Drake's Context), not part of its structure.
+// The scene layer fills this from the repository (/Simulation/..., /MaterialProperties/...) whenever those
+// values change, so a value file, a job or the OSP gateway can change them between or during runs.
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+
+#include "model/physics/material_table.h"
+
+namespace orcs::physics {
+
+/// Which ODE stepper integrates the world.
+enum class Solver {
+  kWorldStep,  ///< exact "big matrix" solver, dWorldStep (the original's choice)
+  kQuickStep,  ///< iterative solver, dWorldQuickStep, with `quickstep_iterations`
+};
+
+struct PhysicsParameters {
+  Eigen::Vector3d gravity{0.0, -9.81, 0.0};  ///< m/s², /Simulation/Gravitation (magnitude along −y)
+  double erp = 0.2;                   ///< world error reduction parameter, -, /Simulation/ODE/ERP
+  double cfm = 1e-5;                  ///< world constraint force mixing, -, /Simulation/ODE/ConstraintForceMixing
+  Solver solver = Solver::kWorldStep;  ///< /Simulation/ODE/Solver ("WorldStep" | "QuickStep")
+  int quickstep_iterations = 20;      ///< iterations of kQuickStep, /Simulation/ODE/QuickStepIterations
+  double contact_surface_layer = 0.001;  ///< m of allowed penetration, /Simulation/ODE/ContactSurfaceLayer
+  double contact_max_correcting_velocity = std::numeric_limits<double>::infinity();  ///< m/s
+  int max_contact_points = 100;       ///< per geom pair, 1..kMaxContactPoints, /Simulation/ODE/MaxContactPoints
+  double soft_erp = 0.2;              ///< contact ERP, /Simulation/ODE/SoftERP
+  double soft_cfm = 1e-5;             ///< contact CFM, /Simulation/ODE/SoftCFM
+  double contact_slip = 0.001;        ///< force-dependent slip in both friction directions, (m/s)/N
+  double min_bouncing_velocity = 0.0;  ///< m/s below which contacts do not bounce
+  double friction_scaling = 1.0;      ///< factor on the dynamic friction coefficient only, -
+  /// Relative tangential speed below which a contact uses the static coefficient, m/s
+  /// (/Simulation/ODE/StaticFrictionSpeed). The original meant "static when not sliding" but read an unset
+  /// field; this is the documented rule that replaces it (docs/model.md).
+  double static_friction_speed = 0.01;
+  double min_contact_depth = 1e-6;    ///< contact points shallower than this are dropped, m
+  double max_linear_speed = 1e3;      ///< a body faster than this makes the step unstable, m/s
+  double max_angular_speed = 1e4;     ///< a body spinning faster than this makes the step unstable, rad/s
+  CustomMaterial custom1;             ///< /MaterialProperties/Custom1/...
+  CustomMaterial custom2;             ///< /MaterialProperties/Custom2/...
+
+  static constexpr int kMaxContactPoints = 100;  ///< size of the per-pair contact buffer
+};
+
+}  // namespace orcs::physics
