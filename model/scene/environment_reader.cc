@@ -1,0 +1,251 @@
+#include "model/scene/environment_reader.h"
+
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+namespace orcs::scene {
+namespace {
+
+using tinyxml2::XMLElement;
+
+constexpr std::string_view kFormatVersion = "1.0";
+
+// Attribute access for one element, with every error naming file, line, element and attribute.
+class ElementReader {
+ public:
+  ElementReader(const XMLElement& element, const std::string& source, std::set<std::string_view> allowed)
+      : element_(element), source_(source) {
+    for (const tinyxml2::XMLAttribute* a = element.FirstAttribute(); a != nullptr; a = a->Next()) {
+      if (!allowed.contains(a->Name())) {
+        Fail("unknown attribute " + text::Quote(a->Name()) + " (expected one of " + List(allowed) + ")");
+      }
+    }
+  }
+
+  int line() const { return element_.GetLineNum(); }
+  bool Has(const char* name) const { return element_.Attribute(name) != nullptr; }
+
+  std::string String(const char* name, const std::string& fallback) const {
+    const char* value = element_.Attribute(name);
+    return value == nullptr ? fallback : std::string(text::Trim(value));
+  }
+
+  std::string RequiredString(const char* name) const {
+    if (!Has(name)) Fail("missing mandatory attribute '" + std::string(name) + "'");
+    const std::string value = String(name, "");
+    if (value.empty()) Fail("attribute '" + std::string(name) + "' is empty");
+    return value;
+  }
+
+  std::vector<double> Tuple(const char* name, size_t min_count, size_t max_count) const {
+    const std::string value = String(name, "");
+    const auto numbers = text::ParseNumberTuple(value);
+    if (!numbers || numbers->size() < min_count || numbers->size() > max_count) {
+      const std::string expected = min_count == max_count ? std::to_string(min_count) + " numbers"
+                                                          : std::to_string(min_count) + " to " +
+                                                                std::to_string(max_count) + " numbers";
+      Fail("attribute '" + std::string(name) + "' expected " + expected + " like (1,2,3), found " +
+           text::Quote(value));
+    }
+    return *numbers;
+  }
+
+  Eigen::Vector3d Vector(const char* name, const Eigen::Vector3d& fallback) const {
+    if (!Has(name)) return fallback;
+    const std::vector<double> v = Tuple(name, 3, 3);
+    return {v[0], v[1], v[2]};
+  }
+
+  double PositiveNumber(const char* name) const {
+    const std::string value = String(name, "");
+    const auto number = text::ParseDouble(value);
+    if (!number || !(*number > 0) || std::isinf(*number)) {
+      Fail("attribute '" + std::string(name) + "' expected a positive number, found " + text::Quote(value));
+    }
+    return *number;
+  }
+
+  bool Bool(const char* name, bool fallback) const {
+    if (!Has(name)) return fallback;
+    const std::string value = String(name, "");
+    for (std::string_view yes : {"true", "T", "1"})
+      if (text::EqualsIgnoreCase(value, yes)) return true;
+    for (std::string_view no : {"false", "F", "0"})
+      if (text::EqualsIgnoreCase(value, no)) return false;
+    Fail("attribute '" + std::string(name) + "' expected true or false, found " + text::Quote(value));
+  }
+
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw InputError(source_, line(), "<" + std::string(element_.Name()) + ">" + Subject() + ": " + what);
+  }
+
+ private:
+  std::string Subject() const {
+    const char* name = element_.Attribute("name");
+    return name == nullptr ? "" : " '" + std::string(name) + "'";
+  }
+
+  static std::string List(const std::set<std::string_view>& names) {
+    std::string list;
+    for (std::string_view name : names) list += (list.empty() ? "" : ", ") + std::string(name);
+    return list;
+  }
+
+  const XMLElement& element_;
+  const std::string& source_;
+};
+
+// A name becomes a repository path segment (/Sim/<name>/...): no white space, no leading or trailing '/'.
+void CheckName(const ElementReader& reader, const std::string& name) {
+  const bool bad_slash = name.front() == '/' || name.back() == '/' || name.find("//") != std::string::npos;
+  if (bad_slash || name.find_first_of(" \t\r\n") != std::string::npos) {
+    reader.Fail("attribute 'name' expected a name without spaces or leading/trailing '/', found " +
+                text::Quote(name));
+  }
+}
+
+ObjectDescription ReadObject(const XMLElement& element, const std::string& source) {
+  const ElementReader reader(element, source,
+                            {"type", "name", "position", "orientation", "dimension", "material", "color",
+                             "texture", "dynamic", "mass"});
+  ObjectDescription object;
+  object.line = reader.line();
+  object.name = reader.RequiredString("name");
+  CheckName(reader, object.name);
+  const std::string type = reader.RequiredString("type");
+  if (text::EqualsIgnoreCase(type, "box")) {
+    object.type = ObjectType::kBox;
+  } else if (text::EqualsIgnoreCase(type, "sphere")) {
+    object.type = ObjectType::kSphere;
+  } else {
+    reader.Fail("attribute 'type' expected box or sphere, found " + text::Quote(type));
+  }
+  reader.RequiredString("position");
+  object.position = reader.Vector("position", Eigen::Vector3d::Zero());
+  object.orientation = reader.Vector("orientation", Eigen::Vector3d::Zero());
+  reader.RequiredString("dimension");
+  if (object.type == ObjectType::kBox) {
+    const std::vector<double> size = reader.Tuple("dimension", 3, 3);
+    object.dimension = {size[0], size[1], size[2]};
+  } else {
+    object.dimension = {reader.Tuple("dimension", 1, 1)[0], 0.0, 0.0};
+  }
+  if (object.dimension.x() <= 0 || (object.type == ObjectType::kBox && object.dimension.minCoeff() <= 0)) {
+    reader.Fail("attribute 'dimension' expected positive sizes, found " +
+                text::Quote(reader.String("dimension", "")));
+  }
+  object.material = reader.String("material", object.material);
+  object.texture = reader.String("texture", "");
+  if (reader.Has("color")) {
+    const auto color = ParseColor(reader.String("color", ""));
+    if (!color) {
+      reader.Fail("attribute 'color' expected a colour name or (r,g,b[,a]) with channels 0..255, found " +
+                  text::Quote(reader.String("color", "")));
+    }
+    object.color = *color;
+  }
+  object.dynamic = reader.Bool("dynamic", false);
+  if (object.dynamic && !reader.Has("mass")) reader.Fail("a dynamic object needs attribute 'mass'");
+  if (reader.Has("mass")) object.mass = reader.PositiveNumber("mass");
+  return object;
+}
+
+AgentDescription ReadAgent(const XMLElement& element, const std::string& source) {
+  const ElementReader reader(element, source, {"name", "position", "orientation"});
+  AgentDescription agent;
+  agent.line = reader.line();
+  agent.type = element.Name();
+  agent.name = reader.String("name", agent.name);
+  if (agent.name.empty()) reader.Fail("attribute 'name' is empty");
+  CheckName(reader, agent.name);
+  agent.position = reader.Vector("position", Eigen::Vector3d::Zero());
+  agent.orientation = reader.Vector("orientation", Eigen::Vector3d::Zero());
+  return agent;
+}
+
+[[noreturn]] void FailAt(const std::string& source, const XMLElement& element, const std::string& what) {
+  throw InputError(source, element.GetLineNum(), what);
+}
+
+void ReadEnvironment(const XMLElement& section, const std::string& source, EnvironmentDescription& out) {
+  ElementReader(section, source, {});
+  for (const XMLElement* child = section.FirstChildElement(); child; child = child->NextSiblingElement()) {
+    if (std::string_view(child->Name()) != "object") {
+      FailAt(source, *child, "unknown element <" + std::string(child->Name()) + "> in <Environment> (expected <object>)");
+    }
+    out.objects.push_back(ReadObject(*child, source));
+  }
+}
+
+void ReadAgents(const XMLElement& section, const std::string& source, EnvironmentDescription& out) {
+  ElementReader(section, source, {});
+  for (const XMLElement* child = section.FirstChildElement(); child; child = child->NextSiblingElement()) {
+    if (std::string_view(child->Name()) != "ASeries") {
+      FailAt(source, *child, "unknown agent type <" + std::string(child->Name()) + "> (expected <ASeries>)");
+    }
+    out.agents.push_back(ReadAgent(*child, source));
+  }
+}
+
+// Object and agent names share one namespace (/Sim/<name>/...); "Floor" is taken by the floor plane.
+void CheckUniqueNames(const EnvironmentDescription& environment) {
+  std::set<std::string> names{"Floor"};
+  const auto claim = [&](const std::string& name, int line) {
+    if (!names.insert(name).second) {
+      throw InputError(environment.source, line, "name " + text::Quote(name) + " is used twice (or is reserved)");
+    }
+  };
+  for (const ObjectDescription& object : environment.objects) claim(object.name, object.line);
+  for (const AgentDescription& agent : environment.agents) claim(agent.name, agent.line);
+}
+
+}  // namespace
+
+EnvironmentDescription EnvironmentReader::ReadString(const std::string& xml, const std::string& source) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    throw InputError(source, document.ErrorLineNum(), std::string("malformed XML: ") + document.ErrorStr());
+  }
+  const XMLElement* root = document.RootElement();
+  if (root == nullptr) throw InputError(source, 0, "expected an <ORCS> element, found none");
+  if (std::string_view(root->Name()) != "ORCS") {
+    FailAt(source, *root, "expected root element <ORCS>, found <" + std::string(root->Name()) + ">");
+  }
+  const ElementReader root_reader(*root, source, {"version"});
+  const std::string version = root_reader.String("version", "");
+  if (version != kFormatVersion) {
+    root_reader.Fail("attribute 'version' expected \"1.0\", found " + text::Quote(version));
+  }
+  EnvironmentDescription environment;
+  environment.source = source;
+  for (const XMLElement* section = root->FirstChildElement(); section; section = section->NextSiblingElement()) {
+    const std::string_view name = section->Name();
+    if (name == "Environment") {
+      ReadEnvironment(*section, source, environment);
+    } else if (name == "Agent") {
+      ReadAgents(*section, source, environment);
+    } else {
+      FailAt(source, *section, "unknown element <" + std::string(name) + "> (expected <Environment> or <Agent>)");
+    }
+  }
+  CheckUniqueNames(environment);
+  return environment;
+}
+
+EnvironmentDescription EnvironmentReader::ReadFile(const std::string& file) {
+  std::ifstream in(file);
+  if (!in || std::filesystem::is_directory(file)) throw InputError(file, 0, "cannot read the file");
+  std::ostringstream content;
+  content << in.rdbuf();
+  return ReadString(content.str(), file);
+}
+
+}  // namespace orcs::scene

@@ -1,0 +1,30 @@
+// Reads ORCS XML environments, format v1.0:
+//
+//   <ORCS version="1.0">
+//     <Environment>
+//       <object type="box|sphere" name="..." position="(x,y,z)" dimension="(w,h,d)|(r)" [orientation="(a,b,c)"]
+//               [material="ABS"] [color="red|(r,g,b[,a])"] [texture="..."] [dynamic="true|false"] [mass="0.1"]/>
+//     </Environment>
+//     <Agent>
+//       <ASeries name="Humanoid" [position="(x,y,z)"] [orientation="(a,b,c)"]/>
+//     </Agent>
+//   </ORCS>
+//
+// Every problem is an InputError naming the file, the line and what was expected (docs/formats.md).
+#pragma once
+
+#include <string>
+
+#include "model/scene/environment_description.h"
+
+namespace orcs::scene {
+
+class EnvironmentReader {
+ public:
+  /// Reads and checks an environment file.
+  static EnvironmentDescription ReadFile(const std::string& file);
+  /// Reads and checks environment XML held in memory; `source` names it in messages.
+  static EnvironmentDescription ReadString(const std::string& xml, const std::string& source);
+};
+
+}  // namespace orcs::scene

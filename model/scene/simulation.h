@@ -1,0 +1,107 @@
+// One simulation: a shared, immutable WorldModel plus this run's state — the variable repository, the events,
+// the physics world, the time (MuJoCo's mjModel/mjData split; Drake's System/Context).
+//
+// Life cycle, as the original's -ival/-val options expect:
+//   Simulation sim;                        // registers /Simulation/... and /MaterialProperties/... values
+//   sim.LoadEnvironment(environment);      // registers /Sim/<object>/... values
+//   ValueFile::Apply(ival, sim.repository());   // initial values: may change the structure
+//   sim.Build();                           // compiles the model and creates the physics world
+//   ValueFile::Apply(val, sim.repository());    // run-time values
+//   sim.Reset(seed);  while (...) sim.Step();
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/core/event_manager.h"
+#include "model/core/variable_repository.h"
+#include "model/physics/physics_world.h"
+#include "model/scene/world_model.h"
+
+namespace orcs::scene {
+
+/// How a run stands. Anything but kOk is final until the next Reset().
+enum class SimulationStatus {
+  kOk,
+  kUnstable,     ///< non-finite or exploding state (physics::StepStatus::kUnstable)
+  kEngineError,  ///< the physics engine reported an error; see message()
+};
+
+std::string_view SimulationStatusName(SimulationStatus status);
+
+class Simulation {
+ public:
+  Simulation();
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  /// Registers the environment's object values. Before Build().
+  void LoadEnvironment(const EnvironmentDescription& environment);
+  /// Compiles the model from the repository and creates the world in its initial state. Throws InputError.
+  void Build();
+  /// Uses an already compiled model (shared between simulations); registers its object values. Instead of
+  /// LoadEnvironment() + Build().
+  void Attach(std::shared_ptr<const WorldModel> model);
+
+  /// Back to the initial state: time 0, initial poses, no contacts; `seed` is published as /Simulation/Seed.
+  void Reset(std::uint64_t seed = 0);
+
+  /// One simulation step of /Simulation/TimeStepSize seconds (IterationsPerStep physics steps of that size
+  /// each, as the original). Does nothing once the status is not kOk.
+  SimulationStatus Step();
+
+  VariableRepository& repository() { return repository_; }
+  const VariableRepository& repository() const { return repository_; }
+  EventManager& events() { return events_; }
+  const WorldModel& model() const { return *model_; }
+  bool built() const { return model_ != nullptr; }
+  const physics::PhysicsWorld& physics() const { return *world_; }
+
+  double time() const { return time_; }          ///< simulated seconds since the last reset
+  std::int64_t steps() const { return steps_; }  ///< simulation steps since the last reset
+  SimulationStatus status() const { return status_; }
+  const std::string& message() const { return message_; }  ///< why the status is not kOk
+
+ private:
+  void RegisterSimulationValues();
+  void BindModel();
+  void ReadParameters();
+  void PhysicsStage();
+  void PublishBodiesStage();
+  void CollisionEventsStage();
+
+  VariableRepository repository_;
+  EventManager events_;
+  EnvironmentDescription environment_;  // loaded, not yet built
+  std::shared_ptr<const WorldModel> model_;
+  std::unique_ptr<physics::PhysicsWorld> world_;
+  physics::PhysicsParameters parameters_;
+  bool parameters_changed_ = true;  // set by observers of the /Simulation/... values
+
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  double time_base_ = 0.0;        // time when the step size last changed
+  std::int64_t steps_base_ = 0;  // steps_ then
+  SimulationStatus status_ = SimulationStatus::kOk;
+  std::string message_;
+
+  // Values and events the step touches, looked up once (no lookups or allocation inside the step loop).
+  Value* time_step_ = nullptr;
+  Value* iterations_ = nullptr;
+  Value* current_time_ = nullptr;
+  Value* current_step_ = nullptr;
+  struct BodyBinding {
+    Value* position = nullptr;
+    Value* orientation = nullptr;
+    Value* quaternion = nullptr;
+    int collision_event = -1;
+  };
+  std::vector<BodyBinding> bodies_;
+  int step_event_ = -1;
+  int reset_event_ = -1;
+};
+
+}  // namespace orcs::scene

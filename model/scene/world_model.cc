@@ -1,0 +1,98 @@
+#include "model/scene/world_model.h"
+
+#include "model/core/error.h"
+#include "model/core/rotation.h"
+#include "model/core/text.h"
+
+namespace orcs::scene {
+namespace {
+
+std::string ObjectPath(const std::string& object, const char* value) { return "/Sim/" + object + "/" + value; }
+
+// Reads a value the object registered and checks it still makes sense after value files changed it.
+double PositiveValue(const VariableRepository& values, const std::string& object, const char* name,
+                     bool allow_zero) {
+  const std::string path = ObjectPath(object, name);
+  const double value = values.Get(path).as_double();
+  if (!(value > 0 || (allow_zero && value == 0)) || std::isinf(value)) {
+    throw InputError(path, 0, "expected a positive number, found " + text::FormatDouble(value));
+  }
+  return value;
+}
+
+physics::BodyDescription MakeBody(const ObjectDescription& object, const VariableRepository& values) {
+  const std::string& name = object.name;
+  physics::BodyDescription body;
+  body.name = name;
+  body.dynamic = values.Get(ObjectPath(name, "Dynamic")).as_bool();
+  body.mass = PositiveValue(values, name, "Mass", !body.dynamic);
+  body.position = values.Get(ObjectPath(name, "Position")).as_vector3();
+  body.orientation = QuaternionFromEulerDegrees(values.Get(ObjectPath(name, "Orientation")).as_vector3());
+  body.static_friction = values.Get(ObjectPath(name, "StaticFriction")).as_double();
+  body.dynamic_friction = values.Get(ObjectPath(name, "DynamicFriction")).as_double();
+  body.elasticity = values.Get(ObjectPath(name, "Elasticity")).as_double();
+  physics::GeomDescription geom;
+  geom.material = values.Get(ObjectPath(name, "Material")).as_string();
+  if (object.type == ObjectType::kBox) {
+    geom.shape = physics::Shape::kBox;
+    geom.size = {PositiveValue(values, name, "Width", false), PositiveValue(values, name, "Height", false),
+                 PositiveValue(values, name, "Depth", false)};
+  } else {
+    geom.shape = physics::Shape::kSphere;
+    geom.size = {PositiveValue(values, name, "Radius", false), 0.0, 0.0};
+  }
+  body.geoms.push_back(geom);
+  return body;
+}
+
+physics::BodyDescription MakeFloor(const VariableRepository& values) {
+  physics::BodyDescription floor;
+  floor.name = "Floor";
+  floor.dynamic = false;
+  physics::GeomDescription plane;
+  plane.shape = physics::Shape::kPlane;
+  plane.material = values.Get("/Sim/Floor/Material").as_string();
+  floor.geoms.push_back(plane);
+  return floor;
+}
+
+}  // namespace
+
+void WorldModel::RegisterObjectValues(const EnvironmentDescription& environment, VariableRepository& values) {
+  values.Add("/Sim/Floor/Material", environment.floor_material);
+  for (const ObjectDescription& object : environment.objects) {
+    const auto path = [&object](const char* value) { return ObjectPath(object.name, value); };
+    values.Add(path("Position"), object.position);
+    values.Add(path("Orientation"), object.orientation);
+    values.Add(path("OrientationQuaternion"), QuaternionFromEulerDegrees(object.orientation));
+    values.Add(path("Dynamic"), object.dynamic);
+    values.Add(path("Mass"), object.mass);
+    values.Add(path("Material"), object.material);
+    values.Add(path("Color"), object.color);
+    values.Add(path("Texture"), object.texture);
+    if (object.type == ObjectType::kBox) {
+      values.Add(path("Width"), object.dimension.x());
+      values.Add(path("Height"), object.dimension.y());
+      values.Add(path("Depth"), object.dimension.z());
+    } else {
+      values.Add(path("Radius"), object.dimension.x());
+    }
+    // Fallback friction for unknown materials: the original's body defaults.
+    values.Add(path("StaticFriction"), 0.0);
+    values.Add(path("DynamicFriction"), 0.0);
+    values.Add(path("Elasticity"), 0.05);
+  }
+}
+
+std::shared_ptr<const WorldModel> WorldModel::Compile(const EnvironmentDescription& environment,
+                                                      const VariableRepository& values) {
+  physics::PhysicsDescription description;
+  description.bodies.push_back(MakeFloor(values));
+  for (const ObjectDescription& object : environment.objects) description.bodies.push_back(MakeBody(object, values));
+  std::shared_ptr<WorldModel> model(new WorldModel());
+  model->environment_ = environment;
+  model->physics_ = std::make_shared<const physics::PhysicsModel>(std::move(description));
+  return model;
+}
+
+}  // namespace orcs::scene

@@ -1,0 +1,40 @@
+// The compiled world (MuJoCo's mjModel layer): an environment turned into a checked physics model, with the
+// mapping from environment objects to physics bodies. Immutable; one model serves any number of simulations.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/core/variable_repository.h"
+#include "model/physics/physics_model.h"
+#include "model/scene/environment_description.h"
+
+namespace orcs::scene {
+
+class WorldModel {
+ public:
+  /// Compiles `environment`. Object properties are read from `values` (the /Sim/<object>/... values that
+  /// RegisterObjectValues created, possibly changed by -ival files), so initial value files can move, resize
+  /// or re-weigh objects before the world is built. Throws InputError for inconsistent values.
+  static std::shared_ptr<const WorldModel> Compile(const EnvironmentDescription& environment,
+                                                   const VariableRepository& values);
+
+  /// Registers /Sim/<object>/... values (Position, Orientation, OrientationQuaternion, Mass, Material, Color,
+  /// Texture, Dynamic, Width/Height/Depth or Radius, StaticFriction, DynamicFriction, Elasticity) for every
+  /// object, and /Sim/Floor/Material, with the description's values.
+  static void RegisterObjectValues(const EnvironmentDescription& environment, VariableRepository& values);
+
+  const EnvironmentDescription& environment() const { return environment_; }
+  const std::shared_ptr<const physics::PhysicsModel>& physics() const { return physics_; }
+  /// Name used in repository paths and events for a body (the object name, "Floor" for the floor).
+  const std::string& body_name(int body) const { return physics_->body(body).name; }
+
+ private:
+  WorldModel() = default;
+
+  EnvironmentDescription environment_;
+  std::shared_ptr<const physics::PhysicsModel> physics_;
+};
+
+}  // namespace orcs::scene

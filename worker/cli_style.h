@@ -1,0 +1,20 @@
+// Command-line conventions shared by the orcs programs.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace orcs::cli {
+
+/// The original simulator took single-dash long options (-env, -val, -ival, -play, -port); CLI11 reads them
+/// as "--env" etc. Rewrites every argument that is exactly "-<name>" for a name in `long_names` to "--<name>".
+std::vector<std::string> NormaliseSingleDashOptions(int argc, const char* const* argv,
+                                                    const std::vector<std::string_view>& long_names);
+
+/// Exit codes of every orcs program.
+constexpr int kExitOk = 0;
+constexpr int kExitRunFailed = 1;  ///< the input was fine, the run was not (unstable physics, failed jobs)
+constexpr int kExitBadInput = 2;   ///< bad input: one line on stderr names the file, line or field
+
+}  // namespace orcs::cli

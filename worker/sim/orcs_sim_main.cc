@@ -1,0 +1,156 @@
+// orcs-sim: the headless local simulator. Builds a world from an ORCS XML environment and value files, runs it
+// for a given simulated time and logs repository values to CSV (docs/orcs-sim.md).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "model/core/error.h"
+#include "model/core/rotation.h"
+#include "model/core/text.h"
+#include "model/core/value_file.h"
+#include "model/core/value_logger.h"
+#include "model/scene/environment_reader.h"
+#include "model/scene/simulation.h"
+#include "worker/cli_style.h"
+#include "worker/sim/sim_options.h"
+
+namespace orcs::sim {
+namespace {
+
+void PrintValues(const VariableRepository& repository, const std::string& regular_expression) {
+  for (int id : repository.Match(regular_expression)) {
+    std::cout << repository.path(id) << "=" << repository.value(id).ToString() << "\n";
+  }
+}
+
+nlohmann::json SizeOf(const physics::GeomDescription& geom) {
+  switch (geom.shape) {
+    case physics::Shape::kBox: return {geom.size.x(), geom.size.y(), geom.size.z()};
+    case physics::Shape::kSphere: return {geom.size.x()};
+    case physics::Shape::kCapsule: return {geom.size.x(), geom.size.y()};
+    case physics::Shape::kPlane: return nlohmann::json::array();
+  }
+  return nullptr;
+}
+
+std::string_view ShapeName(physics::Shape shape) {
+  switch (shape) {
+    case physics::Shape::kBox: return "box";
+    case physics::Shape::kSphere: return "sphere";
+    case physics::Shape::kCapsule: return "capsule";
+    case physics::Shape::kPlane: return "plane";
+  }
+  return "?";
+}
+
+// Every body (name, mass, shape, size), joint (name, type, range in degrees) and agent, as JSON.
+nlohmann::json Describe(const scene::Simulation& simulation) {
+  const physics::PhysicsModel& model = *simulation.model().physics();
+  nlohmann::json bodies = nlohmann::json::array();
+  for (int b = 0; b < model.body_count(); ++b) {
+    const physics::BodyDescription& body = model.body(b);
+    bodies.push_back({{"name", body.name},
+                      {"dynamic", body.dynamic},
+                      {"mass", model.total_mass(b)},
+                      {"shape", ShapeName(body.geoms.front().shape)},
+                      {"size", SizeOf(body.geoms.front())},
+                      {"material", body.geoms.front().material},
+                      {"geoms", body.geoms.size()}});
+  }
+  nlohmann::json joints = nlohmann::json::array();
+  for (int j = 0; j < model.joint_count(); ++j) {
+    const physics::JointDescription& joint = model.joint(j);
+    nlohmann::json entry = {{"name", joint.name},
+                            {"type", joint.type == physics::JointType::kHinge ? "hinge" : "fixed"},
+                            {"body1", joint.body1},
+                            {"body2", joint.body2}};
+    if (joint.limited) entry["range"] = {RadiansToDegrees(joint.lo), RadiansToDegrees(joint.hi)};
+    joints.push_back(entry);
+  }
+  nlohmann::json agents = nlohmann::json::array();
+  for (const scene::AgentDescription& agent : simulation.model().environment().agents) {
+    agents.push_back({{"name", agent.name},
+                      {"type", agent.type},
+                      {"position", {agent.position.x(), agent.position.y(), agent.position.z()}}});
+  }
+  return {{"environment", simulation.model().environment().source},
+          {"bodies", bodies},
+          {"joints", joints},
+          {"agents", agents}};
+}
+
+std::vector<std::string> LogComments(const SimOptions& options) {
+  return {"orcs-sim log", "environment: " + (options.environment.empty() ? "(none)" : options.environment),
+          "seed: " + std::to_string(options.seed), "duration: " + text::FormatDouble(options.duration) + " s"};
+}
+
+void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
+  const double factor = wall_seconds > 0 ? simulation.time() / wall_seconds : INFINITY;
+  std::printf("simulated %.3f s in %lld steps, wall time %.3f s, real-time factor %.1f\n", simulation.time(),
+              static_cast<long long>(simulation.steps()), wall_seconds, factor);
+}
+
+int Run(const SimOptions& options) {
+  scene::Simulation simulation;
+  scene::EnvironmentDescription environment;
+  if (!options.environment.empty()) environment = scene::EnvironmentReader::ReadFile(options.environment);
+  if (!environment.agents.empty()) {
+    std::cerr << "orcs-sim: note: " << environment.agents.size()
+              << " agent(s) listed but not simulated: the A-Series body is not built yet\n";
+  }
+  simulation.LoadEnvironment(environment);
+  for (const std::string& file : options.initial_value_files) ValueFile::Apply(file, simulation.repository());
+  simulation.Build();
+  for (const std::string& file : options.value_files) ValueFile::Apply(file, simulation.repository());
+  simulation.Reset(options.seed);
+
+  if (!options.print_values.empty()) {
+    PrintValues(simulation.repository(), options.print_values);
+    return cli::kExitOk;
+  }
+  if (options.describe) {
+    std::cout << Describe(simulation).dump(2) << "\n";
+    return cli::kExitOk;
+  }
+
+  std::unique_ptr<ValueLogger> logger;
+  if (!options.log.empty()) {
+    logger = std::make_unique<ValueLogger>(simulation.repository(), options.log);
+    logger->Open(options.out, LogComments(options));
+    logger->Sample(simulation.time());
+  }
+  const double time_step = simulation.repository().Get("/Simulation/TimeStepSize").as_double();
+  const auto steps = static_cast<std::int64_t>(std::llround(options.duration / time_step));
+  const auto start = std::chrono::steady_clock::now();
+  for (std::int64_t i = 0; i < steps; ++i) {
+    if (simulation.Step() != scene::SimulationStatus::kOk) break;
+    if (logger) logger->Sample(simulation.time());
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (logger) logger->Finish();
+  PrintSummary(simulation, wall);
+  if (simulation.status() != scene::SimulationStatus::kOk) {
+    std::cerr << "orcs-sim: " << simulation.message() << "\n";
+    return cli::kExitRunFailed;
+  }
+  return cli::kExitOk;
+}
+
+}  // namespace
+}  // namespace orcs::sim
+
+int main(int argc, char** argv) {
+  const orcs::sim::ParsedOptions parsed = orcs::sim::ParseSimOptions(argc, argv);
+  if (parsed.exit_code >= 0) return parsed.exit_code;
+  try {
+    return orcs::sim::Run(parsed.options);
+  } catch (const orcs::InputError& error) {
+    std::cerr << "orcs-sim: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  } catch (const std::exception& error) {
+    std::cerr << "orcs-sim: internal error: " << error.what() << "\n";
+    return orcs::cli::kExitRunFailed;
+  }
+}

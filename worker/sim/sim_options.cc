@@ -1,0 +1,44 @@
+#include "worker/sim/sim_options.h"
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "worker/cli_style.h"
+
+namespace orcs::sim {
+
+ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
+  ParsedOptions parsed;
+  SimOptions& o = parsed.options;
+  CLI::App app{"orcs-sim: headless simulation of an ORCS environment", "orcs-sim"};
+  app.add_option("--env", o.environment, "ORCS XML environment file (-env also accepted)")->check(CLI::ExistingFile);
+  app.add_option("--ival", o.initial_value_files, "value file loaded before the world is built (repeatable)")
+      ->allow_extra_args(false);
+  app.add_option("--val", o.value_files, "value file loaded after the world is built (repeatable)")
+      ->allow_extra_args(false);
+  app.add_option("--duration", o.duration, "simulated seconds")->check(CLI::NonNegativeNumber);
+  app.add_option("--seed", o.seed, "seed of the run's random streams");
+  app.add_option("--log", o.log, "regular expression of repository values to log each step (repeatable)")
+      ->allow_extra_args(false);
+  app.add_option("--out", o.out, "CSV file the logged values are written to");
+  app.add_option("--print-values", o.print_values, "print matching repository values as path=value and exit");
+  app.add_flag("--describe", o.describe, "print the bodies, joints and agents as JSON and exit");
+
+  const std::vector<std::string> arguments = cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val"});
+  std::vector<const char*> pointers;
+  for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
+  try {
+    app.parse(static_cast<int>(pointers.size()), pointers.data());
+    if (!o.log.empty() && o.out.empty()) throw CLI::ValidationError("--log", "needs --out FILE.csv");
+    if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    parsed.exit_code = cli::kExitOk;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "orcs-sim: " << error.what() << " (see orcs-sim --help)\n";
+    parsed.exit_code = cli::kExitBadInput;
+  }
+  return parsed;
+}
+
+}  // namespace orcs::sim

@@ -1,0 +1,32 @@
+// The options of orcs-sim, the headless local simulator (docs/orcs-sim.md).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace orcs::sim {
+
+struct SimOptions {
+  std::string environment;                       ///< -env FILE: ORCS XML environment ("" = floor only)
+  std::vector<std::string> initial_value_files;  ///< -ival FILE...: loaded before the world is built
+  std::vector<std::string> value_files;          ///< -val FILE...: loaded after the world is built
+  double duration = 10.0;                        ///< --duration: simulated seconds
+  std::uint64_t seed = 0;                        ///< --seed: seed of every random stream of the run
+  std::vector<std::string> log;                  ///< --log REGEX...: repository values logged each step
+  std::string out;                               ///< --out FILE.csv: where the log goes
+  std::string print_values;                      ///< --print-values REGEX: print matching values and exit
+  bool describe = false;                         ///< --describe: print the world as JSON and exit
+};
+
+/// Result of parsing the command line.
+struct ParsedOptions {
+  SimOptions options;
+  int exit_code = -1;  ///< >= 0: exit now with this code (help printed, or bad options reported)
+};
+
+/// Parses argv; on --help prints the help and asks to exit 0; on bad options prints one line to stderr and
+/// asks to exit 2.
+ParsedOptions ParseSimOptions(int argc, const char* const* argv);
+
+}  // namespace orcs::sim
