@@ -1,0 +1,547 @@
+#include "model/physics/ode/ode_world.h"
+
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <cstdarg>
+#include <cstdint>
+#include <cstdio>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/core/error.h"
+#include "model/physics/material_table.h"
+
+namespace orcs::physics {
+namespace {
+
+static_assert(sizeof(dReal) == sizeof(double), "orcs needs ODE in double precision");
+
+// Contact surface of every contact joint (spec/aseries.md §8): bounce, soft ERP/CFM, slip in both friction
+// directions, friction pyramid, separate μ2.
+constexpr int kContactMode = dContactBounce | dContactSoftERP | dContactSoftCFM | dContactSlip1 | dContactSlip2 |
+                             dContactApprox1 | dContactMu2;
+
+// Angular motor constants of the original (/ODEJoint/..., spec/aseries.md §6a, §8).
+constexpr double kMotorCfm = 1e-5;
+constexpr double kMotorStopErp = 0.2;
+constexpr double kMotorStopCfm = 1e-5;
+constexpr double kMotorBounce = 0.0;
+constexpr double kMotorFudgeFactor = 1.0;
+
+// Formats ODE's printf-style message and throws. ODE declares its error and debug functions noreturn; ODE is
+// compiled as C++, so the exception unwinds through it back into OdeWorld::Step (or the constructor).
+[[noreturn]] void ThrowOdeMessage(const char* kind, int errnum, const char* format, va_list args) {
+  std::array<char, 1024> text{};
+  std::vsnprintf(text.data(), text.size(), format, args);
+  throw PhysicsError(std::string("ODE ") + kind + " " + std::to_string(errnum) + ": " + text.data());
+}
+
+[[noreturn]] void OnOdeError(int errnum, const char* format, va_list args) {
+  ThrowOdeMessage("error", errnum, format, args);
+}
+
+[[noreturn]] void OnOdeDebug(int errnum, const char* format, va_list args) {
+  ThrowOdeMessage("debug trap", errnum, format, args);
+}
+
+// ODE's non-fatal messages (e.g. "LCP internal error"): the step still completes, and the instability check
+// catches a world that went bad. Ignored so that thousands of evaluations do not flood the worker's stderr.
+void OnOdeMessage(int /*errnum*/, const char* /*format*/, va_list /*args*/) {}
+
+// ODE's per-thread data (collision caches), allocated on a thread's first use and freed when it ends.
+struct OdeThreadData {
+  OdeThreadData() {
+    if (dAllocateODEDataForThread(dAllocateMaskAll) == 0) {
+      throw PhysicsError("ODE could not allocate its per-thread data");
+    }
+  }
+  ~OdeThreadData() { dCleanupODEAllDataForThread(); }
+  OdeThreadData(const OdeThreadData&) = delete;
+  OdeThreadData& operator=(const OdeThreadData&) = delete;
+};
+
+// Initialises ODE once per process and once per calling thread. Cheap after the first call.
+void EnsureOdeReady() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    dInitODE2(0);
+    dSetErrorHandler(&OnOdeError);
+    dSetDebugHandler(&OnOdeDebug);
+    dSetMessageHandler(&OnOdeMessage);
+  });
+  thread_local OdeThreadData thread_data;
+  (void)thread_data;
+}
+
+void ToOde(const Eigen::Quaterniond& q, dQuaternion out) {
+  out[0] = q.w();  // ODE stores quaternions as (w, x, y, z)
+  out[1] = q.x();
+  out[2] = q.y();
+  out[3] = q.z();
+}
+
+bool IsIdentity(const Eigen::Quaterniond& q) { return q.w() == 1.0 && q.vec().isZero(0.0); }
+
+void* IndexToData(int index) { return reinterpret_cast<void*>(static_cast<std::intptr_t>(index)); }
+int DataToIndex(void* data) { return static_cast<int>(reinterpret_cast<std::intptr_t>(data)); }
+
+// NERD's mass rule (spec/aseries.md §2b): a uniform solid of the main geom's shape carrying the total mass,
+// centred at the body origin whatever the main geom's offset; only its rotation turns the inertia.
+dMass MainGeomMass(const GeomDescription& geom, double total_mass) {
+  dMass mass;
+  dMassSetZero(&mass);
+  const Eigen::Vector3d& s = geom.size;
+  switch (geom.shape) {
+    case Shape::kBox:
+      dMassSetBoxTotal(&mass, total_mass, s.x(), s.y(), s.z());
+      break;
+    case Shape::kSphere:
+      dMassSetSphereTotal(&mass, total_mass, s.x());
+      break;
+    case Shape::kCapsule:
+      dMassSetCapsuleTotal(&mass, total_mass, 3, s.x(), s.y());  // 3: cylinder along the local z axis
+      break;
+    case Shape::kPlane:
+      assert(false && "PhysicsModel rejects planes on dynamic bodies");
+      break;
+  }
+  if (!IsIdentity(geom.rotation)) {
+    dQuaternion q;
+    ToOde(geom.rotation, q);
+    dMatrix3 rotation;
+    dRfromQ(rotation, q);
+    dMassRotate(&mass, rotation);
+  }
+  return mass;
+}
+
+class OdeWorld final : public PhysicsWorld {
+ public:
+  explicit OdeWorld(std::shared_ptr<const PhysicsModel> model);
+  ~OdeWorld() override { Destroy(); }
+  OdeWorld(const OdeWorld&) = delete;
+  OdeWorld& operator=(const OdeWorld&) = delete;
+
+  void Reset() override;
+  StepStatus Step(double dt, const PhysicsParameters& parameters) override;
+  const std::vector<Contact>& contacts() const override { return contacts_; }
+  BodyState body_state(int body) const override;
+  void SetBodyState(int body, const BodyState& state) override;
+  double joint_angle(int joint) const override;
+  double joint_rate(int joint) const override;
+  void SetJointMotor(int joint, double velocity, double max_torque) override;
+  void SetJointFriction(int joint, double max_torque) override;
+  void AddJointTorque(int joint, double torque) override;
+  const std::string& last_error() const override { return last_error_; }
+
+ private:
+  void Build();
+  void BuildGuarded();
+  void Destroy();
+  void BuildBody(int body);
+  dGeomID BuildGeom(const BodyDescription& body, const GeomDescription& geom, dBodyID body_id);
+  void BuildJoint(int joint);
+  dJointID BuildMotor(dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis);
+
+  void ApplyParameters(const PhysicsParameters& parameters);
+  static void NearCallback(void* data, dGeomID o1, dGeomID o2);
+  void Collide(dGeomID o1, dGeomID o2);
+  double ChooseFriction(const dContactGeom& point, dBodyID b1, dBodyID b2, const ContactMaterial& material) const;
+  void AddContactJoint(const dContactGeom& point, dBodyID b1, dBodyID b2, const ContactMaterial& material);
+  StepStatus CheckStability(const PhysicsParameters& parameters) const;
+  bool IsHinge(int joint) const { return model_->joint(joint).type == JointType::kHinge; }
+
+  std::shared_ptr<const PhysicsModel> model_;
+  dWorldID world_ = nullptr;
+  dSpaceID space_ = nullptr;
+  dJointGroupID contact_group_ = nullptr;
+  std::vector<dBodyID> bodies_;   // per model body; nullptr for static bodies
+  std::vector<dGeomID> geoms_;    // per model geom
+  std::vector<dJointID> joints_;  // per model joint: hinge or fixed joint
+  std::vector<dJointID> motors_;  // per model joint: the AMotor of a motorised hinge, else nullptr
+  std::vector<BodyFrictionParameters> body_friction_;  // per model body, for unknown materials
+  std::vector<Contact> contacts_;                       // of the last step; capacity is kept across steps
+  std::array<dContactGeom, PhysicsParameters::kMaxContactPoints> contact_buffer_{};  // dCollide's output
+  const PhysicsParameters* parameters_ = nullptr;  // those of the running Step, read by the collision callback
+  StepStatus status_ = StepStatus::kOk;            // sticky until Reset
+  std::string last_error_;
+};
+
+OdeWorld::OdeWorld(std::shared_ptr<const PhysicsModel> model) : model_(std::move(model)) {
+  EnsureOdeReady();
+  body_friction_.reserve(model_->body_count());
+  for (int b = 0; b < model_->body_count(); ++b) {
+    const BodyDescription& body = model_->body(b);
+    body_friction_.push_back({body.static_friction, body.dynamic_friction, body.elasticity});
+  }
+  // Enough for every geom to touch a few others; grows (once) if a scene needs more.
+  contacts_.reserve(static_cast<std::size_t>(std::max(64, 8 * model_->geom_count())));
+  BuildGuarded();
+}
+
+void OdeWorld::Reset() {
+  // Rebuilding from scratch, rather than restoring poses, also restores ODE's internal orders (space list,
+  // joint lists, warm starts), which is what makes reruns bit-identical.
+  Destroy();
+  status_ = StepStatus::kEngineError;  // stays so if the rebuild throws: Step refuses an empty world
+  BuildGuarded();
+  status_ = StepStatus::kOk;
+  last_error_.clear();
+  contacts_.clear();
+}
+
+// ODE rejects nothing that PhysicsModel accepted, but if it does, the half-built world must not leak.
+void OdeWorld::BuildGuarded() {
+  try {
+    Build();
+  } catch (...) {
+    Destroy();
+    throw;
+  }
+}
+
+void OdeWorld::Build() {
+  world_ = dWorldCreate();
+  // Joint stops and motors take the world's ERP/CFM at creation. Use the original's values (0.2 / 1e-5), not
+  // ODE's double-precision default CFM (1e-10).
+  const PhysicsParameters defaults;
+  dWorldSetERP(world_, defaults.erp);
+  dWorldSetCFM(world_, defaults.cfm);
+  space_ = dSimpleSpaceCreate(nullptr);
+  contact_group_ = dJointGroupCreate(0);
+
+  bodies_.assign(model_->body_count(), nullptr);
+  geoms_.assign(model_->geom_count(), nullptr);
+  joints_.assign(model_->joint_count(), nullptr);
+  motors_.assign(model_->joint_count(), nullptr);
+  for (int b = 0; b < model_->body_count(); ++b) BuildBody(b);
+  for (int j = 0; j < model_->joint_count(); ++j) BuildJoint(j);
+}
+
+void OdeWorld::Destroy() {
+  // Contacts first, then the space (destroys its geoms), then the world (destroys bodies and joints).
+  if (contact_group_ != nullptr) dJointGroupDestroy(contact_group_);
+  if (space_ != nullptr) dSpaceDestroy(space_);
+  if (world_ != nullptr) dWorldDestroy(world_);
+  contact_group_ = nullptr;
+  space_ = nullptr;
+  world_ = nullptr;
+  std::fill(bodies_.begin(), bodies_.end(), nullptr);
+  std::fill(geoms_.begin(), geoms_.end(), nullptr);
+  std::fill(joints_.begin(), joints_.end(), nullptr);
+  std::fill(motors_.begin(), motors_.end(), nullptr);
+}
+
+void OdeWorld::BuildBody(int b) {
+  const BodyDescription& body = model_->body(b);
+  dBodyID id = nullptr;
+  if (body.dynamic) {
+    id = dBodyCreate(world_);
+    dBodySetPosition(id, body.position.x(), body.position.y(), body.position.z());
+    dQuaternion q;
+    ToOde(body.orientation, q);
+    dBodySetQuaternion(id, q);
+    const dMass mass = MainGeomMass(body.geoms[0], model_->total_mass(b));
+    dBodySetMass(id, &mass);
+  }
+  bodies_[b] = id;
+  const int first = model_->first_geom(b);
+  for (int g = 0; g < static_cast<int>(body.geoms.size()); ++g) {
+    dGeomID geom = BuildGeom(body, body.geoms[g], id);
+    dGeomSetData(geom, IndexToData(first + g));  // the collision callback maps ODE geoms back to model geoms
+    geoms_[first + g] = geom;
+  }
+}
+
+dGeomID OdeWorld::BuildGeom(const BodyDescription& body, const GeomDescription& geom, dBodyID body_id) {
+  const Eigen::Vector3d& s = geom.size;
+  const Eigen::Quaterniond world_rotation = body.orientation * geom.rotation;
+  const Eigen::Vector3d world_position = body.position + body.orientation * geom.offset;
+  dGeomID id = nullptr;
+  switch (geom.shape) {
+    case Shape::kBox:
+      id = dCreateBox(space_, s.x(), s.y(), s.z());
+      break;
+    case Shape::kSphere:
+      id = dCreateSphere(space_, s.x());
+      break;
+    case Shape::kCapsule:
+      id = dCreateCapsule(space_, s.x(), s.y());
+      break;
+    case Shape::kPlane: {
+      // Non-placeable in ODE: the plane n·p = d, through the geom's world position.
+      const Eigen::Vector3d normal = world_rotation * Eigen::Vector3d::UnitY();
+      id = dCreatePlane(space_, normal.x(), normal.y(), normal.z(), normal.dot(world_position));
+      break;
+    }
+  }
+  if (geom.shape != Shape::kPlane) {
+    dQuaternion q;
+    if (body_id != nullptr) {
+      dGeomSetBody(id, body_id);
+      // Offsets cost ODE a transform per step; only set them where they are not the identity.
+      if (!geom.offset.isZero(0.0)) dGeomSetOffsetPosition(id, geom.offset.x(), geom.offset.y(), geom.offset.z());
+      if (!IsIdentity(geom.rotation)) {
+        ToOde(geom.rotation, q);
+        dGeomSetOffsetQuaternion(id, q);
+      }
+    } else {
+      dGeomSetPosition(id, world_position.x(), world_position.y(), world_position.z());
+      ToOde(world_rotation, q);
+      dGeomSetQuaternion(id, q);
+    }
+  }
+  if (!geom.collides) {
+    // Penetrable: ODE's broad phase never pairs a geom whose category and collide bits are both 0.
+    dGeomSetCategoryBits(id, 0);
+    dGeomSetCollideBits(id, 0);
+  }
+  return id;
+}
+
+void OdeWorld::BuildJoint(int j) {
+  const JointDescription& joint = model_->joint(j);
+  dBodyID body1 = bodies_[model_->joint_body1(j)];
+  const int b2 = model_->joint_body2(j);
+  dBodyID body2 = b2 >= 0 ? bodies_[b2] : nullptr;  // nullptr attaches to the static world
+
+  if (joint.type == JointType::kFixed) {
+    dJointID fixed = dJointCreateFixed(world_, nullptr);
+    dJointAttach(fixed, body1, body2);
+    dJointSetFixed(fixed);  // keeps the current relative pose
+    joints_[j] = fixed;
+    return;
+  }
+  // The original creates the motor before the hinge; the order fixes ODE's row order, so keep it.
+  if (joint.motorised) motors_[j] = BuildMotor(body1, body2, joint.axis);
+  dJointID hinge = dJointCreateHinge(world_, nullptr);
+  dJointAttach(hinge, body1, body2);
+  dJointSetHingeAnchor(hinge, joint.anchor.x(), joint.anchor.y(), joint.anchor.z());
+  dJointSetHingeAxis(hinge, joint.axis.x(), joint.axis.y(), joint.axis.z());
+  if (joint.limited) {
+    dJointSetHingeParam(hinge, dParamLoStop, joint.lo);
+    dJointSetHingeParam(hinge, dParamHiStop, joint.hi);
+  }
+  // The hinge's own motor is the joint friction: a brake towards zero rate, off until SetJointFriction.
+  dJointSetHingeParam(hinge, dParamVel, 0.0);
+  dJointSetHingeParam(hinge, dParamFMax, 0.0);
+  joints_[j] = hinge;
+}
+
+// A one-axis angular motor about the hinge axis, fixed in body 1: it constrains the same relative rate
+// (ω1 − ω2)·axis that dJointGetHingeAngleRate reports, so SetJointMotor's velocity is the joint rate.
+dJointID OdeWorld::BuildMotor(dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis) {
+  dJointID motor = dJointCreateAMotor(world_, nullptr);
+  dJointAttach(motor, body1, body2);
+  dJointSetAMotorMode(motor, dAMotorUser);
+  dJointSetAMotorNumAxes(motor, 1);
+  dJointSetAMotorAxis(motor, 0, 1, axis.x(), axis.y(), axis.z());
+  dJointSetAMotorParam(motor, dParamVel, 0.0);
+  dJointSetAMotorParam(motor, dParamFMax, 0.0);  // off until SetJointMotor
+  dJointSetAMotorParam(motor, dParamCFM, kMotorCfm);
+  dJointSetAMotorParam(motor, dParamStopERP, kMotorStopErp);
+  dJointSetAMotorParam(motor, dParamStopCFM, kMotorStopCfm);
+  dJointSetAMotorParam(motor, dParamBounce, kMotorBounce);
+  dJointSetAMotorParam(motor, dParamFudgeFactor, kMotorFudgeFactor);
+  return motor;
+}
+
+StepStatus OdeWorld::Step(double dt, const PhysicsParameters& parameters) {
+  if (status_ != StepStatus::kOk) return status_;
+  contacts_.clear();
+  try {
+    EnsureOdeReady();  // the world may be stepped on another thread than the one that made it
+    ApplyParameters(parameters);
+    parameters_ = &parameters;
+    dSpaceCollide(space_, this, &OdeWorld::NearCallback);
+    const int stepped =
+        parameters.solver == Solver::kQuickStep ? dWorldQuickStep(world_, dt) : dWorldStep(world_, dt);
+    dJointGroupEmpty(contact_group_);
+    if (stepped == 0) throw PhysicsError("ODE could not allocate memory for the step");
+  } catch (const PhysicsError& error) {
+    last_error_ = error.what();
+    status_ = StepStatus::kEngineError;
+    return status_;
+  }
+  status_ = CheckStability(parameters);
+  return status_;
+}
+
+// All cheap setters; doing them every step lets the parameters change between any two steps.
+void OdeWorld::ApplyParameters(const PhysicsParameters& p) {
+  dWorldSetGravity(world_, p.gravity.x(), p.gravity.y(), p.gravity.z());
+  dWorldSetERP(world_, p.erp);
+  dWorldSetCFM(world_, p.cfm);
+  dWorldSetContactSurfaceLayer(world_, p.contact_surface_layer);
+  dWorldSetContactMaxCorrectingVel(world_, p.contact_max_correcting_velocity);
+  if (p.solver == Solver::kQuickStep) dWorldSetQuickStepNumIterations(world_, std::max(1, p.quickstep_iterations));
+}
+
+void OdeWorld::NearCallback(void* data, dGeomID o1, dGeomID o2) { static_cast<OdeWorld*>(data)->Collide(o1, o2); }
+
+void OdeWorld::Collide(dGeomID o1, dGeomID o2) {
+  const int g1 = DataToIndex(dGeomGetData(o1));
+  const int g2 = DataToIndex(dGeomGetData(o2));
+  const GeomInfo& info1 = model_->geom(g1);
+  const GeomInfo& info2 = model_->geom(g2);
+  if (info1.body == info2.body) return;  // geoms of one body never touch (ODE skips only dynamic ones)
+  dBodyID b1 = bodies_[info1.body];
+  dBodyID b2 = bodies_[info2.body];
+  if (b1 == nullptr && b2 == nullptr) return;  // two static bodies: nothing can move
+  const PhysicsParameters& p = *parameters_;
+  const int max_points = std::clamp(p.max_contact_points, 1, PhysicsParameters::kMaxContactPoints);
+  const int found = dCollide(o1, o2, max_points, contact_buffer_.data(), sizeof(dContactGeom));
+  if (found == 0) return;
+
+  const bool excluded = model_->contact_excluded(info1.body, info2.body);
+  const ContactMaterial material = MaterialTable::Lookup(info1.material, info2.material, body_friction_[info1.body],
+                                                         body_friction_[info2.body], p.custom1, p.custom2);
+  for (int i = 0; i < found; ++i) {
+    const dContactGeom& point = contact_buffer_[i];
+    if (std::abs(point.depth) < p.min_contact_depth) continue;
+    Contact& contact = contacts_.emplace_back();
+    contact.geom1 = g1;
+    contact.geom2 = g2;
+    contact.body1 = info1.body;
+    contact.body2 = info2.body;
+    contact.position = {point.pos[0], point.pos[1], point.pos[2]};
+    contact.normal = {point.normal[0], point.normal[1], point.normal[2]};
+    contact.depth = point.depth;
+    contact.excluded = excluded;
+    if (!excluded) AddContactJoint(point, b1, b2, material);
+  }
+}
+
+// Static coefficient while the surfaces do not slide against each other at the contact point, else the scaled
+// dynamic one (the documented replacement of the original's unset "motion" fields, spec/aseries.md §7).
+double OdeWorld::ChooseFriction(const dContactGeom& point, dBodyID b1, dBodyID b2,
+                                const ContactMaterial& material) const {
+  dVector3 v1 = {0.0, 0.0, 0.0, 0.0};
+  dVector3 v2 = {0.0, 0.0, 0.0, 0.0};
+  if (b1 != nullptr) dBodyGetPointVel(b1, point.pos[0], point.pos[1], point.pos[2], v1);
+  if (b2 != nullptr) dBodyGetPointVel(b2, point.pos[0], point.pos[1], point.pos[2], v2);
+  const Eigen::Vector3d relative(v1[0] - v2[0], v1[1] - v2[1], v1[2] - v2[2]);
+  const Eigen::Vector3d normal(point.normal[0], point.normal[1], point.normal[2]);
+  const Eigen::Vector3d tangential = relative - relative.dot(normal) * normal;
+  const PhysicsParameters& p = *parameters_;
+  return tangential.squaredNorm() < p.static_friction_speed * p.static_friction_speed
+             ? material.static_friction
+             : material.dynamic_friction * p.friction_scaling;
+}
+
+void OdeWorld::AddContactJoint(const dContactGeom& point, dBodyID b1, dBodyID b2, const ContactMaterial& material) {
+  const PhysicsParameters& p = *parameters_;
+  dContact contact{};
+  contact.surface.mode = kContactMode;
+  contact.surface.mu = ChooseFriction(point, b1, b2, material);
+  contact.surface.mu2 = contact.surface.mu;
+  contact.surface.bounce = material.restitution;
+  contact.surface.bounce_vel = p.min_bouncing_velocity;
+  contact.surface.soft_erp = p.soft_erp;
+  contact.surface.soft_cfm = p.soft_cfm;
+  contact.surface.slip1 = p.contact_slip;
+  contact.surface.slip2 = p.contact_slip;
+  contact.geom = point;
+  dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
+  dJointAttach(joint, b1, b2);
+}
+
+StepStatus OdeWorld::CheckStability(const PhysicsParameters& p) const {
+  const double max_linear2 = p.max_linear_speed * p.max_linear_speed;
+  const double max_angular2 = p.max_angular_speed * p.max_angular_speed;
+  for (dBodyID body : bodies_) {
+    if (body == nullptr) continue;
+    const dReal* x = dBodyGetPosition(body);
+    const dReal* q = dBodyGetQuaternion(body);
+    const dReal* v = dBodyGetLinearVel(body);
+    const dReal* w = dBodyGetAngularVel(body);
+    // One NaN or infinity anywhere makes the sum non-finite.
+    const double sum = x[0] + x[1] + x[2] + q[0] + q[1] + q[2] + q[3] + v[0] + v[1] + v[2] + w[0] + w[1] + w[2];
+    if (!std::isfinite(sum)) return StepStatus::kUnstable;
+    if (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] > max_linear2) return StepStatus::kUnstable;
+    if (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] > max_angular2) return StepStatus::kUnstable;
+  }
+  return StepStatus::kOk;
+}
+
+BodyState OdeWorld::body_state(int body) const {
+  assert(body >= 0 && body < model_->body_count());
+  BodyState state;
+  dBodyID id = bodies_[body];
+  if (id == nullptr) {  // static: where the description put it, at rest
+    state.position = model_->body(body).position;
+    state.orientation = model_->body(body).orientation;
+    return state;
+  }
+  const dReal* x = dBodyGetPosition(id);
+  const dReal* q = dBodyGetQuaternion(id);
+  const dReal* v = dBodyGetLinearVel(id);
+  const dReal* w = dBodyGetAngularVel(id);
+  state.position = {x[0], x[1], x[2]};
+  state.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);  // (w, x, y, z), as ODE stores it
+  state.linear_velocity = {v[0], v[1], v[2]};
+  state.angular_velocity = {w[0], w[1], w[2]};
+  return state;
+}
+
+void OdeWorld::SetBodyState(int body, const BodyState& state) {
+  assert(body >= 0 && body < model_->body_count());
+  dBodyID id = bodies_[body];
+  assert(id != nullptr && "SetBodyState needs a dynamic body");
+  if (id == nullptr) return;
+  dBodySetPosition(id, state.position.x(), state.position.y(), state.position.z());
+  dQuaternion q;
+  ToOde(state.orientation, q);
+  dBodySetQuaternion(id, q);
+  dBodySetLinearVel(id, state.linear_velocity.x(), state.linear_velocity.y(), state.linear_velocity.z());
+  dBodySetAngularVel(id, state.angular_velocity.x(), state.angular_velocity.y(), state.angular_velocity.z());
+}
+
+double OdeWorld::joint_angle(int joint) const {
+  assert(joint >= 0 && joint < model_->joint_count());
+  return IsHinge(joint) ? dJointGetHingeAngle(joints_[joint]) : 0.0;
+}
+
+double OdeWorld::joint_rate(int joint) const {
+  assert(joint >= 0 && joint < model_->joint_count());
+  return IsHinge(joint) ? dJointGetHingeAngleRate(joints_[joint]) : 0.0;
+}
+
+void OdeWorld::SetJointMotor(int joint, double velocity, double max_torque) {
+  assert(joint >= 0 && joint < model_->joint_count());
+  dJointID motor = motors_[joint];
+  assert(motor != nullptr && "SetJointMotor needs a motorised hinge");
+  if (motor == nullptr) return;
+  dJointSetAMotorParam(motor, dParamVel, velocity);
+  dJointSetAMotorParam(motor, dParamFMax, std::max(0.0, max_torque));  // a negative limit means none
+}
+
+void OdeWorld::SetJointFriction(int joint, double max_torque) {
+  assert(joint >= 0 && joint < model_->joint_count());
+  assert(IsHinge(joint) && "SetJointFriction needs a hinge");
+  if (!IsHinge(joint)) return;
+  dJointSetHingeParam(joints_[joint], dParamFMax, std::max(0.0, max_torque));
+}
+
+void OdeWorld::AddJointTorque(int joint, double torque) {
+  assert(joint >= 0 && joint < model_->joint_count());
+  assert(IsHinge(joint) && "AddJointTorque needs a hinge");
+  if (!IsHinge(joint)) return;
+  dJointAddHingeTorque(joints_[joint], torque);  // ODE clears body torques after each step
+}
+
+}  // namespace
+
+std::unique_ptr<PhysicsWorld> MakeOdeWorld(std::shared_ptr<const PhysicsModel> model) {
+  if (model == nullptr) throw std::invalid_argument("MakeOdeWorld: model is null");
+  return std::make_unique<OdeWorld>(std::move(model));
+}
+
+}  // namespace orcs::physics
