@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 
@@ -9,8 +10,15 @@
 
 namespace orcs {
 
-AtomicFile::AtomicFile(std::string path)
-    : path_(std::move(path)), temporary_path_(path_ + ".tmp." + std::to_string(::getpid())) {
+namespace {
+// Makes temporary names unique within the process too (two files for one path, one after the other).
+std::string TemporaryName(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  return path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+}
+}  // namespace
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_path_(TemporaryName(path_)) {
   stream_.open(temporary_path_, std::ios::out | std::ios::trunc);
   if (!stream_) throw InputError(path_, 0, "cannot create the file");
 }

@@ -1,4 +1,4 @@
-// An output file that appears under its name only when complete: written to "<name>.tmp.<pid>" and renamed on
+// An output file that appears under its name only when complete: written to "<name>.tmp.<pid>.<n>" and renamed on
 // Commit(). Destroyed without Commit() (an error, an exception), the temporary file is removed, so a half-written
 // file never looks finished (DESIGN.md, "Errors and bad input").
 #pragma once

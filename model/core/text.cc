@@ -71,8 +71,11 @@ std::optional<std::vector<double>> ParseNumberTuple(std::string_view text) {
   if (text.find(',') != std::string_view::npos) {
     fields = Split(text, ',');
   } else {
-    for (std::string_view field : Split(text, ' ')) {
-      if (!Trim(field).empty()) fields.push_back(field);
+    size_t pos = 0;
+    while ((pos = text.find_first_not_of(" \t", pos)) != std::string_view::npos) {
+      const size_t end = text.find_first_of(" \t", pos);
+      fields.push_back(text.substr(pos, end == std::string_view::npos ? text.npos : end - pos));
+      pos = end;
     }
   }
   for (std::string_view field : fields) {

@@ -1,0 +1,157 @@
+#include "model/core/text.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "model/core/random_stream.h"
+
+namespace orcs::text {
+namespace {
+
+// True when `parsed` holds exactly the bits of `expected` (so -0.0 differs from 0.0).
+bool SameBits(std::optional<double> parsed, double expected) {
+  return parsed.has_value() && std::bit_cast<std::uint64_t>(*parsed) == std::bit_cast<std::uint64_t>(expected);
+}
+
+TEST(TextTest, TrimRemovesLeadingAndTrailingWhiteSpaceOnly) {
+  EXPECT_EQ(Trim("  a b \t\r\n"), "a b");
+  EXPECT_EQ(Trim("\tx"), "x");
+  EXPECT_EQ(Trim("x  "), "x");
+  EXPECT_EQ(Trim("   "), "");
+  EXPECT_EQ(Trim(""), "");
+  EXPECT_EQ(Trim("a  b"), "a  b");
+}
+
+TEST(TextTest, ToLowerAndEqualsIgnoreCase) {
+  EXPECT_EQ(ToLower("AbC/X1"), "abc/x1");
+  EXPECT_TRUE(EqualsIgnoreCase("LightGray", "lightgray"));
+  EXPECT_FALSE(EqualsIgnoreCase("gray", "grey"));
+  EXPECT_FALSE(EqualsIgnoreCase("gray", "gray "));
+}
+
+TEST(TextTest, ParseDoubleAcceptsNumbers) {
+  EXPECT_EQ(ParseDouble("1e-3"), 1e-3);
+  EXPECT_EQ(ParseDouble("+2"), 2.0);
+  EXPECT_EQ(ParseDouble(" 3 "), 3.0);
+  EXPECT_EQ(ParseDouble("-4.25"), -4.25);
+  EXPECT_EQ(ParseDouble("0.1"), 0.1);
+  EXPECT_EQ(ParseDouble("inf"), std::numeric_limits<double>::infinity());
+  EXPECT_EQ(ParseDouble("-inf"), -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(ParseDouble("+inf"), std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(SameBits(ParseDouble("-0"), -0.0));
+}
+
+TEST(TextTest, ParseDoubleRejectsNonNumbers) {
+  for (const char* bad : {"", "   ", "abc", "1.5x", "x1.5", "nan", "NaN", "-nan", "1 2", "1,5", "+", "-", "+-2",
+                          "++2", "--2", "+ 2", "1e", "1e999"}) {
+    EXPECT_FALSE(ParseDouble(bad).has_value()) << "'" << bad << "'";
+  }
+}
+
+TEST(TextTest, ParseIntAcceptsIntegers) {
+  EXPECT_EQ(ParseInt("42"), 42);
+  EXPECT_EQ(ParseInt(" -7 "), -7);
+  EXPECT_EQ(ParseInt("+3"), 3);
+  EXPECT_EQ(ParseInt("0"), 0);
+  EXPECT_EQ(ParseInt("9223372036854775807"), std::numeric_limits<long long>::max());
+  EXPECT_EQ(ParseInt("-9223372036854775808"), std::numeric_limits<long long>::min());
+}
+
+TEST(TextTest, ParseIntRejectsNonIntegers) {
+  for (const char* bad : {"", " ", "1.5", "1e3", "abc", "12a", "0x10", "+-5", "--5", "+", "1 2",
+                          "9223372036854775808"}) {
+    EXPECT_FALSE(ParseInt(bad).has_value()) << "'" << bad << "'";
+  }
+}
+
+TEST(TextTest, FormatDoubleIsShortest) {
+  EXPECT_EQ(FormatDouble(0.1), "0.1");
+  EXPECT_EQ(FormatDouble(1.0), "1");
+  EXPECT_EQ(FormatDouble(-2.5), "-2.5");
+  EXPECT_EQ(FormatDouble(1e-5), "1e-05");
+  EXPECT_EQ(FormatDouble(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(FormatDouble(-std::numeric_limits<double>::infinity()), "-inf");
+}
+
+TEST(TextTest, FormatDoubleRoundTripsExactly) {
+  const std::vector<double> values{0.1,
+                                   1.0 / 3.0,
+                                   2.0 / 3.0,
+                                   1e-300,
+                                   -1e300,
+                                   -0.0,
+                                   0.0,
+                                   5e-324,  // smallest subnormal
+                                   std::numeric_limits<double>::min(),
+                                   std::numeric_limits<double>::max(),
+                                   std::numeric_limits<double>::epsilon(),
+                                   123456789.123456789,
+                                   std::numeric_limits<double>::infinity()};
+  for (double value : values) {
+    EXPECT_TRUE(SameBits(ParseDouble(FormatDouble(value)), value)) << FormatDouble(value);
+  }
+}
+
+TEST(TextTest, FormatDoubleRoundTripsRandomDraws) {
+  RandomStream random(7, "text-round-trip");
+  for (int i = 0; i < 10000; ++i) {
+    // Uniform doubles, normals and arbitrary bit patterns (all exponents), skipping NaNs.
+    const double uniform = random.Uniform(-1e6, 1e6);
+    const double normal = random.Normal(0.0, 1e-3);
+    const double bits = std::bit_cast<double>(random.NextU64());
+    for (double value : {uniform, normal, bits}) {
+      if (std::isnan(value)) continue;
+      ASSERT_TRUE(SameBits(ParseDouble(FormatDouble(value)), value)) << FormatDouble(value);
+    }
+  }
+}
+
+TEST(TextTest, ParseNumberTupleAcceptsTheUsualForms) {
+  const std::vector<double> expected{1.0, 2.0, 3.0};
+  EXPECT_EQ(ParseNumberTuple("(1,2,3)"), expected);
+  EXPECT_EQ(ParseNumberTuple("1 2 3"), expected);
+  EXPECT_EQ(ParseNumberTuple("(1, 2 ,3)"), expected);
+  EXPECT_EQ(ParseNumberTuple("1,2,3"), expected);
+  EXPECT_EQ(ParseNumberTuple("1\t2 \t 3"), expected);  // tabs separate like spaces
+  EXPECT_EQ(ParseNumberTuple("  ( 1   2  3 )  "), expected);
+  EXPECT_EQ(ParseNumberTuple("(-0.5,1e3)"), (std::vector<double>{-0.5, 1000.0}));
+  EXPECT_EQ(ParseNumberTuple("(7)"), std::vector<double>{7.0});
+}
+
+TEST(TextTest, ParseNumberTupleOfEmptyTextIsEmpty) {
+  ASSERT_TRUE(ParseNumberTuple("").has_value());
+  EXPECT_TRUE(ParseNumberTuple("")->empty());
+  ASSERT_TRUE(ParseNumberTuple("()").has_value());
+  EXPECT_TRUE(ParseNumberTuple("()")->empty());
+}
+
+TEST(TextTest, ParseNumberTupleRejectsMalformedTuples) {
+  for (const char* bad : {"(1,,2)", "(1,a)", "(1,2,)", "(,1)", "(1,2", "1,2)", "((1,2))", "1 2, 3", "(1;2)",
+                          "(1,nan)"}) {
+    EXPECT_FALSE(ParseNumberTuple(bad).has_value()) << "'" << bad << "'";
+  }
+}
+
+TEST(TextTest, SplitKeepsEmptyFieldsUntrimmed) {
+  EXPECT_EQ(Split("a,,b", ','), (std::vector<std::string_view>{"a", "", "b"}));
+  EXPECT_EQ(Split(",", ','), (std::vector<std::string_view>{"", ""}));
+  EXPECT_EQ(Split("", ','), std::vector<std::string_view>{""});
+  EXPECT_EQ(Split(" a , b", ','), (std::vector<std::string_view>{" a ", " b"}));
+}
+
+TEST(TextTest, QuoteShortensLongText) {
+  EXPECT_EQ(Quote("abc"), "'abc'");
+  EXPECT_EQ(Quote(""), "''");
+  const std::string forty(40, 'x');
+  EXPECT_EQ(Quote(forty), "'" + forty + "'");
+  EXPECT_EQ(Quote(forty + "yz"), "'" + forty + "...'");
+}
+
+}  // namespace
+}  // namespace orcs::text
