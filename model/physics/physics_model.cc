@@ -45,6 +45,14 @@ std::string JointSource(const JointDescription& joint, int index) {
 
 bool IsFinite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
+// Sizes and masses ODE can integrate: beyond these its mass check fails or inertias underflow. A micrometre to
+// a thousand kilometres and a microgram to a million tonnes cover every world this project simulates.
+constexpr double kMinSize = 1e-6;   // m
+constexpr double kMaxSize = 1e6;    // m
+constexpr double kMinMass = 1e-9;   // kg
+constexpr double kMaxMass = 1e9;    // kg
+bool SizeInRange(double size) { return size >= kMinSize && size <= kMaxSize; }
+
 // A rotation must be finite and not zero; it is normalised in place.
 void CheckRotation(Eigen::Quaterniond& q, const std::string& source, const std::string& field) {
   const double norm = q.norm();
@@ -59,13 +67,15 @@ void CheckGeomSize(const GeomDescription& geom, const std::string& source) {
   const Eigen::Vector3d& s = geom.size;
   switch (geom.shape) {
     case Shape::kBox:
-      if (!IsFinite(s) || !(s.minCoeff() > 0.0)) Fail(source, "size", "three positive edge lengths (m)", Vec(s));
+      if (!SizeInRange(s.minCoeff()) || !SizeInRange(s.maxCoeff())) {
+        Fail(source, "size", "three edge lengths from 1e-6 to 1e6 m", Vec(s));
+      }
       break;
     case Shape::kSphere:
-      if (!std::isfinite(s.x()) || !(s.x() > 0.0)) Fail(source, "size", "a positive radius in x (m)", Num(s.x()));
+      if (!SizeInRange(s.x())) Fail(source, "size", "a radius in x from 1e-6 to 1e6 m", Num(s.x()));
       break;
     case Shape::kCapsule:
-      if (!std::isfinite(s.x()) || !(s.x() > 0.0)) Fail(source, "size", "a positive radius in x (m)", Num(s.x()));
+      if (!SizeInRange(s.x())) Fail(source, "size", "a radius in x from 1e-6 to 1e6 m", Num(s.x()));
       if (!std::isfinite(s.y()) || !(s.y() >= 0.0)) {
         Fail(source, "size", "a non-negative cylinder length in y (m)", Num(s.y()));
       }
@@ -88,8 +98,8 @@ void CheckGeom(GeomDescription& geom, const BodyDescription& body, const std::st
 void CheckBody(BodyDescription& body, int index) {
   const std::string source = BodySource(body, index);
   if (body.name.empty()) Fail(source, "name", "a non-empty name", "\"\"");
-  if (body.dynamic && (!std::isfinite(body.mass) || !(body.mass > 0.0))) {
-    Fail(source, "mass", "a positive mass (kg) for a dynamic body", Num(body.mass));
+  if (body.dynamic && !(body.mass >= kMinMass && body.mass <= kMaxMass)) {
+    Fail(source, "mass", "a positive mass (kg) for a dynamic body, from 1e-9 to 1e9", Num(body.mass));
   }
   if (body.dynamic && body.geoms.empty()) {
     Fail(source, "geoms", "at least one geom for a dynamic body (geoms[0] shapes its inertia)", "none");

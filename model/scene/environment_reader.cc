@@ -2,6 +2,7 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -48,7 +49,10 @@ class ElementReader {
   std::vector<double> Tuple(const char* name, size_t min_count, size_t max_count) const {
     const std::string value = String(name, "");
     const auto numbers = text::ParseNumberTuple(value);
-    if (!numbers || numbers->size() < min_count || numbers->size() > max_count) {
+    // Positions, angles and sizes must be finite: "inf" parses as a number but would reach the physics engine.
+    const bool finite =
+        numbers && std::all_of(numbers->begin(), numbers->end(), [](double x) { return std::isfinite(x); });
+    if (!finite || numbers->size() < min_count || numbers->size() > max_count) {
       const std::string expected = min_count == max_count ? std::to_string(min_count) + " numbers"
                                                           : std::to_string(min_count) + " to " +
                                                                 std::to_string(max_count) + " numbers";

@@ -173,7 +173,7 @@ SimulationStatus Simulation::Step() {
   assert(built() && "Step() before Build()");
   if (status_ != SimulationStatus::kOk) return status_;
   events_.BeginStep();
-  if (parameters_changed_) ReadParameters();
+  if (parameters_changed_) ReadParameters();  // may throw InputError for values set since the last step
   const std::int64_t iterations = iterations_->as_int();
   for (std::int64_t i = 0; i < iterations && status_ == SimulationStatus::kOk; ++i) {
     PhysicsStage();  // collide → integrate → clear contacts (issue 3 adds motors before and sensors after)
@@ -189,6 +189,11 @@ SimulationStatus Simulation::Step() {
   current_step_->Set(steps_);
   events_.Trigger(step_event_);
   return status_;
+}
+
+double Simulation::StepDuration() {
+  if (parameters_changed_) ReadParameters();
+  return time_step_->as_double() * static_cast<double>(iterations_->as_int());
 }
 
 void Simulation::PhysicsStage() {

@@ -53,6 +53,10 @@ class Simulation {
   /// each, as the original). Does nothing once the status is not kOk.
   SimulationStatus Step();
 
+  /// Simulated seconds one Step() advances: TimeStepSize × IterationsPerStep. Throws InputError naming the path
+  /// when a run-time parameter is out of range.
+  double StepDuration();
+
   VariableRepository& repository() { return repository_; }
   const VariableRepository& repository() const { return repository_; }
   EventManager& events() { return events_; }

@@ -96,10 +96,6 @@ int Run(const SimOptions& options) {
   scene::Simulation simulation;
   scene::EnvironmentDescription environment;
   if (!options.environment.empty()) environment = scene::EnvironmentReader::ReadFile(options.environment);
-  if (!environment.agents.empty()) {
-    std::cerr << "orcs-sim: note: " << environment.agents.size()
-              << " agent(s) listed but not simulated: the A-Series body is not built yet\n";
-  }
   simulation.LoadEnvironment(environment);
   for (const std::string& file : options.initial_value_files) ValueFile::Apply(file, simulation.repository());
   simulation.Build();
@@ -115,14 +111,21 @@ int Run(const SimOptions& options) {
     return cli::kExitOk;
   }
 
+  // Checks /Simulation/TimeStepSize and IterationsPerStep: a non-positive value would silently give no steps.
+  const double step_count = options.duration / simulation.StepDuration();
+  if (!(step_count < 1e15)) {  // NaN (CLI11's NonNegativeNumber lets "nan" through) or beyond llround's range
+    throw InputError("--duration", 0,
+                     "expected seconds that take fewer than 1e15 steps, found " +
+                         text::FormatDouble(options.duration) + " (" + text::FormatDouble(step_count) + " steps)");
+  }
+  const auto steps = static_cast<std::int64_t>(std::llround(step_count));
+
   std::unique_ptr<ValueLogger> logger;
   if (!options.log.empty()) {
     logger = std::make_unique<ValueLogger>(simulation.repository(), options.log);
     logger->Open(options.out, LogComments(options));
     logger->Sample(simulation.time());
   }
-  const double time_step = simulation.repository().Get("/Simulation/TimeStepSize").as_double();
-  const auto steps = static_cast<std::int64_t>(std::llround(options.duration / time_step));
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
     if (simulation.Step() != scene::SimulationStatus::kOk) break;
@@ -130,6 +133,13 @@ int Run(const SimOptions& options) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (logger) logger->Finish();
+  // Printed after the run, when every input has been checked (the steps check the /Simulation values), so
+  // that a bad-input run prints its one error line and nothing else.
+  const std::vector<scene::AgentDescription>& agents = simulation.model().environment().agents;
+  if (!agents.empty()) {
+    std::cerr << "orcs-sim: note: " << agents.size()
+              << " agent(s) listed but not simulated: the A-Series body is not built yet\n";
+  }
   PrintSummary(simulation, wall);
   if (simulation.status() != scene::SimulationStatus::kOk) {
     std::cerr << "orcs-sim: " << simulation.message() << "\n";

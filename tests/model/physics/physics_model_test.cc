@@ -257,5 +257,15 @@ TEST(PhysicsModelTest, RejectsExclusionNamingUnknownBody) {
                    "contact exclusion #1 ('A', 'Ghost')", {"'second'", "unknown body 'Ghost'"});
 }
 
+// Sizes and masses ODE cannot integrate (its mass check fails) are rejected here, with the body named,
+// instead of failing inside the engine.
+TEST(PhysicsModelTest, RejectsSizesAndMassesBeyondWhatOdeIntegrates) {
+  ExpectInputError([](PhysicsDescription& d) { d.bodies[2].geoms[0].size.x() = 1e-300; }, "body 'B' geom #0",
+                   {"'size'", "from 1e-6 to 1e6 m", "found (1e-300"});
+  ExpectInputError([](PhysicsDescription& d) { d.bodies[1].geoms[0].size.x() = 1e7; }, "body 'A' geom #0",
+                   {"'size'", "from 1e-6 to 1e6 m", "found (1e+07"});
+  ExpectInputError([](PhysicsDescription& d) { d.bodies[1].mass = 1e308; }, "body 'A'", {"'mass'", "from 1e-9 to 1e9", "found 1e+308"});
+}
+
 }  // namespace
 }  // namespace orcs::physics

@@ -1,0 +1,427 @@
+#include "model/scene/environment_reader.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include "model/core/error.h"
+
+namespace orcs::scene {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+constexpr const char* kSource = "test.xml";
+
+// Joins lines with '\n', so that the n-th argument is line n of the document.
+std::string Lines(std::initializer_list<std::string_view> lines) {
+  std::string xml;
+  for (std::string_view line : lines) {
+    xml += line;
+    xml += '\n';
+  }
+  return xml;
+}
+
+// A document whose <Environment> holds a valid object on line 3 and `object` on line 4.
+std::string WithObjectOnLine4(std::string_view object) {
+  return Lines({R"x(<ORCS version="1.0">)x",
+                "  <Environment>",
+                R"x(    <object type="box" name="Good" position="(0,0.1,0)" dimension="(0.2,0.2,0.2)"/>)x",
+                object,
+                "  </Environment>",
+                "</ORCS>"});
+}
+
+// The InputError reading `xml` throws; fails the test when it throws nothing or something else.
+InputError ErrorOf(const std::string& xml) {
+  try {
+    EnvironmentReader::ReadString(xml, kSource);
+  } catch (const InputError& error) {
+    return error;
+  } catch (const std::exception& error) {
+    ADD_FAILURE() << "expected an InputError, got: " << error.what();
+    return InputError("(other exception)");
+  }
+  ADD_FAILURE() << "expected an InputError for:\n" << xml;
+  return InputError("(nothing thrown)");
+}
+
+// Reading `xml` fails with an error at test.xml:line whose message contains every one of `words`.
+void ExpectErrorAt(const std::string& xml, int line, std::initializer_list<std::string_view> words) {
+  const InputError error = ErrorOf(xml);
+  const std::string what = error.what();
+  EXPECT_THAT(what, StartsWith(std::string(kSource) + ":" + std::to_string(line) + ": ")) << xml;
+  EXPECT_EQ(error.source(), kSource);
+  EXPECT_EQ(error.line(), line) << what;
+  for (std::string_view word : words) EXPECT_THAT(what, HasSubstr(std::string(word))) << xml;
+  EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
+}
+
+std::string ExamplePath() { return std::string(ORCS_SOURCE_DIR) + "/scenarios/environments/example.xml"; }
+
+// ---------------------------------------------------------------------------------------------------------
+// Valid input
+
+TEST(EnvironmentReaderTest, ReadsExampleFile) {
+  const EnvironmentDescription env = EnvironmentReader::ReadFile(ExamplePath());
+  EXPECT_EQ(env.source, ExamplePath());
+  EXPECT_EQ(env.floor_material, "PVC");
+  ASSERT_EQ(env.objects.size(), 2u);
+  ASSERT_EQ(env.agents.size(), 1u);
+
+  const ObjectDescription& box = env.objects[0];
+  EXPECT_EQ(box.name, "Box");
+  EXPECT_EQ(box.type, ObjectType::kBox);
+  EXPECT_EQ(box.position, Eigen::Vector3d(0.4, 0.1, 0.4));
+  EXPECT_EQ(box.orientation, Eigen::Vector3d(0, 30, 0));
+  EXPECT_EQ(box.dimension, Eigen::Vector3d(0.2, 0.2, 0.2));
+  EXPECT_EQ(box.material, "Wood");
+  EXPECT_EQ(box.color, (Color{139, 69, 19, 255}));  // by (r,g,b); alpha defaults to opaque
+  EXPECT_FALSE(box.dynamic);
+  EXPECT_EQ(box.mass, 0.0);
+  EXPECT_EQ(box.line, 7);
+
+  const ObjectDescription& sphere = env.objects[1];
+  EXPECT_EQ(sphere.name, "SecondSphere");
+  EXPECT_EQ(sphere.type, ObjectType::kSphere);
+  EXPECT_EQ(sphere.position, Eigen::Vector3d(-0.3, 0.5, 0.3));
+  EXPECT_EQ(sphere.orientation, Eigen::Vector3d::Zero());
+  EXPECT_EQ(sphere.dimension, Eigen::Vector3d(0.05, 0, 0));  // radius first
+  EXPECT_EQ(sphere.material, "ABS");
+  EXPECT_EQ(sphere.color, (Color{255, 0, 0, 255}));  // by name
+  EXPECT_TRUE(sphere.dynamic);
+  EXPECT_EQ(sphere.mass, 0.1);
+  EXPECT_EQ(sphere.line, 9);
+
+  const AgentDescription& agent = env.agents[0];
+  EXPECT_EQ(agent.type, "ASeries");
+  EXPECT_EQ(agent.name, "SecondASeries");
+  EXPECT_EQ(agent.position, Eigen::Vector3d(0.5, 0.001, -0.5));
+  EXPECT_EQ(agent.orientation, Eigen::Vector3d(0, 90, 0));
+  EXPECT_EQ(agent.line, 13);
+}
+
+TEST(EnvironmentReaderTest, EmptyFileHasNoObjectsOrAgents) {
+  const EnvironmentDescription env =
+      EnvironmentReader::ReadFile(std::string(ORCS_SOURCE_DIR) + "/scenarios/environments/empty.xml");
+  EXPECT_TRUE(env.objects.empty());
+  EXPECT_TRUE(env.agents.empty());
+}
+
+TEST(EnvironmentReaderTest, OptionalAttributesTakeTheirDefaults) {
+  const EnvironmentDescription env = EnvironmentReader::ReadString(
+      Lines({R"x(<ORCS version="1.0">)x", "<Environment>",
+             R"x(<object type="sphere" name="Plain" position="(1,2,3)" dimension="(0.5)"/>)x", "</Environment>",
+             "<Agent>", "<ASeries/>", "</Agent>", "</ORCS>"}),
+      kSource);
+  EXPECT_EQ(env.source, kSource);
+  ASSERT_EQ(env.objects.size(), 1u);
+  const ObjectDescription& object = env.objects[0];
+  EXPECT_EQ(object.position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(object.orientation, Eigen::Vector3d::Zero());
+  EXPECT_EQ(object.material, "Default");
+  EXPECT_EQ(object.color, (Color{255, 255, 255, 255}));
+  EXPECT_EQ(object.texture, "");
+  EXPECT_FALSE(object.dynamic);
+  EXPECT_EQ(object.mass, 0.0);
+  EXPECT_EQ(object.line, 3);
+  ASSERT_EQ(env.agents.size(), 1u);
+  EXPECT_EQ(env.agents[0].type, "ASeries");
+  EXPECT_EQ(env.agents[0].name, "Humanoid");
+  EXPECT_EQ(env.agents[0].position, Eigen::Vector3d::Zero());
+  EXPECT_EQ(env.agents[0].orientation, Eigen::Vector3d::Zero());
+  EXPECT_EQ(env.agents[0].line, 6);
+}
+
+TEST(EnvironmentReaderTest, ReadsColourWithAlphaTextureAndBooleanSpellings) {
+  const EnvironmentDescription env = EnvironmentReader::ReadString(
+      Lines({R"x(<ORCS version="1.0"><Environment>)x",
+             R"x(<object type="box" name="A" position="1 2 3" dimension="(1,1,1)" color="(1,2,3,4)" texture="Wood1" dynamic="T" mass="2"/>)x",
+             R"x(<object type="Box" name="B" position="(0,0,0)" dimension="(1,1,1)" dynamic="0" color="BLUE"/>)x",
+             R"x(<object type="SPHERE" name="C" position="(0,0,0)" dimension="(1)" dynamic="TRUE" mass="0.5"/>)x",
+             "</Environment></ORCS>"}),
+      kSource);
+  ASSERT_EQ(env.objects.size(), 3u);
+  EXPECT_EQ(env.objects[0].position, Eigen::Vector3d(1, 2, 3));  // white space separates too
+  EXPECT_EQ(env.objects[0].color, (Color{1, 2, 3, 4}));
+  EXPECT_EQ(env.objects[0].texture, "Wood1");
+  EXPECT_TRUE(env.objects[0].dynamic);
+  EXPECT_EQ(env.objects[0].mass, 2.0);
+  EXPECT_EQ(env.objects[1].type, ObjectType::kBox);
+  EXPECT_FALSE(env.objects[1].dynamic);
+  EXPECT_EQ(env.objects[1].color, (Color{0, 0, 255, 255}));
+  EXPECT_EQ(env.objects[2].type, ObjectType::kSphere);
+  EXPECT_TRUE(env.objects[2].dynamic);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Bad input: every error names test.xml, the line and the problem.
+
+TEST(EnvironmentReaderTest, MalformedXmlUnclosedTag) {
+  // <object ...> on line 4 is never closed; </Environment> on line 5 does not match it.
+  ExpectErrorAt(WithObjectOnLine4(R"x(    <object type="box" name="B" position="(0,0,0)" dimension="(1,1,1)">)x"), 4,
+                {"malformed XML"});
+}
+
+TEST(EnvironmentReaderTest, MalformedXmlUnclosedRoot) {
+  ExpectErrorAt(Lines({"<!-- comment -->", R"x(<ORCS version="1.0">)x", "  <Environment>", "  </Environment>"}), 2,
+                {"malformed XML"});
+}
+
+TEST(EnvironmentReaderTest, MalformedXmlUnquotedAttribute) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type=box name="B" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"malformed XML"});
+}
+
+TEST(EnvironmentReaderTest, WrongRootElement) {
+  ExpectErrorAt(Lines({R"x(<?xml version="1.0"?>)x", R"x(<Scene version="1.0">)x", "</Scene>"}), 2,
+                {"root element", "<ORCS>", "<Scene>"});
+}
+
+TEST(EnvironmentReaderTest, NoRootElement) {
+  const InputError error = ErrorOf(Lines({R"x(<?xml version="1.0"?>)x", "<!-- nothing here -->"}));
+  EXPECT_THAT(error.what(), StartsWith("test.xml"));
+  EXPECT_THAT(error.what(), HasSubstr("ORCS"));
+}
+
+TEST(EnvironmentReaderTest, MissingVersion) {
+  ExpectErrorAt(Lines({"", "<ORCS>", "</ORCS>"}), 2, {"version", "1.0"});
+}
+
+TEST(EnvironmentReaderTest, WrongVersion) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="2.0">)x", "</ORCS>"}), 1, {"version", "'2.0'"});
+}
+
+TEST(EnvironmentReaderTest, UnknownAttributeOnRoot) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0" units="cm">)x", "</ORCS>"}), 1, {"unknown attribute", "units"});
+}
+
+TEST(EnvironmentReaderTest, UnknownElementInOrcs) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "  <Environment>", "  </Environment>", "  <Lights/>", "</ORCS>"}),
+                4, {"unknown element", "<Lights>"});
+}
+
+TEST(EnvironmentReaderTest, UnknownElementInEnvironment) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(    <light position="(0,1,0)"/>)x"), 4, {"unknown element", "<light>"});
+}
+
+TEST(EnvironmentReaderTest, UnknownAttributeOnSection) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "", R"x(  <Environment gravity="9.81">)x", "  </Environment>",
+                       "</ORCS>"}),
+                3, {"unknown attribute", "gravity"});
+}
+
+TEST(EnvironmentReaderTest, UnknownAttributeOnObject) {
+  ExpectErrorAt(
+      WithObjectOnLine4(R"x(<object type="box" name="B" position="(0,0,0)" dimension="(1,1,1)" colour="red"/>)x"), 4,
+      {"unknown attribute", "colour", "'B'"});
+}
+
+TEST(EnvironmentReaderTest, UnknownObjectType) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="cylinder" name="B" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"type", "cylinder"});
+}
+
+TEST(EnvironmentReaderTest, MissingName) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"missing mandatory attribute 'name'"});
+}
+
+TEST(EnvironmentReaderTest, EmptyName) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"'name'", "empty"});
+}
+
+TEST(EnvironmentReaderTest, NameWithSpaceOrSlash) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="a b" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"'name'", "'a b'"});
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="/a" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"'name'", "'/a'"});
+}
+
+TEST(EnvironmentReaderTest, MissingType) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object name="B" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"missing mandatory attribute 'type'"});
+}
+
+TEST(EnvironmentReaderTest, MissingPosition) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="B" dimension="(1,1,1)"/>)x"), 4,
+                {"missing mandatory attribute 'position'"});
+}
+
+TEST(EnvironmentReaderTest, MissingDimension) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="sphere" name="B" position="(0,0,0)"/>)x"), 4,
+                {"missing mandatory attribute 'dimension'"});
+}
+
+TEST(EnvironmentReaderTest, DynamicObjectWithoutMass) {
+  ExpectErrorAt(
+      WithObjectOnLine4(R"x(<object type="sphere" name="B" position="(0,0,0)" dimension="(1)" dynamic="true"/>)x"), 4,
+      {"dynamic", "'mass'"});
+}
+
+TEST(EnvironmentReaderTest, NonPositiveMass) {
+  for (const char* mass : {"0", "-1", "abc", "inf"}) {
+    SCOPED_TRACE(mass);
+    ExpectErrorAt(WithObjectOnLine4(std::string(R"x(<object type="sphere" name="B" position="(0,0,0)" dimension="(1)")x"
+                                                R"x( dynamic="true" mass=")x") +
+                                    mass + "\"/>"),
+                  4, {"'mass'", "positive", std::string("'") + mass + "'"});
+  }
+}
+
+TEST(EnvironmentReaderTest, NonNumericPosition) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="B" position="(0,high,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"'position'", "3 numbers", "'(0,high,0)'"});
+}
+
+TEST(EnvironmentReaderTest, NonFinitePosition) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="B" position="(0,inf,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"'position'", "'(0,inf,0)'"});
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="B" position="(0,nan,0)" dimension="(1,1,1)"/>)x"), 4,
+                {"'position'", "'(0,nan,0)'"});
+}
+
+TEST(EnvironmentReaderTest, WrongTupleLength) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="B" position="(1,2)" dimension="(1,1,1)"/>)x"), 4,
+                {"'position'", "3 numbers", "'(1,2)'"});
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="B" position="(1,2,3)" dimension="(1,1)"/>)x"), 4,
+                {"'dimension'", "3 numbers"});
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="sphere" name="B" position="(1,2,3)" dimension="(1,1,1)"/>)x"), 4,
+                {"'dimension'", "1 numbers"});
+  ExpectErrorAt(
+      WithObjectOnLine4(R"x(<object type="box" name="B" position="(1,2,3)" orientation="(1,2,3,4)" dimension="(1,1,1)"/>)x"),
+      4, {"'orientation'", "3 numbers"});
+}
+
+TEST(EnvironmentReaderTest, NonPositiveDimension) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="B" position="(1,2,3)" dimension="(1,0,1)"/>)x"), 4,
+                {"'dimension'", "positive"});
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="sphere" name="B" position="(1,2,3)" dimension="(-0.1)"/>)x"), 4,
+                {"'dimension'", "positive"});
+}
+
+TEST(EnvironmentReaderTest, BadColour) {
+  for (const char* color : {"reddish", "(300,0,0)", "(1,2)", "(0.5,0,0)"}) {
+    SCOPED_TRACE(color);
+    ExpectErrorAt(WithObjectOnLine4(std::string(R"x(<object type="box" name="B" position="(1,2,3)" dimension="(1,1,1)")x"
+                                                R"x( color=")x") +
+                                    color + "\"/>"),
+                  4, {"'color'", std::string("'") + color + "'"});
+  }
+}
+
+TEST(EnvironmentReaderTest, BadBoolean) {
+  ExpectErrorAt(
+      WithObjectOnLine4(R"x(<object type="box" name="B" position="(1,2,3)" dimension="(1,1,1)" dynamic="yes" mass="1"/>)x"),
+      4, {"'dynamic'", "true or false", "'yes'"});
+}
+
+TEST(EnvironmentReaderTest, DuplicateObjectNames) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="Good" position="(1,2,3)" dimension="(1,1,1)"/>)x"), 4,
+                {"'Good'", "twice"});
+}
+
+TEST(EnvironmentReaderTest, AgentNameDuplicatesObjectName) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "<Environment>",
+                       R"x(<object type="box" name="Robot" position="(0,0,0)" dimension="(1,1,1)"/>)x", "</Environment>",
+                       "<Agent>", R"x(<ASeries name="Robot"/>)x", "</Agent>", "</ORCS>"}),
+                6, {"'Robot'", "twice"});
+}
+
+TEST(EnvironmentReaderTest, ReservedNameFloor) {
+  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" name="Floor" position="(1,2,3)" dimension="(1,1,1)"/>)x"), 4,
+                {"'Floor'", "reserved"});
+}
+
+TEST(EnvironmentReaderTest, UnknownAgentType) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "<Agent>", R"x(<ASeries name="A"/>)x", R"x(<Nao name="B"/>)x",
+                       "</Agent>", "</ORCS>"}),
+                4, {"unknown agent type", "<Nao>"});
+}
+
+TEST(EnvironmentReaderTest, UnknownAgentAttribute) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "<Agent>", "", R"x(<ASeries name="A" scale="2"/>)x", "</Agent>",
+                       "</ORCS>"}),
+                4, {"unknown attribute", "scale"});
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Files
+
+class EnvironmentReaderFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("orcs_environment_reader_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    ASSERT_TRUE(fs::create_directories(dir_));
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(dir_, ignored);
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(EnvironmentReaderFileTest, NonexistentFileIsNamed) {
+  const std::string file = (dir_ / "missing.xml").string();
+  try {
+    EnvironmentReader::ReadFile(file);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), StartsWith(file + ": "));
+    EXPECT_THAT(error.what(), HasSubstr("cannot read"));
+    EXPECT_EQ(error.source(), file);
+  }
+}
+
+TEST_F(EnvironmentReaderFileTest, DirectoryIsNotAFile) {
+  const std::string file = dir_.string();
+  try {
+    EnvironmentReader::ReadFile(file);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), StartsWith(file + ": "));
+    EXPECT_THAT(error.what(), HasSubstr("cannot read"));
+  }
+}
+
+TEST_F(EnvironmentReaderFileTest, ErrorsInAFileNameTheFileAndLine) {
+  const std::string file = (dir_ / "bad.xml").string();
+  std::ofstream(file) << WithObjectOnLine4(R"x(<object type="box" name="B" position="(0,0,0)" dimension="(1,1,1)" mass="x"/>)x");
+  try {
+    EnvironmentReader::ReadFile(file);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), StartsWith(file + ":4: "));
+    EXPECT_THAT(error.what(), HasSubstr("'mass'"));
+    EXPECT_EQ(error.line(), 4);
+  }
+}
+
+TEST_F(EnvironmentReaderFileTest, ReadFileMatchesReadString) {
+  const std::string file = (dir_ / "good.xml").string();
+  const std::string xml = WithObjectOnLine4(R"x(<object type="sphere" name="S" position="(0,1,0)" dimension="(0.1)"/>)x");
+  std::ofstream(file) << xml;
+  const EnvironmentDescription from_file = EnvironmentReader::ReadFile(file);
+  EXPECT_EQ(from_file.source, file);
+  ASSERT_EQ(from_file.objects.size(), 2u);
+  EXPECT_EQ(from_file.objects[1].name, "S");
+  EXPECT_EQ(from_file.objects[1].position, Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(from_file.objects[1].line, 4);
+}
+
+}  // namespace
+}  // namespace orcs::scene

@@ -1,0 +1,449 @@
+// Tests of the orcs-sim program: they run the real binary and look at its exit code, stdout, stderr and files.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/process.h"
+
+namespace orcs {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::Not;
+using ::testing::StartsWith;
+using test_support::ProcessResult;
+
+const std::string kOrcsSim = std::string(ORCS_BINARY_DIR) + "/bin/orcs-sim";
+const std::string kExample = std::string(ORCS_SOURCE_DIR) + "/scenarios/environments/example.xml";
+constexpr double kSphereRadius = 0.05;
+
+// A CSV log as orcs-sim writes it: comment lines, a "# columns: " line, rows of numbers.
+struct Csv {
+  std::vector<std::string> comments;  // without the leading "# "
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+
+  int Column(const std::string& name) const {
+    const auto it = std::find(columns.begin(), columns.end(), name);
+    return it == columns.end() ? -1 : static_cast<int>(it - columns.begin());
+  }
+};
+
+std::vector<std::string> SplitAt(const std::string& text, char separator) {
+  std::vector<std::string> fields;
+  std::stringstream stream(text);
+  std::string field;
+  while (std::getline(stream, field, separator)) fields.push_back(field);
+  return fields;
+}
+
+// Parses `path`; fails the test (and returns what it has) on anything malformed.
+Csv ReadCsv(const std::string& path) {
+  Csv csv;
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << "cannot read " << path;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("# columns: ", 0) == 0) {
+      EXPECT_TRUE(csv.columns.empty()) << "second column line";
+      csv.columns = SplitAt(line.substr(11), ',');
+    } else if (line.rfind("# ", 0) == 0) {
+      EXPECT_TRUE(csv.columns.empty()) << "comment after the column line: " << line;
+      csv.comments.push_back(line.substr(2));
+    } else {
+      std::vector<double> row;
+      for (const std::string& field : SplitAt(line, ',')) {
+        size_t used = 0;
+        row.push_back(std::stod(field, &used));
+        EXPECT_EQ(used, field.size()) << "not a number: " << field;
+      }
+      EXPECT_EQ(row.size(), csv.columns.size()) << line;
+      csv.rows.push_back(row);
+    }
+  }
+  return csv;
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+class OrcsSimTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("orcs_sim_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    ASSERT_TRUE(fs::create_directories(dir_));
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(dir_, ignored);
+  }
+
+  // Writes `contents` to `name` in the test directory and returns its path.
+  std::string Write(const std::string& name, const std::string& contents) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << contents;
+    return path;
+  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  static ProcessResult Run(std::initializer_list<std::string> arguments) {
+    std::vector<std::string> argv{kOrcsSim};
+    argv.insert(argv.end(), arguments);
+    return test_support::RunProcess(argv);
+  }
+
+  // Runs the logging example with extra arguments and returns the CSV it wrote.
+  Csv RunLoggedExample(std::initializer_list<std::string> extra) {
+    std::vector<std::string> argv{kOrcsSim, "-env", kExample, "--duration", "2", "--log", ".*SecondSphere/Position",
+                                  "--out", Path("s.csv")};
+    argv.insert(argv.end(), extra);
+    const ProcessResult result = test_support::RunProcess(argv);
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    return ReadCsv(Path("s.csv"));
+  }
+
+  fs::path dir_;
+};
+
+// A bad-input run: exit code 2, no signal, exactly one line on stderr, no crash text.
+void ExpectBadInput(const ProcessResult& result) {
+  EXPECT_EQ(result.signal, 0) << "killed by signal " << result.signal;
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << "one line on stderr:\n" << result.err;
+  EXPECT_TRUE(!result.err.empty() && result.err.back() == '\n') << result.err;
+  EXPECT_THAT(result.err, StartsWith("orcs-sim: "));
+  EXPECT_THAT(result.err, Not(HasSubstr("terminate")));
+  EXPECT_THAT(result.err, Not(HasSubstr("Aborted")));
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Runs that work
+
+TEST_F(OrcsSimTest, LogsTheFallingSphereToCsv) {
+  const ProcessResult result = Run({"-env", kExample, "--duration", "2", "--log", ".*SecondSphere/Position",
+                                    "--out", Path("s.csv")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.signal, 0);
+  EXPECT_THAT(result.out, HasSubstr("200 steps"));
+  const std::string text = ReadAll(Path("s.csv"));
+  EXPECT_THAT(text, HasSubstr("\n# columns: time,/Sim/SecondSphere/Position.x,/Sim/SecondSphere/Position.y,"
+                              "/Sim/SecondSphere/Position.z\n"));
+  const Csv csv = ReadCsv(Path("s.csv"));
+  ASSERT_EQ(csv.columns.size(), 4u);
+  EXPECT_EQ(csv.columns[0], "time");
+  const int x = csv.Column("/Sim/SecondSphere/Position.x");
+  const int y = csv.Column("/Sim/SecondSphere/Position.y");
+  const int z = csv.Column("/Sim/SecondSphere/Position.z");
+  ASSERT_GE(x, 0);
+  ASSERT_GE(y, 0);
+  ASSERT_GE(z, 0);
+  ASSERT_EQ(csv.rows.size(), 201u);  // t = 0 and 200 steps of 0.01 s
+
+  EXPECT_EQ(csv.rows.front()[0], 0.0);
+  EXPECT_EQ(csv.rows.front()[y], 0.5);
+  EXPECT_EQ(csv.rows[1][0], 0.01);
+  EXPECT_EQ(csv.rows.back()[0], 2.0);
+  // Falls: strictly downwards through the first 0.2 s, at about g.
+  for (size_t i = 1; i <= 20; ++i) EXPECT_LT(csv.rows[i][y], csv.rows[i - 1][y]) << "row " << i;
+  EXPECT_NEAR(csv.rows[20][y], 0.5 - 0.5 * 9.81 * 0.2 * 0.2, 0.015);
+  // Rests on the floor at its radius, still for the last half second.
+  EXPECT_NEAR(csv.rows.back()[y], kSphereRadius, 0.002);
+  double lowest = INFINITY;
+  double highest = -INFINITY;
+  for (size_t i = csv.rows.size() - 50; i < csv.rows.size(); ++i) {
+    lowest = std::min(lowest, csv.rows[i][y]);
+    highest = std::max(highest, csv.rows[i][y]);
+  }
+  EXPECT_LT(highest - lowest, 1e-3);
+  // Straight down: x and z stay put.
+  EXPECT_NEAR(csv.rows.back()[x], -0.3, 1e-6);
+  EXPECT_NEAR(csv.rows.back()[z], 0.3, 1e-6);
+  // The comments say what ran.
+  EXPECT_THAT(csv.comments, ::testing::Contains(HasSubstr("example.xml")));
+  EXPECT_THAT(csv.comments, ::testing::Contains("seed: 0"));
+  // Nothing but the finished file is left behind.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+}
+
+TEST_F(OrcsSimTest, PrintValuesPrintsPathEqualsValueLines) {
+  const ProcessResult result = Run({"-env", kExample, "--print-values", "/Sim/SecondSphere/.*"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::map<std::string, std::string> values;
+  for (const std::string& line : SplitAt(result.out, '\n')) {
+    const size_t equals = line.find('=');
+    ASSERT_NE(equals, std::string::npos) << line;
+    EXPECT_THAT(line, StartsWith("/Sim/SecondSphere/"));
+    values[line.substr(0, equals)] = line.substr(equals + 1);
+  }
+  EXPECT_EQ(values["/Sim/SecondSphere/Mass"], "0.1");
+  EXPECT_EQ(values["/Sim/SecondSphere/Radius"], "0.05");
+  EXPECT_EQ(values["/Sim/SecondSphere/Position"], "(-0.3,0.5,0.3)");
+  EXPECT_EQ(values["/Sim/SecondSphere/Material"], "ABS");
+  EXPECT_EQ(values["/Sim/SecondSphere/Dynamic"], "T");
+  EXPECT_EQ(values["/Sim/SecondSphere/Color"], "(255,0,0,255)");
+  EXPECT_EQ(values.count("/Sim/Box/Position"), 0u);
+}
+
+TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
+  const ProcessResult result = Run({"-env", kExample, "--describe"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  nlohmann::json world;
+  ASSERT_NO_THROW(world = nlohmann::json::parse(result.out)) << result.out;
+  EXPECT_EQ(world["environment"], kExample);
+
+  const nlohmann::json& bodies = world["bodies"];
+  ASSERT_TRUE(bodies.is_array());
+  ASSERT_EQ(bodies.size(), 3u);
+  EXPECT_EQ(bodies[0]["name"], "Floor");
+  EXPECT_EQ(bodies[0]["shape"], "plane");
+  EXPECT_EQ(bodies[0]["material"], "PVC");
+  EXPECT_EQ(bodies[0]["dynamic"], false);
+
+  EXPECT_EQ(bodies[1]["name"], "Box");
+  EXPECT_EQ(bodies[1]["shape"], "box");
+  EXPECT_EQ(bodies[1]["dynamic"], false);
+  EXPECT_EQ(bodies[1]["mass"], 0.0);
+  EXPECT_EQ(bodies[1]["size"], nlohmann::json({0.2, 0.2, 0.2}));
+  EXPECT_EQ(bodies[1]["material"], "Wood");
+
+  EXPECT_EQ(bodies[2]["name"], "SecondSphere");
+  EXPECT_EQ(bodies[2]["shape"], "sphere");
+  EXPECT_EQ(bodies[2]["dynamic"], true);
+  EXPECT_EQ(bodies[2]["mass"], 0.1);
+  EXPECT_EQ(bodies[2]["size"], nlohmann::json({0.05}));
+  EXPECT_EQ(bodies[2]["material"], "ABS");
+
+  EXPECT_EQ(world["joints"], nlohmann::json::array());
+  const nlohmann::json& agents = world["agents"];
+  ASSERT_EQ(agents.size(), 1u);
+  EXPECT_EQ(agents[0]["name"], "SecondASeries");
+  EXPECT_EQ(agents[0]["type"], "ASeries");
+  EXPECT_EQ(agents[0]["position"], nlohmann::json({0.5, 0.001, -0.5}));
+}
+
+TEST_F(OrcsSimTest, DescribeShowsInitialValueChanges) {
+  const std::string ival = Write("heavy.val", "/Sim/SecondSphere/Mass=2.5\n/Sim/Box/Width=0.4\n");
+  const ProcessResult result = Run({"-env", kExample, "-ival", ival, "--describe"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json world = nlohmann::json::parse(result.out);
+  EXPECT_EQ(world["bodies"][2]["mass"], 2.5);
+  EXPECT_EQ(world["bodies"][1]["size"], nlohmann::json({0.4, 0.2, 0.2}));
+}
+
+TEST_F(OrcsSimTest, InitialValueFileMovesTheStart) {
+  const std::string ival = Write("start.val", "# start higher\n/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
+  const Csv csv = RunLoggedExample({"-ival", ival});
+  const int y = csv.Column("/Sim/SecondSphere/Position.y");
+  ASSERT_GE(y, 0);
+  ASSERT_FALSE(csv.rows.empty());
+  EXPECT_EQ(csv.rows.front()[y], 1.0);
+  EXPECT_LT(csv.rows[1][y], 1.0);
+  EXPECT_NEAR(csv.rows.back()[y], kSphereRadius, 0.002);
+}
+
+TEST_F(OrcsSimTest, ValueFileHalvingTheTimeStepDoublesTheRows) {
+  const Csv normal = RunLoggedExample({});
+  const std::string val = Write("fine.val", "/Simulation/TimeStepSize=0.005\n");
+  const Csv fine = RunLoggedExample({"-val", val});
+  EXPECT_EQ(normal.rows.size(), 201u);
+  ASSERT_EQ(fine.rows.size(), 401u);
+  EXPECT_EQ(fine.rows[1][0], 0.005);
+  EXPECT_EQ(fine.rows.back()[0], 2.0);
+}
+
+TEST_F(OrcsSimTest, DurationCountsIterationsPerStep) {
+  const std::string val = Write("twice.val", "/Simulation/IterationsPerStep=2\n");
+  const Csv csv = RunLoggedExample({"-val", val});
+  ASSERT_EQ(csv.rows.size(), 101u);  // 100 steps of 2 × 0.01 s
+  EXPECT_EQ(csv.rows.back()[0], 2.0);
+}
+
+TEST_F(OrcsSimTest, LongOptionSpellingsWorkToo) {
+  const std::string ival = Write("start.val", "/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
+  const ProcessResult result = Run({"--env", kExample, "--ival", ival, "--print-values", ".*SecondSphere/Position"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, "/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
+}
+
+TEST_F(OrcsSimTest, RunsWithoutAnEnvironment) {
+  const ProcessResult result = Run({"--duration", "0.5"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("50 steps"));
+}
+
+TEST_F(OrcsSimTest, HelpExitsZero) {
+  const ProcessResult result = Run({"--help"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("--env"));
+  EXPECT_THAT(result.out, HasSubstr("--duration"));
+  EXPECT_THAT(result.out, HasSubstr("--log"));
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Bad input: exit 2 and one line naming the file and line (or the option).
+
+TEST_F(OrcsSimTest, MalformedXml) {
+  const std::string env = Write("bad.xml",
+                                "<ORCS version=\"1.0\">\n"
+                                "  <Environment>\n"
+                                "    <object type=\"box\" name=\"B\" position=\"(0,0,0)\" dimension=\"(1,1,1)\">\n"
+                                "  </Environment>\n"
+                                "</ORCS>\n");
+  const ProcessResult result = Run({"-env", env});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(env + ":3: "));
+  EXPECT_THAT(result.err, HasSubstr("malformed XML"));
+}
+
+TEST_F(OrcsSimTest, UnknownAttribute) {
+  const std::string env = Write("bad.xml",
+                                "<ORCS version=\"1.0\">\n"
+                                "  <Environment>\n"
+                                "\n"
+                                "    <object type=\"box\" name=\"B\" position=\"(0,0,0)\" dimension=\"(1,1,1)\" "
+                                "weight=\"3\"/>\n"
+                                "  </Environment>\n"
+                                "</ORCS>\n");
+  const ProcessResult result = Run({"-env", env});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(env + ":4: "));
+  EXPECT_THAT(result.err, HasSubstr("unknown attribute 'weight'"));
+}
+
+TEST_F(OrcsSimTest, ValueFileLineWithoutEquals) {
+  const std::string ival = Write("bad.val", "# fine\n/Sim/SecondSphere/Mass 0.2\n");
+  const ProcessResult result = Run({"-env", kExample, "-ival", ival});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(ival + ":2: "));
+  EXPECT_THAT(result.err, HasSubstr("path=value"));
+}
+
+TEST_F(OrcsSimTest, UnknownPathInInitialValueFile) {
+  const std::string ival = Write("bad.val", "/Sim/SecondSphere/Mass=0.2\n\n/Sim/ThirdSphere/Mass=0.2\n");
+  const ProcessResult result = Run({"-env", kExample, "-ival", ival});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(ival + ":3: "));
+  EXPECT_THAT(result.err, HasSubstr("unknown repository path '/Sim/ThirdSphere/Mass'"));
+}
+
+TEST_F(OrcsSimTest, UnknownPathInValueFile) {
+  const std::string val = Write("bad.val", "/Simulation/TimeStepSiz=0.005\n");
+  const ProcessResult result = Run({"-env", kExample, "-val", val});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(val + ":1: "));
+  EXPECT_THAT(result.err, HasSubstr("/Simulation/TimeStepSiz"));
+}
+
+TEST_F(OrcsSimTest, BadValueInValueFile) {
+  const std::string val = Write("bad.val", "/Simulation/TimeStepSize=fast\n");
+  const ProcessResult result = Run({"-env", kExample, "-val", val});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(val + ":1: "));
+  EXPECT_THAT(result.err, HasSubstr("'fast'"));
+}
+
+TEST_F(OrcsSimTest, NonPositiveTimeStepInValueFile) {
+  for (const char* step : {"0", "-0.01"}) {
+    SCOPED_TRACE(step);
+    const std::string val = Write("zero.val", std::string("/Simulation/TimeStepSize=") + step + "\n");
+    const ProcessResult result = Run({"-env", kExample, "-val", val, "--duration", "1"});
+    ExpectBadInput(result);
+    EXPECT_THAT(result.err, HasSubstr("/Simulation/TimeStepSize"));
+    EXPECT_THAT(result.err, HasSubstr("positive"));
+  }
+}
+
+TEST_F(OrcsSimTest, NonPositiveIterationsInValueFile) {
+  const std::string val = Write("zero.val", "/Simulation/IterationsPerStep=0\n");
+  const ProcessResult result = Run({"-env", kExample, "-val", val});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("/Simulation/IterationsPerStep"));
+}
+
+TEST_F(OrcsSimTest, BadPhysicsParameterDuringTheRunIsOneLine) {
+  const std::string val = Write("zero.val", "/Simulation/ODE/QuickStepIterations=0\n");
+  const ProcessResult result = Run({"-env", kExample, "-val", val, "--duration", "0.1"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("/Simulation/ODE/QuickStepIterations"));
+}
+
+TEST_F(OrcsSimTest, NonexistentEnvironment) {
+  const std::string env = Path("nonexistent.xml");
+  const ProcessResult result = Run({"-env", env});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(env));
+  EXPECT_THAT(result.err, HasSubstr("not exist"));
+}
+
+TEST_F(OrcsSimTest, NonexistentValueFile) {
+  const std::string val = Path("nonexistent.val");
+  const ProcessResult result = Run({"-env", kExample, "-val", val});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(val + ": "));
+  EXPECT_THAT(result.err, HasSubstr("cannot read"));
+}
+
+TEST_F(OrcsSimTest, LogWithoutOut) {
+  const ProcessResult result = Run({"-env", kExample, "--log", ".*Position"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("--out"));
+}
+
+TEST_F(OrcsSimTest, LogMatchingNothing) {
+  const ProcessResult result =
+      Run({"-env", kExample, "--duration", "0.1", "--log", "/Sim/Nothing/.*", "--out", Path("s.csv")});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("'/Sim/Nothing/.*'"));
+  EXPECT_THAT(result.err, HasSubstr("matches no"));
+  EXPECT_FALSE(fs::exists(Path("s.csv")));
+}
+
+TEST_F(OrcsSimTest, UnwritableOutput) {
+  const std::string out = Path("missing-dir/s.csv");
+  const ProcessResult result = Run({"-env", kExample, "--duration", "0.1", "--log", ".*Position", "--out", out});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("missing-dir/s.csv"));
+}
+
+TEST_F(OrcsSimTest, UnknownOption) {
+  const ProcessResult result = Run({"-env", kExample, "--speed", "2"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("--speed"));
+}
+
+TEST_F(OrcsSimTest, NegativeDuration) {
+  const ProcessResult result = Run({"-env", kExample, "--duration", "-1"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("--duration"));
+}
+
+TEST_F(OrcsSimTest, DurationThatIsNotANumberOrTooLong) {
+  for (const char* duration : {"nan", "1e30"}) {
+    SCOPED_TRACE(duration);
+    const ProcessResult result = Run({"--duration", duration});
+    ExpectBadInput(result);
+    EXPECT_THAT(result.err, HasSubstr("--duration"));
+  }
+}
+
+}  // namespace
+}  // namespace orcs
