@@ -1,0 +1,461 @@
+#include "model/aseries/aseries_morphology.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <initializer_list>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "model/core/error.h"
+#include "model/core/rotation.h"
+#include "model/physics/material_table.h"
+
+namespace orcs::aseries {
+
+// Defined in the file CMake generates from aseries_morphology.json.
+namespace internal {
+extern const char kASeriesMorphologyJson[];
+}  // namespace internal
+
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr std::string_view kFormat = "orcs-aseries-morphology";
+constexpr int kVersion = 1;
+// Sensing axes are given as exact unit vectors; anything further off is a typo.
+constexpr double kUnitTolerance = 1e-9;
+
+std::string Num(double value) {
+  std::array<char, 32> text{};
+  const auto result = std::to_chars(text.data(), text.data() + text.size(), value);
+  return std::string(text.data(), result.ptr);
+}
+
+std::string Vec(const Eigen::Vector3d& v) { return "[" + Num(v.x()) + ", " + Num(v.y()) + ", " + Num(v.z()) + "]"; }
+
+// What a JSON value is, for "found ..." in messages.
+std::string Describe(const Json& value) {
+  switch (value.type()) {
+    case Json::value_t::string: {
+      std::string text = value.get<std::string>();
+      if (text.size() > 40) text = text.substr(0, 40) + "...";
+      return "the string \"" + text + "\"";
+    }
+    case Json::value_t::number_integer:
+    case Json::value_t::number_unsigned:
+    case Json::value_t::number_float:
+      return "the number " + value.dump();
+    case Json::value_t::boolean:
+      return std::string("the boolean ") + (value.get<bool>() ? "true" : "false");
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::array:
+      return "an array of " + std::to_string(value.size());
+    case Json::value_t::object:
+      return "an object";
+    default:
+      return "an unsupported value";
+  }
+}
+
+// A JSON value together with its field path ("bodies[3].size"), so that every error can name where it is.
+class Node {
+ public:
+  Node(const Json& value, std::string path, const std::string& source)
+      : value_(value), path_(std::move(path)), source_(source) {}
+
+  const std::string& path() const { return path_; }
+
+  [[noreturn]] void Fail(const std::string& expected, const std::string& found) const {
+    throw InputError(source_, 0, "field '" + path_ + "' expected " + expected + ", found " + found);
+  }
+
+  // A member that must be present.
+  Node At(const std::string& key) const {
+    if (!value_.is_object()) Fail("an object", Describe(value_));
+    const auto it = value_.find(key);
+    if (it == value_.end()) {
+      Node(value_, Child(key), source_).Fail("a value", "nothing (the field is missing)");
+    }
+    return Node(*it, Child(key), source_);
+  }
+
+  bool Has(const std::string& key) const { return value_.is_object() && value_.contains(key); }
+
+  // Rejects members other than `allowed` and "comment" (typos must not pass silently).
+  void ExpectOnly(std::initializer_list<std::string_view> allowed) const {
+    if (!value_.is_object()) Fail("an object", Describe(value_));
+    for (const auto& [key, member] : value_.items()) {
+      if (key == "comment") continue;
+      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+        std::string list;
+        for (std::string_view name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
+        Node(member, Child(key), source_).Fail("no such field (allowed: " + list + ")", "'" + key + "'");
+      }
+    }
+  }
+
+  std::vector<Node> Elements() const {
+    if (!value_.is_array()) Fail("an array", Describe(value_));
+    std::vector<Node> elements;
+    elements.reserve(value_.size());
+    for (std::size_t i = 0; i < value_.size(); ++i) {
+      elements.emplace_back(value_[i], path_ + "[" + std::to_string(i) + "]", source_);
+    }
+    return elements;
+  }
+
+  double Number(const std::string& what) const {
+    if (!value_.is_number()) Fail(what, Describe(value_));
+    const double number = value_.get<double>();
+    if (!std::isfinite(number)) Fail(what, Describe(value_));
+    return number;
+  }
+
+  int Integer(const std::string& what) const {
+    if (!value_.is_number_integer()) Fail(what, Describe(value_));
+    return value_.get<int>();
+  }
+
+  std::string String(const std::string& what) const {
+    if (!value_.is_string()) Fail(what, Describe(value_));
+    return value_.get<std::string>();
+  }
+
+  bool Bool(const std::string& what) const {
+    if (!value_.is_boolean()) Fail(what, Describe(value_));
+    return value_.get<bool>();
+  }
+
+  Eigen::Vector3d Vector3(const std::string& what) const {
+    const std::string expected = "an array of 3 numbers (" + what + ")";
+    if (!value_.is_array() || value_.size() != 3) Fail(expected, Describe(value_));
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) {
+      const Json& element = value_[static_cast<std::size_t>(i)];
+      if (!element.is_number() || !std::isfinite(element.get<double>())) {
+        Node(element, path_ + "[" + std::to_string(i) + "]", source_).Fail("a number (" + what + ")", Describe(element));
+      }
+      v[i] = element.get<double>();
+    }
+    return v;
+  }
+
+  Rgba Color() const {
+    const std::string expected = "an array of 4 integers 0..255 (red, green, blue, alpha)";
+    if (!value_.is_array() || value_.size() != 4) Fail(expected, Describe(value_));
+    Rgba rgba{};
+    for (std::size_t i = 0; i < 4; ++i) {
+      const Json& element = value_[i];
+      if (!element.is_number_integer() || element.get<long long>() < 0 || element.get<long long>() > 255) {
+        Node(element, path_ + "[" + std::to_string(i) + "]", source_).Fail("an integer 0..255", Describe(element));
+      }
+      rgba[i] = element.get<int>();
+    }
+    return rgba;
+  }
+
+ private:
+  std::string Child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  const Json& value_;
+  std::string path_;
+  const std::string& source_;
+};
+
+double PositiveNumber(const Node& node, const std::string& what) {
+  const double value = node.Number("a positive number (" + what + ")");
+  if (!(value > 0.0)) node.Fail("a positive number (" + what + ")", Num(value));
+  return value;
+}
+
+double NonNegativeNumber(const Node& node, const std::string& what) {
+  const double value = node.Number("a non-negative number (" + what + ")");
+  if (value < 0.0) node.Fail("a non-negative number (" + what + ")", Num(value));
+  return value;
+}
+
+Eigen::Vector3d Size(const Node& node) {
+  const Eigen::Vector3d size = node.Vector3("box edge lengths x, y, z in m");
+  if (!(size.minCoeff() > 0.0)) node.Fail("three positive edge lengths (m)", Vec(size));
+  return size;
+}
+
+std::string NonEmptyString(const Node& node, const std::string& what) {
+  const std::string text = node.String("a non-empty string (" + what + ")");
+  if (text.empty()) node.Fail("a non-empty string (" + what + ")", "\"\"");
+  return text;
+}
+
+// The robot must never fall back to the unknown-material rule: a misspelt material is an error.
+std::string Material(const Node& node) {
+  const std::string name = node.String("a material name");
+  if (physics::MaterialTable::IndexOf(name) == physics::MaterialTable::kUnknown) {
+    node.Fail("a known material (PlasticsWhite, PlasticsGray, ABS, Latex, PVC, Wood, Carpet, Default, Light, "
+              "Custom1, Custom2)",
+              "\"" + name + "\"");
+  }
+  return name;
+}
+
+Eigen::Vector3d UnitAxis(const Node& node) {
+  const Eigen::Vector3d axis = node.Vector3("a unit vector");
+  if (std::abs(axis.norm() - 1.0) > kUnitTolerance) node.Fail("a unit vector", Vec(axis));
+  return axis;
+}
+
+// A reference to a body by name.
+std::string BodyRef(const Node& node, const ASeriesMorphology& morphology) {
+  const std::string name = node.String("a body name");
+  if (morphology.FindBody(name) < 0) node.Fail("the name of a body in 'bodies'", "unknown body \"" + name + "\"");
+  return name;
+}
+
+MorphologyBody ParseBody(const Node& node) {
+  node.ExpectOnly({"name", "size", "centre", "mass", "material", "color", "texture", "penetrable"});
+  MorphologyBody body;
+  body.name = NonEmptyString(node.At("name"), "body name");
+  body.size = Size(node.At("size"));
+  body.centre = node.At("centre").Vector3("world centre in m");
+  body.mass = PositiveNumber(node.At("mass"), "box mass in kg");
+  body.material = Material(node.At("material"));
+  body.color = node.At("color").Color();
+  body.texture = node.At("texture").String("a texture name or \"\"");
+  body.penetrable = node.At("penetrable").Bool("true or false");
+  return body;
+}
+
+MorphologyGeom ParseGeom(const Node& node, const ASeriesMorphology& morphology) {
+  node.ExpectOnly({"host", "name", "size", "offset", "mass", "material", "color", "texture"});
+  MorphologyGeom geom;
+  geom.host = BodyRef(node.At("host"), morphology);
+  geom.name = NonEmptyString(node.At("name"), "geom name");
+  geom.size = Size(node.At("size"));
+  geom.offset = node.At("offset").Vector3("offset from the host centre in m");
+  geom.mass = NonNegativeNumber(node.At("mass"), "mass in kg");
+  geom.material = Material(node.At("material"));
+  geom.color = node.At("color").Color();
+  geom.texture = node.At("texture").String("a texture name or \"\"");
+  return geom;
+}
+
+MorphologyBoard ParseBoard(const Node& node, const ASeriesMorphology& morphology) {
+  node.ExpectOnly({"name", "host", "position", "rotation_degrees", "size", "mass", "material", "color", "texture",
+                   "axis1", "axis2"});
+  MorphologyBoard board;
+  board.name = NonEmptyString(node.At("name"), "board name");
+  board.host = BodyRef(node.At("host"), morphology);
+  board.position = node.At("position").Vector3("position in the host frame in m");
+  board.rotation_degrees = node.At("rotation_degrees").Vector3("NERD Euler angles in degrees");
+  board.rotation = QuaternionFromEulerDegrees(board.rotation_degrees);
+  board.size = Size(node.At("size"));
+  board.mass = NonNegativeNumber(node.At("mass"), "mass in kg");
+  board.material = Material(node.At("material"));
+  board.color = node.At("color").Color();
+  board.texture = node.At("texture").String("a texture name or \"\"");
+  board.axis1 = UnitAxis(node.At("axis1"));
+  board.axis2 = UnitAxis(node.At("axis2"));
+  return board;
+}
+
+// Two distinct dynamic bodies of the morphology.
+void ParseBodyPair(const Node& node, const ASeriesMorphology& morphology, std::string& first, std::string& second) {
+  first = BodyRef(node.At("first_body"), morphology);
+  second = BodyRef(node.At("second_body"), morphology);
+  if (first == second) node.At("second_body").Fail("a body other than first_body", "\"" + second + "\" again");
+}
+
+MorphologyMotor ParseMotor(const Node& node, const ASeriesMorphology& morphology) {
+  node.ExpectOnly({"name", "first_body", "second_body", "axis_point1", "axis_point2", "min_degrees", "max_degrees"});
+  MorphologyMotor motor;
+  motor.name = NonEmptyString(node.At("name"), "motor name");
+  ParseBodyPair(node, morphology, motor.first_body, motor.second_body);
+  motor.axis_point1 = node.At("axis_point1").Vector3("anchor in m");
+  motor.axis_point2 = node.At("axis_point2").Vector3("second axis point in m");
+  if ((motor.axis_point2 - motor.axis_point1).norm() < 1e-9) {
+    node.At("axis_point2").Fail("a point other than axis_point1 (they define the axis)", Vec(motor.axis_point2));
+  }
+  // ODE's hinge stops work within ±180°.
+  const std::string range = "an angle within -180..180 degrees";
+  motor.min_degrees = node.At("min_degrees").Number(range);
+  motor.max_degrees = node.At("max_degrees").Number(range);
+  if (std::abs(motor.min_degrees) > 180.0) node.At("min_degrees").Fail(range, Num(motor.min_degrees));
+  if (std::abs(motor.max_degrees) > 180.0) node.At("max_degrees").Fail(range, Num(motor.max_degrees));
+  if (motor.min_degrees > motor.max_degrees) {
+    node.At("min_degrees").Fail("min_degrees <= max_degrees (" + Num(motor.max_degrees) + ")", Num(motor.min_degrees));
+  }
+  return motor;
+}
+
+MorphologyFixedJoint ParseFixedJoint(const Node& node, const ASeriesMorphology& morphology) {
+  node.ExpectOnly({"name", "first_body", "second_body"});
+  MorphologyFixedJoint joint;
+  joint.name = NonEmptyString(node.At("name"), "joint name");
+  ParseBodyPair(node, morphology, joint.first_body, joint.second_body);
+  return joint;
+}
+
+bool BodyHasGeom(const ASeriesMorphology& morphology, const std::string& body, const std::string& geom) {
+  const bool in_geoms = std::any_of(morphology.geoms.begin(), morphology.geoms.end(),
+                                    [&](const MorphologyGeom& g) { return g.host == body && g.name == geom; });
+  const bool in_boards = std::any_of(morphology.boards.begin(), morphology.boards.end(),
+                                     [&](const MorphologyBoard& b) { return b.host == body && b.name == geom; });
+  return in_geoms || in_boards;
+}
+
+MorphologyExclusion ParseExclusion(const Node& node, const ASeriesMorphology& morphology) {
+  node.ExpectOnly({"first", "first_geom", "second"});
+  MorphologyExclusion exclusion;
+  exclusion.first = BodyRef(node.At("first"), morphology);
+  exclusion.second = BodyRef(node.At("second"), morphology);
+  if (node.Has("first_geom")) {
+    const Node geom = node.At("first_geom");
+    exclusion.first_geom = geom.String("the name of a geom or board of the first body");
+    if (!exclusion.first_geom.empty() && !BodyHasGeom(morphology, exclusion.first, exclusion.first_geom)) {
+      geom.Fail("the name of a geom or board of body \"" + exclusion.first + "\"",
+                "\"" + exclusion.first_geom + "\"");
+    }
+  }
+  return exclusion;
+}
+
+// Names that must be unique within a list (bodies, motors, ...): `key` gives the name of the i-th element.
+template <typename T, typename Key>
+void CheckUnique(const std::vector<T>& items, const Node& list, Key key, const std::string& what) {
+  std::set<std::string> seen;
+  const std::vector<Node> nodes = list.Elements();
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string name = key(items[i]);
+    if (!seen.insert(name).second) nodes[i].Fail(what + " unique in the list", "\"" + name + "\" used twice");
+  }
+}
+
+// 1-based line of a byte offset, for nlohmann's parse errors.
+int LineOf(const std::string& text, std::size_t byte) {
+  const std::size_t end = std::min(byte, text.size());
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
+}
+
+}  // namespace
+
+int ASeriesMorphology::FindBody(std::string_view name) const {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (bodies[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int ASeriesMorphology::FindMotor(std::string_view name) const {
+  for (std::size_t i = 0; i < motors.size(); ++i) {
+    if (motors[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int ASeriesMorphology::FindBoard(std::string_view name) const {
+  for (std::size_t i = 0; i < boards.size(); ++i) {
+    if (boards[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::string& source) {
+  Json document;
+  try {
+    document = Json::parse(json);
+  } catch (const Json::parse_error& error) {
+    // nlohmann's message starts "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
+    std::string what = error.what();
+    const std::size_t colon = what.find(": ");
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    throw InputError(source, LineOf(json, error.byte), "malformed JSON: " + what);
+  }
+
+  const Node root(document, "", source);
+  root.ExpectOnly({"format", "version", "lift", "bodies", "geoms", "boards", "motors", "fixed_joints",
+                   "contact_exclusions"});
+  const Node format = root.At("format");
+  if (format.String("\"" + std::string(kFormat) + "\"") != kFormat) {
+    format.Fail("\"" + std::string(kFormat) + "\"", "\"" + format.String("a string") + "\"");
+  }
+  const Node version = root.At("version");
+  if (version.Integer("the integer " + std::to_string(kVersion)) != kVersion) {
+    version.Fail("version " + std::to_string(kVersion), std::to_string(version.Integer("an integer")));
+  }
+
+  ASeriesMorphology morphology;
+  morphology.lift = NonNegativeNumber(root.At("lift"), "lift in m");
+
+  const Node bodies = root.At("bodies");
+  for (const Node& node : bodies.Elements()) morphology.bodies.push_back(ParseBody(node));
+  CheckUnique(morphology.bodies, bodies, [](const MorphologyBody& b) { return b.name; }, "a body name");
+
+  const Node geoms = root.At("geoms");
+  for (const Node& node : geoms.Elements()) morphology.geoms.push_back(ParseGeom(node, morphology));
+  const Node boards = root.At("boards");
+  for (const Node& node : boards.Elements()) morphology.boards.push_back(ParseBoard(node, morphology));
+  CheckUnique(morphology.boards, boards, [](const MorphologyBoard& b) { return b.name; }, "a board name");
+  // Geom and board names share one namespace per host body (they become geoms of one physics body).
+  {
+    std::set<std::pair<std::string, std::string>> seen;
+    const std::vector<Node> geom_nodes = geoms.Elements();
+    for (std::size_t i = 0; i < morphology.geoms.size(); ++i) {
+      const MorphologyGeom& g = morphology.geoms[i];
+      if (!seen.emplace(g.host, g.name).second) {
+        geom_nodes[i].At("name").Fail("a name unique within its host body", "\"" + g.name + "\" used twice");
+      }
+    }
+    const std::vector<Node> board_nodes = boards.Elements();
+    for (std::size_t i = 0; i < morphology.boards.size(); ++i) {
+      const MorphologyBoard& b = morphology.boards[i];
+      if (!seen.emplace(b.host, b.name).second) {
+        board_nodes[i].At("name").Fail("a name unique among the geoms of its host body", "\"" + b.name + "\"");
+      }
+    }
+  }
+
+  const Node motors = root.At("motors");
+  for (const Node& node : motors.Elements()) morphology.motors.push_back(ParseMotor(node, morphology));
+  const Node fixed = root.At("fixed_joints");
+  for (const Node& node : fixed.Elements()) morphology.fixed_joints.push_back(ParseFixedJoint(node, morphology));
+  // Motors and fixed joints become joints of one world: one namespace.
+  {
+    std::set<std::string> seen;
+    const std::vector<Node> motor_nodes = motors.Elements();
+    for (std::size_t i = 0; i < morphology.motors.size(); ++i) {
+      if (!seen.insert(morphology.motors[i].name).second) {
+        motor_nodes[i].At("name").Fail("a joint name unique among motors and fixed joints",
+                                       "\"" + morphology.motors[i].name + "\" used twice");
+      }
+    }
+    const std::vector<Node> fixed_nodes = fixed.Elements();
+    for (std::size_t i = 0; i < morphology.fixed_joints.size(); ++i) {
+      if (!seen.insert(morphology.fixed_joints[i].name).second) {
+        fixed_nodes[i].At("name").Fail("a joint name unique among motors and fixed joints",
+                                       "\"" + morphology.fixed_joints[i].name + "\" used twice");
+      }
+    }
+  }
+
+  for (const Node& node : root.At("contact_exclusions").Elements()) {
+    morphology.contact_exclusions.push_back(ParseExclusion(node, morphology));
+  }
+  return morphology;
+}
+
+std::string_view DefaultASeriesMorphologyJson() { return internal::kASeriesMorphologyJson; }
+
+const ASeriesMorphology& DefaultASeriesMorphology() {
+  static const ASeriesMorphology morphology =
+      ParseASeriesMorphology(std::string(DefaultASeriesMorphologyJson()), "model/aseries/aseries_morphology.json");
+  return morphology;
+}
+
+}  // namespace orcs::aseries
