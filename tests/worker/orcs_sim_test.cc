@@ -1,7 +1,6 @@
 // Tests of the orcs-sim program: they run the real binary and look at its exit code, stdout, stderr and files.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,15 +14,17 @@
 #include <vector>
 
 #include "tests/support/process.h"
+#include "tests/support/temp_dir.h"
 
 namespace orcs {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::ProcessResult;
+using test_support::TempDir;
 using ::testing::HasSubstr;
 using ::testing::Not;
 using ::testing::StartsWith;
-using test_support::ProcessResult;
 
 const std::string kOrcsSim = std::string(ORCS_BINARY_DIR) + "/bin/orcs-sim";
 const std::string kExample = std::string(ORCS_SOURCE_DIR) + "/scenarios/environments/example.xml";
@@ -76,35 +77,8 @@ Csv ReadCsv(const std::string& path) {
   return csv;
 }
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
 class OrcsSimTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("orcs_sim_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    ASSERT_TRUE(fs::create_directories(dir_));
-  }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(dir_, ignored);
-  }
-
-  // Writes `contents` to `name` in the test directory and returns its path.
-  std::string Write(const std::string& name, const std::string& contents) {
-    const std::string path = (dir_ / name).string();
-    std::ofstream(path) << contents;
-    return path;
-  }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
-
   static ProcessResult Run(std::initializer_list<std::string> arguments) {
     std::vector<std::string> argv{kOrcsSim};
     argv.insert(argv.end(), arguments);
@@ -113,15 +87,22 @@ class OrcsSimTest : public ::testing::Test {
 
   // Runs the logging example with extra arguments and returns the CSV it wrote.
   Csv RunLoggedExample(std::initializer_list<std::string> extra) {
-    std::vector<std::string> argv{kOrcsSim, "-env", kExample, "--duration", "2", "--log", ".*SecondSphere/Position",
-                                  "--out", Path("s.csv")};
+    std::vector<std::string> argv{kOrcsSim,
+                                  "-env",
+                                  kExample,
+                                  "--duration",
+                                  "2",
+                                  "--log",
+                                  ".*SecondSphere/Position",
+                                  "--out",
+                                  dir_.PathOf("s.csv")};
     argv.insert(argv.end(), extra);
     const ProcessResult result = test_support::RunProcess(argv);
     EXPECT_EQ(result.exit_code, 0) << result.err;
-    return ReadCsv(Path("s.csv"));
+    return ReadCsv(dir_.PathOf("s.csv"));
   }
 
-  fs::path dir_;
+  TempDir dir_;
 };
 
 // A bad-input run: exit code 2, no signal, exactly one line on stderr, no crash text.
@@ -139,15 +120,15 @@ void ExpectBadInput(const ProcessResult& result) {
 // Runs that work
 
 TEST_F(OrcsSimTest, LogsTheFallingSphereToCsv) {
-  const ProcessResult result = Run({"-env", kExample, "--duration", "2", "--log", ".*SecondSphere/Position",
-                                    "--out", Path("s.csv")});
+  const ProcessResult result =
+      Run({"-env", kExample, "--duration", "2", "--log", ".*SecondSphere/Position", "--out", dir_.PathOf("s.csv")});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.signal, 0);
   EXPECT_THAT(result.out, HasSubstr("200 steps"));
-  const std::string text = ReadAll(Path("s.csv"));
+  const std::string text = dir_.Read("s.csv");
   EXPECT_THAT(text, HasSubstr("\n# columns: time,/Sim/SecondSphere/Position.x,/Sim/SecondSphere/Position.y,"
                               "/Sim/SecondSphere/Position.z\n"));
-  const Csv csv = ReadCsv(Path("s.csv"));
+  const Csv csv = ReadCsv(dir_.PathOf("s.csv"));
   ASSERT_EQ(csv.columns.size(), 4u);
   EXPECT_EQ(csv.columns[0], "time");
   const int x = csv.Column("/Sim/SecondSphere/Position.x");
@@ -181,7 +162,7 @@ TEST_F(OrcsSimTest, LogsTheFallingSphereToCsv) {
   EXPECT_THAT(csv.comments, ::testing::Contains(HasSubstr("example.xml")));
   EXPECT_THAT(csv.comments, ::testing::Contains("seed: 0"));
   // Nothing but the finished file is left behind.
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_.path()), fs::directory_iterator()), 1);
 }
 
 TEST_F(OrcsSimTest, PrintValuesPrintsPathEqualsValueLines) {
@@ -241,7 +222,7 @@ TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
 }
 
 TEST_F(OrcsSimTest, DescribeShowsInitialValueChanges) {
-  const std::string ival = Write("heavy.val", "/Sim/SecondSphere/Mass=2.5\n/Sim/Box/Width=0.4\n");
+  const std::string ival = dir_.Write("heavy.val", "/Sim/SecondSphere/Mass=2.5\n/Sim/Box/Width=0.4\n");
   const ProcessResult result = Run({"-env", kExample, "-ival", ival, "--describe"});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const nlohmann::json world = nlohmann::json::parse(result.out);
@@ -250,7 +231,7 @@ TEST_F(OrcsSimTest, DescribeShowsInitialValueChanges) {
 }
 
 TEST_F(OrcsSimTest, InitialValueFileMovesTheStart) {
-  const std::string ival = Write("start.val", "# start higher\n/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
+  const std::string ival = dir_.Write("start.val", "# start higher\n/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
   const Csv csv = RunLoggedExample({"-ival", ival});
   const int y = csv.Column("/Sim/SecondSphere/Position.y");
   ASSERT_GE(y, 0);
@@ -262,7 +243,7 @@ TEST_F(OrcsSimTest, InitialValueFileMovesTheStart) {
 
 TEST_F(OrcsSimTest, ValueFileHalvingTheTimeStepDoublesTheRows) {
   const Csv normal = RunLoggedExample({});
-  const std::string val = Write("fine.val", "/Simulation/TimeStepSize=0.005\n");
+  const std::string val = dir_.Write("fine.val", "/Simulation/TimeStepSize=0.005\n");
   const Csv fine = RunLoggedExample({"-val", val});
   EXPECT_EQ(normal.rows.size(), 201u);
   ASSERT_EQ(fine.rows.size(), 401u);
@@ -271,14 +252,14 @@ TEST_F(OrcsSimTest, ValueFileHalvingTheTimeStepDoublesTheRows) {
 }
 
 TEST_F(OrcsSimTest, DurationCountsIterationsPerStep) {
-  const std::string val = Write("twice.val", "/Simulation/IterationsPerStep=2\n");
+  const std::string val = dir_.Write("twice.val", "/Simulation/IterationsPerStep=2\n");
   const Csv csv = RunLoggedExample({"-val", val});
   ASSERT_EQ(csv.rows.size(), 101u);  // 100 steps of 2 × 0.01 s
   EXPECT_EQ(csv.rows.back()[0], 2.0);
 }
 
 TEST_F(OrcsSimTest, LongOptionSpellingsWorkToo) {
-  const std::string ival = Write("start.val", "/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
+  const std::string ival = dir_.Write("start.val", "/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
   const ProcessResult result = Run({"--env", kExample, "--ival", ival, "--print-values", ".*SecondSphere/Position"});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_EQ(result.out, "/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
@@ -302,12 +283,12 @@ TEST_F(OrcsSimTest, HelpExitsZero) {
 // Bad input: exit 2 and one line naming the file and line (or the option).
 
 TEST_F(OrcsSimTest, MalformedXml) {
-  const std::string env = Write("bad.xml",
-                                "<ORCS version=\"1.0\">\n"
-                                "  <Environment>\n"
-                                "    <object type=\"box\" name=\"B\" position=\"(0,0,0)\" dimension=\"(1,1,1)\">\n"
-                                "  </Environment>\n"
-                                "</ORCS>\n");
+  const std::string env = dir_.Write("bad.xml",
+                                     "<ORCS version=\"1.0\">\n"
+                                     "  <Environment>\n"
+                                     "    <object type=\"box\" name=\"B\" position=\"(0,0,0)\" dimension=\"(1,1,1)\">\n"
+                                     "  </Environment>\n"
+                                     "</ORCS>\n");
   const ProcessResult result = Run({"-env", env});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(env + ":3: "));
@@ -315,14 +296,14 @@ TEST_F(OrcsSimTest, MalformedXml) {
 }
 
 TEST_F(OrcsSimTest, UnknownAttribute) {
-  const std::string env = Write("bad.xml",
-                                "<ORCS version=\"1.0\">\n"
-                                "  <Environment>\n"
-                                "\n"
-                                "    <object type=\"box\" name=\"B\" position=\"(0,0,0)\" dimension=\"(1,1,1)\" "
-                                "weight=\"3\"/>\n"
-                                "  </Environment>\n"
-                                "</ORCS>\n");
+  const std::string env = dir_.Write("bad.xml",
+                                     "<ORCS version=\"1.0\">\n"
+                                     "  <Environment>\n"
+                                     "\n"
+                                     "    <object type=\"box\" name=\"B\" position=\"(0,0,0)\" dimension=\"(1,1,1)\" "
+                                     "weight=\"3\"/>\n"
+                                     "  </Environment>\n"
+                                     "</ORCS>\n");
   const ProcessResult result = Run({"-env", env});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(env + ":4: "));
@@ -330,7 +311,7 @@ TEST_F(OrcsSimTest, UnknownAttribute) {
 }
 
 TEST_F(OrcsSimTest, ValueFileLineWithoutEquals) {
-  const std::string ival = Write("bad.val", "# fine\n/Sim/SecondSphere/Mass 0.2\n");
+  const std::string ival = dir_.Write("bad.val", "# fine\n/Sim/SecondSphere/Mass 0.2\n");
   const ProcessResult result = Run({"-env", kExample, "-ival", ival});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(ival + ":2: "));
@@ -338,7 +319,7 @@ TEST_F(OrcsSimTest, ValueFileLineWithoutEquals) {
 }
 
 TEST_F(OrcsSimTest, UnknownPathInInitialValueFile) {
-  const std::string ival = Write("bad.val", "/Sim/SecondSphere/Mass=0.2\n\n/Sim/ThirdSphere/Mass=0.2\n");
+  const std::string ival = dir_.Write("bad.val", "/Sim/SecondSphere/Mass=0.2\n\n/Sim/ThirdSphere/Mass=0.2\n");
   const ProcessResult result = Run({"-env", kExample, "-ival", ival});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(ival + ":3: "));
@@ -346,7 +327,7 @@ TEST_F(OrcsSimTest, UnknownPathInInitialValueFile) {
 }
 
 TEST_F(OrcsSimTest, UnknownPathInValueFile) {
-  const std::string val = Write("bad.val", "/Simulation/TimeStepSiz=0.005\n");
+  const std::string val = dir_.Write("bad.val", "/Simulation/TimeStepSiz=0.005\n");
   const ProcessResult result = Run({"-env", kExample, "-val", val});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(val + ":1: "));
@@ -354,7 +335,7 @@ TEST_F(OrcsSimTest, UnknownPathInValueFile) {
 }
 
 TEST_F(OrcsSimTest, BadValueInValueFile) {
-  const std::string val = Write("bad.val", "/Simulation/TimeStepSize=fast\n");
+  const std::string val = dir_.Write("bad.val", "/Simulation/TimeStepSize=fast\n");
   const ProcessResult result = Run({"-env", kExample, "-val", val});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(val + ":1: "));
@@ -364,7 +345,7 @@ TEST_F(OrcsSimTest, BadValueInValueFile) {
 TEST_F(OrcsSimTest, NonPositiveTimeStepInValueFile) {
   for (const char* step : {"0", "-0.01"}) {
     SCOPED_TRACE(step);
-    const std::string val = Write("zero.val", std::string("/Simulation/TimeStepSize=") + step + "\n");
+    const std::string val = dir_.Write("zero.val", std::string("/Simulation/TimeStepSize=") + step + "\n");
     const ProcessResult result = Run({"-env", kExample, "-val", val, "--duration", "1"});
     ExpectBadInput(result);
     EXPECT_THAT(result.err, HasSubstr("/Simulation/TimeStepSize"));
@@ -373,21 +354,21 @@ TEST_F(OrcsSimTest, NonPositiveTimeStepInValueFile) {
 }
 
 TEST_F(OrcsSimTest, NonPositiveIterationsInValueFile) {
-  const std::string val = Write("zero.val", "/Simulation/IterationsPerStep=0\n");
+  const std::string val = dir_.Write("zero.val", "/Simulation/IterationsPerStep=0\n");
   const ProcessResult result = Run({"-env", kExample, "-val", val});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr("/Simulation/IterationsPerStep"));
 }
 
 TEST_F(OrcsSimTest, BadPhysicsParameterDuringTheRunIsOneLine) {
-  const std::string val = Write("zero.val", "/Simulation/ODE/QuickStepIterations=0\n");
+  const std::string val = dir_.Write("zero.val", "/Simulation/ODE/QuickStepIterations=0\n");
   const ProcessResult result = Run({"-env", kExample, "-val", val, "--duration", "0.1"});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr("/Simulation/ODE/QuickStepIterations"));
 }
 
 TEST_F(OrcsSimTest, NonexistentEnvironment) {
-  const std::string env = Path("nonexistent.xml");
+  const std::string env = dir_.PathOf("nonexistent.xml");
   const ProcessResult result = Run({"-env", env});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(env));
@@ -395,7 +376,7 @@ TEST_F(OrcsSimTest, NonexistentEnvironment) {
 }
 
 TEST_F(OrcsSimTest, NonexistentValueFile) {
-  const std::string val = Path("nonexistent.val");
+  const std::string val = dir_.PathOf("nonexistent.val");
   const ProcessResult result = Run({"-env", kExample, "-val", val});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(val + ": "));
@@ -410,15 +391,15 @@ TEST_F(OrcsSimTest, LogWithoutOut) {
 
 TEST_F(OrcsSimTest, LogMatchingNothing) {
   const ProcessResult result =
-      Run({"-env", kExample, "--duration", "0.1", "--log", "/Sim/Nothing/.*", "--out", Path("s.csv")});
+      Run({"-env", kExample, "--duration", "0.1", "--log", "/Sim/Nothing/.*", "--out", dir_.PathOf("s.csv")});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr("'/Sim/Nothing/.*'"));
   EXPECT_THAT(result.err, HasSubstr("matches no"));
-  EXPECT_FALSE(fs::exists(Path("s.csv")));
+  EXPECT_FALSE(fs::exists(dir_.PathOf("s.csv")));
 }
 
 TEST_F(OrcsSimTest, UnwritableOutput) {
-  const std::string out = Path("missing-dir/s.csv");
+  const std::string out = dir_.PathOf("missing-dir/s.csv");
   const ProcessResult result = Run({"-env", kExample, "--duration", "0.1", "--log", ".*Position", "--out", out});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr("missing-dir/s.csv"));

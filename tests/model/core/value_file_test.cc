@@ -2,77 +2,39 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "model/core/error.h"
+#include "tests/support/input_error_of.h"
+#include "tests/support/temp_dir.h"
 
 namespace orcs {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::InputErrorOf;
+using test_support::TempDir;
 using ::testing::HasSubstr;
 
 // Each test works in its own fresh temporary directory, removed afterwards.
 class ValueFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("orcs_value_file_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    ASSERT_TRUE(fs::create_directories(dir_));
-  }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(dir_, ignored);
-  }
-
-  // Writes `contents` to `name` (relative to the test directory, folders created) and returns its path.
-  std::string Write(const std::string& name, const std::string& contents) {
-    const fs::path path = dir_ / name;
-    fs::create_directories(path.parent_path());
-    std::ofstream(path) << contents;
-    return path.string();
-  }
-
-  static std::string ReadAll(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return buffer.str();
-  }
-
-  // The what() of the InputError `call` throws; fails the test when it throws nothing or something else.
-  template <typename Call>
-  static std::string InputErrorOf(Call call) {
-    try {
-      call();
-    } catch (const InputError& error) {
-      return error.what();
-    }
-    ADD_FAILURE() << "expected an InputError";
-    return "";
-  }
-
-  fs::path dir_;
+  TempDir dir_;
 };
 
 TEST_F(ValueFileTest, ReadSkipsCommentsAndBlankLinesAndTrims) {
-  const std::string file = Write("a.val",
-                                 "# a comment\n"
-                                 "\n"
-                                 "  /a/b = 3  \n"
-                                 "   \t\n"
-                                 "  # indented comment with = sign\n"
-                                 "/c=  two words \r\n"
-                                 "/d=\n"
-                                 "/e=x=y\n");
+  const std::string file = dir_.Write("a.val",
+                                      "# a comment\n"
+                                      "\n"
+                                      "  /a/b = 3  \n"
+                                      "   \t\n"
+                                      "  # indented comment with = sign\n"
+                                      "/c=  two words \r\n"
+                                      "/d=\n"
+                                      "/e=x=y\n");
   const std::vector<ValueAssignment> assignments = ValueFile::Read(file);
   ASSERT_EQ(assignments.size(), 4u);
   EXPECT_EQ(assignments[0].path, "/a/b");
@@ -96,13 +58,13 @@ TEST_F(ValueFileTest, ApplySetsValuesInOrderIncludingBooleans) {
   repository.Add("/Off", true);
   repository.Add("/Gain", 0.0);
   repository.Add("/Position", Eigen::Vector3d::Zero().eval());
-  const std::string file = Write("a.val",
-                                 "  /a/b = 3  \n"
-                                 "/On=T\n"
-                                 "/Off=F\n"
-                                 "/Gain=1\n"
-                                 "/Gain=0.25\n"  // later lines win
-                                 "/Position=(1, 2, 3)\n");
+  const std::string file = dir_.Write("a.val",
+                                      "  /a/b = 3  \n"
+                                      "/On=T\n"
+                                      "/Off=F\n"
+                                      "/Gain=1\n"
+                                      "/Gain=0.25\n"  // later lines win
+                                      "/Position=(1, 2, 3)\n");
   ValueFile::Apply(file, repository);
   EXPECT_EQ(repository.Get("/a/b").as_int(), 3);
   EXPECT_TRUE(repository.Get("/On").as_bool());
@@ -112,29 +74,29 @@ TEST_F(ValueFileTest, ApplySetsValuesInOrderIncludingBooleans) {
 }
 
 TEST_F(ValueFileTest, IncludeIsRelativeToTheIncludingFile) {
-  Write("sub/inner.val", "/b=2\n#include deeper/deepest.val\n/c=3\n");
-  Write("sub/deeper/deepest.val", "/d=4\n");
+  dir_.Write("sub/inner.val", "/b=2\n#include deeper/deepest.val\n/c=3\n");
+  dir_.Write("sub/deeper/deepest.val", "/d=4\n");
   // A decoy next to main.val that must not be picked for the include inside sub/inner.val.
-  Write("deeper/deepest.val", "/d=999\n");
-  const std::string main = Write("main.val", "/a=1\n#include <sub/inner.val>\n/e=5\n");
+  dir_.Write("deeper/deepest.val", "/d=999\n");
+  const std::string main = dir_.Write("main.val", "/a=1\n#include <sub/inner.val>\n/e=5\n");
   const std::vector<ValueAssignment> assignments = ValueFile::Read(main);
   ASSERT_EQ(assignments.size(), 5u);
   const std::vector<std::string> paths{assignments[0].path, assignments[1].path, assignments[2].path,
                                        assignments[3].path, assignments[4].path};
   EXPECT_EQ(paths, (std::vector<std::string>{"/a", "/b", "/d", "/c", "/e"}));
   EXPECT_EQ(assignments[2].value, "4");
-  EXPECT_EQ(fs::path(assignments[1].file), dir_ / "sub" / "inner.val");
+  EXPECT_EQ(fs::path(assignments[1].file), dir_.path() / "sub" / "inner.val");
   EXPECT_EQ(assignments[1].line, 1);
-  EXPECT_EQ(fs::path(assignments[2].file), dir_ / "sub" / "deeper" / "deepest.val");
+  EXPECT_EQ(fs::path(assignments[2].file), dir_.path() / "sub" / "deeper" / "deepest.val");
   EXPECT_EQ(assignments[4].file, main);
   EXPECT_EQ(assignments[4].line, 3);
 }
 
 TEST_F(ValueFileTest, IncludeWorksFromAFileNamedWithoutADirectory) {
-  Write("inner.val", "/b=2\n");
-  Write("main.val", "#include inner.val\n");
+  dir_.Write("inner.val", "/b=2\n");
+  dir_.Write("main.val", "#include inner.val\n");
   const fs::path previous = fs::current_path();
-  fs::current_path(dir_);
+  fs::current_path(dir_.path());
   std::vector<ValueAssignment> assignments;
   EXPECT_NO_THROW(assignments = ValueFile::Read("main.val"));
   fs::current_path(previous);
@@ -143,13 +105,13 @@ TEST_F(ValueFileTest, IncludeWorksFromAFileNamedWithoutADirectory) {
 }
 
 TEST_F(ValueFileTest, IncludeCycleThrowsMentioningIncludeDepth) {
-  Write("a.val", "/a=1\n#include b.val\n");
-  Write("b.val", "#include a.val\n");
-  const std::string message = InputErrorOf([&] { ValueFile::Read((dir_ / "a.val").string()); });
+  dir_.Write("a.val", "/a=1\n#include b.val\n");
+  dir_.Write("b.val", "#include a.val\n");
+  const std::string message = InputErrorOf([&] { ValueFile::Read(dir_.PathOf("a.val")); });
   EXPECT_THAT(message, HasSubstr("#include nested deeper than"));
   EXPECT_THAT(message, HasSubstr(std::to_string(ValueFile::kMaxIncludeDepth)));
 
-  const std::string self = Write("self.val", "#include self.val\n");
+  const std::string self = dir_.Write("self.val", "#include self.val\n");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Read(self); }), HasSubstr("nested deeper"));
 }
 
@@ -157,33 +119,33 @@ TEST_F(ValueFileTest, IncludesUpToTheMaximumDepthAreFine) {
   // main.val includes f1.val, which includes f2.val, ..., kMaxIncludeDepth files deep.
   const int depth = ValueFile::kMaxIncludeDepth;
   for (int i = 1; i <= depth; ++i) {
-    Write("f" + std::to_string(i) + ".val",
-          i < depth ? "#include f" + std::to_string(i + 1) + ".val\n" : std::string("/x=1\n"));
+    dir_.Write("f" + std::to_string(i) + ".val",
+               i < depth ? "#include f" + std::to_string(i + 1) + ".val\n" : std::string("/x=1\n"));
   }
-  const std::string main = Write("main.val", "#include f1.val\n");
+  const std::string main = dir_.Write("main.val", "#include f1.val\n");
   EXPECT_EQ(ValueFile::Read(main).size(), 1u);
   // One more level is too deep.
-  Write("f" + std::to_string(depth) + ".val", "#include f" + std::to_string(depth + 1) + ".val\n");
-  Write("f" + std::to_string(depth + 1) + ".val", "/x=1\n");
+  dir_.Write("f" + std::to_string(depth) + ".val", "#include f" + std::to_string(depth + 1) + ".val\n");
+  dir_.Write("f" + std::to_string(depth + 1) + ".val", "/x=1\n");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Read(main); }), HasSubstr("nested deeper"));
 }
 
 TEST_F(ValueFileTest, MissingIncludeNamesFileAndLine) {
-  const std::string main = Write("main.val", "/a=1\n\n#include missing.val\n");
+  const std::string main = dir_.Write("main.val", "/a=1\n\n#include missing.val\n");
   const std::string message = InputErrorOf([&] { ValueFile::Read(main); });
   EXPECT_THAT(message, HasSubstr(main + ":3:"));
   EXPECT_THAT(message, HasSubstr("missing.val"));
 }
 
 TEST_F(ValueFileTest, IncludeWithoutAFileNameIsAnError) {
-  const std::string main = Write("main.val", "#include\n");
+  const std::string main = dir_.Write("main.val", "#include\n");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Read(main); }), HasSubstr(main + ":1:"));
-  const std::string brackets = Write("brackets.val", "/a=1\n#include <>\n");
+  const std::string brackets = dir_.Write("brackets.val", "/a=1\n#include <>\n");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Read(brackets); }), HasSubstr(brackets + ":2:"));
 }
 
 TEST_F(ValueFileTest, LineWithoutEqualsThrowsWithFileAndLine) {
-  const std::string file = Write("a.val", "# header\n/a=1\n/b 2\n");
+  const std::string file = dir_.Write("a.val", "# header\n/a=1\n/b 2\n");
   try {
     ValueFile::Read(file);
     FAIL() << "expected an InputError";
@@ -196,13 +158,13 @@ TEST_F(ValueFileTest, LineWithoutEqualsThrowsWithFileAndLine) {
 }
 
 TEST_F(ValueFileTest, EmptyPathThrowsWithFileAndLine) {
-  const std::string file = Write("a.val", "=3\n");
+  const std::string file = dir_.Write("a.val", "=3\n");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Read(file); }), HasSubstr(file + ":1:"));
 }
 
 TEST_F(ValueFileTest, ErrorInAnIncludedFileNamesThatFile) {
-  const std::string inner = Write("sub/inner.val", "/a=1\nnonsense\n");
-  const std::string main = Write("main.val", "#include sub/inner.val\n");
+  const std::string inner = dir_.Write("sub/inner.val", "/a=1\nnonsense\n");
+  const std::string main = dir_.Write("main.val", "#include sub/inner.val\n");
   const std::string message = InputErrorOf([&] { ValueFile::Read(main); });
   EXPECT_THAT(message, HasSubstr("inner.val:2:"));
 }
@@ -212,7 +174,7 @@ TEST_F(ValueFileTest, UnknownPathThrowsWithFileAndLineAndChangesNothing) {
   Value& gain = repository.Add("/Gain", 1.0);
   int calls = 0;
   gain.AddObserver([&calls](const Value&) { ++calls; });
-  const std::string file = Write("a.val", "/Gain=2\n/Nowhere=3\n");
+  const std::string file = dir_.Write("a.val", "/Gain=2\n/Nowhere=3\n");
   const std::string message = InputErrorOf([&] { ValueFile::Apply(file, repository); });
   EXPECT_THAT(message, HasSubstr(file + ":2:"));
   EXPECT_THAT(message, HasSubstr("/Nowhere"));
@@ -223,7 +185,7 @@ TEST_F(ValueFileTest, UnknownPathThrowsWithFileAndLineAndChangesNothing) {
 TEST_F(ValueFileTest, UnknownLongPathIsNamedInFull) {
   VariableRepository repository;
   repository.Add("/Simulation/ODE/ContactMaxCorrectingVelocity", 1.0);
-  const std::string file = Write("a.val", "/Simulation/ODE/ContactMaxCorrectingVelocityy=2\n");
+  const std::string file = dir_.Write("a.val", "/Simulation/ODE/ContactMaxCorrectingVelocityy=2\n");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Apply(file, repository); }),
               HasSubstr("'/Simulation/ODE/ContactMaxCorrectingVelocityy'"));
 }
@@ -232,7 +194,7 @@ TEST_F(ValueFileTest, BadValueTextThrowsWithFileAndLineAndChangesNothing) {
   VariableRepository repository;
   repository.Add("/Gain", 1.0);
   repository.Add("/Flag", false);
-  const std::string file = Write("a.val", "/Gain=2\n# comment\n/Flag=yes\n");
+  const std::string file = dir_.Write("a.val", "/Gain=2\n# comment\n/Flag=yes\n");
   const std::string message = InputErrorOf([&] { ValueFile::Apply(file, repository); });
   EXPECT_THAT(message, HasSubstr(file + ":3:"));
   EXPECT_THAT(message, HasSubstr("/Flag"));
@@ -243,13 +205,13 @@ TEST_F(ValueFileTest, BadValueTextThrowsWithFileAndLineAndChangesNothing) {
 }
 
 TEST_F(ValueFileTest, UnreadableFileIsNamed) {
-  const std::string missing = (dir_ / "does_not_exist.val").string();
+  const std::string missing = dir_.PathOf("does_not_exist.val");
   const std::string message = InputErrorOf([&] { ValueFile::Read(missing); });
   EXPECT_THAT(message, HasSubstr(missing));
   VariableRepository repository;
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Apply(missing, repository); }), HasSubstr(missing));
   // A directory is not a value file either.
-  EXPECT_THAT(InputErrorOf([&] { ValueFile::Read(dir_.string()); }), HasSubstr(dir_.string()));
+  EXPECT_THAT(InputErrorOf([&] { ValueFile::Read(dir_.path().string()); }), HasSubstr(dir_.path().string()));
 }
 
 TEST_F(ValueFileTest, SaveWritesHeadersAndRoundTrips) {
@@ -263,10 +225,10 @@ TEST_F(ValueFileTest, SaveWritesHeadersAndRoundTrips) {
   saved.Add("/Colour", Color{1, 2, 3, 4});
   saved.Add("/Position", Eigen::Vector3d(0.1, 1.0 / 3.0, -2e-7));
   saved.Add("/Orientation", Eigen::Quaterniond(0.5, 1.0 / 3.0, -0.25, 0.7));
-  const std::string file = (dir_ / "saved.val").string();
+  const std::string file = dir_.PathOf("saved.val");
   ValueFile::Save(file, saved, "2024-01-02 03:04:05");
 
-  const std::string contents = ReadAll(file);
+  const std::string contents = dir_.Read(file);
   EXPECT_TRUE(contents.starts_with("#ORCS Values\n#Saved at: 2024-01-02 03:04:05\n")) << contents;
   EXPECT_THAT(contents, HasSubstr("/Flag=T\n"));
   EXPECT_THAT(contents, HasSubstr("/Tenth=0.1\n"));
@@ -302,32 +264,30 @@ TEST_F(ValueFileTest, SaveWritesOnlyMatchingPathsInRegistrationOrder) {
   repository.Add("/Sim/B/Mass", 2.0);
   repository.Add("/PID/Gain", 3.0);
   repository.Add("/Sim/A/Mass", 1.0);
-  const std::string file = (dir_ / "masses.val").string();
+  const std::string file = dir_.PathOf("masses.val");
   ValueFile::Save(file, repository, "now", "/Sim/.*");
-  EXPECT_EQ(ReadAll(file), "#ORCS Values\n#Saved at: now\n/Sim/B/Mass=2\n/Sim/A/Mass=1\n");
+  EXPECT_EQ(dir_.Read(file), "#ORCS Values\n#Saved at: now\n/Sim/B/Mass=2\n/Sim/A/Mass=1\n");
 }
 
 TEST_F(ValueFileTest, SaveLeavesNoTemporaryFiles) {
   VariableRepository repository;
   repository.Add("/A", 1);
-  const std::string file = (dir_ / "out.val").string();
+  const std::string file = dir_.PathOf("out.val");
   ValueFile::Save(file, repository, "now");
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename().string());
-  EXPECT_EQ(names, std::vector<std::string>{"out.val"});
+  EXPECT_EQ(dir_.FileNames(), std::vector<std::string>{"out.val"});
 }
 
 TEST_F(ValueFileTest, SaveWithInvalidRegexThrowsAndWritesNothing) {
   VariableRepository repository;
   repository.Add("/A", 1);
-  EXPECT_THROW(ValueFile::Save((dir_ / "out.val").string(), repository, "now", "(("), InputError);
-  EXPECT_TRUE(fs::is_empty(dir_));
+  EXPECT_THROW(ValueFile::Save(dir_.PathOf("out.val"), repository, "now", "(("), InputError);
+  EXPECT_TRUE(fs::is_empty(dir_.path()));
 }
 
 TEST_F(ValueFileTest, SaveToAnUnwritablePlaceNamesTheFile) {
   VariableRepository repository;
   repository.Add("/A", 1);
-  const std::string file = (dir_ / "no_such_folder" / "out.val").string();
+  const std::string file = dir_.PathOf("no_such_folder/out.val");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Save(file, repository, "now"); }), HasSubstr(file));
   EXPECT_FALSE(fs::exists(file));
 }

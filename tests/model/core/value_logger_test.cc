@@ -2,50 +2,32 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "tests/support/temp_dir.h"
 
 namespace orcs {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::TempDir;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
 class ValueLoggerTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("orcs_value_logger_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    ASSERT_TRUE(fs::create_directories(dir_));
-  }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(dir_, ignored);
-  }
-
   static std::vector<std::string> Lines(const fs::path& path) {
     std::ifstream in(path);
     std::vector<std::string> lines;
     for (std::string line; std::getline(in, line);) lines.push_back(line);
     return lines;
-  }
-
-  std::vector<std::string> FileNames() const {
-    std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename().string());
-    return names;
   }
 
   // The numbers of a CSV row, each parsed exactly; fails the test on a field that is not a number.
@@ -59,7 +41,7 @@ class ValueLoggerTest : public ::testing::Test {
     return numbers;
   }
 
-  fs::path dir_;
+  TempDir dir_;
 };
 
 TEST_F(ValueLoggerTest, ColumnNamesSpreadVectorsQuaternionsAndColours) {
@@ -113,14 +95,14 @@ TEST_F(ValueLoggerTest, FileAppearsOnlyAtFinish) {
   VariableRepository repository;
   repository.Add("/A", 1.0);
   ValueLogger logger(repository, {"/A"});
-  const fs::path path = dir_ / "trace.csv";
+  const fs::path path = dir_.path() / "trace.csv";
   logger.Open(path.string(), {});
   logger.Sample(0.0);
   logger.Sample(0.01);
   EXPECT_FALSE(fs::exists(path));
   logger.Finish();
   EXPECT_TRUE(fs::exists(path));
-  EXPECT_EQ(FileNames(), std::vector<std::string>{"trace.csv"});  // no temporary file left behind
+  EXPECT_EQ(dir_.FileNames(), std::vector<std::string>{"trace.csv"});  // no temporary file left behind
 }
 
 TEST_F(ValueLoggerTest, AbandonedLogLeavesNoFile) {
@@ -128,10 +110,10 @@ TEST_F(ValueLoggerTest, AbandonedLogLeavesNoFile) {
   repository.Add("/A", 1.0);
   {
     ValueLogger logger(repository, {"/A"});
-    logger.Open((dir_ / "trace.csv").string(), {"comment"});
+    logger.Open(dir_.PathOf("trace.csv"), {"comment"});
     logger.Sample(0.0);
   }
-  EXPECT_TRUE(fs::is_empty(dir_));
+  EXPECT_TRUE(fs::is_empty(dir_.path()));
 }
 
 TEST_F(ValueLoggerTest, HeaderAndRowsParseBackExactly) {
@@ -142,7 +124,7 @@ TEST_F(ValueLoggerTest, HeaderAndRowsParseBackExactly) {
   Value& touching = repository.Add("/Sim/Box/Touching", true);
   Value& count = repository.Add("/Sim/Box/Contacts", 7);
   ValueLogger logger(repository, {"/Sim/Box/.*"});
-  const fs::path path = dir_ / "trace.csv";
+  const fs::path path = dir_.path() / "trace.csv";
   logger.Open(path.string(), {"program: orcs-test", "seed: 42"});
   logger.Sample(0.0);
   mass.Set(2.0 / 3.0);
@@ -182,7 +164,7 @@ TEST_F(ValueLoggerTest, ColourAndStringColumns) {
   repository.Add("/Plain", "walk");
   repository.Add("/Tricky", "a,\"b\"");
   ValueLogger logger(repository, {".*"});
-  const fs::path path = dir_ / "trace.csv";
+  const fs::path path = dir_.path() / "trace.csv";
   logger.Open(path.string(), {});
   logger.Sample(1.5);
   logger.Finish();
@@ -196,7 +178,7 @@ TEST_F(ValueLoggerTest, ReopeningTheSamePathStartsAFreshFile) {
   VariableRepository repository;
   Value& a = repository.Add("/A", 1.0);
   ValueLogger logger(repository, {"/A"});
-  const fs::path path = dir_ / "trace.csv";
+  const fs::path path = dir_.path() / "trace.csv";
   logger.Open(path.string(), {"first"});
   logger.Sample(0.0);
   logger.Open(path.string(), {"second"});  // e.g. after a reset: the first attempt is abandoned
@@ -204,14 +186,14 @@ TEST_F(ValueLoggerTest, ReopeningTheSamePathStartsAFreshFile) {
   logger.Sample(0.5);
   logger.Finish();
   EXPECT_THAT(Lines(path), ElementsAre("# second", "# columns: time,/A", "0.5,2"));
-  EXPECT_EQ(FileNames(), std::vector<std::string>{"trace.csv"});
+  EXPECT_EQ(dir_.FileNames(), std::vector<std::string>{"trace.csv"});
 }
 
 TEST_F(ValueLoggerTest, OpenInAMissingFolderThrowsNamingThePath) {
   VariableRepository repository;
   repository.Add("/A", 1.0);
   ValueLogger logger(repository, {"/A"});
-  const std::string path = (dir_ / "missing" / "trace.csv").string();
+  const std::string path = dir_.PathOf("missing/trace.csv");
   try {
     logger.Open(path, {});
     FAIL() << "expected an InputError";

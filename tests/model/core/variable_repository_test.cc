@@ -7,23 +7,13 @@
 #include <vector>
 
 #include "model/core/error.h"
+#include "tests/support/input_error_of.h"
 
 namespace orcs {
 namespace {
 
+using test_support::InputErrorOf;
 using ::testing::HasSubstr;
-
-// The what() of the InputError `call` throws; fails the test when it throws nothing or something else.
-template <typename Call>
-std::string InputErrorOf(Call call) {
-  try {
-    call();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return "";
-}
 
 TEST(VariableRepositoryTest, AddFindGet) {
   VariableRepository repository;

@@ -2,20 +2,18 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <filesystem>
-#include <fstream>
 #include <initializer_list>
 #include <string>
 #include <string_view>
 
 #include "model/core/error.h"
+#include "tests/support/temp_dir.h"
 
 namespace orcs::scene {
 namespace {
 
-namespace fs = std::filesystem;
+using test_support::TempDir;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
@@ -360,23 +358,11 @@ TEST(EnvironmentReaderTest, UnknownAgentAttribute) {
 
 class EnvironmentReaderFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("orcs_environment_reader_test_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    ASSERT_TRUE(fs::create_directories(dir_));
-  }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::remove_all(dir_, ignored);
-  }
-
-  fs::path dir_;
+  TempDir dir_;
 };
 
 TEST_F(EnvironmentReaderFileTest, NonexistentFileIsNamed) {
-  const std::string file = (dir_ / "missing.xml").string();
+  const std::string file = dir_.PathOf("missing.xml");
   try {
     EnvironmentReader::ReadFile(file);
     FAIL() << "expected an InputError";
@@ -388,7 +374,7 @@ TEST_F(EnvironmentReaderFileTest, NonexistentFileIsNamed) {
 }
 
 TEST_F(EnvironmentReaderFileTest, DirectoryIsNotAFile) {
-  const std::string file = dir_.string();
+  const std::string file = dir_.path().string();
   try {
     EnvironmentReader::ReadFile(file);
     FAIL() << "expected an InputError";
@@ -399,8 +385,9 @@ TEST_F(EnvironmentReaderFileTest, DirectoryIsNotAFile) {
 }
 
 TEST_F(EnvironmentReaderFileTest, ErrorsInAFileNameTheFileAndLine) {
-  const std::string file = (dir_ / "bad.xml").string();
-  std::ofstream(file) << WithObjectOnLine4(R"x(<object type="box" name="B" position="(0,0,0)" dimension="(1,1,1)" mass="x"/>)x");
+  const std::string file = dir_.Write(
+      "bad.xml",
+      WithObjectOnLine4(R"x(<object type="box" name="B" position="(0,0,0)" dimension="(1,1,1)" mass="x"/>)x"));
   try {
     EnvironmentReader::ReadFile(file);
     FAIL() << "expected an InputError";
@@ -412,9 +399,8 @@ TEST_F(EnvironmentReaderFileTest, ErrorsInAFileNameTheFileAndLine) {
 }
 
 TEST_F(EnvironmentReaderFileTest, ReadFileMatchesReadString) {
-  const std::string file = (dir_ / "good.xml").string();
   const std::string xml = WithObjectOnLine4(R"x(<object type="sphere" name="S" position="(0,1,0)" dimension="(0.1)"/>)x");
-  std::ofstream(file) << xml;
+  const std::string file = dir_.Write("good.xml", xml);
   const EnvironmentDescription from_file = EnvironmentReader::ReadFile(file);
   EXPECT_EQ(from_file.source, file);
   ASSERT_EQ(from_file.objects.size(), 2u);
