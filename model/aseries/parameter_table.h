@@ -28,7 +28,12 @@ template <typename Parameters, std::size_t N>
 void AddParameters(VariableRepository& repository, const std::array<ParameterField<Parameters>, N>& table,
                    const Parameters& defaults = Parameters{}) {
   for (const ParameterField<Parameters>& field : table) {
-    std::visit([&](auto member) { repository.Add(field.path, defaults.*member); }, field.member);
+    std::visit(
+        [&](auto member) {
+          const auto initial = defaults.*member;  // a plain copy: GCC 12 warns falsely on the member access
+          repository.Add(field.path, initial);
+        },
+        field.member);
   }
 }
 

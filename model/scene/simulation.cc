@@ -112,6 +112,11 @@ void Simulation::Attach(std::shared_ptr<const WorldModel> model) {
 void Simulation::BindModel() {
   world_ = physics::MakeOdeWorld(model_->physics());
   const physics::PhysicsModel& physics = *model_->physics();
+  agents_.clear();
+  for (const aseries::ASeriesLayout& layout : model_->agents()) {
+    agents_.push_back(std::make_unique<aseries::ASeriesAgent>(aseries::DefaultASeriesMorphology(), layout,
+                                                              static_cast<int>(agents_.size()), repository_));
+  }
   bodies_.assign(physics.body_count(), {});
   for (int body = 0; body < physics.body_count(); ++body) {
     const std::string& name = model_->body_name(body);
@@ -155,6 +160,7 @@ void Simulation::ReadParameters() {
 void Simulation::Reset(std::uint64_t seed) {
   assert(built() && "Reset() before Build()");
   world_->Reset();
+  for (auto& agent : agents_) agent->Reset(*world_, seed);
   time_ = 0.0;
   steps_ = 0;
   time_base_ = 0.0;
@@ -175,9 +181,13 @@ SimulationStatus Simulation::Step() {
   events_.BeginStep();
   if (parameters_changed_) ReadParameters();  // may throw InputError for values set since the last step
   const std::int64_t iterations = iterations_->as_int();
+  const double dt = time_step_->as_double();
   for (std::int64_t i = 0; i < iterations && status_ == SimulationStatus::kOk; ++i) {
-    PhysicsStage();  // collide → integrate → clear contacts (issue 3 adds motors before and sensors after)
+    for (auto& agent : agents_) agent->MotorStage(*world_, dt);
+    PhysicsStage();  // collide → integrate → clear contacts → instability check
+    if (status_ != SimulationStatus::kOk) break;
     CollisionEventsStage();
+    for (auto& agent : agents_) agent->SensorStage(*world_, dt);
   }
   if (status_ != SimulationStatus::kOk) return status_;
   PublishBodiesStage();

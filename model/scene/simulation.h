@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "model/aseries/aseries_agent.h"
 #include "model/core/event_manager.h"
 #include "model/core/variable_repository.h"
 #include "model/physics/physics_world.h"
@@ -63,6 +64,9 @@ class Simulation {
   const WorldModel& model() const { return *model_; }
   bool built() const { return model_ != nullptr; }
   const physics::PhysicsWorld& physics() const { return *world_; }
+  /// The robots, in environment order.
+  int agent_count() const { return static_cast<int>(agents_.size()); }
+  aseries::ASeriesAgent& agent(int index) { return *agents_[index]; }
 
   double time() const { return time_; }          ///< simulated seconds since the last reset
   std::int64_t steps() const { return steps_; }  ///< simulation steps since the last reset
@@ -82,6 +86,7 @@ class Simulation {
   EnvironmentDescription environment_;  // loaded, not yet built
   std::shared_ptr<const WorldModel> model_;
   std::unique_ptr<physics::PhysicsWorld> world_;
+  std::vector<std::unique_ptr<aseries::ASeriesAgent>> agents_;  // their observers point into them: not movable
   physics::PhysicsParameters parameters_;
   bool parameters_changed_ = true;  // set by observers of the /Simulation/... values
 

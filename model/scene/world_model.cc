@@ -1,5 +1,6 @@
 #include "model/scene/world_model.h"
 
+#include "model/aseries/aseries_morphology.h"
 #include "model/core/error.h"
 #include "model/core/rotation.h"
 #include "model/core/text.h"
@@ -82,6 +83,16 @@ void WorldModel::RegisterObjectValues(const EnvironmentDescription& environment,
     values.Add(path("DynamicFriction"), 0.0);
     values.Add(path("Elasticity"), 0.05);
   }
+  // Agent bodies publish their pose only; their structure is the morphology's (model/aseries).
+  for (const AgentDescription& agent : environment.agents) {
+    const Eigen::Quaterniond orientation = QuaternionFromEulerDegrees(agent.orientation);
+    for (const aseries::MorphologyBody& body : aseries::DefaultASeriesMorphology().bodies) {
+      const std::string prefix = "/Sim/" + agent.name + "/" + body.name + "/";
+      values.Add(prefix + "Position", Eigen::Vector3d(agent.position + orientation * body.centre));
+      values.Add(prefix + "Orientation", agent.orientation);
+      values.Add(prefix + "OrientationQuaternion", orientation);
+    }
+  }
 }
 
 std::shared_ptr<const WorldModel> WorldModel::Compile(const EnvironmentDescription& environment,
@@ -90,6 +101,10 @@ std::shared_ptr<const WorldModel> WorldModel::Compile(const EnvironmentDescripti
   description.bodies.push_back(MakeFloor(values));
   for (const ObjectDescription& object : environment.objects) description.bodies.push_back(MakeBody(object, values));
   std::shared_ptr<WorldModel> model(new WorldModel());
+  for (const AgentDescription& agent : environment.agents) {
+    const aseries::ASeriesPlacement placement{agent.name, agent.position, QuaternionFromEulerDegrees(agent.orientation)};
+    model->agents_.push_back(aseries::AddASeries(aseries::DefaultASeriesMorphology(), placement, description));
+  }
   model->environment_ = environment;
   model->physics_ = std::make_shared<const physics::PhysicsModel>(std::move(description));
   return model;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "model/aseries/aseries_builder.h"
 #include "model/core/variable_repository.h"
 #include "model/physics/physics_model.h"
 #include "model/scene/environment_description.h"
@@ -22,19 +23,23 @@ class WorldModel {
 
   /// Registers /Sim/<object>/... values (Position, Orientation, OrientationQuaternion, Mass, Material, Color,
   /// Texture, Dynamic, Width/Height/Depth or Radius, StaticFriction, DynamicFriction, Elasticity) for every
-  /// object, and /Sim/Floor/Material, with the description's values.
+  /// object, /Sim/Floor/Material, and /Sim/<agent>/<body>/Position, Orientation, OrientationQuaternion for every
+  /// body of every agent, with the description's values.
   static void RegisterObjectValues(const EnvironmentDescription& environment, VariableRepository& values);
 
   const EnvironmentDescription& environment() const { return environment_; }
   const std::shared_ptr<const physics::PhysicsModel>& physics() const { return physics_; }
   /// Name used in repository paths and events for a body (the object name, "Floor" for the floor).
   const std::string& body_name(int body) const { return physics_->body(body).name; }
+  /// Where each agent of the environment went in the physics model, in environment order.
+  const std::vector<aseries::ASeriesLayout>& agents() const { return agents_; }
 
  private:
   WorldModel() = default;
 
   EnvironmentDescription environment_;
   std::shared_ptr<const physics::PhysicsModel> physics_;
+  std::vector<aseries::ASeriesLayout> agents_;
 };
 
 }  // namespace orcs::scene

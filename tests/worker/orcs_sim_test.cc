@@ -193,7 +193,8 @@ TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
 
   const nlohmann::json& bodies = world["bodies"];
   ASSERT_TRUE(bodies.is_array());
-  ASSERT_EQ(bodies.size(), 3u);
+  ASSERT_EQ(bodies.size(), 3u + 24u);  // floor, two objects, the A-Series' 24 bodies
+  EXPECT_EQ(bodies[3]["name"], "SecondASeries/Right/Foot");
   EXPECT_EQ(bodies[0]["name"], "Floor");
   EXPECT_EQ(bodies[0]["shape"], "plane");
   EXPECT_EQ(bodies[0]["material"], "PVC");
@@ -213,12 +214,21 @@ TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
   EXPECT_EQ(bodies[2]["size"], nlohmann::json({0.05}));
   EXPECT_EQ(bodies[2]["material"], "ABS");
 
-  EXPECT_EQ(world["joints"], nlohmann::json::array());
+  EXPECT_EQ(world["joints"].size(), 21u + 2u);  // the robot's motorised hinges and fixed joints
   const nlohmann::json& agents = world["agents"];
   ASSERT_EQ(agents.size(), 1u);
   EXPECT_EQ(agents[0]["name"], "SecondASeries");
   EXPECT_EQ(agents[0]["type"], "ASeries");
   EXPECT_EQ(agents[0]["position"], nlohmann::json({0.5, 0.001, -0.5}));
+  // spec/aseries.md §4c and §9a: 21 motors in motor order with their ranges; 2.3844 kg within 1 %.
+  const nlohmann::json& motors = agents[0]["motors"];
+  ASSERT_EQ(motors.size(), 21u);
+  EXPECT_EQ(motors[0]["name"], "Waist");
+  EXPECT_EQ(motors[0]["range"], nlohmann::json({0.0, 150.0}));
+  EXPECT_EQ(motors[13]["name"], "Right/Knee");
+  EXPECT_EQ(motors[20]["name"], "Head/Tilt");
+  EXPECT_NEAR(motors[20]["range"][0].get<double>(), -95.0, 1e-9);
+  EXPECT_NEAR(agents[0]["mass"].get<double>(), 2.3844, 0.01 * 2.3844);
 }
 
 TEST_F(OrcsSimTest, DescribeShowsInitialValueChanges) {
@@ -265,8 +275,16 @@ TEST_F(OrcsSimTest, LongOptionSpellingsWorkToo) {
   EXPECT_EQ(result.out, "/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
 }
 
-TEST_F(OrcsSimTest, RunsWithoutAnEnvironment) {
-  const ProcessResult result = Run({"--duration", "0.5"});
+TEST_F(OrcsSimTest, DefaultRunStandsTheASeriesForTenSecondsAndSummarises) {
+  const ProcessResult result = Run({});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("simulated 10.000 s in 1000 steps"));
+  EXPECT_THAT(result.out, HasSubstr("wall time"));
+  EXPECT_THAT(result.out, HasSubstr("real-time factor"));
+}
+
+TEST_F(OrcsSimTest, RunsTheEmptyEnvironment) {
+  const ProcessResult result = Run({"-env", "scenarios/environments/empty.xml", "--duration", "0.5"});
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_THAT(result.out, HasSubstr("50 steps"));
 }

@@ -70,10 +70,23 @@ nlohmann::json Describe(const scene::Simulation& simulation) {
     joints.push_back(entry);
   }
   nlohmann::json agents = nlohmann::json::array();
-  for (const scene::AgentDescription& agent : simulation.model().environment().agents) {
+  const std::vector<scene::AgentDescription>& agent_descriptions = simulation.model().environment().agents;
+  for (size_t a = 0; a < agent_descriptions.size(); ++a) {
+    const scene::AgentDescription& agent = agent_descriptions[a];
+    const aseries::ASeriesLayout& layout = simulation.model().agents()[a];
+    nlohmann::json motors = nlohmann::json::array();
+    for (int joint : layout.motors) {
+      const physics::JointDescription& motor = model.joint(joint);
+      motors.push_back({{"name", motor.name.substr(agent.name.size() + 1)},
+                        {"range", {RadiansToDegrees(motor.lo), RadiansToDegrees(motor.hi)}}});
+    }
+    double mass = 0.0;
+    for (int body : layout.bodies) mass += model.total_mass(body);
     agents.push_back({{"name", agent.name},
                       {"type", agent.type},
-                      {"position", {agent.position.x(), agent.position.y(), agent.position.z()}}});
+                      {"position", {agent.position.x(), agent.position.y(), agent.position.z()}},
+                      {"mass", mass},
+                      {"motors", motors}});
   }
   return {{"environment", simulation.model().environment().source},
           {"bodies", bodies},
@@ -95,7 +108,12 @@ void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
 int Run(const SimOptions& options) {
   scene::Simulation simulation;
   scene::EnvironmentDescription environment;
-  if (!options.environment.empty()) environment = scene::EnvironmentReader::ReadFile(options.environment);
+  if (options.environment.empty()) {
+    environment.source = "(default: one A-Series named Humanoid on the floor)";
+    environment.agents.push_back(scene::AgentDescription{});
+  } else {
+    environment = scene::EnvironmentReader::ReadFile(options.environment);
+  }
   simulation.LoadEnvironment(environment);
   for (const std::string& file : options.initial_value_files) ValueFile::Apply(file, simulation.repository());
   simulation.Build();
@@ -133,13 +151,6 @@ int Run(const SimOptions& options) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (logger) logger->Finish();
-  // Printed after the run, when every input has been checked (the steps check the /Simulation values), so
-  // that a bad-input run prints its one error line and nothing else.
-  const std::vector<scene::AgentDescription>& agents = simulation.model().environment().agents;
-  if (!agents.empty()) {
-    std::cerr << "orcs-sim: note: " << agents.size()
-              << " agent(s) listed but not simulated: the A-Series body is not built yet\n";
-  }
   PrintSummary(simulation, wall);
   if (simulation.status() != scene::SimulationStatus::kOk) {
     std::cerr << "orcs-sim: " << simulation.message() << "\n";

@@ -1,0 +1,83 @@
+// One A-Series robot in one simulation: its interface values in the repository, its motors' and sensors'
+// memory, and the two stages it adds to the step (motors before the physics, sensors after it, spec §8).
+//
+// Values (spec §4d), for agent A and motor M (e.g. "Right/Knee"), board B (e.g. "ABFR"):
+//   /Sim/A/M/DesiredAngle   double, degrees, clamped to ±150 (input)
+//   /Sim/A/M/DesiredTorque  double, fraction of the maximum torque, −1…1; ≤ 0 gives no torque (input)
+//   /Sim/A/M/JointAngle     double, degrees, with sensor noise (output)
+//   /Sim/A/M/CurrentVelocity double, rad/s, the velocity the motor controller commands
+//   /Sim/A/M/MinAngle, MaxAngle  double, degrees, the hinge stops (informational)
+//   /Sim/A/B/AccelAxis1, AccelAxis2  double, m/s² (output)
+// and the global motor and sensor parameters /AngularMotor/..., /AccelSensor/... (docs/model.md).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "model/aseries/accelerometer.h"
+#include "model/aseries/angle_sensor.h"
+#include "model/aseries/aseries_builder.h"
+#include "model/aseries/aseries_morphology.h"
+#include "model/aseries/dynamixel_motor.h"
+#include "model/core/random_stream.h"
+#include "model/core/variable_repository.h"
+#include "model/physics/physics_world.h"
+
+namespace orcs::aseries {
+
+class ASeriesAgent {
+ public:
+  /// Registers the agent's values (and the global parameters, once per repository) and binds them.
+  /// `index` numbers the agents of a world (0, 1, ...) and selects this agent's random streams.
+  ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout layout, int index, VariableRepository& values);
+
+  const std::string& name() const { return layout_.agent_name; }
+  const ASeriesLayout& layout() const { return layout_; }
+  int motor_count() const { return static_cast<int>(motors_.size()); }
+  int board_count() const { return static_cast<int>(boards_.size()); }
+
+  /// Back to the initial state after the world has been reset; noise streams restart from `seed`.
+  void Reset(const physics::PhysicsWorld& world, std::uint64_t seed);
+
+  /// Motor stage: every motor's controller reads its joint angle and desired values and sets the joint's motor
+  /// velocity, torque limit and friction (spec §6b), in motor order.
+  void MotorStage(physics::PhysicsWorld& world, double dt);
+
+  /// Sensor stage, after the physics step: angle sensors in motor order, then accelerometers in board order.
+  void SensorStage(const physics::PhysicsWorld& world, double dt);
+
+ private:
+  struct Motor {
+    int joint = -1;                   // physics joint index
+    Value* desired_angle = nullptr;   // degrees
+    Value* desired_torque = nullptr;  // −1…1
+    Value* joint_angle = nullptr;     // degrees
+    Value* current_velocity = nullptr;  // rad/s
+    DynamixelState state;
+  };
+  struct Board {
+    int host_body = -1;  // physics body index
+    AccelerometerBoard board;
+    Value* axis1 = nullptr;  // m/s²
+    Value* axis2 = nullptr;  // m/s²
+    AccelerometerState state;
+  };
+
+  void ReadParameters();
+
+  ASeriesLayout layout_;
+  int index_ = 0;
+  VariableRepository& values_;
+  std::vector<Motor> motors_;
+  std::vector<Board> boards_;
+  DynamixelParameters motor_parameters_;
+  AngleSensorParameters angle_parameters_;
+  AccelerometerParameters accel_parameters_;
+  bool parameters_changed_ = true;  // set by observers of the global parameter values
+  std::optional<RandomStream> motor_noise_;
+  std::optional<RandomStream> angle_noise_;
+  std::optional<RandomStream> accel_noise_;
+};
+
+}  // namespace orcs::aseries
