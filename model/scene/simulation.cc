@@ -113,9 +113,9 @@ void Simulation::BindModel() {
   world_ = physics::MakeOdeWorld(model_->physics());
   const physics::PhysicsModel& physics = *model_->physics();
   agents_.clear();
-  for (const aseries::ASeriesLayout& layout : model_->agents()) {
-    agents_.push_back(std::make_unique<aseries::ASeriesAgent>(aseries::DefaultASeriesMorphology(), layout,
-                                                              static_cast<int>(agents_.size()), repository_));
+  for (int a = 0; a < static_cast<int>(model_->agents().size()); ++a) {
+    agents_.push_back(
+        std::make_unique<aseries::ASeriesAgent>(model_->morphology(a), model_->agents()[a], a, repository_));
   }
   bodies_.assign(physics.body_count(), {});
   for (int body = 0; body < physics.body_count(); ++body) {
@@ -236,6 +236,13 @@ void Simulation::CollisionEventsStage() {
     events_.Trigger(bodies_[contact.body1].collision_event);
     events_.Trigger(bodies_[contact.body2].collision_event);
   }
+}
+
+int Simulation::FindAgent(std::string_view name) const {
+  for (int a = 0; a < agent_count(); ++a) {
+    if (agents_[a]->name() == name) return a;
+  }
+  return -1;
 }
 
 }  // namespace orcs::scene

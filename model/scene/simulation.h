@@ -67,6 +67,8 @@ class Simulation {
   /// The robots, in environment order.
   int agent_count() const { return static_cast<int>(agents_.size()); }
   aseries::ASeriesAgent& agent(int index) { return *agents_[index]; }
+  /// Index of the agent called `name`, or -1.
+  int FindAgent(std::string_view name) const;
 
   double time() const { return time_; }          ///< simulated seconds since the last reset
   std::int64_t steps() const { return steps_; }  ///< simulation steps since the last reset
