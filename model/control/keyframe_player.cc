@@ -23,7 +23,7 @@ KeyframePlayer::KeyframePlayer(KeyframeRecord record, const std::string& agent,
     : record_(std::move(record)) {
   if (record_.motor_count != static_cast<int>(motors.size())) {
     throw InputError(record_.source, 0,
-                     "the record has inputs for " + std::to_string(record_.motor_count) + " motors, agent '" +
+                     "the record has inputs for " + Motors(record_.motor_count) + ", agent '" +
                          agent + "' has " + std::to_string(motors.size()));
   }
   for (const std::string& motor : motors) {

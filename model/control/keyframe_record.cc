@@ -24,13 +24,19 @@ std::optional<KeyframeLayout> LayoutComment(std::string_view comment, const std:
   throw InputError(source, line, "'# layout:' expected 'raw' or 'normalised', found " + text::Quote(value));
 }
 
+}  // namespace
+
+std::string Motors(int count) { return std::to_string(count) + (count == 1 ? " motor" : " motors"); }
+
+namespace {
+
 Keyframe ParseRow(std::string_view row, const std::string& source, int line, int motor_count) {
   const std::vector<std::string_view> fields = text::Split(row, ',');
   const size_t expected = 1 + 2 * static_cast<size_t>(motor_count);
   if (fields.size() != expected) {
     throw InputError(source, line,
                      "expected " + std::to_string(expected) + " columns (time in ms, then DesiredAngle and "
-                     "DesiredTorque of " + std::to_string(motor_count) + " motors), found " +
+                     "DesiredTorque of " + Motors(motor_count) + "), found " +
                          std::to_string(fields.size()));
   }
   Keyframe frame;

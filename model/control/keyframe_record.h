@@ -42,6 +42,9 @@ struct KeyframeRecord {
 /// the row before, an unknown layout comment, or a record without rows.
 KeyframeRecord ParseKeyframeRecord(std::string_view text, const std::string& source, int motor_count);
 
+/// "1 motor", "21 motors": for messages.
+std::string Motors(int count);
+
 /// Reads and parses a record file; an unreadable file is an InputError naming it.
 KeyframeRecord ReadKeyframeRecord(const std::string& path, int motor_count);
 
