@@ -7,13 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "model/control/controller.h"
 #include "model/control/keyframe_record.h"
 #include "model/core/value.h"
 #include "model/core/variable_repository.h"
 
 namespace orcs::control {
 
-class KeyframePlayer {
+class KeyframePlayer : public Controller {
  public:
   /// Binds `record` to agent `agent`'s motors (names in motor order, e.g. "Right/Knee"), whose values must be
   /// registered in `values` (/Sim/<agent>/<motor>/DesiredAngle, DesiredTorque, MinAngle, MaxAngle). Angles
@@ -23,10 +24,11 @@ class KeyframePlayer {
                  VariableRepository& values);
 
   /// Back to before the first row (call after the simulation's Reset).
-  void Reset() { next_row_ = 0; }
+  void Reset() override { next_row_ = 0; }
 
   /// Writes the latest row whose time (ms) is at most `time_seconds` × 1000, if it is not written yet.
   void Apply(double time_seconds);
+  void Update(double time_seconds) override { Apply(time_seconds); }
 
   /// One line per clamped input: "file:line: warning: ...".
   const std::vector<std::string>& warnings() const { return warnings_; }

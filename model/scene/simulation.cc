@@ -220,6 +220,22 @@ void Simulation::PhysicsStage() {
   }
 }
 
+void Simulation::MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_degrees) {
+  assert(built() && steps_ == 0 && "MoveAgent() right after Reset()");
+  const Eigen::Vector3d pivot = model_->environment().agents[index].position;
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(DegreesToRadians(yaw_degrees), Eigen::Vector3d::UnitY()));
+  for (int body : model_->agents()[index].bodies) {
+    physics::BodyState state = world_->body_state(body);
+    state.position = pivot + offset + turn * (state.position - pivot);
+    state.orientation = turn * state.orientation;
+    state.linear_velocity = turn * state.linear_velocity;
+    state.angular_velocity = turn * state.angular_velocity;
+    world_->SetBodyState(body, state);
+  }
+  agents_[index]->Reset(*world_, static_cast<std::uint64_t>(repository_.Get("/Simulation/Seed").as_int()));
+  PublishBodiesStage();
+}
+
 void Simulation::PublishBodiesStage() {
   for (size_t body = 0; body < bodies_.size(); ++body) {
     const BodyBinding& binding = bodies_[body];

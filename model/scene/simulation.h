@@ -50,6 +50,10 @@ class Simulation {
   /// Back to the initial state: time 0, initial poses, no contacts; `seed` is published as /Simulation/Seed.
   void Reset(std::uint64_t seed = 0);
 
+  /// Moves agent `index` rigidly, right after Reset(): turned by `yaw_degrees` about the vertical through its
+  /// placement position, then shifted by `offset` (m) — start-pose randomisation. Its sensors restart there.
+  void MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_degrees);
+
   /// One simulation step of /Simulation/TimeStepSize seconds (IterationsPerStep physics steps of that size
   /// each, as the original). Does nothing once the status is not kOk.
   SimulationStatus Step();

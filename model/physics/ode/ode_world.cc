@@ -136,6 +136,7 @@ class OdeWorld final : public PhysicsWorld {
   void SetBodyState(int body, const BodyState& state) override;
   double joint_angle(int joint) const override;
   double joint_rate(int joint) const override;
+  double joint_motor_torque(int joint) const override;
   void SetJointMotor(int joint, double velocity, double max_torque) override;
   void SetJointFriction(int joint, double max_torque) override;
   void AddJointTorque(int joint, double torque) override;
@@ -148,7 +149,7 @@ class OdeWorld final : public PhysicsWorld {
   void BuildBody(int body);
   dGeomID BuildGeom(const BodyDescription& body, const GeomDescription& geom, dBodyID body_id);
   void BuildJoint(int joint);
-  dJointID BuildMotor(dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis);
+  dJointID BuildMotor(int joint, dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis);
 
   void ApplyParameters(const PhysicsParameters& parameters);
   static void NearCallback(void* data, dGeomID o1, dGeomID o2);
@@ -166,6 +167,8 @@ class OdeWorld final : public PhysicsWorld {
   std::vector<dGeomID> geoms_;    // per model geom
   std::vector<dJointID> joints_;  // per model joint: hinge or fixed joint
   std::vector<dJointID> motors_;  // per model joint: the AMotor of a motorised hinge, else nullptr
+  // Per model joint: what ODE reports the AMotor applied in the last step. Sized once: ODE keeps pointers.
+  std::vector<dJointFeedback> motor_feedback_;
   std::vector<BodyFrictionParameters> body_friction_;  // per model body, for unknown materials
   std::vector<Contact> contacts_;                       // of the last step; capacity is kept across steps
   std::array<dContactGeom, PhysicsParameters::kMaxContactPoints> contact_buffer_{};  // dCollide's output
@@ -176,6 +179,7 @@ class OdeWorld final : public PhysicsWorld {
 
 OdeWorld::OdeWorld(std::shared_ptr<const PhysicsModel> model) : model_(std::move(model)) {
   EnsureOdeReady();
+  motor_feedback_.resize(static_cast<std::size_t>(model_->joint_count()));
   body_friction_.reserve(model_->body_count());
   for (int b = 0; b < model_->body_count(); ++b) {
     const BodyDescription& body = model_->body(b);
@@ -320,7 +324,7 @@ void OdeWorld::BuildJoint(int j) {
     return;
   }
   // The original creates the motor before the hinge; the order fixes ODE's row order, so keep it.
-  if (joint.motorised) motors_[j] = BuildMotor(body1, body2, joint.axis);
+  if (joint.motorised) motors_[j] = BuildMotor(j, body1, body2, joint.axis);
   dJointID hinge = dJointCreateHinge(world_, nullptr);
   dJointAttach(hinge, body1, body2);
   dJointSetHingeAnchor(hinge, joint.anchor.x(), joint.anchor.y(), joint.anchor.z());
@@ -337,9 +341,11 @@ void OdeWorld::BuildJoint(int j) {
 
 // A one-axis angular motor about the hinge axis, fixed in body 1: it constrains the same relative rate
 // (ω1 − ω2)·axis that dJointGetHingeAngleRate reports, so SetJointMotor's velocity is the joint rate.
-dJointID OdeWorld::BuildMotor(dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis) {
+dJointID OdeWorld::BuildMotor(int joint, dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis) {
   dJointID motor = dJointCreateAMotor(world_, nullptr);
   dJointAttach(motor, body1, body2);
+  motor_feedback_[joint] = dJointFeedback{};
+  dJointSetFeedback(motor, &motor_feedback_[joint]);
   dJointSetAMotorMode(motor, dAMotorUser);
   dJointSetAMotorNumAxes(motor, 1);
   dJointSetAMotorAxis(motor, 0, 1, axis.x(), axis.y(), axis.z());
@@ -512,6 +518,16 @@ double OdeWorld::joint_angle(int joint) const {
 double OdeWorld::joint_rate(int joint) const {
   assert(joint >= 0 && joint < model_->joint_count());
   return IsHinge(joint) ? dJointGetHingeAngleRate(joints_[joint]) : 0.0;
+}
+
+double OdeWorld::joint_motor_torque(int joint) const {
+  assert(joint >= 0 && joint < model_->joint_count());
+  dJointID motor = motors_[joint];
+  if (motor == nullptr) return 0.0;
+  dVector3 axis;
+  dJointGetAMotorAxis(motor, 0, axis);
+  const dJointFeedback& feedback = motor_feedback_[joint];
+  return feedback.t1[0] * axis[0] + feedback.t1[1] * axis[1] + feedback.t1[2] * axis[2];
 }
 
 void OdeWorld::SetJointMotor(int joint, double velocity, double max_torque) {
