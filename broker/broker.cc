@@ -19,11 +19,11 @@ namespace {
 
 using proto::kProtocolVersion;
 
-constexpr std::uint32_t kMaxCredit = 1024;         // most jobs one worker may hold (Ready.credit)
-constexpr std::int64_t kMaxMessageBytes = 1 << 29; // 512 MiB: larger messages close the sender's connection
-constexpr int kMaxMessagesPerRound = 256;          // per socket and loop iteration, so neither side starves
-constexpr int kCloseLingerMs = 200;                // how long DISCONNECTs may take to leave when closing
-constexpr std::size_t kMaxWarnedPeers = 4096;      // bound on the "logged once" set
+constexpr std::uint32_t kMaxCredit = 1024;          // most jobs one worker may hold (Ready.credit)
+constexpr std::int64_t kMaxMessageBytes = 1 << 29;  // 512 MiB: larger messages close the sender's connection
+constexpr int kMaxMessagesPerRound = 256;           // per socket and loop iteration, so neither side starves
+constexpr int kCloseLingerMs = 200;                 // how long DISCONNECTs may take to leave when closing
+constexpr std::size_t kMaxWarnedPeers = 4096;       // bound on the "logged once" set
 
 // "0x0080000001": a routing id for the log.
 std::string Hex(const std::string& bytes) {
@@ -118,7 +118,8 @@ void Broker::Run() {
                              {nullptr, wake_fd_, ZMQ_POLLIN, 0}};
   PublishStats();
   while (!stop_requested_.load()) {
-    const auto wait = std::chrono::ceil<std::chrono::milliseconds>(std::max(next_tick - Clock::now(), Clock::duration{}));
+    const auto wait =
+        std::chrono::ceil<std::chrono::milliseconds>(std::max(next_tick - Clock::now(), Clock::duration{}));
     try {
       zmq::poll(items, 3, wait);
     } catch (const zmq::error_t& error) {
@@ -181,8 +182,8 @@ void Broker::OnWorkerMessage(const std::string& worker, zmq::message_t& payload)
   if (check != proto::EnvelopeCheck::kOk) {
     std::string why(proto::Describe(check));
     if (check == proto::EnvelopeCheck::kWrongVersion) {
-      why += " " + std::to_string(worker_in_.protocol_version()) + " (expected " +
-             std::to_string(kProtocolVersion) + ")";
+      why +=
+          " " + std::to_string(worker_in_.protocol_version()) + " (expected " + std::to_string(kProtocolVersion) + ")";
     }
     DropMessage("worker", worker, why);
     return;
@@ -200,8 +201,9 @@ void Broker::OnWorkerMessage(const std::string& worker, zmq::message_t& payload)
 
 void Broker::OnWorkerReady(const std::string& worker, const v1::Ready& ready) {
   if (ready.credit() < 1 || ready.credit() > kMaxCredit) {
-    DropMessage("worker", worker,
-                "READY with credit " + std::to_string(ready.credit()) + " (expected 1.." + std::to_string(kMaxCredit) + ")");
+    DropMessage(
+        "worker", worker,
+        "READY with credit " + std::to_string(ready.credit()) + " (expected 1.." + std::to_string(kMaxCredit) + ")");
     return;
   }
   auto [entry, inserted] = workers_.try_emplace(worker);
@@ -210,7 +212,8 @@ void Broker::OnWorkerReady(const std::string& worker, const v1::Ready& ready) {
   record.credit = ready.credit();
   record.expiry = now_ + liveness_period_;
   Log((inserted ? "worker " + record.name + " joined with credit "
-                : "worker " + record.name + " sent READY again; credit now ") + std::to_string(record.credit));
+                : "worker " + record.name + " sent READY again; credit now ") +
+      std::to_string(record.credit));
   MakeReady(worker, record);
 }
 
@@ -222,7 +225,7 @@ void Broker::OnWorkerResult(const std::string& worker, v1::Result& result) {
   const JobKey key{result.batch_id(), result.job_id()};
   auto holder = workers_.find(worker);
   if (holder != workers_.end()) {
-    holder->second.holding.erase(key);
+    in_flight_count_ -= holder->second.holding.erase(key);
     MakeReady(worker, holder->second);
   }
   auto batch = batches_.find(key.first);
@@ -268,8 +271,8 @@ void Broker::OnClientMessage(const std::string& client, zmq::message_t& payload)
   if (check != proto::EnvelopeCheck::kOk) {
     std::string why(proto::Describe(check));
     if (check == proto::EnvelopeCheck::kWrongVersion) {
-      why += " " + std::to_string(client_in_.protocol_version()) + " (expected " +
-             std::to_string(kProtocolVersion) + ")";
+      why +=
+          " " + std::to_string(client_in_.protocol_version()) + " (expected " + std::to_string(kProtocolVersion) + ")";
     }
     DropMessage("client", client, why);
     return;
@@ -322,7 +325,7 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
     problem = "this connection submitted as client '" + client_entry->second.client_id + "' before";
   }
   if (!problem.empty()) {
-    ++counters_.messages_dropped;
+    ++counters_.submits_rejected;
     Log("rejected a SUBMIT from client " + Hex(client) + ": " + problem);
     v1::BrokerToClient reply;
     reply.set_protocol_version(kProtocolVersion);
@@ -399,7 +402,7 @@ void Broker::OnClientCancel(const std::string& client, const v1::Cancel& cancel)
 
 void Broker::OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect) {
   if (clients_.count(client) == 0) return;
-  DropClient(client, "left (" + disconnect.reason() + ")");
+  DropClient(client, "left (" + disconnect.reason() + ")", false);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -427,10 +430,7 @@ void Broker::SendHeartbeats() {
     if (!SendToClient(client, to_client)) gone_clients.push_back(client);
   }
   for (const std::string& worker : gone_workers) LoseWorker(worker, "connection closed", true);
-  for (const std::string& client : gone_clients) {
-    ++counters_.clients_lost;
-    DropClient(client, "connection closed");
-  }
+  for (const std::string& client : gone_clients) DropClient(client, "connection closed", true);
 }
 
 void Broker::PurgeLostWorkers(Clock::time_point now) {
@@ -446,10 +446,7 @@ void Broker::PurgeLostClients(Clock::time_point now) {
   for (const auto& [client, record] : clients_) {
     if (record.expiry <= now) silent.push_back(client);
   }
-  for (const std::string& client : silent) {
-    ++counters_.clients_lost;
-    DropClient(client, "silent for " + Seconds(liveness_period_));
-  }
+  for (const std::string& client : silent) DropClient(client, "silent for " + Seconds(liveness_period_), true);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -484,7 +481,7 @@ void Broker::Dispatch() {
     record.worker = worker_id;
     ++record.dispatches;
     record.dispatched_at = now_;
-    worker.holding.insert(std::move(key));
+    if (worker.holding.insert(std::move(key)).second) ++in_flight_count_;
     ++counters_.jobs_dispatched;
     MakeReady(worker_id, worker);  // to the back of the list: the least recently served worker goes first
   }
@@ -535,6 +532,7 @@ void Broker::LoseWorker(const std::string& worker_id, const std::string& reason,
   if (entry == workers_.end()) return;
   const Worker worker = std::move(entry->second);
   workers_.erase(entry);
+  in_flight_count_ -= worker.holding.size();
   if (counts_as_loss) ++counters_.workers_lost;
   int requeued = 0;
   int failed = 0;
@@ -567,7 +565,7 @@ void Broker::LoseWorker(const std::string& worker_id, const std::string& reason,
   Log(line);
 }
 
-void Broker::DropClient(const std::string& client, const std::string& reason) {
+void Broker::DropClient(const std::string& client, const std::string& reason, bool lost) {
   auto entry = clients_.find(client);
   if (entry == clients_.end()) return;
   const Client record = std::move(entry->second);
@@ -579,9 +577,17 @@ void Broker::DropClient(const std::string& client, const std::string& reason) {
     for (const auto& [job_id, job] : batch->second.jobs) pending += job.state != JobState::kFinished ? 1 : 0;
     DropBatch(batch_id);
   }
-  std::string line = "client " + record.client_id + " " + reason;
-  if (pending > 0) line += "; dropped its " + std::to_string(pending) + " pending jobs";
-  Log(line);
+  if (!lost) {
+    Log("client " + record.client_id + " " + reason +
+        (pending > 0 ? "; dropped its " + std::to_string(pending) + " pending jobs" : ""));
+  } else if (pending > 0) {
+    ++counters_.clients_lost;
+    Log("client " + record.client_id + " lost (" + reason + "); dropped its " + std::to_string(pending) +
+        " pending jobs");
+  } else {
+    // A client stops heartbeating once it has every result: forgetting it is routine.
+    Log("client " + record.client_id + " forgotten (" + reason + ", nothing pending)");
+  }
 }
 
 void Broker::DropBatch(const std::string& batch_id) {
@@ -709,8 +715,7 @@ void Broker::PublishStats() {
   snapshot.clients = static_cast<int>(clients_.size());
   snapshot.batches = static_cast<int>(batches_.size());
   snapshot.queued = queued_count_;
-  snapshot.in_flight = 0;
-  for (const auto& [id, worker] : workers_) snapshot.in_flight += worker.holding.size();
+  snapshot.in_flight = in_flight_count_;
   std::lock_guard lock(stats_mutex_);
   stats_ = snapshot;
 }

@@ -46,20 +46,21 @@ struct BrokerOptions {
 
 /// Counters and gauges of a running broker, for tests and monitoring. Counters only grow.
 struct BrokerStats {
-  int workers = 0;                        ///< registered workers now
-  int clients = 0;                        ///< registered clients now
-  int batches = 0;                        ///< live batches now
-  std::uint64_t queued = 0;               ///< jobs waiting for a worker now
-  std::uint64_t in_flight = 0;            ///< jobs held by workers now
-  std::uint64_t jobs_accepted = 0;        ///< jobs accepted from SUBMITs (a resubmitted finished job counts again)
-  std::uint64_t jobs_dispatched = 0;      ///< JOB messages sent to workers
-  std::uint64_t jobs_requeued = 0;        ///< jobs put back at the front of the queue after their worker left
-  std::uint64_t results_delivered = 0;    ///< RESULT messages sent to clients (WORKER_LOST ones included)
-  std::uint64_t results_ignored = 0;      ///< worker results for finished or unknown jobs, dropped
+  int workers = 0;                          ///< registered workers now
+  int clients = 0;                          ///< registered clients now
+  int batches = 0;                          ///< live batches now
+  std::uint64_t queued = 0;                 ///< jobs waiting for a worker now
+  std::uint64_t in_flight = 0;              ///< jobs held by workers now
+  std::uint64_t jobs_accepted = 0;          ///< jobs accepted from SUBMITs (a resubmitted finished job counts again)
+  std::uint64_t jobs_dispatched = 0;        ///< JOB messages sent to workers
+  std::uint64_t jobs_requeued = 0;          ///< jobs put back at the front of the queue after their worker left
+  std::uint64_t results_delivered = 0;      ///< RESULT messages sent to clients (WORKER_LOST ones included)
+  std::uint64_t results_ignored = 0;        ///< worker results for finished or unknown jobs, dropped
   std::uint64_t late_results_accepted = 0;  ///< results from a worker other than the job's current holder, accepted
-  std::uint64_t workers_lost = 0;         ///< workers declared lost (silent or connection closed)
-  std::uint64_t clients_lost = 0;         ///< clients declared lost (silent or connection closed)
-  std::uint64_t messages_dropped = 0;     ///< incoming messages dropped as malformed, foreign or illegal
+  std::uint64_t workers_lost = 0;           ///< workers declared lost (silent or connection closed)
+  std::uint64_t clients_lost = 0;           ///< clients with pending jobs declared lost (silent or connection closed)
+  std::uint64_t submits_rejected = 0;       ///< SUBMITs answered with ERROR
+  std::uint64_t messages_dropped = 0;       ///< incoming messages dropped as malformed, foreign or illegal
 };
 
 /// The broker. Construct (binds both sockets, throws std::runtime_error naming the endpoint when it cannot),
@@ -93,15 +94,15 @@ class Broker {
   using JobKey = std::pair<std::string, std::string>;
 
   struct JobRecord {
-    v1::Job job;                        ///< as accepted (cleared once finished, to free its memory)
+    v1::Job job;  ///< as accepted (cleared once finished, to free its memory)
     JobState state = JobState::kNew;
-    std::string worker;                 ///< routing id of the holding worker while kDispatched
-    std::uint64_t ticket = 0;           ///< matches this job's live queue entry while kQueued
-    int losses = 0;                     ///< workers lost while holding it since it was accepted
-    int dispatches = 0;                 ///< JOB messages sent for it since it was accepted
-    std::string lost_by;                ///< names of the workers lost while holding it, ", "-separated
-    Clock::time_point accepted_at;      ///< when the SUBMIT holding it was accepted
-    Clock::time_point dispatched_at;    ///< when it was last sent to a worker
+    std::string worker;               ///< routing id of the holding worker while kDispatched
+    std::uint64_t ticket = 0;         ///< matches this job's live queue entry while kQueued
+    int losses = 0;                   ///< workers lost while holding it since it was accepted
+    int dispatches = 0;               ///< JOB messages sent for it since it was accepted
+    std::string lost_by;              ///< names of the workers lost while holding it, ", "-separated
+    Clock::time_point accepted_at;    ///< when the SUBMIT holding it was accepted
+    Clock::time_point dispatched_at;  ///< when it was last sent to a worker
   };
   struct Batch {
     std::string client;     ///< routing id of the owning client's connection
@@ -109,16 +110,16 @@ class Broker {
     std::unordered_map<std::string, JobRecord> jobs;  ///< by job id
   };
   struct Worker {
-    std::string name;                 ///< Ready.worker_id (or the routing id in hex)
-    std::uint32_t credit = 0;         ///< Ready.credit: how many jobs it may hold
-    std::set<JobKey> holding;         ///< jobs sent to it and not answered
-    bool in_ready_list = false;       ///< whether ready_workers_ lists it
-    Clock::time_point expiry;         ///< declared lost when nothing arrived from it by then
+    std::string name;            ///< Ready.worker_id (or the routing id in hex)
+    std::uint32_t credit = 0;    ///< Ready.credit: how many jobs it may hold
+    std::set<JobKey> holding;    ///< jobs sent to it and not answered
+    bool in_ready_list = false;  ///< whether ready_workers_ lists it
+    Clock::time_point expiry;    ///< declared lost when nothing arrived from it by then
   };
   struct Client {
-    std::string client_id;              ///< Submit.client_id of its first SUBMIT
+    std::string client_id;                    ///< Submit.client_id of its first SUBMIT
     std::unordered_set<std::string> batches;  ///< batch ids it owns
-    Clock::time_point expiry;           ///< declared lost when nothing arrived from it by then
+    Clock::time_point expiry;                 ///< declared lost when nothing arrived from it by then
   };
   struct QueueEntry {
     std::string batch_id;
@@ -152,7 +153,8 @@ class Broker {
   void Enqueue(const std::string& batch_id, JobRecord& record, bool at_front);
   void SetState(JobRecord& record, JobState state);  // keeps queued_count_ right
   void LoseWorker(const std::string& worker, const std::string& reason, bool counts_as_loss);
-  void DropClient(const std::string& client, const std::string& reason);
+  /// Forgets a client and its batches. `lost`: it vanished (silent, connection closed) rather than said goodbye.
+  void DropClient(const std::string& client, const std::string& reason, bool lost);
   void DropBatch(const std::string& batch_id);
   void FinishJob(Batch& batch, JobRecord& record, v1::Result& result);
   void FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message);
@@ -186,14 +188,15 @@ class Broker {
   std::deque<QueueEntry> queue_;                     ///< jobs waiting, front first (may hold stale entries)
   std::list<std::string> ready_workers_;             ///< workers with free credit, least recently served first
   std::uint64_t next_ticket_ = 1;
-  std::uint64_t queued_count_ = 0;                   ///< jobs in state kQueued
-  Clock::time_point now_;                            ///< the time of the current loop iteration
-  std::unordered_set<std::string> warned_peers_;     ///< peers whose bad message was logged already
-  BrokerStats counters_;                             ///< the broker thread's live counters
+  std::uint64_t queued_count_ = 0;                ///< jobs in state kQueued
+  std::uint64_t in_flight_count_ = 0;             ///< the sum of the workers' holding sets' sizes
+  Clock::time_point now_;                         ///< the time of the current loop iteration
+  std::unordered_set<std::string> warned_peers_;  ///< peers whose bad message was logged already
+  BrokerStats counters_;                          ///< the broker thread's live counters
 
-  v1::WorkerToBroker worker_in_;  ///< reused for parsing
-  v1::ClientToBroker client_in_;  ///< reused for parsing
-  std::string out_;               ///< reused for serialising
+  v1::WorkerToBroker worker_in_;        ///< reused for parsing
+  v1::ClientToBroker client_in_;        ///< reused for parsing
+  std::string out_;                     ///< reused for serialising
   std::vector<zmq::message_t> frames_;  ///< reused for receiving
 
   mutable std::mutex stats_mutex_;

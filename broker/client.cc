@@ -29,9 +29,11 @@ std::string NewClientId() {
 
 BatchClientOptions Checked(BatchClientOptions options) {
   if (options.endpoint.empty()) throw std::invalid_argument("BatchClient: empty broker endpoint");
-  if (options.heartbeat_interval.count() <= 0) throw std::invalid_argument("BatchClient: heartbeat interval must be positive");
+  if (options.heartbeat_interval.count() <= 0)
+    throw std::invalid_argument("BatchClient: heartbeat interval must be positive");
   if (options.liveness < 2) throw std::invalid_argument("BatchClient: liveness must be at least 2");
-  if (options.connect_timeout.count() <= 0) throw std::invalid_argument("BatchClient: connect timeout must be positive");
+  if (options.connect_timeout.count() <= 0)
+    throw std::invalid_argument("BatchClient: connect timeout must be positive");
   if (options.reconnect_timeout.count() <= 0) {
     throw std::invalid_argument("BatchClient: reconnect timeout must be positive");
   }
@@ -73,7 +75,8 @@ void BatchClient::Submit(std::vector<v1::Job> jobs) {
   for (std::size_t i = 0; i < jobs.size(); ++i) {
     const std::string& id = jobs[i].job_id();
     if (id.empty()) throw std::invalid_argument("job " + std::to_string(i) + ": empty job_id");
-    if (!ids.insert(id).second) throw std::invalid_argument("job " + std::to_string(i) + ": job_id '" + id + "' repeated");
+    if (!ids.insert(id).second)
+      throw std::invalid_argument("job " + std::to_string(i) + ": job_id '" + id + "' repeated");
   }
   for (v1::Job& job : jobs) {
     job.set_batch_id(batch_id_);
@@ -166,9 +169,7 @@ void BatchClient::IoLoop() {
   if (socket_) socket_->close();
 }
 
-bool BatchClient::Active() const {
-  return socket_ != nullptr && (!outstanding_.empty() || !unanswered_.empty());
-}
+bool BatchClient::Active() const { return socket_ != nullptr && (!outstanding_.empty() || !unanswered_.empty()); }
 
 void BatchClient::Serve() {
   const Clock::duration liveness_period = options_.heartbeat_interval * options_.liveness;
@@ -176,8 +177,8 @@ void BatchClient::Serve() {
   while (true) {
     int wait_ms = -1;
     if (Active()) {
-      const Clock::time_point deadline = !heard_ ? active_since_ + options_.connect_timeout
-                                                 : std::max(last_heard_, last_connect_) + liveness_period;
+      const Clock::time_point deadline =
+          !heard_ ? active_since_ + options_.connect_timeout : std::max(last_heard_, last_connect_) + liveness_period;
       const auto wait = std::max(std::min(next_heartbeat_, deadline) - Clock::now(), Clock::duration{});
       wait_ms = static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(wait).count());
     }
@@ -365,8 +366,7 @@ bool BatchClient::OnBrokerMessage(const zmq::message_t& payload) {
       Reconnect("the broker at " + options_.endpoint + " said goodbye (" + in_.disconnect().reason() + ")");
       return false;
     case v1::BrokerToClient::kHeartbeat:
-    case v1::BrokerToClient::BODY_NOT_SET:
-      break;
+    case v1::BrokerToClient::BODY_NOT_SET: break;
   }
   return true;
 }

@@ -125,16 +125,16 @@ class BatchClient {
   // Owned by the I/O thread.
   std::unique_ptr<zmq::socket_t> socket_;
   std::unordered_map<std::string, v1::Job> outstanding_;  ///< submitted, no result yet: what a resubmission sends
-  std::deque<std::string> order_;            ///< job ids in submission order (answered ones skipped lazily)
-  std::deque<std::uint64_t> unanswered_;     ///< per SUBMIT sent on this socket, the submission it belongs to
-  std::uint64_t latest_sent_ = 0;            ///< the newest submission sent
-  bool heard_ = false;                       ///< the broker has answered since the client became active
-  Clock::time_point active_since_;           ///< when the client last went from idle to active
-  Clock::time_point last_heard_;             ///< when the broker was last heard
+  std::deque<std::string> order_;         ///< job ids in submission order (answered ones skipped lazily)
+  std::deque<std::uint64_t> unanswered_;  ///< per SUBMIT sent on this socket, the submission it belongs to
+  std::uint64_t latest_sent_ = 0;         ///< the newest submission sent
+  bool heard_ = false;                    ///< the broker has answered since the client became active
+  Clock::time_point active_since_;        ///< when the client last went from idle to active
+  Clock::time_point last_heard_;          ///< when the broker was last heard
   Clock::time_point next_heartbeat_;
-  Clock::time_point last_connect_;            ///< when the current socket was opened
-  bool warned_bad_message_ = false;          ///< a dropped message was logged on this socket
-  bool warned_silence_ = false;              ///< a reconnection was logged and the broker has not answered since
+  Clock::time_point last_connect_;   ///< when the current socket was opened
+  bool warned_bad_message_ = false;  ///< a dropped message was logged on this socket
+  bool warned_silence_ = false;      ///< a reconnection was logged and the broker has not answered since
   v1::BrokerToClient in_;
   std::string out_;
 

@@ -206,7 +206,8 @@ void WorkerConnection::Reconnect(const std::string& why) {
   }
   if (!warned_silence_) {
     std::string line = why + "; connecting again";
-    if (discarded > 0) line += " (dropped " + std::to_string(discarded) + " jobs not started: the broker requeues them)";
+    if (discarded > 0)
+      line += " (dropped " + std::to_string(discarded) + " jobs not started: the broker requeues them)";
     Log(line);
     warned_silence_ = true;
   }
@@ -244,8 +245,8 @@ WorkerConnection::Heard WorkerConnection::OnBrokerMessage(const zmq::message_t& 
         result.set_batch_id(job.batch_id());
         result.set_worker_id(worker_id_);
         result.set_status(v1::Result::INVALID_INPUT);
-        result.set_message("job protocol version " + std::to_string(job.protocol_version()) +
-                           "; this worker speaks " + std::to_string(kProtocolVersion));
+        result.set_message("job protocol version " + std::to_string(job.protocol_version()) + "; this worker speaks " +
+                           std::to_string(kProtocolVersion));
         Send(answer);
         return Heard::kAlive;
       }
@@ -261,8 +262,7 @@ WorkerConnection::Heard WorkerConnection::OnBrokerMessage(const zmq::message_t& 
       Reconnect("the broker at " + options_.endpoint + " said goodbye (" + in_.disconnect().reason() + ")");
       return Heard::kReconnected;
     case v1::BrokerToWorker::kHeartbeat:
-    case v1::BrokerToWorker::BODY_NOT_SET:
-      break;
+    case v1::BrokerToWorker::BODY_NOT_SET: break;
   }
   return Heard::kAlive;
 }

@@ -76,6 +76,11 @@ TEST(Broker, FortyJobsOnTwoWorkersComeBackOnceEach) {
   EXPECT_EQ(stats.results_ignored, 0u);
   EXPECT_EQ(stats.messages_dropped, 0u);
   EXPECT_EQ(client.stats().duplicates_dropped, 0u);
+
+  // With every result in, the client stops heartbeating and the broker forgets it: routine, not a loss.
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().clients == 0; }));
+  EXPECT_EQ(broker.stats().clients_lost, 0u);
+  EXPECT_EQ(log.Count("forgotten (silent for 0.5 s, nothing pending)"), 1);
 }
 
 TEST(Broker, DispatchFillsEachWorkersCreditInTurnAndNoMore) {
@@ -139,9 +144,8 @@ TEST(Broker, SilentWorkersJobsGoToAnotherWorkerAndArriveOnce) {
   EXPECT_EQ(stats.jobs_requeued, 4u);
   EXPECT_EQ(log.Count("worker silent lost: silent for 0.5 s; 4 jobs back to the queue"), 1);
   for (const v1::Result& result : results) {
-    const bool was_held = std::any_of(held.begin(), held.end(), [&](const v1::Job& job) {
-      return job.job_id() == result.job_id();
-    });
+    const bool was_held =
+        std::any_of(held.begin(), held.end(), [&](const v1::Job& job) { return job.job_id() == result.job_id(); });
     EXPECT_EQ(result.attempts(), was_held ? 2u : 1u) << result.job_id();
     EXPECT_EQ(result.message(), was_held ? "attempt=1" : "attempt=0") << result.job_id();
   }
@@ -304,7 +308,7 @@ TEST(Broker, SilentClientIsDroppedWithItsJobs) {
   EXPECT_EQ(answer->accepted().queued(), 3u);
   ASSERT_TRUE(WaitFor([&] { return broker.stats().clients_lost == 1; }));  // it never heartbeats
   EXPECT_EQ(broker.stats().queued, 0u);
-  EXPECT_EQ(log.Count("client quiet silent for 0.5 s; dropped its 3 pending jobs"), 1);
+  EXPECT_EQ(log.Count("client quiet lost (silent for 0.5 s); dropped its 3 pending jobs"), 1);
 }
 
 TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {
@@ -334,6 +338,8 @@ TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {
   EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_client_id(); }), "empty client_id");
   EXPECT_EQ(broker.stats().queued, 0u);
   EXPECT_EQ(broker.stats().batches, 0);
+  EXPECT_EQ(broker.stats().submits_rejected, 6u);
+  EXPECT_EQ(broker.stats().messages_dropped, 0u);
 }
 
 TEST(Broker, BatchOfAnotherClientCannotBeJoined) {

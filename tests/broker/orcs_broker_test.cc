@@ -31,7 +31,8 @@ std::optional<Endpoints> StartBroker(std::unique_ptr<BackgroundProcess>& process
   std::optional<std::string> line = process->ReadLine(milliseconds(10000));
   if (!line) return std::nullopt;
   std::smatch match;
-  static const std::regex kLine("orcs-broker clients=(tcp://127\\.0\\.0\\.1:[0-9]+) workers=(tcp://127\\.0\\.0\\.1:[0-9]+)");
+  static const std::regex kLine(
+      "orcs-broker clients=(tcp://127\\.0\\.0\\.1:[0-9]+) workers=(tcp://127\\.0\\.0\\.1:[0-9]+)");
   if (!std::regex_match(*line, match, kLine)) {
     ADD_FAILURE() << "unexpected first line: " << *line;
     return std::nullopt;

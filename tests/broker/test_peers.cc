@@ -205,8 +205,8 @@ std::optional<v1::Job> AwaitJob(RawPeer& worker, std::chrono::milliseconds limit
 std::optional<v1::BrokerToWorker> NextNonHeartbeat(RawPeer& worker, std::chrono::milliseconds limit) {
   const Clock::time_point deadline = Clock::now() + limit;
   while (Clock::now() < deadline) {
-    std::optional<v1::BrokerToWorker> message =
-        worker.ReceiveEnvelope<v1::BrokerToWorker>(std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()));
+    std::optional<v1::BrokerToWorker> message = worker.ReceiveEnvelope<v1::BrokerToWorker>(
+        std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()));
     if (message && !message->has_heartbeat()) return message;
   }
   return std::nullopt;

@@ -82,7 +82,8 @@ class BrokerThread {
 /// thread, then destroys the connection (which says DISCONNECT).
 class EchoWorker {
  public:
-  EchoWorker(worker::WorkerConnectionOptions options, std::chrono::milliseconds job_time = std::chrono::milliseconds(0));
+  EchoWorker(worker::WorkerConnectionOptions options,
+             std::chrono::milliseconds job_time = std::chrono::milliseconds(0));
   ~EchoWorker();
   int jobs_done() const { return jobs_done_.load(); }
   /// The ids of the jobs it answered, in order.
@@ -136,7 +137,7 @@ std::optional<v1::Job> AwaitJob(RawPeer& worker, std::chrono::milliseconds limit
 
 /// The next message to a fake worker that is not a HEARTBEAT; nullopt after `limit`.
 std::optional<v1::BrokerToWorker> NextNonHeartbeat(RawPeer& worker,
-                                                  std::chrono::milliseconds limit = std::chrono::seconds(5));
+                                                   std::chrono::milliseconds limit = std::chrono::seconds(5));
 
 /// Takes results from `client` until `count` have come or `limit` has passed.
 std::vector<v1::Result> Collect(broker::BatchClient& client, std::size_t count,

@@ -48,8 +48,8 @@ class BackgroundProcess {
   pid_t pid_ = -1;
   int out_fd_ = -1;
   int err_fd_ = -1;
-  std::string out_;  ///< stdout read and not yet returned by ReadLine
-  std::string err_;  ///< stderr read so far
+  std::string out_;                      ///< stdout read and not yet returned by ReadLine
+  std::string err_;                      ///< stderr read so far
   std::optional<ProcessResult> result_;  ///< once reaped
 };
 

@@ -11,8 +11,8 @@ namespace orcs::test_support {
 namespace {
 
 using std::chrono::milliseconds;
-using worker::WorkerConnection;
 using ::testing::HasSubstr;
+using worker::WorkerConnection;
 
 // A ROUTER on an ephemeral port standing in for the broker.
 class FakeBroker {
