@@ -186,14 +186,16 @@ void WorkerConnection::Connect() {
   socket_->set(zmq::sockopt::rcvhwm, 0);
   socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
   warned_bad_message_ = false;
+  {
+    std::lock_guard lock(mutex_);
+    ++stats_.connections;  // before READY leaves, so that whoever sees the READY sees the count
+    stats_.broker_answering = false;
+  }
   v1::WorkerToBroker ready;
   ready.set_protocol_version(kProtocolVersion);
   ready.mutable_ready()->set_worker_id(worker_id_);
   ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(options_.credit));
   Send(ready);
-  std::lock_guard lock(mutex_);
-  ++stats_.connections;
-  stats_.broker_answering = false;
 }
 
 void WorkerConnection::Reconnect(const std::string& why) {

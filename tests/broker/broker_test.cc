@@ -422,7 +422,7 @@ TEST(Broker, StopSaysGoodbyeToWorkersWhichConnectAgain) {
   worker::WorkerConnection connection(TestWorkerOptions(broker->worker_endpoint(), "w", 2, &log));
   ASSERT_TRUE(WaitFor([&] { return connection.stats().broker_answering; }));
   broker->Stop();
-  ASSERT_TRUE(WaitFor([&] { return connection.stats().connections == 2; }));
+  ASSERT_TRUE(WaitFor([&] { return connection.stats().connections >= 2; }));
   EXPECT_EQ(log.Count("said goodbye (broker shutting down); connecting again"), 1);
   EXPECT_EQ(log.Count("stopped: told 1 workers and 0 clients"), 1);
 }

@@ -62,7 +62,9 @@ TEST(OrcsBroker, AnnouncesItsEndpointsServesAndStopsCleanlyOnSigterm) {
       ids.insert(result.job_id());
     }
     EXPECT_EQ(ids.size(), 20u);
-  }
+  }  // the worker and the client say goodbye
+  EXPECT_TRUE(
+      WaitFor([&] { return process->err().find("worker w left (worker shutting down)") != std::string::npos; }));
   process->Signal(SIGTERM);
   const std::optional<ProcessResult> result = process->Wait(milliseconds(10000));
   ASSERT_TRUE(result.has_value());
