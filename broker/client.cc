@@ -55,6 +55,13 @@ BatchClient::BatchClient(BatchClientOptions options)
       client_id_(NewClientId()),
       batch_id_(options_.batch_id.empty() ? client_id_ : options_.batch_id),
       context_(1) {
+  try {  // a malformed endpoint fails here, at once, rather than at the first Submit()
+    zmq::socket_t probe(context_, zmq::socket_type::dealer);
+    probe.set(zmq::sockopt::linger, 0);
+    probe.connect(options_.endpoint);
+  } catch (const zmq::error_t& error) {
+    throw std::invalid_argument("BatchClient: cannot connect to '" + options_.endpoint + "': " + error.what());
+  }
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) throw std::runtime_error("BatchClient: eventfd failed");
   io_thread_ = std::thread([this] { IoLoop(); });
@@ -65,6 +72,7 @@ BatchClient::~BatchClient() {
     std::lock_guard lock(mutex_);
     stopping_ = true;
   }
+  changed_.notify_all();  // the I/O thread waits on it after a failure
   Wake();
   io_thread_.join();
   ::close(wake_fd_);

@@ -69,7 +69,7 @@ class BatchClientError : public std::runtime_error {
 class BatchClient {
  public:
   /// Starts the I/O thread; connects on the first Submit(). Throws std::invalid_argument for an empty endpoint,
-  /// non-positive intervals or timeouts, or a liveness below 2.
+  /// non-positive intervals or timeouts, a liveness below 2, or an endpoint ZeroMQ cannot parse.
   explicit BatchClient(BatchClientOptions options);
   /// Tells the broker the client is leaving (its jobs still queued are dropped) and stops the I/O thread.
   ~BatchClient();

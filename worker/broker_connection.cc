@@ -52,6 +52,13 @@ WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
     : options_(Checked(std::move(options))),
       worker_id_(options_.worker_id.empty() ? DefaultWorkerId() : options_.worker_id),
       context_(1) {
+  try {  // a malformed endpoint fails here, at once, rather than in the I/O thread
+    zmq::socket_t probe(context_, zmq::socket_type::dealer);
+    probe.set(zmq::sockopt::linger, 0);
+    probe.connect(options_.endpoint);
+  } catch (const zmq::error_t& error) {
+    throw std::invalid_argument("WorkerConnection: cannot connect to '" + options_.endpoint + "': " + error.what());
+  }
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) throw std::runtime_error("WorkerConnection: eventfd failed");
   io_thread_ = std::thread([this] { IoLoop(); });
@@ -62,6 +69,7 @@ WorkerConnection::~WorkerConnection() {
     std::lock_guard lock(mutex_);
     stopping_ = true;
   }
+  job_arrived_.notify_all();
   Wake();
   io_thread_.join();
   ::close(wake_fd_);
@@ -69,7 +77,11 @@ WorkerConnection::~WorkerConnection() {
 
 std::optional<v1::Job> WorkerConnection::NextJob(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
-  if (!job_arrived_.wait_for(lock, timeout, [this] { return !jobs_.empty(); })) return std::nullopt;
+  job_arrived_.wait_for(lock, timeout, [this] { return !jobs_.empty() || !failure_.empty(); });
+  if (jobs_.empty()) {
+    if (!failure_.empty()) throw std::runtime_error(failure_);
+    return std::nullopt;
+  }
   v1::Job job = std::move(jobs_.front());
   jobs_.pop_front();
   return job;
@@ -107,6 +119,19 @@ void WorkerConnection::Log(const std::string& line) const {
 // The I/O thread
 
 void WorkerConnection::IoLoop() {
+  try {
+    Serve();
+  } catch (const std::exception& error) {
+    const std::string failure = "the connection to the broker at " + options_.endpoint + " failed: " + error.what();
+    Log(failure);
+    std::unique_lock lock(mutex_);
+    failure_ = failure;
+    job_arrived_.notify_all();
+    job_arrived_.wait(lock, [this] { return stopping_; });  // stay until the destructor joins
+  }
+}
+
+void WorkerConnection::Serve() {
   const Clock::duration liveness_period = options_.heartbeat_interval * options_.liveness;
   Connect();
   Clock::time_point next_heartbeat = Clock::now() + options_.heartbeat_interval;

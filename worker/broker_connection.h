@@ -56,14 +56,15 @@ class WorkerConnection {
  public:
   /// Starts the I/O thread, which connects and sends READY. Never blocks on the broker: a worker may start before
   /// its broker. Throws std::invalid_argument for an empty endpoint, a credit outside 1..1024, a non-positive
-  /// interval or a liveness below 2.
+  /// interval, a liveness below 2, or an endpoint ZeroMQ cannot parse.
   explicit WorkerConnection(WorkerConnectionOptions options);
   /// Says DISCONNECT to the broker (its jobs go back to the queue, not counted as a loss) and stops the I/O thread.
   ~WorkerConnection();
   WorkerConnection(const WorkerConnection&) = delete;
   WorkerConnection& operator=(const WorkerConnection&) = delete;
 
-  /// The next job, oldest first; nullopt when none arrives within `timeout`.
+  /// The next job, oldest first; nullopt when none arrives within `timeout`. Throws std::runtime_error when the
+  /// I/O thread has failed (it logs why; nothing in the protocol makes it fail).
   std::optional<v1::Job> NextJob(std::chrono::milliseconds timeout);
 
   /// Sends the result of a job NextJob returned (one result per job; it gives the broker back one credit).
@@ -83,6 +84,7 @@ class WorkerConnection {
   enum class Heard { kNothing, kAlive, kReconnected };
 
   void IoLoop();
+  void Serve();
   void Connect();
   void Reconnect(const std::string& why);
   Heard OnBrokerMessage(const zmq::message_t& payload);
@@ -109,6 +111,7 @@ class WorkerConnection {
   std::deque<v1::Job> jobs_;       ///< received, not yet taken
   std::deque<v1::Result> outbox_;  ///< given to SendResult, not yet sent
   bool stopping_ = false;
+  std::string failure_;  ///< why the I/O thread stopped, when it failed
   WorkerConnectionStats stats_;
 
   std::thread io_thread_;  ///< last: starts after everything above exists

@@ -81,6 +81,15 @@ TEST(BatchClient, RejectsBadJobIdsBeforeSendingAnything) {
   EXPECT_EQ(client.stats().submit_messages, 1u);
 }
 
+TEST(BatchClient, RejectsBadOptionsAtConstruction) {
+  for (const char* endpoint : {"", "127.0.0.1:5555", "udp://127.0.0.1:5555", "tcp://127.0.0.1"}) {
+    EXPECT_THROW(BatchClient{TestClientOptions(endpoint)}, std::invalid_argument) << endpoint;
+  }
+  broker::BatchClientOptions options = TestClientOptions("tcp://127.0.0.1:5555");
+  options.connect_timeout = milliseconds(0);
+  EXPECT_THROW(BatchClient{options}, std::invalid_argument);
+}
+
 TEST(BatchClient, NextWithNothingOutstandingAnswersAtOnce) {
   BatchClient client(TestClientOptions("tcp://127.0.0.1:" + std::to_string(FreePort())));
   const Clock::time_point start = Clock::now();

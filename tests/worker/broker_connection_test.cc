@@ -224,6 +224,9 @@ TEST(WorkerConnection, RejectsBadOptions) {
   worker::WorkerConnectionOptions options = TestWorkerOptions("tcp://127.0.0.1:1", "w", 1);
   options.liveness = 1;
   EXPECT_THROW(WorkerConnection{options}, std::invalid_argument);
+  for (const char* endpoint : {"127.0.0.1:5556", "udp://127.0.0.1:5556", "tcp://127.0.0.1"}) {
+    EXPECT_THROW(WorkerConnection(TestWorkerOptions(endpoint, "w", 1)), std::invalid_argument) << endpoint;
+  }
 }
 
 }  // namespace
