@@ -8,7 +8,6 @@
 #include <cmath>
 #include <functional>
 #include <memory>
-#include <numeric>
 #include <string>
 #include <vector>
 
@@ -20,7 +19,6 @@
 namespace orcs {
 namespace {
 
-constexpr double kGravity = 9.81;  // m/s², /Simulation/Gravitation
 constexpr double kDegrees = 180.0 / M_PI;
 
 std::string SourcePath(const std::string& relative) { return std::string(ORCS_SOURCE_DIR) + "/" + relative; }
@@ -143,9 +141,10 @@ TEST(MotionsTest, LegSwingLagsTheCommandAtTheVelocityLimitOrTheTorqueLimit) {
   // The weight moment G of the leg below the hip (femur, tibia, ankle box, foot) once it is held level: from
   // the bodies' masses and their depth below the hip axis while the leg hangs straight down.
   const physics::JointDescription& hip = run.JointDescription("Right/HipYaw");
+  const double gravity = run.Number("/Simulation/Gravitation");
   double leg_moment = 0.0;
   for (const char* body : {"Right/Femur", "Right/Tibia", "Right/AnkleBox", "Right/Foot"}) {
-    leg_moment += run.Mass(body) * kGravity * (hip.anchor.y() - run.Position(body).y());
+    leg_moment += run.Mass(body) * gravity * (hip.anchor.y() - run.Position(body).y());
   }
   std::vector<double> times, angles, commands;
   run.RunUntil(run.record().frames.back().time_ms / 1000.0, [&] {
@@ -239,14 +238,16 @@ TEST(MotionsTest, SitUpRaisesTheTrunkFromLyingToUpright) {
   // while the pelvis stays lying on the floor: sitting, not standing.
   EXPECT_GT(Elevation(run.Axis("Middle/UpperBody", Eigen::Vector3d::UnitY())), 75.0);
   EXPECT_LT(std::abs(Elevation(run.Axis("Middle/InvisiblePart", Eigen::Vector3d::UnitY()))), 15.0);
-  EXPECT_GT(run.Position("Middle/Head").y(), 0.2);  // head above the hips: 0.15 m of trunk and neck
+  // Upright, the head's centre is 0.15 m (its height above the waist axis standing) above the waist axis,
+  // which lies about 0.06 m above the floor when the pelvis lies on its back.
+  EXPECT_GT(run.Position("Middle/Head").y(), 0.2);
 }
 
 TEST(MotionsTest, PendulumHoldsThePoleLevelAtFullTorqueAndSagsAtTheDefaultTorque) {
   MotionRun run("scenarios/environments/pendulum.xml", "scenarios/motions/pendulum_steps.csv", "Pendulum");
   const scene::AgentDescription& rig = run.environment().agents.at(0);
   // The pole's weight moment when level: m·g·L/2 (a uniform pole hinged at one end).
-  const double level_moment = rig.pole_mass * kGravity * rig.pole_length / 2;
+  const double level_moment = rig.pole_mass * run.Number("/Simulation/Gravitation") * rig.pole_length / 2;
   const double fmax_factor = run.Number("/AngularMotor/FMaxFactor");
   // Each hold ends just before the next row: measure there, once the pole has settled.
   const std::vector<control::Keyframe>& rows = run.record().frames;
