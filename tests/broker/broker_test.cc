@@ -336,9 +336,10 @@ TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {
             "job 0 (id 'job-0'): protocol_version 2 (expected 1)");
   EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_batch_id(); }), "empty batch_id");
   EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_client_id(); }), "empty client_id");
+  // The broker publishes its stats after it has answered: wait for the sixth rejection to show.
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().submits_rejected == 6u; }));
   EXPECT_EQ(broker.stats().queued, 0u);
   EXPECT_EQ(broker.stats().batches, 0);
-  EXPECT_EQ(broker.stats().submits_rejected, 6u);
   EXPECT_EQ(broker.stats().messages_dropped, 0u);
 }
 

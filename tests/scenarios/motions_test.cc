@@ -1,0 +1,273 @@
+// The original's experiments as motion records (scenarios/motions/*.csv): each record is played in-process the
+// way `orcs-sim -play` does it (the player's Apply before every Step), and one physical fact of the motion is
+// checked. Tolerances come from the physics of the model (spec/aseries.md §6, docs/model.md), not from a
+// recorded run. Joint angles are read noise-free from the physics (the JointAngle value carries sensor noise).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/control/keyframe_player.h"
+#include "model/control/keyframe_record.h"
+#include "model/scene/environment_reader.h"
+#include "model/scene/simulation.h"
+
+namespace orcs {
+namespace {
+
+constexpr double kDegrees = 180.0 / M_PI;
+
+std::string SourcePath(const std::string& relative) { return std::string(ORCS_SOURCE_DIR) + "/" + relative; }
+
+// One motion: the world of `environment` (a path below the source tree, or "" for the default A-Series standing
+// on the floor) with `record` played into agent `agent`.
+class MotionRun {
+ public:
+  MotionRun(const std::string& environment, const std::string& record, const std::string& agent = "Humanoid")
+      : agent_(agent) {
+    if (environment.empty()) {
+      environment_.agents.push_back(scene::AgentDescription{});
+    } else {
+      environment_ = scene::EnvironmentReader::ReadFile(SourcePath(environment));
+    }
+    simulation_.LoadEnvironment(environment_);
+    simulation_.Build();
+    simulation_.Reset(0);
+    aseries::ASeriesAgent& target = simulation_.agent(simulation_.FindAgent(agent));
+    motors_ = target.motor_names();
+    record_ = control::ReadKeyframeRecord(SourcePath(record), target.motor_count());
+    player_ = std::make_unique<control::KeyframePlayer>(record_, agent, motors_, simulation_.repository());
+  }
+
+  // Steps until `seconds` of simulated time, calling `observe` after every step.
+  void RunUntil(double seconds, const std::function<void()>& observe = nullptr) {
+    while (simulation_.time() < seconds - 1e-9) {
+      player_->Apply(simulation_.time());
+      ASSERT_EQ(simulation_.Step(), scene::SimulationStatus::kOk) << simulation_.message();
+      if (observe) observe();
+    }
+  }
+
+  double time() const { return simulation_.time(); }
+  double Number(const std::string& path) const { return simulation_.repository().Get(path).as_double(); }
+  const scene::EnvironmentDescription& environment() const { return environment_; }
+  const control::KeyframeRecord& record() const { return record_; }
+
+  // The noise-free angle of one of the agent's motors, degrees.
+  double JointDegrees(const std::string& motor) const {
+    return simulation_.physics().joint_angle(Joint(motor)) * kDegrees;
+  }
+  const physics::JointDescription& JointDescription(const std::string& motor) const {
+    return simulation_.model().physics()->joint(Joint(motor));
+  }
+  // Centre of one of the agent's bodies, world, m.
+  Eigen::Vector3d Position(const std::string& body) const {
+    return simulation_.physics().body_state(Body(body)).position;
+  }
+  // A body's own axis (e.g. UnitY, the trunk's long axis) in the world.
+  Eigen::Vector3d Axis(const std::string& body, const Eigen::Vector3d& local) const {
+    return simulation_.physics().body_state(Body(body)).orientation * local;
+  }
+  double Mass(const std::string& body) const { return simulation_.model().physics()->total_mass(Body(body)); }
+
+  // Where the record's column for `motor` (angle, or torque if `torque`) is at row `row`.
+  double Recorded(size_t row, const std::string& motor, bool torque = false) const {
+    const size_t index = std::find(motors_.begin(), motors_.end(), motor) - motors_.begin();
+    return record_.frames.at(row).inputs.at(2 * index + (torque ? 1 : 0));
+  }
+
+ private:
+  int Joint(const std::string& motor) const {
+    const int joint = simulation_.model().physics()->FindJoint(agent_ + "/" + motor);
+    EXPECT_GE(joint, 0) << motor;
+    return joint;
+  }
+  int Body(const std::string& body) const {
+    const int index = simulation_.model().physics()->FindBody(agent_ + "/" + body);
+    EXPECT_GE(index, 0) << body;
+    return index;
+  }
+
+  std::string agent_;
+  scene::EnvironmentDescription environment_;
+  scene::Simulation simulation_;
+  std::vector<std::string> motors_;
+  control::KeyframeRecord record_;
+  std::unique_ptr<control::KeyframePlayer> player_;
+};
+
+// Angle of a body axis above the horizontal, degrees.
+double Elevation(const Eigen::Vector3d& axis) { return std::asin(std::clamp(axis.y(), -1.0, 1.0)) * kDegrees; }
+
+// The time at which `values` (sampled at `times`) first crosses `level`, linearly interpolated; NaN if never.
+double Crossing(const std::vector<double>& times, const std::vector<double>& values, double level) {
+  for (size_t i = 1; i < values.size(); ++i) {
+    if ((values[i - 1] - level) * (values[i] - level) <= 0 && values[i] != values[i - 1]) {
+      return times[i - 1] + (level - values[i - 1]) / (values[i] - values[i - 1]) * (times[i] - times[i - 1]);
+    }
+  }
+  return NAN;
+}
+
+TEST(MotionsTest, WaistBendReachesItsForwardAngleAndTheRobotStaysOnItsFeet) {
+  MotionRun run("", "scenarios/motions/waist_bend.csv");
+  double forward = 0.0;  // the record's deepest bend
+  for (size_t row = 0; row < run.record().frames.size(); ++row) forward = std::max(forward, run.Recorded(row, "Waist"));
+  ASSERT_GT(forward, 60.0);
+  const double pelvis_start = run.Position("Middle/InvisiblePart").y();
+  const double head_start = run.Position("Middle/Head").y();
+  double deepest = 0.0, pelvis_lowest = pelvis_start;
+  run.RunUntil(run.record().frames.back().time_ms / 1000.0, [&] {
+    deepest = std::max(deepest, run.JointDegrees("Waist"));
+    pelvis_lowest = std::min(pelvis_lowest, run.Position("Middle/InvisiblePart").y());
+  });
+  // The waist motor runs at full torque, 1.048 N·m, above the ≈0.74 N·m the bent trunk weighs on it: the
+  // position controller settles on its target (no torque-limited sag); a few degrees cover the overshoot.
+  EXPECT_NEAR(deepest, forward, 3.0);
+  // Standing, the pelvis height is fixed by the straight legs (0.256 m); a fall drops it by 0.1 m or more.
+  // The feet settle by about a millimetre.
+  EXPECT_GT(pelvis_lowest, pelvis_start - 0.01);
+  EXPECT_NEAR(run.Position("Middle/Head").y(), head_start, 0.01);  // straight again at the end
+}
+
+TEST(MotionsTest, LegSwingLagsTheCommandAtTheVelocityLimitOrTheTorqueLimit) {
+  MotionRun run("scenarios/environments/leg_swing.xml", "scenarios/motions/leg_swing.csv");
+  const double max_velocity = run.Number("/AngularMotor/MaxVelocity");  // rad/s
+  const double dt = run.Number("/Simulation/TimeStepSize");
+  // The weight moment G of the leg below the hip (femur, tibia, ankle box, foot) once it is held level: from
+  // the bodies' masses and their depth below the hip axis while the leg hangs straight down.
+  const physics::JointDescription& hip = run.JointDescription("Right/HipYaw");
+  const double gravity = run.Number("/Simulation/Gravitation");
+  double leg_moment = 0.0;
+  for (const char* body : {"Right/Femur", "Right/Tibia", "Right/AnkleBox", "Right/Foot"}) {
+    leg_moment += run.Mass(body) * gravity * (hip.anchor.y() - run.Position(body).y());
+  }
+  std::vector<double> times, angles, commands;
+  run.RunUntil(run.record().frames.back().time_ms / 1000.0, [&] {
+    times.push_back(run.time());
+    angles.push_back(run.JointDegrees("Right/HipYaw"));
+    commands.push_back(run.Number("/Sim/Humanoid/Right/HipYaw/DesiredAngle"));
+  });
+  const size_t forward_step = std::find(commands.begin(), commands.end(), 150.0) - commands.begin();
+  const size_t back_step = std::find(commands.begin(), commands.end(), -15.0) - commands.begin();
+  ASSERT_LT(forward_step, back_step);
+  ASSERT_LT(back_step, angles.size());
+
+  // The command jumps; the PID's velocity is clipped to MaxVelocity, so the joint lags the command: it never
+  // turns faster than the limit, and it is far from the command through the swing.
+  double fastest = 0.0;
+  for (size_t i = 1; i < angles.size(); ++i) {
+    fastest = std::max(fastest, std::abs(angles[i] - angles[i - 1]) / kDegrees / dt);
+  }
+  EXPECT_LT(fastest, max_velocity * 1.03);
+  for (size_t i = forward_step; i < forward_step + 50; ++i) EXPECT_LT(angles[i], commands[i] - 20.0) << times[i];
+
+  // Swinging back down, gravity helps and the friction brake cannot stop it: the joint turns at MaxVelocity.
+  const std::vector<double> back_times(times.begin() + back_step, times.end());
+  const std::vector<double> back_angles(angles.begin() + back_step, angles.end());
+  const double down_rate =
+      100.0 / kDegrees / (Crossing(back_times, back_angles, 10.0) - Crossing(back_times, back_angles, 110.0));
+  EXPECT_NEAR(down_rate, max_velocity, 0.03 * max_velocity);
+
+  // Lifting the leg through the level at the default torque, the motor is torque-limited instead: its torque
+  // τ = FMaxFactor·DesiredTorque carries the weight moment G and the friction brake αd·ω (spec §6b), so the
+  // leg rises at ω = (τ − G) / αd there, well below MaxVelocity.
+  const double torque = run.Number("/AngularMotor/FMaxFactor") * run.Recorded(1, "Right/HipYaw", true);
+  const double expected_rate = (torque - leg_moment) / run.Number("/AngularMotor/DynamicFriction");
+  const std::vector<double> up_times(times.begin() + forward_step, times.begin() + back_step);
+  const std::vector<double> up_angles(angles.begin() + forward_step, angles.begin() + back_step);
+  const double up_rate = 10.0 / kDegrees / (Crossing(up_times, up_angles, 95.0) - Crossing(up_times, up_angles, 85.0));
+  EXPECT_NEAR(up_rate, expected_rate, 0.15 * expected_rate);
+  EXPECT_LT(up_rate, 0.5 * max_velocity);
+}
+
+TEST(MotionsTest, ArmMotorsArriveInTheOrderOfTheirSpeeds) {
+  MotionRun run("", "scenarios/motions/arm_movement.csv");
+  const std::vector<std::string> arms = {"Right/ShoulderPitch", "Left/ShoulderPitch", "Right/Elbow", "Left/Elbow"};
+  // From the record: each motor's target, when its ramp starts and ends, hence its speed.
+  struct Ramp {
+    std::string motor;
+    double target = 0, start = NAN, end = NAN, speed = 0;  // degrees, s, s, degrees/s
+    double arrival = NAN;                                  // s, measured
+  };
+  std::vector<Ramp> ramps;
+  for (const std::string& motor : arms) {
+    Ramp ramp{motor};
+    for (size_t row = 0; row < run.record().frames.size(); ++row) {
+      if (std::abs(run.Recorded(row, motor)) > std::abs(ramp.target)) ramp.target = run.Recorded(row, motor);
+    }
+    for (size_t row = 1; row < run.record().frames.size(); ++row) {
+      const double angle = run.Recorded(row, motor), t = run.record().frames[row].time_ms / 1000.0;
+      if (std::isnan(ramp.start) && angle != 0) ramp.start = run.record().frames[row - 1].time_ms / 1000.0;
+      if (std::isnan(ramp.end) && angle == ramp.target) ramp.end = t;
+    }
+    ramp.speed = std::abs(ramp.target) / (ramp.end - ramp.start);
+    ramps.push_back(ramp);
+  }
+  // They all start together and move at different speeds, all below the velocity limit (3.5 rad/s ≈ 200°/s).
+  for (const Ramp& ramp : ramps) {
+    EXPECT_DOUBLE_EQ(ramp.start, ramps[0].start) << ramp.motor;
+    EXPECT_LT(ramp.speed / kDegrees, run.Number("/AngularMotor/MaxVelocity")) << ramp.motor;
+  }
+  run.RunUntil(ramps[0].start + 4.0, [&] {
+    for (Ramp& ramp : ramps) {
+      if (std::isnan(ramp.arrival) && std::abs(run.JointDegrees(ramp.motor) - ramp.target) < 2.0) {
+        ramp.arrival = run.time();
+      }
+    }
+  });
+  // A velocity loop v = Kp·e follows a ramp 1/Kp = 0.05 s behind and settles with that time constant, so each
+  // joint comes within 2° of its target within ±0.1 s of its ramp's end: in the order of their speeds.
+  for (const Ramp& ramp : ramps) EXPECT_NEAR(ramp.arrival, ramp.end, 0.1) << ramp.motor;
+  std::vector<Ramp> by_speed = ramps, by_arrival = ramps;
+  std::sort(by_speed.begin(), by_speed.end(), [](const Ramp& a, const Ramp& b) { return a.speed > b.speed; });
+  std::sort(by_arrival.begin(), by_arrival.end(), [](const Ramp& a, const Ramp& b) { return a.arrival < b.arrival; });
+  for (size_t i = 0; i < ramps.size(); ++i) EXPECT_EQ(by_arrival[i].motor, by_speed[i].motor) << i;
+}
+
+TEST(MotionsTest, SitUpRaisesTheTrunkFromLyingToUpright) {
+  MotionRun run("scenarios/environments/lying_on_back.xml", "scenarios/motions/sit_up.csv");
+  // Lying on its back, the trunk's long axis (the UpperBody's y) is level.
+  EXPECT_LT(std::abs(Elevation(run.Axis("Middle/UpperBody", Eigen::Vector3d::UnitY()))), 1.0);
+  run.RunUntil(run.record().frames.back().time_ms / 1000.0);
+  // The waist bends 90°: the trunk stands up (the pelvis tips back a little as it takes the trunk's weight)
+  // while the pelvis stays lying on the floor: sitting, not standing.
+  EXPECT_GT(Elevation(run.Axis("Middle/UpperBody", Eigen::Vector3d::UnitY())), 75.0);
+  EXPECT_LT(std::abs(Elevation(run.Axis("Middle/InvisiblePart", Eigen::Vector3d::UnitY()))), 15.0);
+  // Upright, the head's centre is 0.15 m (its height above the waist axis standing) above the waist axis,
+  // which lies about 0.06 m above the floor when the pelvis lies on its back.
+  EXPECT_GT(run.Position("Middle/Head").y(), 0.2);
+}
+
+TEST(MotionsTest, PendulumHoldsThePoleLevelAtFullTorqueAndSagsAtTheDefaultTorque) {
+  MotionRun run("scenarios/environments/pendulum.xml", "scenarios/motions/pendulum_steps.csv", "Pendulum");
+  const scene::AgentDescription& rig = run.environment().agents.at(0);
+  // The pole's weight moment when level: m·g·L/2 (a uniform pole hinged at one end).
+  const double level_moment = rig.pole_mass * run.Number("/Simulation/Gravitation") * rig.pole_length / 2;
+  const double fmax_factor = run.Number("/AngularMotor/FMaxFactor");
+  // Each hold ends just before the next row: measure there, once the pole has settled.
+  const std::vector<control::Keyframe>& rows = run.record().frames;
+  for (size_t row = 1; row + 1 < rows.size(); ++row) {
+    const double target = run.Recorded(row, "Motor"), torque = fmax_factor * run.Recorded(row, "Motor", true);
+    run.RunUntil(rows[row + 1].time_ms / 1000.0 - 0.05);
+    if (target == 0) continue;
+    // Static balance: the motor holds the target if its torque exceeds the weight moment m·g·L/2·sin θ there;
+    // otherwise it pushes with all it has and the pole hangs where the moment equals it.
+    const double reachable = std::asin(std::min(1.0, torque / level_moment)) * kDegrees;
+    const double expected = std::copysign(std::min(std::abs(target), reachable), target);
+    SCOPED_TRACE("row " + std::to_string(row) + ", torque " + std::to_string(torque) + " N·m");
+    EXPECT_NEAR(run.JointDegrees("Motor"), expected, 1.0);
+    if (torque >= level_moment) {
+      EXPECT_NEAR(run.JointDegrees("Motor"), target, 1.0);
+    } else {
+      EXPECT_LT(std::abs(run.JointDegrees("Motor")), std::abs(target) - 20.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace orcs
