@@ -27,6 +27,7 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     const MorphologyMotor& spec = morphology.motors[m];
     const std::string path = prefix + spec.name + "/";
     Motor& motor = motors_[m];
+    motor_names_.push_back(spec.name);
     motor.joint = layout_.motors[m];
     motor.desired_angle = &values.Add(path + "DesiredAngle", 0.0);
     motor.desired_torque = &values.Add(path + "DesiredTorque", kDefaultDesiredTorqueRaw);

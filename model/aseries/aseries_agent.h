@@ -35,6 +35,8 @@ class ASeriesAgent {
   const std::string& name() const { return layout_.agent_name; }
   const ASeriesLayout& layout() const { return layout_; }
   int motor_count() const { return static_cast<int>(motors_.size()); }
+  /// Motor names in motor (= input) order, without the agent, e.g. "Right/Knee".
+  const std::vector<std::string>& motor_names() const { return motor_names_; }
   int board_count() const { return static_cast<int>(boards_.size()); }
 
   /// Back to the initial state after the world has been reset; noise streams restart from `seed`.
@@ -70,6 +72,7 @@ class ASeriesAgent {
   int index_ = 0;
   VariableRepository& values_;
   std::vector<Motor> motors_;
+  std::vector<std::string> motor_names_;
   std::vector<Board> boards_;
   DynamixelParameters motor_parameters_;
   AngleSensorParameters angle_parameters_;

@@ -48,6 +48,11 @@ Placement CheckPlacement(const ASeriesPlacement& placement) {
   return {placement.orientation.normalized(), placement.position};
 }
 
+// Name of body `index` in the description; "" (the static world) for -1.
+std::string BodyName(const physics::PhysicsDescription& description, int index) {
+  return index < 0 ? std::string() : description.bodies[index].name;
+}
+
 }  // namespace
 
 ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlacement& placement,
@@ -77,6 +82,7 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
     description.bodies.push_back(std::move(out));
   }
   auto find_body = [&](const std::string& name, const std::string& where) {
+    if (name.empty()) return -1;  // the static world
     const auto it = body_index.find(name);
     if (it == body_index.end()) {
       throw InputError("A-Series morphology", 0, where + " names unknown body \"" + name + "\"");
@@ -84,14 +90,19 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
     return it->second;
   };
 
+  auto find_host = [&](const std::string& name, const std::string& where) {
+    if (name.empty()) throw InputError("A-Series morphology", 0, where + " names no body");
+    return find_body(name, where);
+  };
+
   for (const MorphologyGeom& geom : morphology.geoms) {
-    physics::BodyDescription& host = description.bodies[find_body(geom.host, "geom '" + geom.name + "'")];
+    physics::BodyDescription& host = description.bodies[find_host(geom.host, "geom '" + geom.name + "'")];
     host.geoms.push_back(
         BoxGeom(geom.name, geom.size, geom.offset, Eigen::Quaterniond::Identity(), geom.material, geom.mass));
   }
 
   for (const MorphologyBoard& board : morphology.boards) {
-    const int host_index = find_body(board.host, "board '" + board.name + "'");
+    const int host_index = find_host(board.host, "board '" + board.name + "'");
     physics::BodyDescription& host = description.bodies[host_index];
     const Eigen::Quaterniond rotation = board.rotation.normalized();
     ASeriesBoardLayout out;
@@ -114,8 +125,8 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
     physics::JointDescription joint;
     joint.name = prefix + motor.name;
     joint.type = physics::JointType::kHinge;
-    joint.body1 = description.bodies[find_body(motor.first_body, where)].name;
-    joint.body2 = description.bodies[find_body(motor.second_body, where)].name;
+    joint.body1 = BodyName(description, find_body(motor.first_body, where));
+    joint.body2 = BodyName(description, find_body(motor.second_body, where));
     joint.anchor = place.Point(motor.axis_point1 + lift);
     joint.axis = place.Direction((motor.axis_point2 - motor.axis_point1).normalized());
     joint.limited = true;
@@ -131,8 +142,8 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
     physics::JointDescription joint;
     joint.name = prefix + fixed.name;
     joint.type = physics::JointType::kFixed;
-    joint.body1 = description.bodies[find_body(fixed.first_body, where)].name;
-    joint.body2 = description.bodies[find_body(fixed.second_body, where)].name;
+    joint.body1 = BodyName(description, find_body(fixed.first_body, where));
+    joint.body2 = BodyName(description, find_body(fixed.second_body, where));
     layout.fixed_joints.push_back(static_cast<int>(description.joints.size()));
     description.joints.push_back(std::move(joint));
   }
@@ -142,8 +153,8 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
   // the PDA in reachable poses (docs/aseries-morphology.md).
   for (const MorphologyExclusion& exclusion : morphology.contact_exclusions) {
     const std::string where = "contact exclusion";
-    const int first = find_body(exclusion.first, where);
-    const int second = find_body(exclusion.second, where);
+    const int first = find_host(exclusion.first, where);
+    const int second = find_host(exclusion.second, where);
     if (!exclusion.first_geom.empty()) continue;
     description.contact_exclusions.emplace_back(description.bodies[first].name, description.bodies[second].name);
   }

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "model/core/error.h"
+#include "model/core/json_node.h"
 #include "model/core/rotation.h"
 #include "model/physics/material_table.h"
 
@@ -40,135 +41,22 @@ std::string Num(double value) {
 
 std::string Vec(const Eigen::Vector3d& v) { return "[" + Num(v.x()) + ", " + Num(v.y()) + ", " + Num(v.z()) + "]"; }
 
-// What a JSON value is, for "found ..." in messages.
-std::string Describe(const Json& value) {
-  switch (value.type()) {
-    case Json::value_t::string: {
-      std::string text = value.get<std::string>();
-      if (text.size() > 40) text = text.substr(0, 40) + "...";
-      return "the string \"" + text + "\"";
+using Node = JsonNode;
+
+Rgba ColorOf(const Node& node) {
+  const std::string expected = "an array of 4 integers 0..255 (red, green, blue, alpha)";
+  if (!node.value().is_array() || node.value().size() != 4) node.Fail(expected);
+  Rgba rgba{};
+  const std::vector<Node> elements = node.Elements();
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Json& element = elements[i].value();
+    if (!element.is_number_integer() || element.get<long long>() < 0 || element.get<long long>() > 255) {
+      elements[i].Fail("an integer 0..255");
     }
-    case Json::value_t::number_integer:
-    case Json::value_t::number_unsigned:
-    case Json::value_t::number_float:
-      return "the number " + value.dump();
-    case Json::value_t::boolean:
-      return std::string("the boolean ") + (value.get<bool>() ? "true" : "false");
-    case Json::value_t::null:
-      return "null";
-    case Json::value_t::array:
-      return "an array of " + std::to_string(value.size());
-    case Json::value_t::object:
-      return "an object";
-    default:
-      return "an unsupported value";
+    rgba[i] = element.get<int>();
   }
+  return rgba;
 }
-
-// A JSON value together with its field path ("bodies[3].size"), so that every error can name where it is.
-class Node {
- public:
-  Node(const Json& value, std::string path, const std::string& source)
-      : value_(value), path_(std::move(path)), source_(source) {}
-
-  const std::string& path() const { return path_; }
-
-  [[noreturn]] void Fail(const std::string& expected, const std::string& found) const {
-    throw InputError(source_, 0, "field '" + path_ + "' expected " + expected + ", found " + found);
-  }
-
-  // A member that must be present.
-  Node At(const std::string& key) const {
-    if (!value_.is_object()) Fail("an object", Describe(value_));
-    const auto it = value_.find(key);
-    if (it == value_.end()) {
-      Node(value_, Child(key), source_).Fail("a value", "nothing (the field is missing)");
-    }
-    return Node(*it, Child(key), source_);
-  }
-
-  bool Has(const std::string& key) const { return value_.is_object() && value_.contains(key); }
-
-  // Rejects members other than `allowed` and "comment" (typos must not pass silently).
-  void ExpectOnly(std::initializer_list<std::string_view> allowed) const {
-    if (!value_.is_object()) Fail("an object", Describe(value_));
-    for (const auto& [key, member] : value_.items()) {
-      if (key == "comment") continue;
-      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
-        std::string list;
-        for (std::string_view name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
-        Node(member, Child(key), source_).Fail("no such field (allowed: " + list + ")", "'" + key + "'");
-      }
-    }
-  }
-
-  std::vector<Node> Elements() const {
-    if (!value_.is_array()) Fail("an array", Describe(value_));
-    std::vector<Node> elements;
-    elements.reserve(value_.size());
-    for (std::size_t i = 0; i < value_.size(); ++i) {
-      elements.emplace_back(value_[i], path_ + "[" + std::to_string(i) + "]", source_);
-    }
-    return elements;
-  }
-
-  double Number(const std::string& what) const {
-    if (!value_.is_number()) Fail(what, Describe(value_));
-    const double number = value_.get<double>();
-    if (!std::isfinite(number)) Fail(what, Describe(value_));
-    return number;
-  }
-
-  int Integer(const std::string& what) const {
-    if (!value_.is_number_integer()) Fail(what, Describe(value_));
-    return value_.get<int>();
-  }
-
-  std::string String(const std::string& what) const {
-    if (!value_.is_string()) Fail(what, Describe(value_));
-    return value_.get<std::string>();
-  }
-
-  bool Bool(const std::string& what) const {
-    if (!value_.is_boolean()) Fail(what, Describe(value_));
-    return value_.get<bool>();
-  }
-
-  Eigen::Vector3d Vector3(const std::string& what) const {
-    const std::string expected = "an array of 3 numbers (" + what + ")";
-    if (!value_.is_array() || value_.size() != 3) Fail(expected, Describe(value_));
-    Eigen::Vector3d v;
-    for (int i = 0; i < 3; ++i) {
-      const Json& element = value_[static_cast<std::size_t>(i)];
-      if (!element.is_number() || !std::isfinite(element.get<double>())) {
-        Node(element, path_ + "[" + std::to_string(i) + "]", source_).Fail("a number (" + what + ")", Describe(element));
-      }
-      v[i] = element.get<double>();
-    }
-    return v;
-  }
-
-  Rgba Color() const {
-    const std::string expected = "an array of 4 integers 0..255 (red, green, blue, alpha)";
-    if (!value_.is_array() || value_.size() != 4) Fail(expected, Describe(value_));
-    Rgba rgba{};
-    for (std::size_t i = 0; i < 4; ++i) {
-      const Json& element = value_[i];
-      if (!element.is_number_integer() || element.get<long long>() < 0 || element.get<long long>() > 255) {
-        Node(element, path_ + "[" + std::to_string(i) + "]", source_).Fail("an integer 0..255", Describe(element));
-      }
-      rgba[i] = element.get<int>();
-    }
-    return rgba;
-  }
-
- private:
-  std::string Child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-
-  const Json& value_;
-  std::string path_;
-  const std::string& source_;
-};
 
 double PositiveNumber(const Node& node, const std::string& what) {
   const double value = node.Number("a positive number (" + what + ")");
@@ -226,7 +114,7 @@ MorphologyBody ParseBody(const Node& node) {
   body.centre = node.At("centre").Vector3("world centre in m");
   body.mass = PositiveNumber(node.At("mass"), "box mass in kg");
   body.material = Material(node.At("material"));
-  body.color = node.At("color").Color();
+  body.color = ColorOf(node.At("color"));
   body.texture = node.At("texture").String("a texture name or \"\"");
   body.penetrable = node.At("penetrable").Bool("true or false");
   return body;
@@ -241,7 +129,7 @@ MorphologyGeom ParseGeom(const Node& node, const ASeriesMorphology& morphology) 
   geom.offset = node.At("offset").Vector3("offset from the host centre in m");
   geom.mass = NonNegativeNumber(node.At("mass"), "mass in kg");
   geom.material = Material(node.At("material"));
-  geom.color = node.At("color").Color();
+  geom.color = ColorOf(node.At("color"));
   geom.texture = node.At("texture").String("a texture name or \"\"");
   return geom;
 }
@@ -258,7 +146,7 @@ MorphologyBoard ParseBoard(const Node& node, const ASeriesMorphology& morphology
   board.size = Size(node.At("size"));
   board.mass = NonNegativeNumber(node.At("mass"), "mass in kg");
   board.material = Material(node.At("material"));
-  board.color = node.At("color").Color();
+  board.color = ColorOf(node.At("color"));
   board.texture = node.At("texture").String("a texture name or \"\"");
   board.axis1 = UnitAxis(node.At("axis1"));
   board.axis2 = UnitAxis(node.At("axis2"));
@@ -337,11 +225,6 @@ void CheckUnique(const std::vector<T>& items, const Node& list, Key key, const s
   }
 }
 
-// 1-based line of a byte offset, for nlohmann's parse errors.
-int LineOf(const std::string& text, std::size_t byte) {
-  const std::size_t end = std::min(byte, text.size());
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
-}
 
 }  // namespace
 
@@ -367,16 +250,7 @@ int ASeriesMorphology::FindBoard(std::string_view name) const {
 }
 
 ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::string& source) {
-  Json document;
-  try {
-    document = Json::parse(json);
-  } catch (const Json::parse_error& error) {
-    // nlohmann's message starts "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
-    std::string what = error.what();
-    const std::size_t colon = what.find(": ");
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(source, LineOf(json, error.byte), "malformed JSON: " + what);
-  }
+  const Json document = ParseJson(json, source);
 
   const Node root(document, "", source);
   root.ExpectOnly({"format", "version", "lift", "bodies", "geoms", "boards", "motors", "fixed_joints",

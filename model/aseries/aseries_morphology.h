@@ -65,7 +65,7 @@ struct MorphologyBoard {
 struct MorphologyMotor {
   std::string name;         ///< motor name, e.g. "Right/Knee"
   std::string first_body;   ///< NERD's FirstBody (ODE body 1)
-  std::string second_body;  ///< NERD's SecondBody (ODE body 2)
+  std::string second_body;  ///< NERD's SecondBody (ODE body 2); "" = the static world (rigs only)
   /// AxisPoint1: the anchor, world, initial pose, m — UNLIFTED, as NERD passes it to ODE (§1, quirk 1).
   Eigen::Vector3d axis_point1 = Eigen::Vector3d::Zero();
   /// AxisPoint2, world, unlifted, m; the hinge axis is unit(axis_point2 − axis_point1).

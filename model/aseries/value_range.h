@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <string_view>
 
 namespace orcs::aseries {
 
@@ -38,5 +39,18 @@ inline constexpr ValueRange kAccelAxisRange{-16.072704, 16.072704, -1.0, 1.0};
 
 /// Default raw DesiredTorque of every motor (normalised 0.7934), spec §4d.
 inline constexpr double kDefaultDesiredTorqueRaw = 0.586810005;
+
+/// The range of an agent interface value by its name's last part ("…/Right/Knee/DesiredAngle"), or nullptr
+/// for values that have no normalised form (positions, parameters).
+inline const ValueRange* InterfaceRangeOf(std::string_view path) {
+  const auto ends_with = [path](std::string_view suffix) {
+    return path.size() >= suffix.size() && path.substr(path.size() - suffix.size()) == suffix;
+  };
+  if (ends_with("/DesiredAngle")) return &kDesiredAngleRange;
+  if (ends_with("/DesiredTorque")) return &kDesiredTorqueRange;
+  if (ends_with("/JointAngle")) return &kJointAngleRange;
+  if (ends_with("/AccelAxis1") || ends_with("/AccelAxis2")) return &kAccelAxisRange;
+  return nullptr;
+}
 
 }  // namespace orcs::aseries

@@ -64,7 +64,10 @@ std::vector<ValueAssignment> ValueFile::Read(const std::string& file) {
 }
 
 void ValueFile::Apply(const std::string& file, VariableRepository& repository) {
-  const std::vector<ValueAssignment> assignments = Read(file);
+  ApplyAssignments(Read(file), repository);
+}
+
+void ValueFile::ApplyAssignments(const std::vector<ValueAssignment>& assignments, VariableRepository& repository) {
   // Check everything first, so that a bad line leaves the repository as it was.
   for (const ValueAssignment& assignment : assignments) {
     const Value* value = repository.Find(assignment.path);

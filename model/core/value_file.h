@@ -30,6 +30,9 @@ class ValueFile {
   /// (the whole file is checked before anything is set).
   static void Apply(const std::string& file, VariableRepository& repository);
 
+  /// Applies assignments (from Read, or inlined into a job) as Apply does: all checked first, then set in order.
+  static void ApplyAssignments(const std::vector<ValueAssignment>& assignments, VariableRepository& repository);
+
   /// Writes every value whose path matches `regular_expression` (all by default) to `file`, via a temporary
   /// name and a rename. `saved_at` is the text of the "#Saved at:" line. Throws InputError when the file cannot
   /// be written.

@@ -83,11 +83,23 @@ std::vector<std::string> ValueLogger::column_names() const {
 void ValueLogger::Open(const std::string& path, const std::vector<std::string>& comments) {
   file_.reset();  // an earlier, unfinished file first: it shares the temporary name and would remove ours
   file_ = std::make_unique<AtomicFile>(path);
-  for (const std::string& comment : comments) file_->stream() << "# " << comment << '\n';
-  file_->stream() << "# columns: ";
+  out_ = &file_->stream();
+  WriteHeader(comments);
+}
+
+void ValueLogger::OpenInMemory(const std::vector<std::string>& comments) {
+  file_.reset();
+  memory_.str("");
+  out_ = &memory_;
+  WriteHeader(comments);
+}
+
+void ValueLogger::WriteHeader(const std::vector<std::string>& comments) {
+  for (const std::string& comment : comments) *out_ << "# " << comment << '\n';
+  *out_ << "# columns: ";
   const std::vector<std::string> names = column_names();
-  for (size_t i = 0; i < names.size(); ++i) file_->stream() << (i ? "," : "") << names[i];
-  file_->stream() << '\n';
+  for (size_t i = 0; i < names.size(); ++i) *out_ << (i ? "," : "") << names[i];
+  *out_ << '\n';
 }
 
 void ValueLogger::Sample(double time) {
@@ -98,12 +110,15 @@ void ValueLogger::Sample(double time) {
     AppendValue(row_, repository_.value(id));
   }
   row_ += '\n';
-  file_->stream() << row_;
+  *out_ << row_;
 }
 
 void ValueLogger::Finish() {
-  file_->Commit();
+  if (file_) file_->Commit();
   file_.reset();
+  out_ = nullptr;
 }
+
+std::string ValueLogger::text() const { return memory_.str(); }
 
 }  // namespace orcs

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,10 @@ class ValueLogger {
 
   /// Starts writing to `path`: the comment lines (each prefixed "# "), then the column line.
   void Open(const std::string& path, const std::vector<std::string>& comments);
+  /// Starts writing to memory instead of a file (a worker returns the log in its result): see text().
+  void OpenInMemory(const std::vector<std::string>& comments);
+  /// What was written to memory since OpenInMemory.
+  std::string text() const;
   /// Appends one row with the current values; `time` in seconds. Only after Open().
   void Sample(double time);
   /// Completes the file (rename onto its name). Throws InputError when writing failed.
@@ -38,7 +43,11 @@ class ValueLogger {
  private:
   const VariableRepository& repository_;
   std::vector<int> ids_;
+  void WriteHeader(const std::vector<std::string>& comments);
+
   std::unique_ptr<AtomicFile> file_;
+  std::ostringstream memory_;
+  std::ostream* out_ = nullptr;  // file_'s stream or memory_
   std::string row_;  // reused buffer, so sampling does not allocate once warm
 };
 

@@ -61,6 +61,9 @@ class PhysicsWorld {
   /// Hinge angle relative to the initial pose, rad, and its rate, rad/s.
   virtual double joint_angle(int joint) const = 0;
   virtual double joint_rate(int joint) const = 0;
+  /// Torque (N·m) the angular motor of a motorised hinge applied to body 1 about the axis in the last step;
+  /// 0 for other joints and before the first step. Its product with joint_rate is the motor's power.
+  virtual double joint_motor_torque(int joint) const = 0;
 
   /// Angular motor of a motorised hinge: drives the joint rate towards `velocity` (rad/s) with at most
   /// `max_torque` (N·m). Stays in force until changed.

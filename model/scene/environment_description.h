@@ -27,12 +27,16 @@ struct ObjectDescription {
   int line = 0;                      ///< line in the source file, for messages
 };
 
-/// One agent of the <Agent> section.
+/// One agent of the <Agent> section: an <ASeries> robot or a <Pendulum> rig (docs/formats.md).
 struct AgentDescription {
-  std::string type = "ASeries";  ///< robot model
+  std::string type = "ASeries";  ///< robot model: "ASeries" or "Pendulum"
   std::string name = "Humanoid";  ///< agent name, the prefix of its values (/Sim/<name>/...)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();     ///< model placement, m
   Eigen::Vector3d orientation = Eigen::Vector3d::Zero();  ///< model rotation, Euler degrees
+  /// ASeries: a body welded to the world (a test stand holding the robot), e.g. "Middle/UpperBody"; "" = none
+  std::string hold_body;
+  double pole_mass = 0.5;     ///< Pendulum: kg
+  double pole_length = 0.3;   ///< Pendulum: m, axis to tip
   int line = 0;                  ///< line in the source file, for messages
 };
 

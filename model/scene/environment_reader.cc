@@ -9,8 +9,10 @@
 #include <set>
 #include <sstream>
 
+#include "model/aseries/aseries_morphology.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/core/text_file.h"
 
 namespace orcs::scene {
 namespace {
@@ -163,15 +165,29 @@ ObjectDescription ReadObject(const XMLElement& element, const std::string& sourc
 }
 
 AgentDescription ReadAgent(const XMLElement& element, const std::string& source) {
-  const ElementReader reader(element, source, {"name", "position", "orientation"});
+  const bool pendulum = std::string_view(element.Name()) == "Pendulum";
+  const ElementReader reader(element, source,
+                             pendulum ? std::set<std::string_view>{"name", "position", "orientation", "poleMass",
+                                                                   "poleLength"}
+                                      : std::set<std::string_view>{"name", "position", "orientation", "holdBody"});
   AgentDescription agent;
   agent.line = reader.line();
   agent.type = element.Name();
-  agent.name = reader.String("name", agent.name);
+  agent.name = reader.String("name", pendulum ? "Pendulum" : agent.name);
   if (agent.name.empty()) reader.Fail("attribute 'name' is empty");
   CheckName(reader, agent.name);
   agent.position = reader.Vector("position", Eigen::Vector3d::Zero());
   agent.orientation = reader.Vector("orientation", Eigen::Vector3d::Zero());
+  if (pendulum) {
+    if (reader.Has("poleMass")) agent.pole_mass = reader.PositiveNumber("poleMass");
+    if (reader.Has("poleLength")) agent.pole_length = reader.PositiveNumber("poleLength");
+  } else if (reader.Has("holdBody")) {
+    agent.hold_body = reader.RequiredString("holdBody");
+    if (aseries::DefaultASeriesMorphology().FindBody(agent.hold_body) < 0) {
+      reader.Fail("attribute 'holdBody' expected a body of the A-Series like \"Middle/UpperBody\", found " +
+                  text::Quote(agent.hold_body));
+    }
+  }
   return agent;
 }
 
@@ -192,8 +208,10 @@ void ReadEnvironment(const XMLElement& section, const std::string& source, Envir
 void ReadAgents(const XMLElement& section, const std::string& source, EnvironmentDescription& out) {
   ElementReader(section, source, {});
   for (const XMLElement* child = section.FirstChildElement(); child; child = child->NextSiblingElement()) {
-    if (std::string_view(child->Name()) != "ASeries") {
-      FailAt(source, *child, "unknown agent type <" + std::string(child->Name()) + "> (expected <ASeries>)");
+    const std::string_view type = child->Name();
+    if (type != "ASeries" && type != "Pendulum") {
+      FailAt(source, *child,
+             "unknown agent type <" + std::string(type) + "> (expected <ASeries> or <Pendulum>)");
     }
     out.agents.push_back(ReadAgent(*child, source));
   }
@@ -245,11 +263,7 @@ EnvironmentDescription EnvironmentReader::ReadString(const std::string& xml, con
 }
 
 EnvironmentDescription EnvironmentReader::ReadFile(const std::string& file) {
-  std::ifstream in(file);
-  if (!in || std::filesystem::is_directory(file)) throw InputError(file, 0, "cannot read the file");
-  std::ostringstream content;
-  content << in.rdbuf();
-  return ReadString(content.str(), file);
+  return ReadString(ReadTextFile(file), file);
 }
 
 }  // namespace orcs::scene

@@ -113,9 +113,9 @@ void Simulation::BindModel() {
   world_ = physics::MakeOdeWorld(model_->physics());
   const physics::PhysicsModel& physics = *model_->physics();
   agents_.clear();
-  for (const aseries::ASeriesLayout& layout : model_->agents()) {
-    agents_.push_back(std::make_unique<aseries::ASeriesAgent>(aseries::DefaultASeriesMorphology(), layout,
-                                                              static_cast<int>(agents_.size()), repository_));
+  for (int a = 0; a < static_cast<int>(model_->agents().size()); ++a) {
+    agents_.push_back(
+        std::make_unique<aseries::ASeriesAgent>(model_->morphology(a), model_->agents()[a], a, repository_));
   }
   bodies_.assign(physics.body_count(), {});
   for (int body = 0; body < physics.body_count(); ++body) {
@@ -220,6 +220,22 @@ void Simulation::PhysicsStage() {
   }
 }
 
+void Simulation::MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_degrees) {
+  assert(built() && steps_ == 0 && "MoveAgent() right after Reset()");
+  const Eigen::Vector3d pivot = model_->environment().agents[index].position;
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(DegreesToRadians(yaw_degrees), Eigen::Vector3d::UnitY()));
+  for (int body : model_->agents()[index].bodies) {
+    physics::BodyState state = world_->body_state(body);
+    state.position = pivot + offset + turn * (state.position - pivot);
+    state.orientation = turn * state.orientation;
+    state.linear_velocity = turn * state.linear_velocity;
+    state.angular_velocity = turn * state.angular_velocity;
+    world_->SetBodyState(body, state);
+  }
+  agents_[index]->Reset(*world_, static_cast<std::uint64_t>(repository_.Get("/Simulation/Seed").as_int()));
+  PublishBodiesStage();
+}
+
 void Simulation::PublishBodiesStage() {
   for (size_t body = 0; body < bodies_.size(); ++body) {
     const BodyBinding& binding = bodies_[body];
@@ -236,6 +252,13 @@ void Simulation::CollisionEventsStage() {
     events_.Trigger(bodies_[contact.body1].collision_event);
     events_.Trigger(bodies_[contact.body2].collision_event);
   }
+}
+
+int Simulation::FindAgent(std::string_view name) const {
+  for (int a = 0; a < agent_count(); ++a) {
+    if (agents_[a]->name() == name) return a;
+  }
+  return -1;
 }
 
 }  // namespace orcs::scene

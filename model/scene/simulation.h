@@ -50,6 +50,10 @@ class Simulation {
   /// Back to the initial state: time 0, initial poses, no contacts; `seed` is published as /Simulation/Seed.
   void Reset(std::uint64_t seed = 0);
 
+  /// Moves agent `index` rigidly, right after Reset(): turned by `yaw_degrees` about the vertical through its
+  /// placement position, then shifted by `offset` (m) — start-pose randomisation. Its sensors restart there.
+  void MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_degrees);
+
   /// One simulation step of /Simulation/TimeStepSize seconds (IterationsPerStep physics steps of that size
   /// each, as the original). Does nothing once the status is not kOk.
   SimulationStatus Step();
@@ -67,6 +71,8 @@ class Simulation {
   /// The robots, in environment order.
   int agent_count() const { return static_cast<int>(agents_.size()); }
   aseries::ASeriesAgent& agent(int index) { return *agents_[index]; }
+  /// Index of the agent called `name`, or -1.
+  int FindAgent(std::string_view name) const;
 
   double time() const { return time_; }          ///< simulated seconds since the last reset
   std::int64_t steps() const { return steps_; }  ///< simulation steps since the last reset

@@ -1,6 +1,7 @@
 #include "model/scene/world_model.h"
 
 #include "model/aseries/aseries_morphology.h"
+#include "model/aseries/pendulum_morphology.h"
 #include "model/core/error.h"
 #include "model/core/rotation.h"
 #include "model/core/text.h"
@@ -57,7 +58,26 @@ physics::BodyDescription MakeFloor(const VariableRepository& values) {
   return floor;
 }
 
+// A fixed joint welding the held body to the world where it starts: the robot hangs in a test stand.
+physics::JointDescription StandJoint(const AgentDescription& agent) {
+  physics::JointDescription joint;
+  joint.name = agent.name + "/Stand";
+  joint.type = physics::JointType::kFixed;
+  joint.body1 = agent.name + "/" + agent.hold_body;
+  joint.body2 = "";  // the static world
+  return joint;
+}
+
 }  // namespace
+
+std::shared_ptr<const aseries::ASeriesMorphology> WorldModel::MorphologyOf(const AgentDescription& agent) {
+  if (agent.type == "Pendulum") {
+    return std::make_shared<const aseries::ASeriesMorphology>(
+        aseries::MakePendulumMorphology({.mass = agent.pole_mass, .length = agent.pole_length}));
+  }
+  // The embedded A-Series morphology lives for the whole process; share it without owning it.
+  return {std::shared_ptr<const aseries::ASeriesMorphology>(), &aseries::DefaultASeriesMorphology()};
+}
 
 void WorldModel::RegisterObjectValues(const EnvironmentDescription& environment, VariableRepository& values) {
   values.Add("/Sim/Floor/Material", environment.floor_material);
@@ -86,7 +106,8 @@ void WorldModel::RegisterObjectValues(const EnvironmentDescription& environment,
   // Agent bodies publish their pose only; their structure is the morphology's (model/aseries).
   for (const AgentDescription& agent : environment.agents) {
     const Eigen::Quaterniond orientation = QuaternionFromEulerDegrees(agent.orientation);
-    for (const aseries::MorphologyBody& body : aseries::DefaultASeriesMorphology().bodies) {
+    const std::shared_ptr<const aseries::ASeriesMorphology> morphology = MorphologyOf(agent);
+    for (const aseries::MorphologyBody& body : morphology->bodies) {
       const std::string prefix = "/Sim/" + agent.name + "/" + body.name + "/";
       values.Add(prefix + "Position", Eigen::Vector3d(agent.position + orientation * body.centre));
       values.Add(prefix + "Orientation", agent.orientation);
@@ -103,7 +124,10 @@ std::shared_ptr<const WorldModel> WorldModel::Compile(const EnvironmentDescripti
   std::shared_ptr<WorldModel> model(new WorldModel());
   for (const AgentDescription& agent : environment.agents) {
     const aseries::ASeriesPlacement placement{agent.name, agent.position, QuaternionFromEulerDegrees(agent.orientation)};
-    model->agents_.push_back(aseries::AddASeries(aseries::DefaultASeriesMorphology(), placement, description));
+    std::shared_ptr<const aseries::ASeriesMorphology> morphology = MorphologyOf(agent);
+    model->agents_.push_back(aseries::AddASeries(*morphology, placement, description));
+    if (!agent.hold_body.empty()) description.joints.push_back(StandJoint(agent));
+    model->morphologies_.push_back(std::move(morphology));
   }
   model->environment_ = environment;
   model->physics_ = std::make_shared<const physics::PhysicsModel>(std::move(description));

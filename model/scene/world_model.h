@@ -33,6 +33,11 @@ class WorldModel {
   const std::string& body_name(int body) const { return physics_->body(body).name; }
   /// Where each agent of the environment went in the physics model, in environment order.
   const std::vector<aseries::ASeriesLayout>& agents() const { return agents_; }
+  /// Agent `index`'s morphology: the A-Series or a pendulum rig built from its attributes.
+  const aseries::ASeriesMorphology& morphology(int index) const { return *morphologies_[index]; }
+
+  /// The morphology an agent description asks for (shared: the A-Series one is built once per process).
+  static std::shared_ptr<const aseries::ASeriesMorphology> MorphologyOf(const AgentDescription& agent);
 
  private:
   WorldModel() = default;
@@ -40,6 +45,7 @@ class WorldModel {
   EnvironmentDescription environment_;
   std::shared_ptr<const physics::PhysicsModel> physics_;
   std::vector<aseries::ASeriesLayout> agents_;
+  std::vector<std::shared_ptr<const aseries::ASeriesMorphology>> morphologies_;  // per agent
 };
 
 }  // namespace orcs::scene

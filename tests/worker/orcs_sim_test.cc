@@ -444,5 +444,85 @@ TEST_F(OrcsSimTest, DurationThatIsNotANumberOrTooLong) {
   }
 }
 
+// ---------------------------------------------------------------------------------------------------------
+// -play AGENT RECORD
+
+// Two pendulum rigs side by side: "Left" and "Right".
+std::string TwoPendulums(const TempDir& dir) {
+  return dir.Write("rigs.xml", R"x(<ORCS version="1.0"><Agent>
+  <Pendulum name="Left" position="(-0.5,0.5,0)"/>
+  <Pendulum name="Right" position="(0.5,0.5,0)"/>
+</Agent></ORCS>)x");
+}
+
+TEST_F(OrcsSimTest, PlayDrivesOnlyTheNamedAgentBySimulatedTime) {
+  const std::string record = dir_.Write("up.csv", "# layout: raw\n0,0,1\n500,60,1\n");
+  const std::string quiet = dir_.Write("quiet.val", "/AngularMotor/IncludeNoise=F\n");  // exact angles
+  const ProcessResult result = Run({"-env", TwoPendulums(dir_), "-val", quiet, "-play", "Right", record, "--duration",
+                                    "2", "--log", ".*Motor/JointAngle", "--out", dir_.PathOf("out.csv")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.err, "");
+  const Csv csv = ReadCsv(dir_.PathOf("out.csv"));
+  const int left = csv.Column("/Sim/Left/Motor/JointAngle");
+  const int right = csv.Column("/Sim/Right/Motor/JointAngle");
+  ASSERT_GE(left, 0);
+  ASSERT_GE(right, 0);
+  ASSERT_EQ(csv.rows.size(), 201u);
+  // Before the 500 ms row the rig holds 0°; the row starts the move at the step that begins at 0.5 s.
+  for (int row : {10, 49, 50}) EXPECT_NEAR(csv.rows[row][right], 0.0, 1e-3) << "row " << row;
+  EXPECT_GT(csv.rows[51][right], 0.1);
+  EXPECT_GT(csv.rows[60][right], 5.0);
+  EXPECT_NEAR(csv.rows.back()[right], 60.0, 2.0);
+  EXPECT_NEAR(csv.rows.back()[left], 0.0, 1e-3);
+}
+
+TEST_F(OrcsSimTest, PlayClampsOutOfRangeAnglesWithOneWarningNamingTheJoint) {
+  const std::string record = dir_.Write("far.csv", "# layout: raw\n0,170,1\n100,175,1\n");
+  const ProcessResult result = Run({"-env", TwoPendulums(dir_), "-play", "Left", record, "--duration", "0.2"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.err, "orcs-sim: " + record +
+                            ":2: warning: Motor/DesiredAngle 170 is outside -150…150; clamped here and wherever "
+                            "else it is outside\n");
+}
+
+TEST_F(OrcsSimTest, PlayWithAnUnknownAgent) {
+  const std::string record = dir_.Write("r.csv", "0,0,1\n");
+  const ProcessResult result = Run({"-env", TwoPendulums(dir_), "-play", "Middle", record});
+  ExpectBadInput(result);
+  EXPECT_EQ(result.err, "orcs-sim: -play: unknown agent 'Middle' (agents: Left, Right)\n");
+}
+
+TEST_F(OrcsSimTest, PlayWithABadRecordNamesFileAndLine) {
+  const struct {
+    const char* contents;
+    const char* error;
+  } cases[] = {
+      {"0,0,1\n10,0\n", ":2: expected 3 columns"},
+      {"0,0,1\n10,zero,1\n", ":2: column 2 expected a finite number, found 'zero'"},
+      {"0,0,1\n# comment\n20,0,1\n10,0,1\n", ":4: time goes backwards: 10 ms after 20 ms on line 3"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.contents);
+    const std::string record = dir_.Write("bad.csv", c.contents);
+    const ProcessResult result = Run({"-env", TwoPendulums(dir_), "-play", "Left", record});
+    ExpectBadInput(result);
+    EXPECT_THAT(result.err, HasSubstr("orcs-sim: " + record + c.error));
+  }
+}
+
+TEST_F(OrcsSimTest, PlayGivesOneRecordPerAgentAndRecordsMatchTheAgent) {
+  const std::string record = dir_.Write("r.csv", "# layout: raw\n0,0,1\n");
+  ExpectBadInput(Run({"-env", TwoPendulums(dir_), "-play", "Left", record, "-play", "Left", record}));
+  // A 1-motor record for the 21-motor A-Series: the row width is wrong.
+  const ProcessResult result = Run({"-play", "Humanoid", record});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(record + ":2: expected 43 columns"));
+}
+
+TEST_F(OrcsSimTest, PlayWithAMissingRecordOrArgument) {
+  ExpectBadInput(Run({"-play", "Humanoid", dir_.PathOf("missing.csv")}));
+  ExpectBadInput(Run({"-play", "Humanoid"}));
+}
+
 }  // namespace
 }  // namespace orcs

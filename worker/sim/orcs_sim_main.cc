@@ -1,11 +1,13 @@
 // orcs-sim: the headless local simulator. Builds a world from an ORCS XML environment and value files, runs it
 // for a given simulated time and logs repository values to CSV (docs/orcs-sim.md).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "model/control/keyframe_player.h"
 #include "model/core/error.h"
 #include "model/core/rotation.h"
 #include "model/core/text.h"
@@ -99,6 +101,37 @@ std::vector<std::string> LogComments(const SimOptions& options) {
           "seed: " + std::to_string(options.seed), "duration: " + text::FormatDouble(options.duration) + " s"};
 }
 
+std::string AgentNames(scene::Simulation& simulation) {
+  std::string names;
+  for (int a = 0; a < simulation.agent_count(); ++a) names += (a ? ", " : "") + simulation.agent(a).name();
+  return names.empty() ? "none" : names;
+}
+
+// One player per -play AGENT RECORD; warnings about clamped inputs go to stderr.
+std::vector<control::KeyframePlayer> MakePlayers(const SimOptions& options, scene::Simulation& simulation) {
+  std::vector<control::KeyframePlayer> players;
+  std::vector<std::string> played;
+  for (const auto& [agent, file] : options.play) {
+    const int index = simulation.FindAgent(agent);
+    if (index < 0) {
+      throw InputError("-play", 0, "unknown agent " + text::Quote(agent) + " (agents: " + AgentNames(simulation) + ")");
+    }
+    if (std::find(played.begin(), played.end(), agent) != played.end()) {
+      throw InputError("-play", 0, "agent " + text::Quote(agent) + " is given a second record; one record per agent");
+    }
+    played.push_back(agent);
+    aseries::ASeriesAgent& target = simulation.agent(index);
+    control::KeyframeRecord record = control::ReadKeyframeRecord(file, target.motor_count());
+    if (record.layout_detected && record.layout == control::KeyframeLayout::kNormalised) {
+      std::cerr << "orcs-sim: " << file << ": every value lies within -1...1 and no '# layout:' line says "
+                << "otherwise: read as the older normalised layout\n";
+    }
+    players.emplace_back(std::move(record), agent, target.motor_names(), simulation.repository());
+    for (const std::string& warning : players.back().warnings()) std::cerr << "orcs-sim: " << warning << "\n";
+  }
+  return players;
+}
+
 void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
   const double factor = wall_seconds > 0 ? simulation.time() / wall_seconds : INFINITY;
   std::printf("simulated %.3f s in %lld steps, wall time %.3f s, real-time factor %.1f\n", simulation.time(),
@@ -119,6 +152,7 @@ int Run(const SimOptions& options) {
   simulation.Build();
   for (const std::string& file : options.value_files) ValueFile::Apply(file, simulation.repository());
   simulation.Reset(options.seed);
+  std::vector<control::KeyframePlayer> players = MakePlayers(options, simulation);
 
   if (!options.print_values.empty()) {
     PrintValues(simulation.repository(), options.print_values);
@@ -146,6 +180,7 @@ int Run(const SimOptions& options) {
   }
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
+    for (control::KeyframePlayer& player : players) player.Apply(simulation.time());
     if (simulation.Step() != scene::SimulationStatus::kOk) break;
     if (logger) logger->Sample(simulation.time());
   }

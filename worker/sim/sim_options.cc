@@ -21,10 +21,14 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
   app.add_option("--log", o.log, "regular expression of repository values to log each step (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--out", o.out, "CSV file the logged values are written to");
+  app.add_option("--play", o.play,
+                 "AGENT RECORD: play a keyframe record into the agent's inputs (repeatable, one per agent; "
+                 "-play also accepted)")
+      ->allow_extra_args(false);
   app.add_option("--print-values", o.print_values, "print matching repository values as path=value and exit");
   app.add_flag("--describe", o.describe, "print the bodies, joints and agents as JSON and exit");
 
-  const std::vector<std::string> arguments = cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val"});
+  const std::vector<std::string> arguments = cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "play"});
   std::vector<const char*> pointers;
   for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
   try {

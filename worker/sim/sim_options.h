@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace orcs::sim {
@@ -15,6 +16,8 @@ struct SimOptions {
   std::uint64_t seed = 0;                        ///< --seed: seed of every random stream of the run
   std::vector<std::string> log;                  ///< --log REGEX...: repository values logged each step
   std::string out;                               ///< --out FILE.csv: where the log goes
+  /// -play AGENT RECORD...: keyframe records played into agents' inputs, driven by simulated time
+  std::vector<std::pair<std::string, std::string>> play;
   std::string print_values;                      ///< --print-values REGEX: print matching values and exit
   bool describe = false;                         ///< --describe: print the world as JSON and exit
 };

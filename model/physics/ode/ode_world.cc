@@ -136,6 +136,7 @@ class OdeWorld final : public PhysicsWorld {
   void SetBodyState(int body, const BodyState& state) override;
   double joint_angle(int joint) const override;
   double joint_rate(int joint) const override;
+  double joint_motor_torque(int joint) const override;
   void SetJointMotor(int joint, double velocity, double max_torque) override;
   void SetJointFriction(int joint, double max_torque) override;
   void AddJointTorque(int joint, double torque) override;
@@ -148,7 +149,7 @@ class OdeWorld final : public PhysicsWorld {
   void BuildBody(int body);
   dGeomID BuildGeom(const BodyDescription& body, const GeomDescription& geom, dBodyID body_id);
   void BuildJoint(int joint);
-  dJointID BuildMotor(dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis);
+  dJointID BuildMotor(int joint, dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis);
 
   void ApplyParameters(const PhysicsParameters& parameters);
   static void NearCallback(void* data, dGeomID o1, dGeomID o2);
@@ -187,6 +188,7 @@ class OdeWorld final : public PhysicsWorld {
   void CombineRows(const CombinedJoint& joint);
   void SeparateRows(const CombinedJoint& joint);
   bool RowCaseHeld(const CombinedJoint& joint) const;
+  void ReportMotorShare(const CombinedJoint& joint);
   double RateAbout(int joint, const dVector3 axis) const;
   void SaveBodies();
   void RestoreBodies();
@@ -199,9 +201,11 @@ class OdeWorld final : public PhysicsWorld {
   std::vector<dGeomID> geoms_;    // per model geom
   std::vector<dJointID> joints_;  // per model joint: hinge or fixed joint
   std::vector<dJointID> motors_;  // per model joint: the AMotor of a motorised hinge, else nullptr
-  std::vector<MotorRows> motor_rows_;         // per model joint
-  std::vector<CombinedJoint> combined_;       // per motorised hinge, of the running step
-  std::vector<SavedBody> saved_bodies_;       // per model body
+  // Per model joint: what ODE reports the AMotor applied in the last step. Sized once: ODE keeps pointers.
+  std::vector<dJointFeedback> motor_feedback_;
+  std::vector<MotorRows> motor_rows_;    // per model joint
+  std::vector<CombinedJoint> combined_;  // per motorised hinge, of the running step
+  std::vector<SavedBody> saved_bodies_;  // per model body
   std::vector<BodyFrictionParameters> body_friction_;  // per model body, for unknown materials
   std::vector<Contact> contacts_;                       // of the last step; capacity is kept across steps
   std::array<dContactGeom, PhysicsParameters::kMaxContactPoints> contact_buffer_{};  // dCollide's output
@@ -212,6 +216,7 @@ class OdeWorld final : public PhysicsWorld {
 
 OdeWorld::OdeWorld(std::shared_ptr<const PhysicsModel> model) : model_(std::move(model)) {
   EnsureOdeReady();
+  motor_feedback_.resize(static_cast<std::size_t>(model_->joint_count()));
   body_friction_.reserve(model_->body_count());
   for (int b = 0; b < model_->body_count(); ++b) {
     const BodyDescription& body = model_->body(b);
@@ -360,7 +365,7 @@ void OdeWorld::BuildJoint(int j) {
     return;
   }
   // The original creates the motor before the hinge; the order fixes ODE's row order, so keep it.
-  if (joint.motorised) motors_[j] = BuildMotor(body1, body2, joint.axis);
+  if (joint.motorised) motors_[j] = BuildMotor(j, body1, body2, joint.axis);
   dJointID hinge = dJointCreateHinge(world_, nullptr);
   dJointAttach(hinge, body1, body2);
   dJointSetHingeAnchor(hinge, joint.anchor.x(), joint.anchor.y(), joint.anchor.z());
@@ -377,9 +382,11 @@ void OdeWorld::BuildJoint(int j) {
 
 // A one-axis angular motor about the hinge axis, fixed in body 1: it constrains the same relative rate
 // (ω1 − ω2)·axis that dJointGetHingeAngleRate reports, so SetJointMotor's velocity is the joint rate.
-dJointID OdeWorld::BuildMotor(dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis) {
+dJointID OdeWorld::BuildMotor(int joint, dBodyID body1, dBodyID body2, const Eigen::Vector3d& axis) {
   dJointID motor = dJointCreateAMotor(world_, nullptr);
   dJointAttach(motor, body1, body2);
+  motor_feedback_[joint] = dJointFeedback{};
+  dJointSetFeedback(motor, &motor_feedback_[joint]);
   dJointSetAMotorMode(motor, dAMotorUser);
   dJointSetAMotorNumAxes(motor, 1);
   dJointSetAMotorAxis(motor, 0, 1, axis.x(), axis.y(), axis.z());
@@ -535,6 +542,10 @@ int OdeWorld::StepExact(double dt, bool combine) {
     if (!held && stepped != 0) {
       RestoreBodies();
       stepped = dWorldStep(world_, dt);
+    } else if (held) {
+      for (const CombinedJoint& joint : combined_) {
+        if (joint.row_case == RowCase::kBothFree) ReportMotorShare(joint);
+      }
     }
   }
   for (const CombinedJoint& joint : combined_) {
@@ -616,6 +627,22 @@ bool OdeWorld::RowCaseHeld(const CombinedJoint& joint) const {
       return std::abs(u) <= c2 * rows.friction && std::abs(rows.velocity - u) <= c1 * rows.max_torque;
   }
   return false;
+}
+
+// In kBothFree one row carried motor and brake together, and ODE's feedback holds their sum. The motor's share is
+// λ1 = (v − u)/c1, as in the two-row step; report that (joint_motor_torque).
+void OdeWorld::ReportMotorShare(const CombinedJoint& joint) {
+  const MotorRows& rows = motor_rows_[joint.joint];
+  const double torque =
+      (rows.velocity - RateAbout(joint.joint, joint.axis)) / dJointGetAMotorParam(motors_[joint.joint], dParamCFM);
+  const bool two_bodies = model_->joint_body2(joint.joint) >= 0;
+  dJointFeedback& feedback = motor_feedback_[joint.joint];
+  for (int k = 0; k < 3; ++k) {
+    feedback.f1[k] = 0.0;
+    feedback.f2[k] = 0.0;
+    feedback.t1[k] = torque * joint.axis[k];
+    feedback.t2[k] = two_bodies ? -torque * joint.axis[k] : 0.0;
+  }
 }
 
 // (ω1 − ω2)·axis, the rate both rows constrain (body 2 may be the static world).
@@ -719,6 +746,16 @@ double OdeWorld::joint_angle(int joint) const {
 double OdeWorld::joint_rate(int joint) const {
   assert(joint >= 0 && joint < model_->joint_count());
   return IsHinge(joint) ? dJointGetHingeAngleRate(joints_[joint]) : 0.0;
+}
+
+double OdeWorld::joint_motor_torque(int joint) const {
+  assert(joint >= 0 && joint < model_->joint_count());
+  dJointID motor = motors_[joint];
+  if (motor == nullptr) return 0.0;
+  dVector3 axis;
+  dJointGetAMotorAxis(motor, 0, axis);
+  const dJointFeedback& feedback = motor_feedback_[joint];
+  return feedback.t1[0] * axis[0] + feedback.t1[1] * axis[1] + feedback.t1[2] * axis[2];
 }
 
 void OdeWorld::SetJointMotor(int joint, double velocity, double max_torque) {

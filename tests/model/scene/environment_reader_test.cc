@@ -353,6 +353,42 @@ TEST(EnvironmentReaderTest, UnknownAgentAttribute) {
                 4, {"unknown attribute", "scale"});
 }
 
+TEST(EnvironmentReaderTest, ReadsHoldBodyAndPendulumRig) {
+  const EnvironmentDescription env = EnvironmentReader::ReadString(
+      Lines({R"x(<ORCS version="1.0">)x", "<Agent>",
+             R"x(<ASeries name="Held" position="(0,0.05,0)" holdBody="Middle/UpperBody"/>)x",
+             R"x(<Pendulum name="Rig" position="(1,0.5,0)" poleMass="0.75" poleLength="0.4"/>)x", "<Pendulum/>",
+             "</Agent>", "</ORCS>"}),
+      kSource);
+  ASSERT_EQ(env.agents.size(), 3u);
+  EXPECT_EQ(env.agents[0].type, "ASeries");
+  EXPECT_EQ(env.agents[0].hold_body, "Middle/UpperBody");
+  EXPECT_EQ(env.agents[1].type, "Pendulum");
+  EXPECT_EQ(env.agents[1].pole_mass, 0.75);
+  EXPECT_EQ(env.agents[1].pole_length, 0.4);
+  EXPECT_EQ(env.agents[2].name, "Pendulum");  // the rig's default name
+  EXPECT_EQ(env.agents[2].pole_mass, 0.5);
+  EXPECT_EQ(env.agents[2].pole_length, 0.3);
+}
+
+TEST(EnvironmentReaderTest, HoldBodyMustBeAnASeriesBody) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "<Agent>", R"x(<ASeries name="A" holdBody="Middle/Tail"/>)x",
+                       "</Agent>", "</ORCS>"}),
+                3, {"holdBody", "'Middle/Tail'"});
+}
+
+TEST(EnvironmentReaderTest, PendulumNeedsPositivePoleAndHasNoHoldBody) {
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "<Agent>", R"x(<Pendulum poleMass="0"/>)x", "</Agent>",
+                       "</ORCS>"}),
+                3, {"poleMass"});
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "<Agent>", R"x(<Pendulum poleLength="-1"/>)x", "</Agent>",
+                       "</ORCS>"}),
+                3, {"poleLength"});
+  ExpectErrorAt(Lines({R"x(<ORCS version="1.0">)x", "<Agent>", R"x(<Pendulum holdBody="Pole"/>)x", "</Agent>",
+                       "</ORCS>"}),
+                3, {"unknown attribute", "holdBody"});
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // Files
 

@@ -528,6 +528,7 @@ std::vector<double> BrakedTrajectory(PhysicsWorld& world, int steps, const Physi
       const BodyState s = world.body_state(b);
       out.insert(out.end(), s.position.data(), s.position.data() + 3);
     }
+    for (int j = 0; j < 2; ++j) out.push_back(world.joint_motor_torque(j));  // the motor's share, not the pair's
   }
   return out;
 }
@@ -542,6 +543,28 @@ TEST(OdeWorldTest, CombinedMotorRowsFollowTheTwoRowSolution) {
   const std::vector<double> actual = BrakedTrajectory(*combined, 400, {});
   ASSERT_EQ(actual.size(), expected.size());
   for (size_t k = 0; k < actual.size(); ++k) ASSERT_NEAR(actual[k], expected[k], 1e-9) << "coordinate " << k;
+}
+
+TEST(OdeWorldTest, CombinedMotorRowsReportTheMotorsShareOfAHoldingTorque) {
+  // A motor commanded to rate 0 and a brake, both strong enough, hold the pendulum horizontal. Two rows on one
+  // axis with the same target share the load in inverse proportion to their CFM (equal here): the motor reports
+  // half of it, whether the step solved the pair as two rows or as one.
+  const auto model = Compile(Pendulum(false, true));
+  const double gravity_torque = 0.1 * kG * 0.2;
+  std::vector<double> torques[2];
+  for (int variant = 0; variant < 2; ++variant) {
+    PhysicsParameters parameters;
+    parameters.combine_motor_rows = variant == 1;
+    auto world = MakeOdeWorld(model);
+    for (int i = 0; i < 100; ++i) {
+      world->SetJointMotor(0, 0.0, 1.0);
+      world->SetJointFriction(0, 0.5);
+      ASSERT_EQ(world->Step(kDt, parameters), StepStatus::kOk);
+      torques[variant].push_back(world->joint_motor_torque(0));
+    }
+  }
+  EXPECT_NEAR(torques[1].back(), 0.5 * gravity_torque, 1e-3);
+  for (size_t k = 0; k < torques[0].size(); ++k) EXPECT_NEAR(torques[1][k], torques[0][k], 1e-9) << "step " << k;
 }
 
 TEST(OdeWorldTest, CombinedMotorRowsKeepAnAddedTorqueWhenTheStepIsRepeated) {

@@ -1,0 +1,107 @@
+#include "model/control/controller_factory.h"
+
+#include "model/control/keyframe_player.h"
+#include "model/control/neural_network.h"
+#include "model/control/sine_oscillator.h"
+#include "model/core/error.h"
+#include "model/core/json_node.h"
+
+namespace orcs::control {
+namespace {
+
+using Json = nlohmann::json;
+
+std::string TypeOf(const JsonNode& node) {
+  const std::string type = node.At("type").String("\"network\", \"oscillator\" or \"keyframes\"");
+  if (type != "network" && type != "oscillator" && type != "keyframes") {
+    node.At("type").Fail("\"network\", \"oscillator\" or \"keyframes\"");
+  }
+  return type;
+}
+
+std::vector<std::string> OscillatorJoints(const JsonNode& node, const ControlTarget& target) {
+  node.ExpectOnly({"type", "joints", "torque"});
+  std::vector<std::string> joints;
+  for (const JsonNode& joint : node.At("joints").Elements()) {
+    const std::string name = joint.String("a motor name");
+    if (std::find(target.motors.begin(), target.motors.end(), name) == target.motors.end()) {
+      joint.Fail("a motor of agent '" + target.agent + "'");
+    }
+    joints.push_back(name);
+  }
+  if (node.Has("torque")) {
+    const double torque = node.At("torque").Number("a raw DesiredTorque −1…1");
+    if (torque < -1 || torque > 1) node.At("torque").Fail("a raw DesiredTorque −1…1");
+  }
+  return joints;
+}
+
+KeyframeRecord RecordOf(const JsonNode& node, const ControlTarget& target) {
+  node.ExpectOnly({"type", "record"});
+  const JsonNode record = node.At("record");
+  if (!record.value().is_object()) record.Fail("an inlined record {\"file\", \"text\"} (resolve the scenario first)");
+  record.ExpectOnly({"file", "text"});
+  return ParseKeyframeRecord(record.At("text").String("the record's text"),
+                             record.StringOr("file", node.source() + ": field 'controller.record'", "a file name"),
+                             static_cast<int>(target.motors.size()));
+}
+
+std::vector<double> FlatGenome(const Json& genome, const std::string& source) {
+  const JsonNode node(genome, "genome", source);
+  return node.Numbers("genome values");
+}
+
+}  // namespace
+
+int CheckController(const Json& controller, const ControlTarget& target, const std::string& source) {
+  const JsonNode node(controller, "controller", source);
+  const std::string type = TypeOf(node);
+  if (type == "network") return ParseNetwork(node, target.agent, true).genome_length();
+  if (type == "oscillator") return SineOscillator::kGenesPerJoint * static_cast<int>(OscillatorJoints(node, target).size());
+  RecordOf(node, target);
+  return 0;
+}
+
+void CheckGenome(const Json& controller, const Json& genome, const ControlTarget& target, const std::string& source) {
+  const int length = CheckController(controller, target, source);
+  const JsonNode genome_node(genome, "genome", source);
+  if (genome.is_object()) {
+    if (JsonNode(controller, "controller", source).At("type").String("") != "network") {
+      genome_node.Fail("an array of numbers (only a network genome may be a full network)");
+    }
+    ParseNetwork(genome_node, target.agent, false);
+    return;
+  }
+  const std::vector<double> flat = FlatGenome(genome, source);
+  if (static_cast<int>(flat.size()) != length) {
+    genome_node.Fail(std::to_string(length) + " numbers", "an array of " + std::to_string(flat.size()));
+  }
+}
+
+std::unique_ptr<Controller> MakeController(const Json& controller, const Json& genome, const ControlTarget& target,
+                                           VariableRepository& values, const std::string& source) {
+  CheckGenome(controller, genome, target, source);
+  const JsonNode node(controller, "controller", source);
+  const std::string type = TypeOf(node);
+  if (type == "network") {
+    NetworkDescription network = genome.is_object()
+                                     ? ParseNetwork(JsonNode(genome, "genome", source), target.agent, false)
+                                     : ParseNetwork(node, target.agent, true).WithGenome(FlatGenome(genome, source), source);
+    return std::make_unique<NeuralNetwork>(std::move(network), values, source);
+  }
+  if (type == "oscillator") {
+    const std::vector<std::string> names = OscillatorJoints(node, target);
+    const std::vector<double> genes = FlatGenome(genome, source);
+    std::vector<SineJoint> joints;
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      const double* g = &genes[SineOscillator::kGenesPerJoint * j];
+      joints.push_back({names[j], g[0], g[1], g[2], g[3]});
+    }
+    std::optional<double> torque;
+    if (node.Has("torque")) torque = node.At("torque").Number("");
+    return std::make_unique<SineOscillator>(std::move(joints), target.agent, torque, values, source);
+  }
+  return std::make_unique<KeyframePlayer>(RecordOf(node, target), target.agent, target.motors, values);
+}
+
+}  // namespace orcs::control

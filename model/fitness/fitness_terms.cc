@@ -1,0 +1,189 @@
+#include "model/fitness/fitness_terms.h"
+
+#include <cmath>
+
+#include "model/control/keyframe_record.h"
+#include "model/core/error.h"
+
+namespace orcs::fitness {
+namespace {
+
+// The physics body index of an agent's body given by its morphology name ("Middle/Head").
+int AgentBody(const JsonNode& entry, const scene::Simulation& simulation, int agent_index) {
+  const JsonNode node = entry.At("body");
+  const std::string name = node.String("a body name like \"Middle/Head\"");
+  const int body = simulation.model().morphology(agent_index).FindBody(name);
+  if (body < 0) node.Fail("a body of agent '" + simulation.model().agents()[agent_index].agent_name + "'");
+  return simulation.model().agents()[agent_index].bodies[body];
+}
+
+double MinHeight(const JsonNode& entry) { return entry.At("min_height").Number("a height in m"); }
+
+class Distance : public FitnessTerm {
+ public:
+  Distance(int body, int axis) : body_(body), axis_(axis) {}
+  void Start(const scene::Simulation& s) override { start_ = now_ = s.physics().body_state(body_).position[axis_]; }
+  void Sample(const scene::Simulation& s, double) override { now_ = s.physics().body_state(body_).position[axis_]; }
+  double value() const override { return now_ - start_; }
+
+ private:
+  int body_, axis_;
+  double start_ = 0.0, now_ = 0.0;
+};
+
+class UprightTime : public FitnessTerm {
+ public:
+  UprightTime(int body, double min_height) : body_(body), min_height_(min_height) {}
+  void Start(const scene::Simulation&) override { seconds_ = 0.0; }
+  void Sample(const scene::Simulation& s, double dt) override {
+    if (s.physics().body_state(body_).position.y() >= min_height_) seconds_ += dt;
+  }
+  double value() const override { return seconds_; }
+
+ private:
+  int body_;
+  double min_height_;
+  double seconds_ = 0.0;
+};
+
+class FinalHeight : public FitnessTerm {
+ public:
+  explicit FinalHeight(int body) : body_(body) {}
+  void Start(const scene::Simulation& s) override { height_ = s.physics().body_state(body_).position.y(); }
+  void Sample(const scene::Simulation& s, double) override { height_ = s.physics().body_state(body_).position.y(); }
+  double value() const override { return height_; }
+
+ private:
+  int body_;
+  double height_ = 0.0;
+};
+
+class Energy : public FitnessTerm {
+ public:
+  explicit Energy(std::vector<int> motors) : motors_(std::move(motors)) {}
+  void Start(const scene::Simulation&) override { joules_ = 0.0; }
+  void Sample(const scene::Simulation& s, double dt) override {
+    for (int joint : motors_) {
+      joules_ += std::abs(s.physics().joint_motor_torque(joint) * s.physics().joint_rate(joint)) * dt;
+    }
+  }
+  double value() const override { return joules_; }
+
+ private:
+  std::vector<int> motors_;
+  double joules_ = 0.0;
+};
+
+// Compares every motor's JointAngle after a step with the record's DesiredAngle in force during it.
+class TrackingError : public FitnessTerm {
+ public:
+  TrackingError(control::KeyframeRecord record, std::vector<const Value*> angles)
+      : record_(std::move(record)), angles_(std::move(angles)) {}
+  void Start(const scene::Simulation& s) override {
+    sum_ = 0.0;
+    count_ = 0;
+    row_ = 0;
+    step_start_ = s.time();
+  }
+  void Sample(const scene::Simulation& s, double) override {
+    const double start_ms = step_start_ * 1000.0 + 1e-6;
+    while (row_ + 1 < record_.frames.size() && record_.frames[row_ + 1].time_ms <= start_ms) ++row_;
+    step_start_ = s.time();
+    if (record_.frames[row_].time_ms > start_ms) return;  // before the first row: nothing commanded yet
+    for (std::size_t m = 0; m < angles_.size(); ++m) {
+      const double error = angles_[m]->as_double() - record_.frames[row_].inputs[2 * m];
+      sum_ += error * error;
+      ++count_;
+    }
+  }
+  double value() const override { return count_ == 0 ? 0.0 : std::sqrt(sum_ / static_cast<double>(count_)); }
+
+ private:
+  control::KeyframeRecord record_;
+  std::vector<const Value*> angles_;
+  double sum_ = 0.0;
+  long count_ = 0;
+  std::size_t row_ = 0;
+  double step_start_ = 0.0;
+};
+
+class Falls : public FitnessTerm {
+ public:
+  Falls(int body, double min_height) : body_(body), min_height_(min_height) {}
+  void Start(const scene::Simulation& s) override {
+    falls_ = 0;
+    above_ = s.physics().body_state(body_).position.y() >= min_height_;
+  }
+  void Sample(const scene::Simulation& s, double) override {
+    const bool above = s.physics().body_state(body_).position.y() >= min_height_;
+    if (above_ && !above) ++falls_;
+    above_ = above;
+  }
+  double value() const override { return static_cast<double>(falls_); }
+
+ private:
+  int body_;
+  double min_height_;
+  int falls_ = 0;
+  bool above_ = true;
+};
+
+int AxisOf(const JsonNode& node) {
+  const std::string axis = node.String("\"x\", \"y\" or \"z\"");
+  if (axis == "x") return 0;
+  if (axis == "y") return 1;
+  if (axis == "z") return 2;
+  node.Fail("\"x\", \"y\" or \"z\"");
+}
+
+std::unique_ptr<FitnessTerm> MakeTrackingError(const JsonNode& entry, const scene::Simulation& simulation,
+                                               int agent_index) {
+  const JsonNode record = entry.At("record");
+  if (!record.value().is_object()) record.Fail("an inlined record {\"file\", \"text\"} (resolve the scenario first)");
+  record.ExpectOnly({"file", "text"});
+  const aseries::ASeriesLayout& layout = simulation.model().agents()[agent_index];
+  const aseries::ASeriesMorphology& morphology = simulation.model().morphology(agent_index);
+  control::KeyframeRecord parsed =
+      control::ParseKeyframeRecord(record.At("text").String("the record's text"),
+                                   record.StringOr("file", record.path(), "a file name"),
+                                   static_cast<int>(morphology.motors.size()));
+  std::vector<const Value*> angles;
+  for (const aseries::MorphologyMotor& motor : morphology.motors) {
+    angles.push_back(&simulation.repository().Get("/Sim/" + layout.agent_name + "/" + motor.name + "/JointAngle"));
+  }
+  return std::make_unique<TrackingError>(std::move(parsed), std::move(angles));
+}
+
+}  // namespace
+
+std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene::Simulation& simulation,
+                                             int agent_index) {
+  const std::string type = entry.At("type").String(kFitnessTermTypes);
+  if (type == "distance") {
+    entry.ExpectOnly({"type", "name", "weight", "body", "axis"});
+    return std::make_unique<Distance>(AgentBody(entry, simulation, agent_index), AxisOf(entry.At("axis")));
+  }
+  if (type == "upright_time") {
+    entry.ExpectOnly({"type", "name", "weight", "body", "min_height"});
+    return std::make_unique<UprightTime>(AgentBody(entry, simulation, agent_index), MinHeight(entry));
+  }
+  if (type == "final_height") {
+    entry.ExpectOnly({"type", "name", "weight", "body"});
+    return std::make_unique<FinalHeight>(AgentBody(entry, simulation, agent_index));
+  }
+  if (type == "energy") {
+    entry.ExpectOnly({"type", "name", "weight"});
+    return std::make_unique<Energy>(simulation.model().agents()[agent_index].motors);
+  }
+  if (type == "tracking_error") {
+    entry.ExpectOnly({"type", "name", "weight", "record"});
+    return MakeTrackingError(entry, simulation, agent_index);
+  }
+  if (type == "falls") {
+    entry.ExpectOnly({"type", "name", "weight", "body", "min_height"});
+    return std::make_unique<Falls>(AgentBody(entry, simulation, agent_index), MinHeight(entry));
+  }
+  entry.At("type").Fail(kFitnessTermTypes);
+}
+
+}  // namespace orcs::fitness

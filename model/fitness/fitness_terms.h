@@ -1,0 +1,41 @@
+// The fitness terms (docs/scenarios.md, "fitness"). A term watches one simulation run: Start after the reset,
+// Sample after every simulation step, value() at the end. Every term is reported on its own and weighted into
+// the fitness by FitnessFunction.
+//
+//   distance        {"body": "Middle/UpperBody", "axis": "z"}   final − start position along the axis, m
+//   upright_time    {"body": "Middle/Head", "min_height": 0.3}  simulated seconds with the body at least that high, s
+//   final_height    {"body": "Middle/Head"}                     height of the body at the end, m
+//   energy          {}                                          Σ over steps and motors of |τ·ω|·dt, J
+//   tracking_error  {"record": {"file", "text"}}                RMS of JointAngle − the record's DesiredAngle, degrees
+//   falls           {"body": "Middle/Head", "min_height": 0.2}  times the body went from above to below the height
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "model/core/json_node.h"
+#include "model/scene/simulation.h"
+
+namespace orcs::fitness {
+
+class FitnessTerm {
+ public:
+  virtual ~FitnessTerm() = default;
+  /// After the simulation's reset, before the first step.
+  virtual void Start(const scene::Simulation& simulation) = 0;
+  /// After every simulation step of `dt` seconds.
+  virtual void Sample(const scene::Simulation& simulation, double dt) = 0;
+  /// The term's value for the run so far.
+  virtual double value() const = 0;
+};
+
+/// The term a fitness entry describes, for agent `agent_index` of `simulation` (built). Throws InputError naming
+/// the field for an unknown type, key, body or axis.
+std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene::Simulation& simulation,
+                                             int agent_index);
+
+/// The type names MakeFitnessTerm knows.
+inline constexpr const char* kFitnessTermTypes =
+    "\"distance\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\" or \"falls\"";
+
+}  // namespace orcs::fitness

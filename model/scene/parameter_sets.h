@@ -1,0 +1,33 @@
+// Drawing a job's K parameter sets (docs/scenarios.md, "randomisation") from the job's seed alone: set k uses
+// the stream RandomStream(seed, "parameter-set", k) and draws, in this order, every varied parameter in the
+// scenario's order, the value file (when chosen at random), the start-pose offsets. The same seed gives the
+// same sets on any machine, in any order, at any worker count.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/core/variable_repository.h"
+#include "model/scene/scenario.h"
+
+namespace orcs::scene {
+
+/// One drawn parameter set.
+struct ParameterSet {
+  int index = 0;                                            ///< k, 0…K−1
+  std::vector<std::pair<std::string, double>> values;       ///< drawn repository values, path → value
+  int parameter_file = -1;                                  ///< index into Randomisation::parameter_files, −1 = none
+  Eigen::Vector3d position_offset = Eigen::Vector3d::Zero();  ///< agent start offset, m
+  double yaw_degrees = 0.0;                                 ///< agent start turn about the vertical, degrees
+};
+
+/// Draws `randomisation.sets` parameter sets. `nominal` is the repository after the scenario's values: it gives
+/// the nominal value of relative distributions and checks that every varied path exists and is a number.
+/// Throws InputError naming the scenario field for an unknown or non-numeric path.
+std::vector<ParameterSet> DrawParameterSets(const Randomisation& randomisation, std::uint64_t seed,
+                                            const VariableRepository& nominal, const std::string& source);
+
+}  // namespace orcs::scene

@@ -1,0 +1,317 @@
+#include "model/scene/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "model/core/error.h"
+#include "model/core/json_node.h"
+#include "model/core/text.h"
+#include "model/core/text_file.h"
+
+namespace orcs::scene {
+namespace {
+
+using Json = nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// ---------------------------------------------------------------------------------------------------------
+// Resolution: file references → inline content
+
+// The file a scenario field names, relative to the scenario's folder.
+std::string Referenced(const fs::path& folder, const JsonNode& node) {
+  const std::string name = node.String("a file name");
+  const fs::path path = fs::path(name).is_absolute() ? fs::path(name) : folder / name;
+  return path.lexically_normal().string();
+}
+
+// Reads a referenced file; an unreadable one is named together with the field that references it.
+std::string ReadReferenced(const fs::path& folder, const JsonNode& node) {
+  const std::string path = Referenced(folder, node);
+  try {
+    return ReadTextFile(path);
+  } catch (const InputError&) {
+    node.Fail("a readable file", "'" + path + "', which cannot be read");
+  }
+}
+
+Json AssignmentsJson(const std::vector<ValueAssignment>& assignments) {
+  Json out = Json::array();
+  for (const ValueAssignment& a : assignments) out.push_back({a.path, a.value, a.file, a.line});
+  return out;
+}
+
+Json ResolveValueFile(const fs::path& folder, const JsonNode& node) {
+  if (node.value().is_object()) return node.value();  // already resolved
+  const std::string path = Referenced(folder, node);
+  return {{"file", node.String("a file name")}, {"assignments", AssignmentsJson(ValueFile::Read(path))}};
+}
+
+Json ResolveValueFiles(const fs::path& folder, const JsonNode& list) {
+  Json out = Json::array();
+  for (const JsonNode& element : list.Elements()) out.push_back(ResolveValueFile(folder, element));
+  return out;
+}
+
+// Every "record": "file" member below `node` (controller and fitness sections) becomes {"file", "text"}.
+void ResolveRecords(const fs::path& folder, Json& value, const JsonNode& node) {
+  if (value.is_object()) {
+    for (auto it = value.begin(); it != value.end(); ++it) {
+      const JsonNode child = node.At(it.key());
+      if (it.key() == "record" && it.value().is_string()) {
+        it.value() = {{"file", it.value().get<std::string>()}, {"text", ReadReferenced(folder, child)}};
+      } else {
+        ResolveRecords(folder, it.value(), child);
+      }
+    }
+  } else if (value.is_array()) {
+    const std::vector<JsonNode> elements = node.Elements();
+    for (std::size_t i = 0; i < value.size(); ++i) ResolveRecords(folder, value[i], elements[i]);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Parsing
+
+std::vector<ValueAssignment> AssignmentsOf(const JsonNode& node) {
+  std::vector<ValueAssignment> assignments;
+  for (const JsonNode& element : node.Elements()) {
+    const std::vector<JsonNode> fields = element.Elements();
+    if (fields.size() != 4) element.Fail("[path, value, file, line]");
+    assignments.push_back({fields[0].String("a repository path"), fields[1].String("a value text"),
+                           fields[2].String("a file name"), fields[3].Integer("a line number")});
+  }
+  return assignments;
+}
+
+// "values": {"/path": 1.5, "/flag": true, "/name": "PVC"} → assignments named after the scenario field.
+std::vector<ValueAssignment> InlineValues(const JsonNode& node) {
+  std::vector<ValueAssignment> assignments;
+  for (const auto& [path, value] : node.Members()) {
+    std::string text;
+    if (value.value().is_boolean()) {
+      text = value.value().get<bool>() ? "T" : "F";
+    } else if (value.value().is_number()) {
+      text = text::FormatDouble(value.Number("a number"));
+    } else {
+      text = value.String("a number, a boolean or a string");
+    }
+    assignments.push_back({path, text, node.source() + ": field '" + value.path() + "'", 0});
+  }
+  return assignments;
+}
+
+void ReadEnvironment(const JsonNode& root, Scenario& scenario) {
+  scenario.environment_name = "(default: one A-Series named Humanoid)";
+  if (!root.Has("environment")) return;
+  const JsonNode environment = root.At("environment");
+  if (environment.value().is_string()) {
+    environment.Fail("an inlined environment {\"file\", \"xml\"} (resolve the scenario file first)");
+  }
+  environment.ExpectOnly({"file", "xml"});
+  scenario.environment_xml = environment.At("xml").String("ORCS XML text");
+  scenario.environment_name = environment.StringOr("file", "(inline)", "a file name");
+}
+
+ParameterDistribution ReadDistribution(const JsonNode& node) {
+  node.ExpectOnly({"path", "uniform", "normal", "relative"});
+  ParameterDistribution distribution;
+  distribution.path = node.At("path").String("a repository path");
+  if (distribution.path.empty() || distribution.path[0] != '/') node.At("path").Fail("a path starting with '/'");
+  distribution.relative = node.Has("relative") && node.At("relative").Bool("true or false");
+  if (node.Has("uniform") == node.Has("normal")) node.Fail("exactly one of 'uniform' or 'normal'", "both or none");
+  if (node.Has("uniform")) {
+    const JsonNode uniform = node.At("uniform");
+    const std::vector<double> range = uniform.Numbers("[low, high]");
+    if (range.size() != 2) uniform.Fail("[low, high]");
+    if (range[0] > range[1]) uniform.Fail("low ≤ high", "[" + text::FormatDouble(range[0]) + ", " +
+                                                             text::FormatDouble(range[1]) + "]");
+    distribution.kind = ParameterDistribution::Kind::kUniform;
+    distribution.low = range[0];
+    distribution.high = range[1];
+  } else {
+    const JsonNode normal = node.At("normal");
+    normal.ExpectOnly({"mean", "deviation", "min", "max"});
+    distribution.kind = ParameterDistribution::Kind::kNormal;
+    distribution.mean = normal.At("mean").Number("a number");
+    distribution.deviation = normal.At("deviation").Number("a number ≥ 0");
+    if (distribution.deviation < 0) normal.At("deviation").Fail("a number ≥ 0");
+    distribution.low = normal.NumberOr("min", -kInfinity, "a number");
+    distribution.high = normal.NumberOr("max", kInfinity, "a number");
+    if (distribution.low > distribution.high) {
+      normal.At("min").Fail("min ≤ max (" + text::FormatDouble(distribution.high) + ")");
+    }
+  }
+  return distribution;
+}
+
+// The shipped default randomisation of the motor model and the floor friction (docs/scenarios.md).
+void AddDefaultMotorRandomisation(std::vector<ParameterDistribution>& parameters) {
+  const auto relative = [&](const char* path, double low, double high) {
+    parameters.push_back({path, ParameterDistribution::Kind::kUniform, low, high, 0.0, 0.0, true});
+  };
+  relative("/AngularMotor/PID/Proportional", 0.8, 1.2);
+  relative("/AngularMotor/FMaxFactor", 0.9, 1.1);
+  relative("/AngularMotor/MaxVelocity", 0.9, 1.1);
+  relative("/AngularMotor/StaticFriction", 0.5, 1.5);
+  relative("/AngularMotor/DynamicFriction", 0.7, 1.3);
+  parameters.push_back({"/AngularMotor/DynamicFrictionOffset", ParameterDistribution::Kind::kUniform, 0.0, 0.01,
+                        0.0, 0.0, false});
+  relative("/Simulation/ODE/FrictionScaling", 0.8, 1.2);
+}
+
+Randomisation ReadRandomisation(const JsonNode& node) {
+  node.ExpectOnly({"sets", "default_motor_model", "parameters", "parameter_files", "start_pose"});
+  Randomisation randomisation;
+  if (node.Has("sets")) {
+    randomisation.sets = node.At("sets").Integer("an integer ≥ 1");
+    if (randomisation.sets < 1) node.At("sets").Fail("an integer ≥ 1");
+  }
+  if (node.Has("default_motor_model") && node.At("default_motor_model").Bool("true or false")) {
+    AddDefaultMotorRandomisation(randomisation.parameters);
+  }
+  if (node.Has("parameters")) {
+    for (const JsonNode& element : node.At("parameters").Elements()) {
+      randomisation.parameters.push_back(ReadDistribution(element));
+    }
+  }
+  if (node.Has("parameter_files")) {
+    const JsonNode files = node.At("parameter_files");
+    files.ExpectOnly({"files", "choice"});
+    const std::string choice = files.StringOr("choice", "random", "\"random\" or \"sequence\"");
+    if (choice != "random" && choice != "sequence") files.At("choice").Fail("\"random\" or \"sequence\"");
+    randomisation.files_in_sequence = choice == "sequence";
+    for (const JsonNode& file : files.At("files").Elements()) {
+      if (!file.value().is_object()) file.Fail("an inlined value file (resolve the scenario file first)");
+      file.ExpectOnly({"file", "assignments"});
+      randomisation.parameter_files.push_back({file.At("file").String("a file name"),
+                                               AssignmentsOf(file.At("assignments"))});
+    }
+  }
+  if (node.Has("start_pose")) {
+    const JsonNode pose = node.At("start_pose");
+    pose.ExpectOnly({"position", "yaw_degrees", "motor_angle_degrees"});
+    StartPoseRandomisation& start = randomisation.start_pose;
+    if (pose.Has("position")) start.position = pose.At("position").Vector3("± m per axis");
+    start.yaw_degrees = pose.NumberOr("yaw_degrees", 0.0, "± degrees");
+    start.motor_angle_degrees = pose.NumberOr("motor_angle_degrees", 0.0, "± degrees");
+    if (start.position.minCoeff() < 0) pose.At("position").Fail("three non-negative offsets (m)");
+    if (start.yaw_degrees < 0 || start.yaw_degrees > 180) pose.At("yaw_degrees").Fail("0…180 degrees");
+    if (start.motor_angle_degrees < 0 || start.motor_angle_degrees > 150) {
+      pose.At("motor_angle_degrees").Fail("0…150 degrees");
+    }
+  }
+  return randomisation;
+}
+
+void ReadFitnessAggregate(const JsonNode& fitness, Scenario& scenario) {
+  if (!fitness.Has("aggregate")) return;
+  const JsonNode aggregate = fitness.At("aggregate");
+  const std::string name = aggregate.String("\"mean\", \"min\", \"max\" or \"quantile\"");
+  if (name == "mean") {
+    scenario.aggregate = Aggregate::kMean;
+  } else if (name == "min") {
+    scenario.aggregate = Aggregate::kMin;
+  } else if (name == "max") {
+    scenario.aggregate = Aggregate::kMax;
+  } else if (name == "quantile") {
+    scenario.aggregate = Aggregate::kQuantile;
+    scenario.quantile = fitness.At("quantile").Number("a number 0…1");
+    if (scenario.quantile < 0 || scenario.quantile > 1) fitness.At("quantile").Fail("a number 0…1");
+  } else {
+    aggregate.Fail("\"mean\", \"min\", \"max\" or \"quantile\"");
+  }
+}
+
+}  // namespace
+
+Scenario ParseScenario(const Json& resolved, const std::string& source) {
+  const JsonNode root(resolved, "", source);
+  root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
+                   "randomisation", "log"});
+  Scenario scenario;
+  scenario.source = source;
+  scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
+  ReadEnvironment(root, scenario);
+  if (root.Has("value_files")) {
+    for (const JsonNode& file : root.At("value_files").Elements()) {
+      if (!file.value().is_object()) file.Fail("an inlined value file (resolve the scenario file first)");
+      file.ExpectOnly({"file", "assignments"});
+      const std::vector<ValueAssignment> assignments = AssignmentsOf(file.At("assignments"));
+      scenario.values.insert(scenario.values.end(), assignments.begin(), assignments.end());
+    }
+  }
+  if (root.Has("values")) {
+    const std::vector<ValueAssignment> inline_values = InlineValues(root.At("values"));
+    scenario.values.insert(scenario.values.end(), inline_values.begin(), inline_values.end());
+  }
+  scenario.duration = root.NumberOr("duration", scenario.duration, "seconds > 0");
+  if (!(scenario.duration > 0) || scenario.duration > 1e6) root.At("duration").Fail("seconds, 0 < duration ≤ 1e6");
+  scenario.agent = root.StringOr("agent", scenario.agent, "an agent name");
+  scenario.controller = root.At("controller").value();
+  const JsonNode fitness = root.At("fitness");
+  scenario.fitness = fitness.value();
+  ReadFitnessAggregate(fitness, scenario);
+  if (root.Has("randomisation")) scenario.randomisation = ReadRandomisation(root.At("randomisation"));
+  if (root.Has("log")) {
+    for (const JsonNode& pattern : root.At("log").Elements()) {
+      scenario.log.push_back(pattern.String("a regular expression"));
+    }
+  }
+  return scenario;
+}
+
+Json ResolveScenarioFile(const std::string& path) {
+  Json scenario = ParseJson(ReadTextFile(path), path);
+  const JsonNode root(scenario, "", path);
+  if (!scenario.is_object()) root.Fail("a JSON object");
+  const fs::path folder = fs::path(path).parent_path();
+  if (root.Has("environment") && scenario["environment"].is_string()) {
+    const JsonNode environment = root.At("environment");
+    scenario["environment"] = {{"file", environment.String("a file name")},
+                               {"xml", ReadReferenced(folder, environment)}};
+  }
+  if (root.Has("value_files")) scenario["value_files"] = ResolveValueFiles(folder, root.At("value_files"));
+  if (root.Has("randomisation") && scenario["randomisation"].is_object() &&
+      scenario["randomisation"].contains("parameter_files") &&
+      scenario["randomisation"]["parameter_files"].is_object() &&
+      scenario["randomisation"]["parameter_files"].contains("files")) {
+    const JsonNode files = root.At("randomisation").At("parameter_files").At("files");
+    scenario["randomisation"]["parameter_files"]["files"] = ResolveValueFiles(folder, files);
+  }
+  for (const char* section : {"controller", "fitness"}) {
+    if (!root.Has(section)) continue;
+    Json copy = scenario[section];
+    ResolveRecords(folder, copy, root.At(section));
+    scenario[section] = std::move(copy);
+  }
+  return scenario;
+}
+
+double AggregateFitness(std::vector<double> values, Aggregate aggregate, double quantile) {
+  if (values.empty()) throw std::logic_error("AggregateFitness: no values");
+  switch (aggregate) {
+    case Aggregate::kMean: {
+      double sum = 0.0;
+      for (double value : values) sum += value;
+      return sum / static_cast<double>(values.size());
+    }
+    case Aggregate::kMin:
+      return *std::min_element(values.begin(), values.end());
+    case Aggregate::kMax:
+      return *std::max_element(values.begin(), values.end());
+    case Aggregate::kQuantile: {
+      std::sort(values.begin(), values.end());
+      const double position = quantile * static_cast<double>(values.size() - 1);
+      const auto below = static_cast<std::size_t>(std::floor(position));
+      const std::size_t above = std::min(below + 1, values.size() - 1);
+      return values[below] + (position - static_cast<double>(below)) * (values[above] - values[below]);
+    }
+  }
+  return 0.0;
+}
+
+}  // namespace orcs::scene

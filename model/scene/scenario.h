@@ -1,0 +1,90 @@
+// A scenario (docs/scenarios.md): what one evaluation runs — the world, value overrides, the duration, the
+// controller and how a genome maps onto it, the fitness terms, the randomisation and what to log. Description
+// layer, read from JSON (nlohmann-json).
+//
+// A scenario file may reference other files (the environment XML, value files, motion records) relative to
+// itself. ResolveScenarioFile inlines every one of them, so that the resolved JSON is self-contained: that is
+// what a client puts into a job, and a worker needs no shared filesystem. ParseScenario reads resolved JSON
+// only. The controller and fitness sections are kept as JSON here and checked by model/control and
+// model/fitness (the layer rule: scene does not know them).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/core/value_file.h"
+
+namespace orcs::scene {
+
+/// How one repository value varies between parameter sets.
+struct ParameterDistribution {
+  enum class Kind { kUniform, kNormal };
+  std::string path;             ///< repository path of a number (checked against the built world)
+  Kind kind = Kind::kUniform;   ///< distribution
+  double low = 0.0;             ///< uniform: lower bound; normal: lower clamp (−inf = none)
+  double high = 0.0;            ///< uniform: upper bound; normal: upper clamp (+inf = none)
+  double mean = 0.0;            ///< normal: mean
+  double deviation = 0.0;       ///< normal: standard deviation, ≥ 0
+  bool relative = false;        ///< true: low/high/mean/deviation are factors of the value's nominal value
+};
+
+/// A named value file offered to the parameter sets (inlined: its assignments).
+struct NamedParameterFile {
+  std::string name;                            ///< the file name as given in the scenario
+  std::vector<ValueAssignment> assignments;    ///< its lines, includes flattened
+};
+
+/// Start-pose randomisation of the scenario's agent, per parameter set.
+struct StartPoseRandomisation {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< ± uniform offset per axis of the agent, m (y: 0…+y only)
+  double yaw_degrees = 0.0;           ///< ± uniform turn of the agent about the vertical through its origin, degrees
+  double motor_angle_degrees = 0.0;   ///< ± uniform initial angle of every motor (clamped to its range), degrees
+};
+
+/// How a job's fitness aggregates over its parameter sets.
+enum class Aggregate { kMean, kMin, kMax, kQuantile };
+
+struct Randomisation {
+  int sets = 1;                                  ///< K parameter sets per job, ≥ 1
+  std::vector<ParameterDistribution> parameters;  ///< varied values, in the scenario's order
+  std::vector<NamedParameterFile> parameter_files;  ///< value files, one chosen per set
+  bool files_in_sequence = false;                ///< true: set k takes file k mod n; false: one at random
+  StartPoseRandomisation start_pose;             ///< start-pose offsets
+};
+
+struct Scenario {
+  std::string source;            ///< where it was read from, for messages
+  std::string name;              ///< a label for reports
+  std::string environment_xml;   ///< the ORCS XML environment, inline; "" = one A-Series "Humanoid" on the floor
+  std::string environment_name;  ///< the environment file's name, for messages ("(default)" when none)
+  std::vector<ValueAssignment> values;  ///< applied after the world is built, before each parameter set's values
+  double duration = 10.0;        ///< simulated seconds per parameter set
+  std::string agent = "Humanoid";  ///< the agent the controller drives and the fitness terms measure
+  nlohmann::json controller;     ///< controller section (model/control/controller_factory.h)
+  nlohmann::json fitness;        ///< fitness section (model/fitness/fitness_function.h)
+  Aggregate aggregate = Aggregate::kMean;  ///< over the parameter sets
+  double quantile = 0.5;         ///< for Aggregate::kQuantile, 0…1
+  Randomisation randomisation;
+  std::vector<std::string> log;  ///< regular expressions of values logged every step ([] = no log)
+};
+
+/// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found
+/// ..." for unknown keys, wrong types, min above max, a non-positive duration or set count, ...
+Scenario ParseScenario(const nlohmann::json& resolved, const std::string& source);
+
+/// Reads a scenario file and inlines every file it references (relative to the file's folder):
+/// "environment": "x.xml" → {"file": "x.xml", "xml": text}; "value_files" and
+/// "randomisation.parameter_files.files" → {"file", "assignments"}; any member named "record" holding a file
+/// name in the controller or fitness sections → {"file", "text"}. Throws InputError naming the scenario field
+/// and the file that cannot be read.
+nlohmann::json ResolveScenarioFile(const std::string& path);
+
+/// The aggregate of per-set fitness values (not empty). Quantiles interpolate linearly between order
+/// statistics (type 7).
+double AggregateFitness(std::vector<double> values, Aggregate aggregate, double quantile);
+
+}  // namespace orcs::scene

@@ -1,0 +1,95 @@
+// Whole jobs, evaluated in-process: the example scenarios, determinism, bad genomes, fitness terms' physics.
+#include "worker/evaluation/evaluation.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "model/scene/scenario.h"
+
+namespace orcs::evaluation {
+namespace {
+
+using ::testing::HasSubstr;
+
+EvaluationRequest Request(const std::string& example, nlohmann::json genome, std::uint64_t seed) {
+  const std::string path = std::string(ORCS_SOURCE_DIR) + "/scenarios/examples/" + example;
+  EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scene::ResolveScenarioFile(path), path);
+  request.genome = std::move(genome);
+  request.seed = seed;
+  return request;
+}
+
+const nlohmann::json kSwingGenome = {20, 0.5, 0, 0, 20, 0.5, 3.14159, 0};
+
+TEST(EvaluationTest, SameJobSameBitsDifferentSeedDifferentDraws) {
+  const EvaluationOutcome a = Evaluate(Request("swing_oscillator.json", kSwingGenome, 11));
+  const EvaluationOutcome b = Evaluate(Request("swing_oscillator.json", kSwingGenome, 11));
+  const EvaluationOutcome c = Evaluate(Request("swing_oscillator.json", kSwingGenome, 12));
+  ASSERT_EQ(a.status, EvaluationStatus::kOk) << a.message;
+  ASSERT_EQ(a.sets.size(), 4u);
+  EXPECT_EQ(a.fitness, b.fitness);
+  for (std::size_t k = 0; k < a.sets.size(); ++k) {
+    EXPECT_EQ(a.sets[k].terms, b.sets[k].terms);
+    EXPECT_EQ(a.sets[k].drawn, b.sets[k].drawn);
+  }
+  EXPECT_NE(a.sets[0].drawn, c.sets[0].drawn);
+  // The 0.25-quantile of four set fitnesses lies between their minimum and maximum.
+  double low = a.sets[0].fitness, high = low;
+  for (const SetOutcome& set : a.sets) {
+    low = std::min(low, set.fitness);
+    high = std::max(high, set.fitness);
+  }
+  EXPECT_GE(a.fitness, low);
+  EXPECT_LE(a.fitness, high);
+}
+
+TEST(EvaluationTest, BadGenomeFailsAloneWithAMessage) {
+  const EvaluationOutcome outcome = Evaluate(Request("swing_oscillator.json", {1, 2, 3}, 1));
+  EXPECT_EQ(outcome.status, EvaluationStatus::kInvalidInput);
+  EXPECT_THAT(outcome.message, HasSubstr("field 'genome' expected 8 numbers, found an array of 3"));
+}
+
+TEST(EvaluationTest, NetworkScenarioRunsItsSetsAndLogs) {
+  const EvaluationOutcome outcome = Evaluate(Request("stand_network.json", {0, 0, 0, 0, 0, 0}, 3));
+  ASSERT_EQ(outcome.status, EvaluationStatus::kOk) << outcome.message;
+  ASSERT_EQ(outcome.sets.size(), 3u);
+  for (const SetOutcome& set : outcome.sets) {
+    // Zero weights and biases command 0° at the knees: the robot stands, upright all 3 s.
+    EXPECT_NEAR(set.terms[0].second, 3.0, 1e-9);
+    EXPECT_GE(set.terms[1].second, 0.0);  // energy is never negative
+    EXPECT_THAT(set.log_csv, HasSubstr("# columns: time,/Sim/Humanoid/Middle/Head/Position.x"));
+    EXPECT_EQ(std::count(set.log_csv.begin(), set.log_csv.end(), '\n'), 5 + 301);
+    EXPECT_EQ(set.drawn.size(), 7u + 4u);  // default motor randomisation + the start pose
+  }
+  EXPECT_EQ(outcome.fitness, std::min({outcome.sets[0].fitness, outcome.sets[1].fitness, outcome.sets[2].fitness}));
+}
+
+TEST(EvaluationTest, KeyframeTrackingErrorIsSmallForTheRecordItPlays) {
+  const EvaluationOutcome outcome = Evaluate(Request("pendulum_keyframes.json", nlohmann::json::array(), 0));
+  ASSERT_EQ(outcome.status, EvaluationStatus::kOk) << outcome.message;
+  const double rms = outcome.sets[0].terms[0].second;
+  // The motor needs ~0.45 s to turn 90° at 3.5 rad/s, twice: the error is large then and small otherwise.
+  EXPECT_GT(rms, 5.0);
+  EXPECT_LT(rms, 40.0);
+  EXPECT_EQ(outcome.fitness, -rms);
+}
+
+TEST(EvaluationTest, TimeLimitEndsTheJobAsTimeout) {
+  EvaluationRequest request = Request("swing_oscillator.json", kSwingGenome, 1);
+  request.time_limit_seconds = 1e-9;
+  const EvaluationOutcome outcome = Evaluate(request);
+  EXPECT_EQ(outcome.status, EvaluationStatus::kTimeout);
+  EXPECT_THAT(outcome.message, HasSubstr("time limit"));
+}
+
+TEST(EvaluationTest, UnknownOverridePathIsInvalidInput) {
+  EvaluationRequest request = Request("swing_oscillator.json", kSwingGenome, 1);
+  request.overrides.push_back({"/AngularMotor/Nope", "1", "job", 0});
+  const EvaluationOutcome outcome = Evaluate(request);
+  EXPECT_EQ(outcome.status, EvaluationStatus::kInvalidInput);
+  EXPECT_THAT(outcome.message, HasSubstr("/AngularMotor/Nope"));
+}
+
+}  // namespace
+}  // namespace orcs::evaluation

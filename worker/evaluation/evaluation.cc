@@ -1,0 +1,197 @@
+#include "worker/evaluation/evaluation.h"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "model/control/controller_factory.h"
+#include "model/core/error.h"
+#include "model/core/random_stream.h"
+#include "model/core/text.h"
+#include "model/core/value_logger.h"
+#include "model/fitness/fitness_function.h"
+#include "model/scene/environment_reader.h"
+#include "model/scene/parameter_sets.h"
+#include "model/scene/simulation.h"
+
+namespace orcs::evaluation {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Wall-clock checks every this many steps: often enough to stop within a few ms, rarely enough to cost nothing.
+constexpr int kStepsPerClockCheck = 64;
+
+scene::EnvironmentDescription EnvironmentOf(const scene::Scenario& scenario) {
+  if (scenario.environment_xml.empty()) {
+    scene::EnvironmentDescription environment;
+    environment.source = scenario.environment_name;
+    environment.agents.push_back(scene::AgentDescription{});
+    return environment;
+  }
+  return scene::EnvironmentReader::ReadString(scenario.environment_xml, scenario.environment_name);
+}
+
+void SetDrawn(VariableRepository& values, const std::string& path, double value) {
+  Value& target = values.Get(path);
+  if (target.type() == ValueType::kInt) {
+    target.Set(static_cast<std::int64_t>(std::llround(value)));
+  } else {
+    target.Set(value);
+  }
+}
+
+// Everything a set's run needs, built and configured; throws InputError for bad input.
+struct SetRun {
+  scene::Simulation simulation;
+  int agent = -1;
+  std::unique_ptr<control::Controller> controller;
+  std::unique_ptr<fitness::FitnessFunction> fitness;
+  std::unique_ptr<ValueLogger> logger;
+};
+
+void Configure(const EvaluationRequest& request, const scene::ParameterSet* set, SetRun& run, SetOutcome& outcome) {
+  const scene::Scenario& scenario = request.scenario;
+  scene::Simulation& simulation = run.simulation;
+  simulation.LoadEnvironment(EnvironmentOf(scenario));
+  simulation.Build();
+  ValueFile::ApplyAssignments(scenario.values, simulation.repository());
+  ValueFile::ApplyAssignments(request.overrides, simulation.repository());
+  if (set != nullptr) {
+    if (set->parameter_file >= 0) {
+      const scene::NamedParameterFile& file = scenario.randomisation.parameter_files[set->parameter_file];
+      ValueFile::ApplyAssignments(file.assignments, simulation.repository());
+      outcome.parameter_file = file.name;
+    }
+    for (const auto& [path, value] : set->values) SetDrawn(simulation.repository(), path, value);
+    outcome.drawn = set->values;
+  }
+  run.agent = simulation.FindAgent(scenario.agent);
+  if (run.agent < 0) {
+    throw InputError(scenario.source, 0, "field 'agent' names '" + scenario.agent + "', which the environment lacks");
+  }
+  const control::ControlTarget target{scenario.agent, simulation.agent(run.agent).motor_names()};
+  run.controller = control::MakeController(scenario.controller, request.genome, target, simulation.repository(),
+                                           scenario.source);
+  run.fitness = std::make_unique<fitness::FitnessFunction>(scenario.fitness, simulation, run.agent, scenario.source);
+  if (!scenario.log.empty()) run.logger = std::make_unique<ValueLogger>(simulation.repository(), scenario.log);
+}
+
+// The noise seed of set k: its own stream of the job's seed, so sets differ and jobs stay reproducible.
+std::uint64_t SetSeed(std::uint64_t seed, int k) {
+  return RandomStream(seed, "set-seed", static_cast<std::uint64_t>(k)).NextU64();
+}
+
+void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet* set, SetRun& run,
+              SetOutcome& outcome, Clock::time_point deadline) {
+  scene::Simulation& simulation = run.simulation;
+  simulation.Reset(SetSeed(request.seed, k));
+  if (set != nullptr && (set->position_offset != Eigen::Vector3d::Zero() || set->yaw_degrees != 0.0)) {
+    simulation.MoveAgent(run.agent, set->position_offset, set->yaw_degrees);
+    outcome.drawn.emplace_back("start_pose/x", set->position_offset.x());
+    outcome.drawn.emplace_back("start_pose/y", set->position_offset.y());
+    outcome.drawn.emplace_back("start_pose/z", set->position_offset.z());
+    outcome.drawn.emplace_back("start_pose/yaw_degrees", set->yaw_degrees);
+  }
+  run.controller->Reset();
+  run.fitness->Start(simulation);
+  if (run.logger) {
+    run.logger->OpenInMemory({"orcs job log", "scenario: " + request.scenario.name,
+                              "seed: " + std::to_string(request.seed), "parameter set: " + std::to_string(k)});
+    run.logger->Sample(simulation.time());
+  }
+  const double dt = simulation.StepDuration();
+  const auto steps = static_cast<std::int64_t>(std::llround(request.scenario.duration / dt));
+  for (std::int64_t i = 0; i < steps; ++i) {
+    run.controller->Update(simulation.time());
+    if (simulation.Step() != scene::SimulationStatus::kOk) {
+      outcome.status = EvaluationStatus::kUnstablePhysics;
+      outcome.message = "parameter set " + std::to_string(k) + ": " + simulation.message();
+      break;
+    }
+    run.fitness->Sample(simulation, dt);
+    if (run.logger) run.logger->Sample(simulation.time());
+    if (i % kStepsPerClockCheck == 0 && Clock::now() > deadline) {
+      outcome.status = EvaluationStatus::kTimeout;
+      outcome.message = "time limit of " + text::FormatDouble(request.time_limit_seconds) +
+                        " s exceeded in parameter set " + std::to_string(k) + " at simulated time " +
+                        text::FormatDouble(simulation.time()) + " s";
+      break;
+    }
+  }
+  outcome.simulated_seconds = simulation.time();
+  outcome.terms = run.fitness->terms();
+  outcome.fitness = run.fitness->fitness();
+  if (outcome.status == EvaluationStatus::kOk && !std::isfinite(outcome.fitness)) {
+    outcome.status = EvaluationStatus::kUnstablePhysics;
+    outcome.message = "parameter set " + std::to_string(k) + ": the fitness is not finite";
+  }
+  if (run.logger) {
+    run.logger->Finish();
+    outcome.log_csv = run.logger->text();
+  }
+}
+
+// The sets to run: drawn against the nominal world (scenario values and overrides applied).
+std::vector<scene::ParameterSet> DrawSets(const EvaluationRequest& request) {
+  scene::Simulation nominal;
+  nominal.LoadEnvironment(EnvironmentOf(request.scenario));
+  nominal.Build();
+  ValueFile::ApplyAssignments(request.scenario.values, nominal.repository());
+  ValueFile::ApplyAssignments(request.overrides, nominal.repository());
+  return scene::DrawParameterSets(request.scenario.randomisation, request.seed, nominal.repository(),
+                                  request.scenario.source);
+}
+
+}  // namespace
+
+std::string_view EvaluationStatusName(EvaluationStatus status) {
+  switch (status) {
+    case EvaluationStatus::kOk: return "ok";
+    case EvaluationStatus::kInvalidInput: return "invalid input";
+    case EvaluationStatus::kUnstablePhysics: return "unstable physics";
+    case EvaluationStatus::kTimeout: return "timeout";
+    case EvaluationStatus::kInternalError: return "internal error";
+  }
+  return "?";
+}
+
+EvaluationOutcome Evaluate(const EvaluationRequest& request) {
+  const Clock::time_point start = Clock::now();
+  const Clock::time_point deadline =
+      request.time_limit_seconds > 0
+          ? start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request.time_limit_seconds))
+          : Clock::time_point::max();
+  EvaluationOutcome outcome;
+  try {
+    const std::vector<scene::ParameterSet> sets = DrawSets(request);
+    for (int k = 0; k < static_cast<int>(sets.size()); ++k) {
+      SetOutcome set_outcome;
+      set_outcome.index = k;
+      SetRun run;
+      Configure(request, &sets[k], run, set_outcome);
+      Simulate(request, k, &sets[k], run, set_outcome, deadline);
+      outcome.sets.push_back(std::move(set_outcome));
+      if (outcome.sets.back().status != EvaluationStatus::kOk) {
+        outcome.status = outcome.sets.back().status;
+        outcome.message = outcome.sets.back().message;
+        break;
+      }
+    }
+  } catch (const InputError& error) {
+    outcome.status = EvaluationStatus::kInvalidInput;
+    outcome.message = error.what();
+  } catch (const std::exception& error) {
+    outcome.status = EvaluationStatus::kInternalError;
+    outcome.message = error.what();
+  }
+  if (outcome.status == EvaluationStatus::kOk) {
+    std::vector<double> values;
+    for (const SetOutcome& set : outcome.sets) values.push_back(set.fitness);
+    outcome.fitness = scene::AggregateFitness(values, request.scenario.aggregate, request.scenario.quantile);
+  }
+  outcome.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return outcome;
+}
+
+}  // namespace orcs::evaluation

@@ -1,0 +1,57 @@
+// One job, evaluated: a scenario with a genome and a seed, under the scenario's K randomised parameter sets.
+// This is the model's view of a job (no protobuf): orcs-worker translates wire jobs into EvaluationRequests
+// and outcomes into results; orcs-sim and orcs-batch run use it directly.
+//
+// For every parameter set k: a fresh world from the scenario's environment; the scenario's values, the job's
+// overrides, the set's value file and drawn values, in that order; Reset with the set's seed; the start pose;
+// then duration / step steps of: controller → step → fitness sample (→ log row). Set k's noise seed and draws
+// come from the job's seed alone, so the outcome is the same bits on any worker.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/core/value_file.h"
+#include "model/scene/scenario.h"
+
+namespace orcs::evaluation {
+
+struct EvaluationRequest {
+  scene::Scenario scenario;                 ///< parsed, resolved
+  nlohmann::json genome = nlohmann::json::array();  ///< flat numbers, or a full network object
+  std::uint64_t seed = 0;                   ///< the job's seed
+  std::vector<ValueAssignment> overrides;   ///< applied after the scenario's values
+  double time_limit_seconds = 0.0;          ///< wall-clock limit for the whole job, s; 0 = none
+};
+
+enum class EvaluationStatus { kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError };
+std::string_view EvaluationStatusName(EvaluationStatus status);
+
+/// One parameter set's run.
+struct SetOutcome {
+  int index = 0;                                        ///< k
+  std::vector<std::pair<std::string, double>> drawn;    ///< drawn values (paths; "start_pose/x", ... for the pose)
+  std::string parameter_file;                           ///< the value file chosen for the set, "" = none
+  std::vector<std::pair<std::string, double>> terms;    ///< fitness terms, scenario order
+  double fitness = 0.0;                                 ///< Σ weight · term
+  EvaluationStatus status = EvaluationStatus::kOk;
+  std::string message;                                  ///< why, when not ok
+  double simulated_seconds = 0.0;                       ///< simulated time reached
+  std::string log_csv;                                  ///< the logged values (scenario "log"), "" = none
+};
+
+struct EvaluationOutcome {
+  EvaluationStatus status = EvaluationStatus::kOk;  ///< the first failing set's status, else ok
+  std::string message;                              ///< the first failing set's message
+  double fitness = 0.0;                             ///< aggregate over the sets (only when ok)
+  std::vector<SetOutcome> sets;
+  double wall_seconds = 0.0;                        ///< time the evaluation took (not part of the bits)
+};
+
+/// Runs a job. Never throws for bad input: an InputError becomes kInvalidInput with its message.
+EvaluationOutcome Evaluate(const EvaluationRequest& request);
+
+}  // namespace orcs::evaluation
