@@ -15,11 +15,11 @@
 # /Simulation/ODE/QuickStepIterations=N; dWorldStep runs without it):
 #   standing:  orcs-sim --duration 10 --seed 0 [-val quickN.val] --log REGEX --out standing-SOLVER.csv
 #   leg swing: orcs-sim -env scenarios/environments/leg_swing.xml -play Humanoid scenarios/motions/leg_swing.csv
-#                       --seed 0 [-val quickN.val] --log REGEX --out leg_swing-SOLVER.csv
+#                       --duration D --seed 0 [-val quickN.val] --log REGEX --out leg_swing-SOLVER.csv
 #   timing:    the same without --log/--out, --repeat times
 # with REGEX = /Sim/Humanoid/Middle/Head/Position|/Sim/Humanoid/(Right|Left)/(HipRoll|HipPitch|HipYaw|Knee)/JointAngle
 # The leg swing runs only when both scenario files exist and orcs-sim knows -play; otherwise the summary says it
-# was skipped. Set ORCS_LEG_SWING_DURATION (seconds) to pass --duration to the leg swing.
+# was skipped. D is the record's last keyframe time + 2 s, or ORCS_LEG_SWING_DURATION (seconds) when set.
 #
 # Joint angles are the logged JointAngle values, which carry the angle sensor's noise; every run uses seed 0 and
 # draws the same noise, so the noise cancels in the differences. Exit status: 0 when every run was made (an
@@ -68,9 +68,11 @@ scenarios = [("standing", ["--duration", "10"])]
 help_text = subprocess.run([sim, "--help"], capture_output=True, text=True).stdout
 skipped = []
 if os.path.exists(LEG_ENV) and os.path.exists(LEG_MOTION) and re.search(r"(^|\s)-+play\b", help_text):
-    args = ["-env", LEG_ENV, "-play", "Humanoid", LEG_MOTION]
-    if os.environ.get("ORCS_LEG_SWING_DURATION"):
-        args += ["--duration", os.environ["ORCS_LEG_SWING_DURATION"]]
+    # The record's length plus 2 s to come to rest, unless ORCS_LEG_SWING_DURATION says otherwise.
+    with open(LEG_MOTION) as f:
+        rows = [line for line in f if line.strip() and not line.lstrip().startswith("#")]
+    duration = os.environ.get("ORCS_LEG_SWING_DURATION") or f"{float(rows[-1].split(',')[0]) / 1000 + 2:g}"
+    args = ["-env", LEG_ENV, "-play", "Humanoid", LEG_MOTION, "--duration", duration]
     scenarios.append(("leg_swing", args))
 else:
     missing = [p for p in (LEG_ENV, LEG_MOTION) if not os.path.exists(p)]
