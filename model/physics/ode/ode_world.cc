@@ -80,6 +80,14 @@ void EnsureOdeReady() {
   (void)thread_data;
 }
 
+// dWorldQuickStep shuffles its constraints with ODE's one process-wide random generator (dRand), so a QuickStep
+// run would depend on what the process stepped before it. Each world keeps its own generator state and steps with
+// it under this lock, which keeps threads from interleaving their states (uncontended: one simulation per thread).
+std::mutex& QuickStepMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 void ToOde(const Eigen::Quaterniond& q, dQuaternion out) {
   out[0] = q.w();  // ODE stores quaternions as (w, x, y, z)
   out[1] = q.x();
@@ -206,6 +214,7 @@ class OdeWorld final : public PhysicsWorld {
   std::vector<MotorRows> motor_rows_;    // per model joint
   std::vector<CombinedJoint> combined_;  // per motorised hinge, of the running step
   std::vector<SavedBody> saved_bodies_;  // per model body
+  unsigned long quickstep_seed_ = 0;     // this world's state of ODE's generator (QuickStepMutex)
   std::vector<BodyFrictionParameters> body_friction_;  // per model body, for unknown materials
   std::vector<Contact> contacts_;                       // of the last step; capacity is kept across steps
   std::array<dContactGeom, PhysicsParameters::kMaxContactPoints> contact_buffer_{};  // dCollide's output
@@ -266,6 +275,7 @@ void OdeWorld::Build() {
   combined_.clear();
   combined_.reserve(model_->joint_count());
   saved_bodies_.resize(model_->body_count());
+  quickstep_seed_ = 0;
   for (int b = 0; b < model_->body_count(); ++b) BuildBody(b);
   for (int j = 0; j < model_->joint_count(); ++j) BuildJoint(j);
 }
@@ -411,7 +421,10 @@ StepStatus OdeWorld::Step(double dt, const PhysicsParameters& parameters) {
     int stepped = 0;
     if (parameters.solver == Solver::kQuickStep) {
       for (MotorRows& rows : motor_rows_) rows.has_last = false;  // StepExact predicts from its own steps only
+      const std::lock_guard<std::mutex> lock(QuickStepMutex());
+      dRandSetSeed(quickstep_seed_);
       stepped = dWorldQuickStep(world_, dt);
+      quickstep_seed_ = dRandGetSeed();
     } else {
       stepped = StepExact(dt, parameters.combine_motor_rows);
     }
