@@ -1,0 +1,723 @@
+#include "broker/broker.h"
+
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <iostream>
+#include <iterator>
+#include <stdexcept>
+#include <vector>
+#include <zmq_addon.hpp>
+
+#include "proto/envelope.h"
+
+namespace orcs::broker {
+namespace {
+
+using proto::kProtocolVersion;
+
+constexpr std::uint32_t kMaxCredit = 1024;          // most jobs one worker may hold (Ready.credit)
+constexpr std::int64_t kMaxMessageBytes = 1 << 29;  // 512 MiB: larger messages close the sender's connection
+constexpr int kMaxMessagesPerRound = 256;           // per socket and loop iteration, so neither side starves
+constexpr int kCloseLingerMs = 200;                 // how long DISCONNECTs may take to leave when closing
+constexpr std::size_t kMaxWarnedPeers = 4096;       // bound on the "logged once" set
+
+// "0x0080000001": a routing id for the log.
+std::string Hex(const std::string& bytes) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string text = "0x";
+  for (unsigned char c : bytes) {
+    text += kDigits[c >> 4];
+    text += kDigits[c & 0xf];
+  }
+  return text;
+}
+
+std::string Seconds(std::chrono::steady_clock::duration duration) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f s", std::chrono::duration<double>(duration).count());
+  return text;
+}
+
+double SecondsBetween(std::chrono::steady_clock::time_point from, std::chrono::steady_clock::time_point to) {
+  return std::chrono::duration<double>(to - from).count();
+}
+
+void Configure(zmq::socket_t& socket) {
+  socket.set(zmq::sockopt::router_mandatory, 1);  // a send to a vanished peer fails instead of vanishing
+  socket.set(zmq::sockopt::sndhwm, 0);            // never drop a message to a slow peer: results must arrive
+  socket.set(zmq::sockopt::rcvhwm, 0);            // never make a peer block on us
+  socket.set(zmq::sockopt::maxmsgsize, kMaxMessageBytes);
+  socket.set(zmq::sockopt::linger, kCloseLingerMs);
+}
+
+// Binds `socket` and returns the endpoint it got (with the real port when 0 was asked for).
+std::string Bind(zmq::socket_t& socket, const std::string& address, int port, const std::string& what) {
+  const std::string endpoint = "tcp://" + address + ":" + (port == 0 ? std::string("*") : std::to_string(port));
+  try {
+    socket.bind(endpoint);
+  } catch (const zmq::error_t& error) {
+    throw std::runtime_error("cannot bind the " + what + " socket to " + endpoint + ": " + error.what());
+  }
+  return socket.get(zmq::sockopt::last_endpoint);
+}
+
+void Validate(const BrokerOptions& options) {
+  if (options.bind_address.empty()) throw std::invalid_argument("empty bind address");
+  for (int port : {options.client_port, options.worker_port}) {
+    if (port < 0 || port > 65535) throw std::invalid_argument("port " + std::to_string(port) + " outside 0..65535");
+  }
+  if (options.heartbeat_interval.count() <= 0) throw std::invalid_argument("heartbeat interval must be positive");
+  if (options.liveness < 2) throw std::invalid_argument("liveness must be at least 2 heartbeat intervals");
+  if (options.max_worker_losses < 1) throw std::invalid_argument("max_worker_losses must be at least 1");
+}
+
+}  // namespace
+
+Broker::Broker(BrokerOptions options)
+    : options_((Validate(options), std::move(options))),
+      liveness_period_(options_.heartbeat_interval * options_.liveness),
+      context_(1),
+      client_socket_(context_, zmq::socket_type::router),
+      worker_socket_(context_, zmq::socket_type::router) {
+  Configure(client_socket_);
+  Configure(worker_socket_);
+  client_endpoint_ = Bind(client_socket_, options_.bind_address, options_.client_port, "client");
+  worker_endpoint_ = Bind(worker_socket_, options_.bind_address, options_.worker_port, "worker");
+  wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (wake_fd_ < 0) throw std::runtime_error("eventfd failed");
+}
+
+Broker::~Broker() {
+  client_socket_.close();
+  worker_socket_.close();
+  if (wake_fd_ >= 0) ::close(wake_fd_);
+}
+
+void Broker::Stop() {
+  stop_requested_.store(true);
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t written = ::write(wake_fd_, &one, sizeof one);
+}
+
+BrokerStats Broker::stats() const {
+  std::lock_guard lock(stats_mutex_);
+  return stats_;
+}
+
+void Broker::Run() {
+  if (ran_) throw std::logic_error("Broker::Run called twice");
+  ran_ = true;
+  now_ = Clock::now();
+  Clock::time_point next_tick = now_ + options_.heartbeat_interval;
+  zmq::pollitem_t items[] = {{worker_socket_.handle(), 0, ZMQ_POLLIN, 0},
+                             {client_socket_.handle(), 0, ZMQ_POLLIN, 0},
+                             {nullptr, wake_fd_, ZMQ_POLLIN, 0}};
+  PublishStats();
+  while (!stop_requested_.load()) {
+    const auto wait =
+        std::chrono::ceil<std::chrono::milliseconds>(std::max(next_tick - Clock::now(), Clock::duration{}));
+    try {
+      zmq::poll(items, 3, wait);
+    } catch (const zmq::error_t& error) {
+      if (error.num() != EINTR) throw;
+      continue;  // a signal (orcs-broker's SIGTERM handler calls Stop())
+    }
+    if (items[2].revents & ZMQ_POLLIN) {
+      std::uint64_t count = 0;
+      [[maybe_unused]] const ssize_t read = ::read(wake_fd_, &count, sizeof count);
+    }
+    if (stop_requested_.load()) break;
+    now_ = Clock::now();
+    if (items[0].revents & ZMQ_POLLIN) ReceiveWorkerMessages();
+    if (items[1].revents & ZMQ_POLLIN) ReceiveClientMessages();
+    now_ = Clock::now();
+    if (now_ >= next_tick) {
+      OnTick(now_);
+      next_tick = now_ + options_.heartbeat_interval;
+    }
+    Dispatch();
+    PublishStats();
+  }
+  SayGoodbye();
+  PublishStats();
+  client_socket_.close();
+  worker_socket_.close();
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Incoming traffic
+
+void Broker::ReceiveWorkerMessages() {
+  for (int i = 0; i < kMaxMessagesPerRound; ++i) {
+    frames_.clear();
+    if (!zmq::recv_multipart(worker_socket_, std::back_inserter(frames_), zmq::recv_flags::dontwait)) return;
+    const std::string worker = frames_[0].to_string();
+    if (frames_.size() != 2) {
+      DropMessage("worker", worker, "expected one frame, got " + std::to_string(frames_.size() - 1));
+      continue;
+    }
+    OnWorkerMessage(worker, frames_[1]);
+  }
+}
+
+void Broker::ReceiveClientMessages() {
+  for (int i = 0; i < kMaxMessagesPerRound; ++i) {
+    frames_.clear();
+    if (!zmq::recv_multipart(client_socket_, std::back_inserter(frames_), zmq::recv_flags::dontwait)) return;
+    const std::string client = frames_[0].to_string();
+    if (frames_.size() != 2) {
+      DropMessage("client", client, "expected one frame, got " + std::to_string(frames_.size() - 1));
+      continue;
+    }
+    OnClientMessage(client, frames_[1]);
+  }
+}
+
+void Broker::OnWorkerMessage(const std::string& worker, zmq::message_t& payload) {
+  const proto::EnvelopeCheck check = proto::ParseEnvelope(payload.data(), payload.size(), worker_in_);
+  if (check != proto::EnvelopeCheck::kOk) {
+    std::string why(proto::Describe(check));
+    if (check == proto::EnvelopeCheck::kWrongVersion) {
+      why +=
+          " " + std::to_string(worker_in_.protocol_version()) + " (expected " + std::to_string(kProtocolVersion) + ")";
+    }
+    DropMessage("worker", worker, why);
+    return;
+  }
+  auto known = workers_.find(worker);
+  if (known != workers_.end()) known->second.expiry = now_ + liveness_period_;
+  switch (worker_in_.body_case()) {
+    case v1::WorkerToBroker::kReady: OnWorkerReady(worker, worker_in_.ready()); break;
+    case v1::WorkerToBroker::kResult: OnWorkerResult(worker, *worker_in_.mutable_result()); break;
+    case v1::WorkerToBroker::kHeartbeat: OnWorkerHeartbeat(worker); break;
+    case v1::WorkerToBroker::kDisconnect: OnWorkerDisconnect(worker, worker_in_.disconnect()); break;
+    case v1::WorkerToBroker::BODY_NOT_SET: break;  // ParseEnvelope rejected it already
+  }
+}
+
+void Broker::OnWorkerReady(const std::string& worker, const v1::Ready& ready) {
+  if (ready.credit() < 1 || ready.credit() > kMaxCredit) {
+    DropMessage(
+        "worker", worker,
+        "READY with credit " + std::to_string(ready.credit()) + " (expected 1.." + std::to_string(kMaxCredit) + ")");
+    return;
+  }
+  auto [entry, inserted] = workers_.try_emplace(worker);
+  Worker& record = entry->second;
+  record.name = ready.worker_id().empty() ? Hex(worker) : ready.worker_id().substr(0, 200);
+  record.credit = ready.credit();
+  record.expiry = now_ + liveness_period_;
+  Log((inserted ? "worker " + record.name + " joined with credit "
+                : "worker " + record.name + " sent READY again; credit now ") +
+      std::to_string(record.credit));
+  MakeReady(worker, record);
+}
+
+void Broker::OnWorkerResult(const std::string& worker, v1::Result& result) {
+  if (result.protocol_version() != kProtocolVersion) {
+    DropMessage("worker", worker, "RESULT with protocol version " + std::to_string(result.protocol_version()));
+    return;
+  }
+  const JobKey key{result.batch_id(), result.job_id()};
+  auto holder = workers_.find(worker);
+  if (holder != workers_.end()) {
+    in_flight_count_ -= holder->second.holding.erase(key);
+    MakeReady(worker, holder->second);
+  }
+  auto batch = batches_.find(key.first);
+  JobRecord* record = nullptr;
+  if (batch != batches_.end()) {
+    auto job = batch->second.jobs.find(key.second);
+    if (job != batch->second.jobs.end()) record = &job->second;
+  }
+  if (record == nullptr || record->state == JobState::kFinished) {
+    // A duplicate (the job finished elsewhere) or a job whose client left: exactly once means dropping it.
+    ++counters_.results_ignored;
+  } else {
+    // The holder's own result, or a late one from a worker declared lost while the job is still pending.
+    if (record->state != JobState::kDispatched || record->worker != worker) ++counters_.late_results_accepted;
+    if (result.worker_id().empty() && holder != workers_.end()) result.set_worker_id(holder->second.name);
+    FinishJob(batch->second, *record, result);
+  }
+  if (holder == workers_.end()) {
+    v1::BrokerToWorker reply;
+    reply.set_protocol_version(kProtocolVersion);
+    reply.mutable_disconnect()->set_reason("unknown worker: connect again and send READY");
+    SendToWorker(worker, reply);
+  }
+}
+
+void Broker::OnWorkerHeartbeat(const std::string& worker) {
+  if (workers_.count(worker) != 0) return;  // its expiry moved on already
+  // After a broker restart, a worker's socket reconnects by itself and keeps heartbeating: tell it to start over.
+  v1::BrokerToWorker reply;
+  reply.set_protocol_version(kProtocolVersion);
+  reply.mutable_disconnect()->set_reason("unknown worker: connect again and send READY");
+  SendToWorker(worker, reply);
+}
+
+void Broker::OnWorkerDisconnect(const std::string& worker, const v1::Disconnect& disconnect) {
+  if (workers_.count(worker) == 0) return;
+  // A worker that says goodbye did not die of its jobs: they go back to the queue without counting a loss.
+  LoseWorker(worker, "left (" + disconnect.reason() + ")", false);
+}
+
+void Broker::OnClientMessage(const std::string& client, zmq::message_t& payload) {
+  const proto::EnvelopeCheck check = proto::ParseEnvelope(payload.data(), payload.size(), client_in_);
+  if (check != proto::EnvelopeCheck::kOk) {
+    std::string why(proto::Describe(check));
+    if (check == proto::EnvelopeCheck::kWrongVersion) {
+      why +=
+          " " + std::to_string(client_in_.protocol_version()) + " (expected " + std::to_string(kProtocolVersion) + ")";
+    }
+    DropMessage("client", client, why);
+    return;
+  }
+  auto known = clients_.find(client);
+  if (known != clients_.end()) known->second.expiry = now_ + liveness_period_;
+  switch (client_in_.body_case()) {
+    case v1::ClientToBroker::kSubmit: OnClientSubmit(client, *client_in_.mutable_submit()); break;
+    case v1::ClientToBroker::kHeartbeat: OnClientHeartbeat(client); break;
+    case v1::ClientToBroker::kCancel: OnClientCancel(client, client_in_.cancel()); break;
+    case v1::ClientToBroker::kDisconnect: OnClientDisconnect(client, client_in_.disconnect()); break;
+    case v1::ClientToBroker::BODY_NOT_SET: break;  // ParseEnvelope rejected it already
+  }
+}
+
+namespace {
+
+// What is wrong with a SUBMIT, or "" when nothing is.
+std::string CheckSubmit(const v1::Submit& submit) {
+  if (submit.batch_id().empty()) return "empty batch_id";
+  if (submit.client_id().empty()) return "empty client_id";
+  std::unordered_set<std::string_view> ids;
+  for (int i = 0; i < submit.jobs_size(); ++i) {
+    const v1::Job& job = submit.jobs(i);
+    const std::string where = "job " + std::to_string(i) + " (id '" + job.job_id() + "'): ";
+    if (job.job_id().empty()) return "job " + std::to_string(i) + ": empty job_id";
+    if (!ids.insert(job.job_id()).second) return where + "job_id repeated within the SUBMIT";
+    if (!job.batch_id().empty() && job.batch_id() != submit.batch_id()) {
+      return where + "batch_id '" + job.batch_id() + "' differs from the SUBMIT's '" + submit.batch_id() + "'";
+    }
+    if (job.protocol_version() != kProtocolVersion) {
+      return where + "protocol_version " + std::to_string(job.protocol_version()) + " (expected " +
+             std::to_string(kProtocolVersion) + ")";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
+  const std::string& batch_id = submit.batch_id();
+  std::string problem = CheckSubmit(submit);
+  auto batch_entry = batches_.find(batch_id);
+  auto client_entry = clients_.find(client);
+  if (problem.empty() && batch_entry != batches_.end() && batch_entry->second.client_id != submit.client_id()) {
+    problem = "batch '" + batch_id + "' belongs to another client ('" + batch_entry->second.client_id + "')";
+  }
+  if (problem.empty() && client_entry != clients_.end() && client_entry->second.client_id != submit.client_id()) {
+    problem = "this connection submitted as client '" + client_entry->second.client_id + "' before";
+  }
+  if (!problem.empty()) {
+    ++counters_.submits_rejected;
+    Log("rejected a SUBMIT from client " + Hex(client) + ": " + problem);
+    v1::BrokerToClient reply;
+    reply.set_protocol_version(kProtocolVersion);
+    reply.mutable_error()->set_batch_id(batch_id);
+    reply.mutable_error()->set_message(problem);
+    SendToClient(client, reply);
+    return;
+  }
+
+  if (client_entry == clients_.end()) {
+    client_entry = clients_.try_emplace(client).first;
+    client_entry->second.client_id = submit.client_id();
+    client_entry->second.expiry = now_ + liveness_period_;
+  }
+  if (batch_entry == batches_.end()) {
+    batch_entry = batches_.try_emplace(batch_id).first;
+    batch_entry->second.client = client;
+    batch_entry->second.client_id = submit.client_id();
+    Log("client " + submit.client_id() + " opened batch " + batch_id);
+  } else if (batch_entry->second.client != client) {
+    // The same client on a new connection (it reconnected): results go to the new one from now on.
+    auto previous = clients_.find(batch_entry->second.client);
+    if (previous != clients_.end()) previous->second.batches.erase(batch_id);
+    batch_entry->second.client = client;
+    Log("batch " + batch_id + " of client " + submit.client_id() + " moved to its new connection");
+  }
+  client_entry->second.batches.insert(batch_id);
+
+  Batch& batch = batch_entry->second;
+  const int job_count = submit.jobs_size();
+  for (int i = 0; i < job_count; ++i) {
+    v1::Job& job = *submit.mutable_jobs(i);
+    auto [entry, inserted] = batch.jobs.try_emplace(job.job_id());
+    JobRecord& record = entry->second;
+    // A job already pending stays as it is; a finished one submitted again runs again (its client asks because it
+    // never saw the result, e.g. it went to a connection that has since closed).
+    if (!inserted && record.state != JobState::kFinished) continue;
+    record.job = std::move(job);
+    record.job.set_batch_id(batch_id);
+    record.job.set_attempt(0);
+    record.losses = 0;
+    record.dispatches = 0;
+    record.lost_by.clear();
+    record.accepted_at = now_;
+    Enqueue(batch_id, record, false);
+    ++counters_.jobs_accepted;
+  }
+  v1::BrokerToClient reply;
+  reply.set_protocol_version(kProtocolVersion);
+  v1::Accepted& accepted = *reply.mutable_accepted();
+  accepted.set_batch_id(batch_id);
+  accepted.set_job_count(static_cast<std::uint32_t>(job_count));
+  accepted.set_queued(queued_count_);
+  SendToClient(client, reply);
+}
+
+void Broker::OnClientHeartbeat(const std::string& client) {
+  if (clients_.count(client) != 0) return;  // its expiry moved on already
+  // After a broker restart a client's socket reconnects by itself: tell it to start over and submit again.
+  v1::BrokerToClient reply;
+  reply.set_protocol_version(kProtocolVersion);
+  reply.mutable_disconnect()->set_reason("unknown client: connect again and submit the outstanding jobs");
+  SendToClient(client, reply);
+}
+
+void Broker::OnClientCancel(const std::string& client, const v1::Cancel& cancel) {
+  auto batch = batches_.find(cancel.batch_id());
+  if (batch == batches_.end() || batch->second.client != client) return;
+  auto owner = clients_.find(client);
+  if (owner != clients_.end()) owner->second.batches.erase(cancel.batch_id());
+  Log("client " + batch->second.client_id + " cancelled batch " + cancel.batch_id());
+  DropBatch(cancel.batch_id());
+}
+
+void Broker::OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect) {
+  if (clients_.count(client) == 0) return;
+  DropClient(client, "left (" + disconnect.reason() + ")", false);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The clock
+
+void Broker::OnTick(Clock::time_point now) {
+  SendHeartbeats();
+  PurgeLostWorkers(now);
+  PurgeLostClients(now);
+}
+
+void Broker::SendHeartbeats() {
+  std::vector<std::string> gone_workers;
+  std::vector<std::string> gone_clients;
+  v1::BrokerToWorker to_worker;
+  to_worker.set_protocol_version(kProtocolVersion);
+  to_worker.mutable_heartbeat();
+  for (const auto& [worker, record] : workers_) {
+    if (!SendToWorker(worker, to_worker)) gone_workers.push_back(worker);
+  }
+  v1::BrokerToClient to_client;
+  to_client.set_protocol_version(kProtocolVersion);
+  to_client.mutable_heartbeat();
+  for (const auto& [client, record] : clients_) {
+    if (!SendToClient(client, to_client)) gone_clients.push_back(client);
+  }
+  for (const std::string& worker : gone_workers) LoseWorker(worker, "connection closed", true);
+  for (const std::string& client : gone_clients) DropClient(client, "connection closed", true);
+}
+
+void Broker::PurgeLostWorkers(Clock::time_point now) {
+  std::vector<std::string> silent;
+  for (const auto& [worker, record] : workers_) {
+    if (record.expiry <= now) silent.push_back(worker);
+  }
+  for (const std::string& worker : silent) LoseWorker(worker, "silent for " + Seconds(liveness_period_), true);
+}
+
+void Broker::PurgeLostClients(Clock::time_point now) {
+  std::vector<std::string> silent;
+  for (const auto& [client, record] : clients_) {
+    if (record.expiry <= now) silent.push_back(client);
+  }
+  for (const std::string& client : silent) DropClient(client, "silent for " + Seconds(liveness_period_), true);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Moving jobs
+
+void Broker::Dispatch() {
+  v1::BrokerToWorker message;
+  message.set_protocol_version(kProtocolVersion);
+  while (true) {
+    while (!ready_workers_.empty()) {  // skip workers lost since they were listed
+      auto worker = workers_.find(ready_workers_.front());
+      if (worker != workers_.end() && worker->second.in_ready_list) break;
+      ready_workers_.pop_front();
+    }
+    if (ready_workers_.empty()) return;
+    JobKey key;
+    if (!PopQueued(key)) return;
+    const std::string worker_id = std::move(ready_workers_.front());
+    ready_workers_.pop_front();
+    Worker& worker = workers_.at(worker_id);
+    worker.in_ready_list = false;
+    Batch& batch = batches_.at(key.first);
+    JobRecord& record = batch.jobs.at(key.second);
+    record.job.set_attempt(static_cast<std::uint32_t>(record.losses));
+    *message.mutable_job() = record.job;
+    if (!SendToWorker(worker_id, message)) {
+      Enqueue(key.first, record, true);  // never reached the worker: no loss for the job
+      LoseWorker(worker_id, "connection closed", true);
+      continue;
+    }
+    SetState(record, JobState::kDispatched);
+    record.worker = worker_id;
+    ++record.dispatches;
+    record.dispatched_at = now_;
+    if (worker.holding.insert(std::move(key)).second) ++in_flight_count_;
+    ++counters_.jobs_dispatched;
+    MakeReady(worker_id, worker);  // to the back of the list: the least recently served worker goes first
+  }
+}
+
+bool Broker::PopQueued(JobKey& key) {
+  while (!queue_.empty()) {
+    QueueEntry entry = std::move(queue_.front());
+    queue_.pop_front();
+    auto batch = batches_.find(entry.batch_id);
+    if (batch == batches_.end()) continue;  // its client left
+    auto job = batch->second.jobs.find(entry.job_id);
+    if (job == batch->second.jobs.end()) continue;
+    const JobRecord& record = job->second;
+    if (record.state != JobState::kQueued || record.ticket != entry.ticket) continue;  // stale entry
+    key = {std::move(entry.batch_id), std::move(entry.job_id)};
+    return true;
+  }
+  return false;
+}
+
+void Broker::Enqueue(const std::string& batch_id, JobRecord& record, bool at_front) {
+  SetState(record, JobState::kQueued);
+  record.worker.clear();
+  record.ticket = next_ticket_++;
+  QueueEntry entry{batch_id, record.job.job_id(), record.ticket};
+  if (at_front) {
+    queue_.push_front(std::move(entry));
+  } else {
+    queue_.push_back(std::move(entry));
+  }
+}
+
+void Broker::SetState(JobRecord& record, JobState state) {
+  if (record.state == JobState::kQueued) --queued_count_;
+  if (state == JobState::kQueued) ++queued_count_;
+  record.state = state;
+}
+
+void Broker::MakeReady(const std::string& worker_id, Worker& worker) {
+  if (worker.in_ready_list || worker.holding.size() >= worker.credit) return;
+  ready_workers_.push_back(worker_id);
+  worker.in_ready_list = true;
+}
+
+void Broker::LoseWorker(const std::string& worker_id, const std::string& reason, bool counts_as_loss) {
+  auto entry = workers_.find(worker_id);
+  if (entry == workers_.end()) return;
+  const Worker worker = std::move(entry->second);
+  workers_.erase(entry);
+  in_flight_count_ -= worker.holding.size();
+  if (counts_as_loss) ++counters_.workers_lost;
+  int requeued = 0;
+  int failed = 0;
+  // Back to the front of the queue, keeping their order among themselves.
+  for (auto key = worker.holding.rbegin(); key != worker.holding.rend(); ++key) {
+    auto batch = batches_.find(key->first);
+    if (batch == batches_.end()) continue;
+    auto job = batch->second.jobs.find(key->second);
+    if (job == batch->second.jobs.end()) continue;
+    JobRecord& record = job->second;
+    if (record.state != JobState::kDispatched || record.worker != worker_id) continue;
+    if (counts_as_loss) {
+      ++record.losses;
+      record.lost_by += (record.lost_by.empty() ? "" : ", ") + worker.name;
+    }
+    if (record.losses >= options_.max_worker_losses) {
+      FailJob(batch->second, record, v1::Result::WORKER_LOST,
+              "lost " + std::to_string(record.losses) + " workers while running (" + record.lost_by +
+                  "); the last one: " + reason);
+      ++failed;
+    } else {
+      Enqueue(key->first, record, true);
+      ++counters_.jobs_requeued;
+      ++requeued;
+    }
+  }
+  std::string line = "worker " + worker.name + (counts_as_loss ? " lost: " : " ") + reason;
+  if (requeued > 0) line += "; " + std::to_string(requeued) + " jobs back to the queue";
+  if (failed > 0) line += "; " + std::to_string(failed) + " jobs failed with WORKER_LOST";
+  Log(line);
+}
+
+void Broker::DropClient(const std::string& client, const std::string& reason, bool lost) {
+  auto entry = clients_.find(client);
+  if (entry == clients_.end()) return;
+  const Client record = std::move(entry->second);
+  clients_.erase(entry);
+  std::uint64_t pending = 0;
+  for (const std::string& batch_id : record.batches) {
+    auto batch = batches_.find(batch_id);
+    if (batch == batches_.end() || batch->second.client != client) continue;
+    for (const auto& [job_id, job] : batch->second.jobs) pending += job.state != JobState::kFinished ? 1 : 0;
+    DropBatch(batch_id);
+  }
+  if (!lost) {
+    Log("client " + record.client_id + " " + reason +
+        (pending > 0 ? "; dropped its " + std::to_string(pending) + " pending jobs" : ""));
+  } else if (pending > 0) {
+    ++counters_.clients_lost;
+    Log("client " + record.client_id + " lost (" + reason + "); dropped its " + std::to_string(pending) +
+        " pending jobs");
+  } else {
+    // A client stops heartbeating once it has every result: forgetting it is routine.
+    Log("client " + record.client_id + " forgotten (" + reason + ", nothing pending)");
+  }
+}
+
+void Broker::DropBatch(const std::string& batch_id) {
+  auto batch = batches_.find(batch_id);
+  if (batch == batches_.end()) return;
+  for (auto& [job_id, record] : batch->second.jobs) SetState(record, JobState::kFinished);
+  batches_.erase(batch);
+  // The queue entries of the batch are now stale; compact the queue when they dominate it.
+  if (queued_count_ == 0) {
+    queue_.clear();
+  } else if (queue_.size() > 2 * queued_count_ + 1024) {
+    std::deque<QueueEntry> live;
+    for (QueueEntry& entry : queue_) {
+      auto owner = batches_.find(entry.batch_id);
+      if (owner == batches_.end()) continue;
+      auto job = owner->second.jobs.find(entry.job_id);
+      if (job == owner->second.jobs.end() || job->second.state != JobState::kQueued ||
+          job->second.ticket != entry.ticket) {
+        continue;
+      }
+      live.push_back(std::move(entry));
+    }
+    queue_ = std::move(live);
+  }
+}
+
+void Broker::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) {
+  result.set_protocol_version(kProtocolVersion);
+  result.set_batch_id(record.job.batch_id());
+  result.set_job_id(record.job.job_id());
+  if (result.status() == v1::Result::STATUS_UNSPECIFIED) {
+    result.set_status(v1::Result::INTERNAL_ERROR);
+    if (result.message().empty()) result.set_message("the worker sent a result without a status");
+  }
+  result.set_attempts(static_cast<std::uint32_t>(record.dispatches));
+  result.mutable_timings()->set_queued_seconds(
+      SecondsBetween(record.accepted_at, record.dispatches > 0 ? record.dispatched_at : now_));
+  SetState(record, JobState::kFinished);
+  record.worker.clear();
+  const std::string job_id = record.job.job_id();
+  record.job = v1::Job();  // free the scenario; a resubmission brings it back
+  record.job.set_job_id(job_id);
+
+  v1::BrokerToClient message;
+  message.set_protocol_version(kProtocolVersion);
+  message.mutable_result()->Swap(&result);
+  if (SendToClient(batch.client, message)) ++counters_.results_delivered;
+}
+
+void Broker::FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message) {
+  v1::Result result;
+  result.set_status(status);
+  result.set_message(message);
+  auto last = record.lost_by.rfind(", ");
+  result.set_worker_id(last == std::string::npos ? record.lost_by : record.lost_by.substr(last + 2));
+  FinishJob(batch, record, result);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Outgoing traffic
+
+bool Broker::Send(zmq::socket_t& socket, const std::string& peer, const google::protobuf::Message& message) {
+  out_.clear();
+  message.SerializeToString(&out_);
+  try {
+    socket.send(zmq::buffer(peer), zmq::send_flags::sndmore);
+    socket.send(zmq::buffer(out_), zmq::send_flags::none);
+  } catch (const zmq::error_t& error) {
+    if (error.num() == EHOSTUNREACH) return false;  // the peer's connection is gone
+    throw;
+  }
+  return true;
+}
+
+bool Broker::SendToWorker(const std::string& worker, const v1::BrokerToWorker& message) {
+  return Send(worker_socket_, worker, message);
+}
+
+bool Broker::SendToClient(const std::string& client, const v1::BrokerToClient& message) {
+  return Send(client_socket_, client, message);
+}
+
+void Broker::SayGoodbye() {
+  v1::BrokerToWorker to_worker;
+  to_worker.set_protocol_version(kProtocolVersion);
+  to_worker.mutable_disconnect()->set_reason("broker shutting down");
+  for (const auto& [worker, record] : workers_) SendToWorker(worker, to_worker);
+  v1::BrokerToClient to_client;
+  to_client.set_protocol_version(kProtocolVersion);
+  to_client.mutable_disconnect()->set_reason("broker shutting down");
+  for (const auto& [client, record] : clients_) SendToClient(client, to_client);
+  Log("stopped: told " + std::to_string(workers_.size()) + " workers and " + std::to_string(clients_.size()) +
+      " clients");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Bookkeeping
+
+void Broker::DropMessage(std::string_view side, const std::string& peer, const std::string& why) {
+  ++counters_.messages_dropped;
+  if (warned_peers_.size() >= kMaxWarnedPeers) warned_peers_.clear();
+  if (!warned_peers_.insert(std::string(side) + peer).second) return;
+  std::string name = Hex(peer);
+  if (side == "worker") name = WorkerName(peer);
+  Log("dropped a message from " + std::string(side) + " " + name + ": " + why +
+      " (further bad messages from this peer are dropped without a log line)");
+}
+
+std::string Broker::WorkerName(const std::string& worker) const {
+  auto entry = workers_.find(worker);
+  return entry == workers_.end() ? Hex(worker) : entry->second.name;
+}
+
+void Broker::Log(const std::string& line) const {
+  if (options_.log) {
+    options_.log(line);
+  } else {
+    std::cerr << "orcs-broker: " << line << std::endl;
+  }
+}
+
+void Broker::PublishStats() {
+  BrokerStats snapshot = counters_;
+  snapshot.workers = static_cast<int>(workers_.size());
+  snapshot.clients = static_cast<int>(clients_.size());
+  snapshot.batches = static_cast<int>(batches_.size());
+  snapshot.queued = queued_count_;
+  snapshot.in_flight = in_flight_count_;
+  std::lock_guard lock(stats_mutex_);
+  stats_ = snapshot;
+}
+
+}  // namespace orcs::broker

@@ -1,0 +1,206 @@
+// The broker: takes batches of jobs from clients, hands them to workers with free credit and sends each result
+// back to the client that submitted the job (docs/protocol.md). Knows nothing of physics: it links only the wire
+// schema, ZeroMQ and protobuf, so it runs on a head node with no ODE.
+//
+// One thread runs the broker (Run() until Stop()), so tests and `orcs-batch run` embed it in-process and
+// `orcs-broker` runs it as a program. It is a state machine of small handlers, one per incoming message kind
+// (OnWorkerReady, OnWorkerResult, ..., OnClientSubmit, ...) and one per clock tick (OnTick: heartbeats, lost
+// workers, lost clients); Dispatch() then hands queued jobs to workers.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <list>
+#include <mutex>
+#include <set>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+#include <zmq.hpp>
+
+#include "orcs/v1/broker.pb.h"
+
+namespace orcs::broker {
+
+/// How a broker binds and paces itself.
+struct BrokerOptions {
+  /// Interface both sockets bind to: an IPv4 address, "*" for every interface, or an interface name.
+  std::string bind_address = "127.0.0.1";
+  int client_port = 0;  ///< TCP port of the client socket; 0 = an ephemeral port chosen by the system
+  int worker_port = 0;  ///< TCP port of the worker socket; 0 = an ephemeral port chosen by the system
+  /// How often the broker sends heartbeats and checks for silent peers.
+  std::chrono::milliseconds heartbeat_interval{1000};
+  /// A worker or client silent for this many heartbeat intervals is declared lost.
+  int liveness = 5;
+  /// A job whose worker was lost this many times fails with status WORKER_LOST.
+  int max_worker_losses = 3;
+  /// Where log lines (one event each, no newline) go; empty = stderr, prefixed "orcs-broker: ".
+  std::function<void(std::string_view)> log;
+};
+
+/// Counters and gauges of a running broker, for tests and monitoring. Counters only grow.
+struct BrokerStats {
+  int workers = 0;                          ///< registered workers now
+  int clients = 0;                          ///< registered clients now
+  int batches = 0;                          ///< live batches now
+  std::uint64_t queued = 0;                 ///< jobs waiting for a worker now
+  std::uint64_t in_flight = 0;              ///< jobs held by workers now
+  std::uint64_t jobs_accepted = 0;          ///< jobs accepted from SUBMITs (a resubmitted finished job counts again)
+  std::uint64_t jobs_dispatched = 0;        ///< JOB messages sent to workers
+  std::uint64_t jobs_requeued = 0;          ///< jobs put back at the front of the queue after their worker left
+  std::uint64_t results_delivered = 0;      ///< RESULT messages sent to clients (WORKER_LOST ones included)
+  std::uint64_t results_ignored = 0;        ///< worker results for finished or unknown jobs, dropped
+  std::uint64_t late_results_accepted = 0;  ///< results from a worker other than the job's current holder, accepted
+  std::uint64_t workers_lost = 0;           ///< workers declared lost (silent or connection closed)
+  std::uint64_t clients_lost = 0;           ///< clients with pending jobs declared lost (silent or connection closed)
+  std::uint64_t submits_rejected = 0;       ///< SUBMITs answered with ERROR
+  std::uint64_t messages_dropped = 0;       ///< incoming messages dropped as malformed, foreign or illegal
+};
+
+/// The broker. Construct (binds both sockets, throws std::runtime_error naming the endpoint when it cannot),
+/// call Run() on one thread, Stop() from any thread.
+class Broker {
+ public:
+  explicit Broker(BrokerOptions options);
+  ~Broker();
+  Broker(const Broker&) = delete;
+  Broker& operator=(const Broker&) = delete;
+
+  /// The endpoint clients connect to, e.g. "tcp://127.0.0.1:5555" (the actual port when 0 was asked for).
+  const std::string& client_endpoint() const { return client_endpoint_; }
+  /// The endpoint workers connect to.
+  const std::string& worker_endpoint() const { return worker_endpoint_; }
+
+  /// Serves until Stop(); then tells every worker and client it is leaving (DISCONNECT) and closes its sockets.
+  /// Call once.
+  void Run();
+  /// Makes Run() return soon. Thread-safe and async-signal-safe; may be called before Run().
+  void Stop();
+
+  /// A snapshot of the counters, taken at the end of the broker's last loop iteration. Thread-safe.
+  BrokerStats stats() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  /// A job's place in the broker: just made, waiting, held by a worker, or answered.
+  enum class JobState { kNew, kQueued, kDispatched, kFinished };
+  /// (batch id, job id): names a job across batches.
+  using JobKey = std::pair<std::string, std::string>;
+
+  struct JobRecord {
+    v1::Job job;  ///< as accepted (cleared once finished, to free its memory)
+    JobState state = JobState::kNew;
+    std::string worker;               ///< routing id of the holding worker while kDispatched
+    std::uint64_t ticket = 0;         ///< matches this job's live queue entry while kQueued
+    int losses = 0;                   ///< workers lost while holding it since it was accepted
+    int dispatches = 0;               ///< JOB messages sent for it since it was accepted
+    std::string lost_by;              ///< names of the workers lost while holding it, ", "-separated
+    Clock::time_point accepted_at;    ///< when the SUBMIT holding it was accepted
+    Clock::time_point dispatched_at;  ///< when it was last sent to a worker
+  };
+  struct Batch {
+    std::string client;     ///< routing id of the owning client's connection
+    std::string client_id;  ///< the owning client's name (Submit.client_id), stable across its reconnections
+    std::unordered_map<std::string, JobRecord> jobs;  ///< by job id
+  };
+  struct Worker {
+    std::string name;            ///< Ready.worker_id (or the routing id in hex)
+    std::uint32_t credit = 0;    ///< Ready.credit: how many jobs it may hold
+    std::set<JobKey> holding;    ///< jobs sent to it and not answered
+    bool in_ready_list = false;  ///< whether ready_workers_ lists it
+    Clock::time_point expiry;    ///< declared lost when nothing arrived from it by then
+  };
+  struct Client {
+    std::string client_id;                    ///< Submit.client_id of its first SUBMIT
+    std::unordered_set<std::string> batches;  ///< batch ids it owns
+    Clock::time_point expiry;                 ///< declared lost when nothing arrived from it by then
+  };
+  struct QueueEntry {
+    std::string batch_id;
+    std::string job_id;
+    std::uint64_t ticket = 0;  ///< stale unless equal to the job's current ticket
+  };
+
+  // Incoming traffic.
+  void ReceiveWorkerMessages();
+  void ReceiveClientMessages();
+  void OnWorkerMessage(const std::string& worker, zmq::message_t& payload);
+  void OnWorkerReady(const std::string& worker, const v1::Ready& ready);
+  void OnWorkerResult(const std::string& worker, v1::Result& result);
+  void OnWorkerHeartbeat(const std::string& worker);
+  void OnWorkerDisconnect(const std::string& worker, const v1::Disconnect& disconnect);
+  void OnClientMessage(const std::string& client, zmq::message_t& payload);
+  void OnClientSubmit(const std::string& client, v1::Submit& submit);
+  void OnClientHeartbeat(const std::string& client);
+  void OnClientCancel(const std::string& client, const v1::Cancel& cancel);
+  void OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect);
+
+  // The clock.
+  void OnTick(Clock::time_point now);
+  void SendHeartbeats();
+  void PurgeLostWorkers(Clock::time_point now);
+  void PurgeLostClients(Clock::time_point now);
+
+  // Moving jobs.
+  void Dispatch();
+  bool PopQueued(JobKey& key);
+  void Enqueue(const std::string& batch_id, JobRecord& record, bool at_front);
+  void SetState(JobRecord& record, JobState state);  // keeps queued_count_ right
+  void LoseWorker(const std::string& worker, const std::string& reason, bool counts_as_loss);
+  /// Forgets a client and its batches. `lost`: it vanished (silent, connection closed) rather than said goodbye.
+  void DropClient(const std::string& client, const std::string& reason, bool lost);
+  void DropBatch(const std::string& batch_id);
+  void FinishJob(Batch& batch, JobRecord& record, v1::Result& result);
+  void FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message);
+  void MakeReady(const std::string& worker_id, Worker& worker);
+
+  // Outgoing traffic; false when the peer's connection is gone.
+  bool SendToWorker(const std::string& worker, const v1::BrokerToWorker& message);
+  bool SendToClient(const std::string& client, const v1::BrokerToClient& message);
+  bool Send(zmq::socket_t& socket, const std::string& peer, const google::protobuf::Message& message);
+  void SayGoodbye();
+
+  void DropMessage(std::string_view side, const std::string& peer, const std::string& why);
+  void Log(const std::string& line) const;
+  std::string WorkerName(const std::string& worker) const;
+  void PublishStats();
+
+  const BrokerOptions options_;
+  const Clock::duration liveness_period_;  ///< heartbeat_interval × liveness
+  zmq::context_t context_;
+  zmq::socket_t client_socket_;
+  zmq::socket_t worker_socket_;
+  std::string client_endpoint_;
+  std::string worker_endpoint_;
+  int wake_fd_ = -1;  ///< eventfd Stop() writes to, so that a blocked poll returns
+  std::atomic<bool> stop_requested_{false};
+  bool ran_ = false;
+
+  std::unordered_map<std::string, Worker> workers_;  ///< by routing id
+  std::unordered_map<std::string, Client> clients_;  ///< by routing id
+  std::unordered_map<std::string, Batch> batches_;   ///< by batch id
+  std::deque<QueueEntry> queue_;                     ///< jobs waiting, front first (may hold stale entries)
+  std::list<std::string> ready_workers_;             ///< workers with free credit, least recently served first
+  std::uint64_t next_ticket_ = 1;
+  std::uint64_t queued_count_ = 0;                ///< jobs in state kQueued
+  std::uint64_t in_flight_count_ = 0;             ///< the sum of the workers' holding sets' sizes
+  Clock::time_point now_;                         ///< the time of the current loop iteration
+  std::unordered_set<std::string> warned_peers_;  ///< peers whose bad message was logged already
+  BrokerStats counters_;                          ///< the broker thread's live counters
+
+  v1::WorkerToBroker worker_in_;        ///< reused for parsing
+  v1::ClientToBroker client_in_;        ///< reused for parsing
+  std::string out_;                     ///< reused for serialising
+  std::vector<zmq::message_t> frames_;  ///< reused for receiving
+
+  mutable std::mutex stats_mutex_;
+  BrokerStats stats_;  ///< the last published snapshot (guarded by stats_mutex_)
+};
+
+}  // namespace orcs::broker

@@ -1,0 +1,47 @@
+#include "broker/broker_options.h"
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <iostream>
+
+namespace orcs::broker {
+
+ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
+  ParsedBrokerOptions parsed;
+  BrokerOptions& o = parsed.options;
+  o.client_port = 5555;
+  o.worker_port = 5556;
+  double heartbeat_seconds = 1.0;
+  CLI::App app{"orcs-broker: hands batches of jobs from clients to workers (docs/protocol.md)", "orcs-broker"};
+  app.add_option("--bind", o.bind_address,
+                 "interface to listen on: an IPv4 address, '*' for all, or an interface name (default 127.0.0.1)");
+  app.add_option("--client-port", o.client_port, "TCP port clients connect to; 0 = any free port (default 5555)")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--worker-port", o.worker_port, "TCP port workers connect to; 0 = any free port (default 5556)")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--heartbeat", heartbeat_seconds, "seconds between heartbeats (default 1)")
+      ->check(CLI::Range(0.001, 3600.0));
+  app.add_option("--liveness", o.liveness, "heartbeats a peer may miss before it is declared lost (default 5)")
+      ->check(CLI::Range(2, 1000));
+  app.add_option("--max-worker-losses", o.max_worker_losses,
+                 "workers a job may lose before it fails with WORKER_LOST (default 3)")
+      ->check(CLI::Range(1, 1000));
+  try {
+    app.parse(argc, argv);
+    if (o.bind_address.empty()) throw CLI::ValidationError("--bind", "needs an address");
+    if (o.client_port != 0 && o.client_port == o.worker_port) {
+      throw CLI::ValidationError("--worker-port", "must differ from --client-port");
+    }
+    o.heartbeat_interval = std::chrono::milliseconds(std::lround(heartbeat_seconds * 1000.0));
+    if (o.heartbeat_interval.count() < 1) o.heartbeat_interval = std::chrono::milliseconds(1);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    parsed.exit_code = kExitOk;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "orcs-broker: " << error.what() << " (see orcs-broker --help)\n";
+    parsed.exit_code = kExitBadInput;
+  }
+  return parsed;
+}
+
+}  // namespace orcs::broker

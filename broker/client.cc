@@ -1,0 +1,427 @@
+#include "broker/client.h"
+
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <iostream>
+#include <utility>
+
+#include "proto/envelope.h"
+
+namespace orcs::broker {
+namespace {
+
+using proto::kProtocolVersion;
+
+constexpr int kGoodbyeLingerMs = 200;  // how long a DISCONNECT may take to leave at destruction
+
+// "<hostname>-<pid>-<n>": unique among the processes alive at the same time, without clocks or randomness.
+std::string NewClientId() {
+  static std::atomic<unsigned> counter{0};
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "client");
+  return std::string(host) + "-" + std::to_string(::getpid()) + "-" + std::to_string(++counter);
+}
+
+BatchClientOptions Checked(BatchClientOptions options) {
+  if (options.endpoint.empty()) throw std::invalid_argument("BatchClient: empty broker endpoint");
+  if (options.heartbeat_interval.count() <= 0)
+    throw std::invalid_argument("BatchClient: heartbeat interval must be positive");
+  if (options.liveness < 2) throw std::invalid_argument("BatchClient: liveness must be at least 2");
+  if (options.connect_timeout.count() <= 0)
+    throw std::invalid_argument("BatchClient: connect timeout must be positive");
+  if (options.reconnect_timeout.count() <= 0) {
+    throw std::invalid_argument("BatchClient: reconnect timeout must be positive");
+  }
+  if (options.max_submit_bytes == 0) throw std::invalid_argument("BatchClient: max_submit_bytes must be positive");
+  return options;
+}
+
+// "3 s", "0.5 s".
+std::string Seconds(std::chrono::steady_clock::duration duration) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g s", std::chrono::duration<double>(duration).count());
+  return text;
+}
+
+}  // namespace
+
+BatchClient::BatchClient(BatchClientOptions options)
+    : options_(Checked(std::move(options))),
+      client_id_(NewClientId()),
+      batch_id_(options_.batch_id.empty() ? client_id_ : options_.batch_id),
+      context_(1) {
+  try {  // a malformed endpoint fails here, at once, rather than at the first Submit()
+    zmq::socket_t probe(context_, zmq::socket_type::dealer);
+    probe.set(zmq::sockopt::linger, 0);
+    probe.connect(options_.endpoint);
+  } catch (const zmq::error_t& error) {
+    throw std::invalid_argument("BatchClient: cannot connect to '" + options_.endpoint + "': " + error.what());
+  }
+  wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (wake_fd_ < 0) throw std::runtime_error("BatchClient: eventfd failed");
+  io_thread_ = std::thread([this] { IoLoop(); });
+}
+
+BatchClient::~BatchClient() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();  // the I/O thread waits on it after a failure
+  Wake();
+  io_thread_.join();
+  ::close(wake_fd_);
+}
+
+void BatchClient::Submit(std::vector<v1::Job> jobs) {
+  std::unordered_set<std::string_view> ids;
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const std::string& id = jobs[i].job_id();
+    if (id.empty()) throw std::invalid_argument("job " + std::to_string(i) + ": empty job_id");
+    if (!ids.insert(id).second)
+      throw std::invalid_argument("job " + std::to_string(i) + ": job_id '" + id + "' repeated");
+  }
+  for (v1::Job& job : jobs) {
+    job.set_batch_id(batch_id_);
+    job.set_protocol_version(kProtocolVersion);
+  }
+  std::unique_lock lock(mutex_);
+  if (!error_.empty()) throw BatchClientError(error_);
+  for (const v1::Job& job : jobs) {
+    if (job_ids_.count(job.job_id()) != 0) {
+      throw std::invalid_argument("job_id '" + job.job_id() + "' was submitted to batch " + batch_id_ + " before");
+    }
+  }
+  for (const v1::Job& job : jobs) job_ids_.insert(job.job_id());
+  outstanding_count_ += jobs.size();
+  const std::uint64_t submission = ++submissions_;
+  to_submit_.push_back(std::move(jobs));
+  lock.unlock();
+  Wake();
+  lock.lock();
+  // The I/O thread answers within connect_timeout or reconnect_timeout (plus the liveness period that reveals a
+  // lost broker); the bound here only guards against a bug there.
+  const auto bound = options_.connect_timeout + options_.reconnect_timeout +
+                     options_.heartbeat_interval * (options_.liveness + 2) + std::chrono::seconds(5);
+  if (!changed_.wait_for(lock, bound, [&] { return accepted_through_ >= submission || !error_.empty(); })) {
+    error_ = "no answer from the client's I/O thread after " + Seconds(bound);
+  }
+  if (!error_.empty()) throw BatchClientError(error_);
+}
+
+std::optional<v1::Result> BatchClient::Next(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  changed_.wait_for(lock, timeout, [this] { return !results_.empty() || !error_.empty() || outstanding_count_ == 0; });
+  if (!results_.empty()) {
+    v1::Result result = std::move(results_.front());
+    results_.pop_front();
+    --outstanding_count_;
+    return result;
+  }
+  if (!error_.empty()) throw BatchClientError(error_);
+  return std::nullopt;
+}
+
+std::size_t BatchClient::outstanding() const {
+  std::lock_guard lock(mutex_);
+  return outstanding_count_;
+}
+
+BatchClientStats BatchClient::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+void BatchClient::Wake() {
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t written = ::write(wake_fd_, &one, sizeof one);
+}
+
+void BatchClient::Log(const std::string& line) const {
+  if (options_.log) {
+    options_.log(line);
+  } else {
+    std::cerr << "orcs-batch: " << line << std::endl;
+  }
+}
+
+void BatchClient::Fail(const std::string& message) {
+  {
+    std::lock_guard lock(mutex_);
+    if (error_.empty()) error_ = message;
+  }
+  changed_.notify_all();
+  // Nothing is outstanding any more: the client goes idle and stops heartbeating.
+  outstanding_.clear();
+  order_.clear();
+  unanswered_.clear();
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The I/O thread
+
+void BatchClient::IoLoop() {
+  try {
+    Serve();
+  } catch (const std::exception& error) {
+    Fail(std::string("the client's connection to ") + options_.endpoint + " failed: " + error.what());
+    // Stay until the destructor asks, so that it finds a thread to join.
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return stopping_; });
+  }
+  if (socket_) socket_->close();
+}
+
+bool BatchClient::Active() const { return socket_ != nullptr && (!outstanding_.empty() || !unanswered_.empty()); }
+
+void BatchClient::Serve() {
+  const Clock::duration liveness_period = options_.heartbeat_interval * options_.liveness;
+  std::deque<std::vector<v1::Job>> taken;
+  while (true) {
+    int wait_ms = -1;
+    if (Active()) {
+      const Clock::time_point deadline =
+          !heard_ ? active_since_ + options_.connect_timeout : std::max(last_heard_, last_connect_) + liveness_period;
+      const auto wait = std::max(std::min(next_heartbeat_, deadline) - Clock::now(), Clock::duration{});
+      wait_ms = static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(wait).count());
+    }
+    zmq::pollitem_t items[] = {{nullptr, wake_fd_, ZMQ_POLLIN, 0},
+                               {socket_ ? socket_->handle() : nullptr, 0, ZMQ_POLLIN, 0}};
+    try {
+      zmq::poll(items, socket_ ? 2 : 1, std::chrono::milliseconds(wait_ms));
+    } catch (const zmq::error_t& error) {
+      if (error.num() != EINTR) throw;
+      continue;
+    }
+    if (items[0].revents & ZMQ_POLLIN) {
+      std::uint64_t count = 0;
+      [[maybe_unused]] const ssize_t read = ::read(wake_fd_, &count, sizeof count);
+    }
+
+    bool stopping = false;
+    bool failed = false;
+    {
+      std::lock_guard lock(mutex_);
+      taken.swap(to_submit_);
+      stopping = stopping_;
+      failed = !error_.empty();
+    }
+    if (stopping) {
+      if (socket_) {
+        v1::ClientToBroker goodbye;
+        goodbye.set_protocol_version(kProtocolVersion);
+        goodbye.mutable_disconnect()->set_reason("client done");
+        Send(goodbye);
+        socket_->set(zmq::sockopt::linger, kGoodbyeLingerMs);
+      }
+      return;
+    }
+    for (std::vector<v1::Job>& jobs : taken) {
+      const std::uint64_t submission = ++latest_sent_;
+      if (failed) continue;
+      if (!socket_) Connect();
+      const Clock::time_point now = Clock::now();
+      if (!Active()) {  // from idle: a fresh start for the timeouts
+        heard_ = false;
+        active_since_ = now;
+        next_heartbeat_ = now + options_.heartbeat_interval;
+      }
+      std::vector<const v1::Job*> sending;
+      sending.reserve(jobs.size());
+      for (v1::Job& job : jobs) {
+        order_.push_back(job.job_id());
+        const std::string id = job.job_id();
+        sending.push_back(&(outstanding_[id] = std::move(job)));
+      }
+      SendJobs(sending, submission);
+    }
+    taken.clear();
+
+    if (socket_ && (items[1].revents & ZMQ_POLLIN)) {
+      zmq::message_t payload;
+      while (socket_ && socket_->recv(payload, zmq::recv_flags::dontwait)) {
+        if (payload.more()) {  // the protocol has one frame per message: drop the whole multipart message
+          while (payload.more() && socket_->recv(payload, zmq::recv_flags::dontwait)) {
+          }
+          DropMessage("a message of several frames");
+          continue;
+        }
+        if (!OnBrokerMessage(payload)) break;
+      }
+    }
+
+    if (!Active()) continue;
+    const Clock::time_point now = Clock::now();
+    if (now >= next_heartbeat_) {
+      v1::ClientToBroker heartbeat;
+      heartbeat.set_protocol_version(kProtocolVersion);
+      heartbeat.mutable_heartbeat();
+      Send(heartbeat);
+      next_heartbeat_ = now + options_.heartbeat_interval;
+    }
+    if (!heard_) {
+      if (now - active_since_ >= options_.connect_timeout) {
+        Fail("no broker answering at " + options_.endpoint + " after " + Seconds(options_.connect_timeout));
+      }
+    } else if (now - last_heard_ >= options_.reconnect_timeout) {
+      Fail("lost the broker at " + options_.endpoint + ": no answer for " + Seconds(now - last_heard_) + " (" +
+           std::to_string(outstanding_.size()) + " jobs without a result)");
+    } else if (now - std::max(last_heard_, last_connect_) >= liveness_period) {
+      Reconnect("no answer from the broker at " + options_.endpoint + " for " + Seconds(now - last_heard_));
+    }
+  }
+}
+
+void BatchClient::Connect() {
+  socket_ = std::make_unique<zmq::socket_t>(context_, zmq::socket_type::dealer);
+  socket_->set(zmq::sockopt::linger, 0);
+  socket_->set(zmq::sockopt::sndhwm, 0);  // never block the I/O thread
+  socket_->set(zmq::sockopt::rcvhwm, 0);  // never make the broker hold results back
+  try {
+    socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
+  } catch (const zmq::error_t& error) {
+    throw std::runtime_error("cannot connect to " + options_.endpoint + ": " + error.what());
+  }
+  last_connect_ = Clock::now();
+  warned_bad_message_ = false;
+  unanswered_.clear();
+  std::lock_guard lock(mutex_);
+  ++stats_.connections;
+}
+
+void BatchClient::Reconnect(const std::string& why) {
+  if (!warned_silence_) {
+    Log(why + "; connecting again (" + std::to_string(outstanding_.size()) + " jobs to submit again)");
+    warned_silence_ = true;
+  }
+  socket_->close();
+  Connect();
+  Resubmit();
+}
+
+void BatchClient::Resubmit() {
+  std::deque<std::string> still;
+  std::vector<const v1::Job*> sending;
+  for (std::string& id : order_) {
+    auto job = outstanding_.find(id);
+    if (job == outstanding_.end()) continue;
+    sending.push_back(&job->second);
+    still.push_back(std::move(id));
+  }
+  order_ = std::move(still);
+  std::uint64_t accepted_through = 0;
+  {
+    std::lock_guard lock(mutex_);
+    accepted_through = accepted_through_;
+  }
+  // Every submission not yet accepted has its jobs among the outstanding ones: the resubmission answers them all.
+  if (!sending.empty() || accepted_through < latest_sent_) SendJobs(sending, latest_sent_);
+}
+
+void BatchClient::SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_t submission) {
+  std::size_t next = 0;
+  do {
+    v1::ClientToBroker message;
+    message.set_protocol_version(kProtocolVersion);
+    v1::Submit& submit = *message.mutable_submit();
+    submit.set_batch_id(batch_id_);
+    submit.set_client_id(client_id_);
+    std::size_t bytes = 0;
+    while (next < jobs.size()) {
+      const std::size_t size = jobs[next]->ByteSizeLong();
+      if (submit.jobs_size() > 0 && bytes + size > options_.max_submit_bytes) break;
+      *submit.add_jobs() = *jobs[next];
+      bytes += size;
+      ++next;
+    }
+    Send(message);
+    unanswered_.push_back(submission);
+    std::lock_guard lock(mutex_);
+    ++stats_.submit_messages;
+  } while (next < jobs.size());
+}
+
+bool BatchClient::OnBrokerMessage(const zmq::message_t& payload) {
+  const proto::EnvelopeCheck check = proto::ParseEnvelope(payload.data(), payload.size(), in_);
+  if (check != proto::EnvelopeCheck::kOk) {
+    DropMessage(std::string(proto::Describe(check)) +
+                (check == proto::EnvelopeCheck::kWrongVersion ? " " + std::to_string(in_.protocol_version()) : ""));
+    return true;
+  }
+  heard_ = true;
+  last_heard_ = Clock::now();
+  if (warned_silence_) {
+    Log("the broker at " + options_.endpoint + " answers again");
+    warned_silence_ = false;
+  }
+  switch (in_.body_case()) {
+    case v1::BrokerToClient::kAccepted: OnAccepted(); break;
+    case v1::BrokerToClient::kResult: OnResult(*in_.mutable_result()); break;
+    case v1::BrokerToClient::kError:
+      Fail("the broker at " + options_.endpoint + " rejected batch " + batch_id_ + ": " + in_.error().message());
+      break;
+    case v1::BrokerToClient::kDisconnect:
+      if (!Active()) {  // nothing to lose: connect again on the next Submit()
+        socket_->close();
+        socket_.reset();
+        return false;
+      }
+      Reconnect("the broker at " + options_.endpoint + " said goodbye (" + in_.disconnect().reason() + ")");
+      return false;
+    case v1::BrokerToClient::kHeartbeat:
+    case v1::BrokerToClient::BODY_NOT_SET: break;
+  }
+  return true;
+}
+
+void BatchClient::OnAccepted() {
+  if (unanswered_.empty()) return;  // an answer to a SUBMIT of a previous socket
+  unanswered_.pop_front();
+  const std::uint64_t through = unanswered_.empty() ? latest_sent_ : unanswered_.front() - 1;
+  {
+    std::lock_guard lock(mutex_);
+    accepted_through_ = std::max(accepted_through_, through);
+  }
+  changed_.notify_all();
+}
+
+void BatchClient::OnResult(v1::Result& result) {
+  auto job = result.batch_id() == batch_id_ ? outstanding_.find(result.job_id()) : outstanding_.end();
+  if (job == outstanding_.end()) {  // answered already (a resubmission ran it twice) or not ours
+    std::lock_guard lock(mutex_);
+    ++stats_.duplicates_dropped;
+    return;
+  }
+  outstanding_.erase(job);
+  if (outstanding_.empty()) order_.clear();
+  {
+    std::lock_guard lock(mutex_);
+    results_.push_back(std::move(result));
+    ++stats_.results;
+  }
+  changed_.notify_all();
+}
+
+void BatchClient::DropMessage(const std::string& why) {
+  {
+    std::lock_guard lock(mutex_);
+    ++stats_.messages_dropped;
+  }
+  if (warned_bad_message_) return;
+  warned_bad_message_ = true;
+  Log("dropped a message from the broker at " + options_.endpoint + ": " + why +
+      " (further bad messages on this connection are dropped without a log line)");
+}
+
+void BatchClient::Send(const v1::ClientToBroker& message) {
+  out_.clear();
+  message.SerializeToString(&out_);
+  socket_->send(zmq::buffer(out_), zmq::send_flags::none);
+}
+
+}  // namespace orcs::broker

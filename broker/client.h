@@ -1,0 +1,157 @@
+// A client's connection to the broker (docs/protocol.md, "Client conversation"): submits a batch of jobs and
+// hands back each job's result exactly once, as results arrive. A background I/O thread heartbeats while jobs are
+// outstanding, so a caller may take its time between Next() calls. When the broker falls silent or restarts, the
+// client connects again and resubmits the jobs still without a result (and drops any duplicate result that
+// follows), giving up with an error after reconnect_timeout. An unreachable broker is an error within
+// connect_timeout, never a hang.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+#include <zmq.hpp>
+
+#include "orcs/v1/broker.pb.h"
+
+namespace orcs::broker {
+
+/// Where the client connects and how patient it is.
+struct BatchClientOptions {
+  /// The broker's client endpoint, e.g. "tcp://127.0.0.1:5555".
+  std::string endpoint;
+  /// Names the batch at the broker; "" = "<hostname>-<pid>-<n>", unique among live processes.
+  std::string batch_id;
+  /// How often the client sends heartbeats while jobs are outstanding; should equal the broker's.
+  std::chrono::milliseconds heartbeat_interval{1000};
+  /// The broker silent for this many heartbeat intervals → connect again and resubmit.
+  int liveness = 5;
+  /// Submit() fails when no broker has answered this long after it was called on an idle client.
+  std::chrono::milliseconds connect_timeout{3000};
+  /// After the broker was lost, how long to keep connecting again before Next() fails.
+  std::chrono::milliseconds reconnect_timeout{30000};
+  /// A SUBMIT message holds jobs up to about this many bytes (always at least one job), so that the broker is
+  /// never busy with one message for long.
+  std::size_t max_submit_bytes = std::size_t{4} << 20;
+  /// Where log lines (connection events, one per line, no newline) go; empty = stderr, prefixed "orcs-batch: ".
+  std::function<void(std::string_view)> log;
+};
+
+/// What a client has done so far. Counters only grow.
+struct BatchClientStats {
+  std::uint64_t connections = 0;         ///< sockets opened: 1 + the number of reconnections
+  std::uint64_t submit_messages = 0;     ///< SUBMIT messages sent, resubmissions included
+  std::uint64_t results = 0;             ///< results handed to the caller's queue
+  std::uint64_t duplicates_dropped = 0;  ///< results for jobs already answered (after a resubmission), dropped
+  std::uint64_t messages_dropped = 0;    ///< malformed or foreign messages from the broker, dropped
+};
+
+/// The broker's error: no broker answering, the broker lost for good, a rejected submission. Once a client has
+/// thrown one, every later Submit() and Next() throws it again: make a new client.
+class BatchClientError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A client's connection to the broker, for one batch. All public functions are thread-safe.
+class BatchClient {
+ public:
+  /// Starts the I/O thread; connects on the first Submit(). Throws std::invalid_argument for an empty endpoint,
+  /// non-positive intervals or timeouts, a liveness below 2, or an endpoint ZeroMQ cannot parse.
+  explicit BatchClient(BatchClientOptions options);
+  /// Tells the broker the client is leaving (its jobs still queued are dropped) and stops the I/O thread.
+  ~BatchClient();
+  BatchClient(const BatchClient&) = delete;
+  BatchClient& operator=(const BatchClient&) = delete;
+
+  /// Submits jobs to the batch and returns once the broker has accepted them. job_id must be non-empty and unique
+  /// within the batch over all calls (else std::invalid_argument, and nothing is sent); batch_id and
+  /// protocol_version are filled in here. Throws BatchClientError when the broker rejects them or none answers
+  /// (connect_timeout on a client with nothing outstanding, else reconnect_timeout).
+  void Submit(std::vector<v1::Job> jobs);
+
+  /// The next result, in arrival order; each submitted job's result comes exactly once. nullopt when none arrives
+  /// within `timeout`, and at once when no job is outstanding. Results that arrived before an error are handed
+  /// out first; then throws BatchClientError.
+  std::optional<v1::Result> Next(std::chrono::milliseconds timeout);
+
+  /// Jobs submitted whose result Next() has not returned yet.
+  std::size_t outstanding() const;
+  /// The batch's id (BatchClientOptions::batch_id or its default).
+  const std::string& batch_id() const { return batch_id_; }
+  /// The broker endpoint.
+  const std::string& endpoint() const { return options_.endpoint; }
+  /// A snapshot of the counters.
+  BatchClientStats stats() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  void IoLoop();
+  void Serve();
+  void Connect();
+  void Reconnect(const std::string& why);
+  void SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_t submission);
+  void Resubmit();
+  /// Handles one message; false when it replaced the socket (stop reading the old one).
+  bool OnBrokerMessage(const zmq::message_t& payload);
+  void OnAccepted();
+  void OnResult(v1::Result& result);
+  void Fail(const std::string& message);
+  bool Active() const;
+  void Send(const v1::ClientToBroker& message);
+  void DropMessage(const std::string& why);
+  void Wake();
+  void Log(const std::string& line) const;
+
+  const BatchClientOptions options_;
+  const std::string client_id_;
+  const std::string batch_id_;
+  zmq::context_t context_;
+  int wake_fd_ = -1;  ///< eventfd: Submit() and the destructor wake the I/O thread's poll through it
+
+  // Owned by the I/O thread.
+  std::unique_ptr<zmq::socket_t> socket_;
+  std::unordered_map<std::string, v1::Job> outstanding_;  ///< submitted, no result yet: what a resubmission sends
+  std::deque<std::string> order_;         ///< job ids in submission order (answered ones skipped lazily)
+  std::deque<std::uint64_t> unanswered_;  ///< per SUBMIT sent on this socket, the submission it belongs to
+  std::uint64_t latest_sent_ = 0;         ///< the newest submission sent
+  bool heard_ = false;                    ///< the broker has answered since the client became active
+  Clock::time_point active_since_;        ///< when the client last went from idle to active
+  Clock::time_point last_heard_;          ///< when the broker was last heard
+  Clock::time_point next_heartbeat_;
+  Clock::time_point last_connect_;   ///< when the current socket was opened
+  bool warned_bad_message_ = false;  ///< a dropped message was logged on this socket
+  bool warned_silence_ = false;      ///< a reconnection was logged and the broker has not answered since
+  v1::BrokerToClient in_;
+  std::string out_;
+
+  // Shared with the callers, guarded by mutex_.
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::vector<v1::Job>> to_submit_;  ///< from Submit(), not yet taken by the I/O thread
+  std::uint64_t submissions_ = 0;               ///< Submit() calls that got past validation
+  std::uint64_t accepted_through_ = 0;          ///< submissions 1..this are accepted
+  std::unordered_set<std::string> job_ids_;     ///< every job id submitted
+  std::size_t outstanding_count_ = 0;           ///< submitted jobs not yet returned by Next()
+  std::deque<v1::Result> results_;              ///< arrived, not yet returned by Next()
+  std::string error_;                           ///< the terminal error, once there is one
+  bool stopping_ = false;
+  BatchClientStats stats_;
+
+  std::thread io_thread_;  ///< last: starts after everything above exists
+};
+
+}  // namespace orcs::broker

@@ -1,0 +1,101 @@
+// Dispatch rate of the broker: empty jobs from one BatchClient through a real Broker to two echo workers (real
+// WorkerConnections) and back, over TCP on 127.0.0.1, everything in this process on its own threads. An empty
+// job carries only its ids; the echo worker answers at once. So the figure is the protocol's and the broker's
+// overhead per job: serialising, three socket hops each way, the dispatch bookkeeping. docs/benchmarks.md.
+#include <benchmark/benchmark.h>
+
+#include <atomic>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "broker/broker.h"
+#include "broker/client.h"
+#include "worker/broker_connection.h"
+
+namespace orcs {
+namespace {
+
+using std::chrono::milliseconds;
+
+// A worker answering every job at once with status OK and nothing else.
+class EchoWorker {
+ public:
+  EchoWorker(const std::string& endpoint, const std::string& name, int credit) {
+    worker::WorkerConnectionOptions options;
+    options.endpoint = endpoint;
+    options.worker_id = name;
+    options.credit = credit;
+    connection_ = std::make_unique<worker::WorkerConnection>(options);
+    thread_ = std::thread([this] {
+      while (!stop_.load()) {
+        std::optional<v1::Job> job = connection_->NextJob(milliseconds(50));
+        if (!job) continue;
+        v1::Result result;
+        result.set_job_id(job->job_id());
+        result.set_batch_id(job->batch_id());
+        result.set_status(v1::Result::OK);
+        connection_->SendResult(std::move(result));
+      }
+    });
+  }
+  ~EchoWorker() {
+    stop_.store(true);
+    thread_.join();
+  }
+
+ private:
+  std::unique_ptr<worker::WorkerConnection> connection_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// range(0): jobs per batch; range(1): each worker's credit.
+void BM_BrokerDispatchEmptyJobs(benchmark::State& state) {
+  const int jobs_per_batch = static_cast<int>(state.range(0));
+  const int credit = static_cast<int>(state.range(1));
+  broker::BrokerOptions broker_options;  // 127.0.0.1, ephemeral ports
+  broker_options.log = [](std::string_view) {};
+  broker::Broker broker(broker_options);
+  std::thread broker_thread([&] { broker.Run(); });
+  {
+    EchoWorker a(broker.worker_endpoint(), "a", credit);
+    EchoWorker b(broker.worker_endpoint(), "b", credit);
+    broker::BatchClientOptions client_options;
+    client_options.endpoint = broker.client_endpoint();
+    broker::BatchClient client(client_options);
+
+    int batch = 0;
+    for (auto _ : state) {
+      state.PauseTiming();
+      std::vector<v1::Job> jobs(static_cast<std::size_t>(jobs_per_batch));
+      for (int i = 0; i < jobs_per_batch; ++i) jobs[i].set_job_id(std::to_string(batch) + "-" + std::to_string(i));
+      ++batch;
+      state.ResumeTiming();
+      client.Submit(std::move(jobs));
+      for (int received = 0; received < jobs_per_batch;) {
+        std::optional<v1::Result> result = client.Next(milliseconds(10000));
+        if (!result) throw std::runtime_error("no result for 10 s");
+        ++received;
+      }
+    }
+    state.SetItemsProcessed(state.iterations() * jobs_per_batch);
+    const broker::BrokerStats stats = broker.stats();
+    state.counters["requeued"] = static_cast<double>(stats.jobs_requeued);
+  }
+  broker.Stop();
+  broker_thread.join();
+}
+BENCHMARK(BM_BrokerDispatchEmptyJobs)
+    ->Args({10000, 2})
+    ->Args({10000, 8})
+    ->Args({10000, 32})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace orcs
+
+BENCHMARK_MAIN();

@@ -1,0 +1,447 @@
+// The broker with real sockets on 127.0.0.1: real WorkerConnections and BatchClients, and raw sockets for peers
+// that misbehave (go silent, crash, send garbage).
+#include "broker/broker.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <set>
+
+#include "proto/envelope.h"
+#include "tests/broker/test_peers.h"
+
+namespace orcs::test_support {
+namespace {
+
+using broker::BatchClient;
+using broker::BatchClientError;
+using broker::BrokerStats;
+using std::chrono::milliseconds;
+using ::testing::HasSubstr;
+
+std::vector<v1::Job> MakeJobs(const std::string& prefix, int count, std::uint64_t first_seed = 0) {
+  std::vector<v1::Job> jobs;
+  for (int i = 0; i < count; ++i) jobs.push_back(MakeJob(prefix + std::to_string(i), first_seed + i));
+  return jobs;
+}
+
+// Checks that `results` answer exactly the jobs `prefix`0..count-1 of batch `batch_id`, once each, as EchoWorker
+// answers them.
+void ExpectEachJobOnce(const std::vector<v1::Result>& results, const std::string& prefix, int count,
+                       const std::string& batch_id, std::uint64_t first_seed = 0) {
+  ASSERT_EQ(results.size(), static_cast<std::size_t>(count));
+  std::set<std::string> ids;
+  for (const v1::Result& result : results) {
+    EXPECT_EQ(result.batch_id(), batch_id);
+    EXPECT_EQ(result.status(), v1::Result::OK) << result.message();
+    EXPECT_TRUE(ids.insert(result.job_id()).second) << "twice: " << result.job_id();
+    const std::uint64_t seed = std::stoull(result.job_id().substr(prefix.size())) + first_seed;
+    EXPECT_EQ(result.fitness(), 2.0 * static_cast<double>(seed) + 0.25) << result.job_id();
+  }
+  for (int i = 0; i < count; ++i) EXPECT_EQ(ids.count(prefix + std::to_string(i)), 1u) << prefix << i;
+}
+
+bool WorkersRegistered(BrokerThread& broker, int count) {
+  return WaitFor([&] { return broker.stats().workers == count; });
+}
+
+TEST(Broker, FortyJobsOnTwoWorkersComeBackOnceEach) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  EchoWorker a(TestWorkerOptions(broker.worker_endpoint(), "a", 2, &log));
+  EchoWorker b(TestWorkerOptions(broker.worker_endpoint(), "b", 2, &log));
+  ASSERT_TRUE(WorkersRegistered(broker, 2));
+
+  BatchClient client(TestClientOptions(broker.client_endpoint(), &log));
+  client.Submit(MakeJobs("job-", 40));
+  const std::vector<v1::Result> results = Collect(client, 40);
+  ExpectEachJobOnce(results, "job-", 40, client.batch_id());
+  EXPECT_EQ(client.outstanding(), 0u);
+  EXPECT_EQ(client.Next(milliseconds(0)), std::nullopt);  // nothing outstanding: answers at once
+  EXPECT_EQ(a.jobs_done() + b.jobs_done(), 40);
+  EXPECT_GT(a.jobs_done(), 0);  // fair dispatch: both got work
+  EXPECT_GT(b.jobs_done(), 0);
+  for (const v1::Result& result : results) {
+    EXPECT_EQ(result.attempts(), 1u);
+    EXPECT_THAT(result.worker_id(), ::testing::AnyOf("a", "b"));
+  }
+  // The broker publishes its counters after sending: wait for them to catch up before reading them.
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_delivered == 40; }));
+  const BrokerStats stats = broker.stats();
+  EXPECT_EQ(stats.jobs_accepted, 40u);
+  EXPECT_EQ(stats.jobs_dispatched, 40u);
+  EXPECT_EQ(stats.results_delivered, 40u);
+  EXPECT_EQ(stats.results_ignored, 0u);
+  EXPECT_EQ(stats.messages_dropped, 0u);
+  EXPECT_EQ(client.stats().duplicates_dropped, 0u);
+
+  // With every result in, the client stops heartbeating and the broker forgets it: routine, not a loss.
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().clients == 0; }));
+  EXPECT_EQ(broker.stats().clients_lost, 0u);
+  EXPECT_EQ(log.Count("forgotten (silent for 0.5 s, nothing pending)"), 1);
+}
+
+TEST(Broker, DispatchFillsEachWorkersCreditInTurnAndNoMore) {
+  BrokerThread broker(TestBrokerOptions());
+  // Connections whose jobs nobody takes: they hold what the broker sends them.
+  worker::WorkerConnection a(TestWorkerOptions(broker.worker_endpoint(), "a", 3));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  worker::WorkerConnection b(TestWorkerOptions(broker.worker_endpoint(), "b", 3));
+  ASSERT_TRUE(WorkersRegistered(broker, 2));
+
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit(MakeJobs("job-", 10));
+  ASSERT_TRUE(WaitFor([&] { return a.stats().jobs_received == 3 && b.stats().jobs_received == 3; }));
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().in_flight == 6; }));
+  const BrokerStats stats = broker.stats();
+  EXPECT_EQ(stats.in_flight, 6u);
+  EXPECT_EQ(stats.queued, 4u);
+  // First in, first out, alternating between the workers: a (least recently served) gets jobs 0, 2, 4.
+  std::vector<std::string> got_a;
+  std::vector<std::string> got_b;
+  for (int i = 0; i < 3; ++i) {
+    got_a.push_back(a.NextJob(milliseconds(1000)).value().job_id());
+    got_b.push_back(b.NextJob(milliseconds(1000)).value().job_id());
+  }
+  EXPECT_THAT(got_a, ::testing::ElementsAre("job-0", "job-2", "job-4"));
+  EXPECT_THAT(got_b, ::testing::ElementsAre("job-1", "job-3", "job-5"));
+  EXPECT_EQ(a.NextJob(milliseconds(0)), std::nullopt);
+
+  // Each result frees one credit, and the next queued job follows.
+  v1::Result result;
+  result.set_job_id("job-0");
+  result.set_batch_id(client.batch_id());
+  result.set_status(v1::Result::OK);
+  a.SendResult(result);
+  EXPECT_EQ(a.NextJob(milliseconds(5000)).value().job_id(), "job-6");
+  EXPECT_EQ(client.Next(milliseconds(5000)).value().job_id(), "job-0");
+}
+
+TEST(Broker, SilentWorkersJobsGoToAnotherWorkerAndArriveOnce) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  RawPeer silent(broker.worker_endpoint());
+  silent.Send(ReadyMessage("silent", 4));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit(MakeJobs("job-", 12));
+  std::vector<v1::Job> held;  // the silent worker takes its credit's worth and then says nothing at all
+  while (held.size() < 4) {
+    std::optional<v1::BrokerToWorker> message = silent.ReceiveEnvelope<v1::BrokerToWorker>(milliseconds(5000));
+    ASSERT_TRUE(message.has_value());
+    if (message->has_job()) held.push_back(message->job());
+  }
+  EchoWorker rescuer(TestWorkerOptions(broker.worker_endpoint(), "rescuer", 2, &log));
+  const std::vector<v1::Result> results = Collect(client, 12);
+  ExpectEachJobOnce(results, "job-", 12, client.batch_id());
+  EXPECT_EQ(rescuer.jobs_done(), 12);
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_delivered == 12; }));
+  const BrokerStats stats = broker.stats();
+  EXPECT_EQ(stats.workers_lost, 1u);
+  EXPECT_EQ(stats.jobs_requeued, 4u);
+  EXPECT_EQ(log.Count("worker silent lost: silent for 0.5 s; 4 jobs back to the queue"), 1);
+  for (const v1::Result& result : results) {
+    const bool was_held =
+        std::any_of(held.begin(), held.end(), [&](const v1::Job& job) { return job.job_id() == result.job_id(); });
+    EXPECT_EQ(result.attempts(), was_held ? 2u : 1u) << result.job_id();
+    EXPECT_EQ(result.message(), was_held ? "attempt=1" : "attempt=0") << result.job_id();
+  }
+
+  // The silent worker wakes up and answers: too late, the jobs are finished; the client sees nothing more.
+  silent.Send(ResultMessage(held[0], "silent"));
+  std::optional<v1::BrokerToWorker> reply = NextNonHeartbeat(silent);
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_TRUE(reply->has_disconnect());  // "unknown worker: connect again"
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_ignored == 1; }));
+  EXPECT_EQ(broker.stats().results_delivered, 12u);
+  EXPECT_EQ(client.Next(milliseconds(200)), std::nullopt);
+  EXPECT_EQ(client.stats().duplicates_dropped, 0u);
+}
+
+TEST(Broker, WorkerWhoseConnectionClosesLosesItsJobsAtTheNextHeartbeat) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  RawPeer crashing(broker.worker_endpoint());
+  crashing.Send(ReadyMessage("crashing", 2));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit(MakeJobs("job-", 6));
+  ASSERT_TRUE(AwaitJob(crashing).has_value());
+  crashing.Close();  // no DISCONNECT: the process died
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().workers_lost == 1; }));
+  EXPECT_EQ(log.Count("worker crashing lost: connection closed"), 1);
+  EchoWorker rescuer(TestWorkerOptions(broker.worker_endpoint(), "rescuer", 2, &log));
+  ExpectEachJobOnce(Collect(client, 6), "job-", 6, client.batch_id());
+}
+
+TEST(Broker, WorkerThatSaysGoodbyeGivesItsJobsBackWithoutALoss) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  {
+    worker::WorkerConnection leaving(TestWorkerOptions(broker.worker_endpoint(), "leaving", 3, &log));
+    client.Submit(MakeJobs("job-", 5));
+    ASSERT_TRUE(WaitFor([&] { return leaving.stats().jobs_received == 3; }));
+  }  // DISCONNECT
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().workers == 0; }));
+  EXPECT_EQ(broker.stats().workers_lost, 0u);
+  EXPECT_EQ(broker.stats().queued, 5u);
+  EchoWorker staying(TestWorkerOptions(broker.worker_endpoint(), "staying", 2, &log));
+  const std::vector<v1::Result> results = Collect(client, 5);
+  ExpectEachJobOnce(results, "job-", 5, client.batch_id());
+  for (const v1::Result& result : results) EXPECT_EQ(result.message(), "attempt=0");  // no loss counted
+  EXPECT_EQ(log.Count("worker leaving left (worker shutting down); 3 jobs back to the queue"), 1);
+}
+
+TEST(Broker, JobThatLosesThreeWorkersFailsWithWorkerLost) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  std::vector<std::unique_ptr<RawPeer>> victims;
+  for (int i = 0; i < 3; ++i) {
+    victims.push_back(std::make_unique<RawPeer>(broker.worker_endpoint()));
+    victims.back()->Send(ReadyMessage("victim-" + std::to_string(i), 1));
+    ASSERT_TRUE(WorkersRegistered(broker, 1));
+    if (i == 0) client.Submit({MakeJob("deadly", 7)});
+    // It heartbeats until the job comes (after the previous victim is declared lost), then falls silent.
+    std::optional<v1::Job> job = AwaitJob(*victims.back());
+    ASSERT_TRUE(job.has_value());
+    EXPECT_EQ(job->job_id(), "deadly");
+    EXPECT_EQ(job->attempt(), static_cast<std::uint32_t>(i));
+  }
+  std::optional<v1::Result> result = client.Next(milliseconds(10000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->job_id(), "deadly");
+  EXPECT_EQ(result->batch_id(), client.batch_id());
+  EXPECT_EQ(result->status(), v1::Result::WORKER_LOST);
+  EXPECT_EQ(result->attempts(), 3u);
+  EXPECT_EQ(result->worker_id(), "victim-2");
+  EXPECT_EQ(result->message(),
+            "lost 3 workers while running (victim-0, victim-1, victim-2); the last one: silent for 0.5 s");
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().workers_lost == 3; }));
+  EXPECT_EQ(client.outstanding(), 0u);
+}
+
+TEST(Broker, LateResultFromALostWorkerIsAcceptedWhileTheJobIsStillPending) {
+  BrokerThread broker(TestBrokerOptions());
+  RawPeer slow(broker.worker_endpoint());
+  slow.Send(ReadyMessage("slow", 1));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit({MakeJob("job-0", 21)});
+  std::optional<v1::Job> job = AwaitJob(slow);
+  ASSERT_TRUE(job.has_value());
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().workers_lost == 1; }));  // silent: lost, job queued again
+  EXPECT_EQ(broker.stats().queued, 1u);
+
+  slow.Send(ResultMessage(*job, "slow"));  // ...but it was only slow, and the job has not finished elsewhere
+  std::optional<v1::Result> result = client.Next(milliseconds(5000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->job_id(), "job-0");
+  EXPECT_EQ(result->fitness(), 42.25);
+  EXPECT_EQ(result->worker_id(), "slow");
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().late_results_accepted == 1; }));
+  EXPECT_EQ(broker.stats().queued, 0u);
+  std::optional<v1::BrokerToWorker> reply = NextNonHeartbeat(slow);
+  ASSERT_TRUE(reply.has_value());
+  EXPECT_TRUE(reply->has_disconnect());
+
+  // A worker arriving now finds nothing to do.
+  EchoWorker late(TestWorkerOptions(broker.worker_endpoint(), "late", 2));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  EXPECT_EQ(broker.stats().jobs_dispatched, 1u);
+  EXPECT_EQ(late.jobs_done(), 0);
+}
+
+TEST(Broker, TwoClientsWithInterleavedBatchesGetOnlyTheirOwnResults) {
+  BrokerThread broker(TestBrokerOptions());
+  EchoWorker a(TestWorkerOptions(broker.worker_endpoint(), "a", 2));
+  EchoWorker b(TestWorkerOptions(broker.worker_endpoint(), "b", 2));
+  BatchClient first(TestClientOptions(broker.client_endpoint()));
+  BatchClient second(TestClientOptions(broker.client_endpoint()));
+  ASSERT_NE(first.batch_id(), second.batch_id());
+  // The same job ids in both batches, with different seeds: only the batch tells them apart.
+  std::vector<v1::Job> first_jobs = MakeJobs("job-", 20, 0);
+  std::vector<v1::Job> second_jobs = MakeJobs("job-", 20, 1000);
+  for (int part = 0; part < 4; ++part) {
+    first.Submit({first_jobs.begin() + part * 5, first_jobs.begin() + part * 5 + 5});
+    second.Submit({second_jobs.begin() + part * 5, second_jobs.begin() + part * 5 + 5});
+  }
+  ExpectEachJobOnce(Collect(first, 20), "job-", 20, first.batch_id(), 0);
+  ExpectEachJobOnce(Collect(second, 20), "job-", 20, second.batch_id(), 1000);
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().results_delivered == 40; }));
+}
+
+TEST(Broker, ClientThatLeavesTakesItsQueuedJobsWithIt) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  {
+    BatchClient client(TestClientOptions(broker.client_endpoint()));
+    client.Submit(MakeJobs("job-", 30));
+    EXPECT_TRUE(WaitFor([&] { return broker.stats().queued == 30; }));
+  }  // DISCONNECT
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().clients == 0; }));
+  EXPECT_EQ(broker.stats().queued, 0u);
+  EXPECT_EQ(broker.stats().batches, 0);
+  EXPECT_EQ(log.Count("dropped its 30 pending jobs"), 1);
+  EchoWorker idle(TestWorkerOptions(broker.worker_endpoint(), "idle", 2));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  EXPECT_EQ(broker.stats().jobs_dispatched, 0u);
+}
+
+TEST(Broker, SilentClientIsDroppedWithItsJobs) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  RawPeer client(broker.client_endpoint());
+  v1::ClientToBroker submit;
+  submit.set_protocol_version(proto::kProtocolVersion);
+  submit.mutable_submit()->set_batch_id("quiet-batch");
+  submit.mutable_submit()->set_client_id("quiet");
+  for (int i = 0; i < 3; ++i) *submit.mutable_submit()->add_jobs() = MakeJob("job-" + std::to_string(i), i);
+  client.Send(submit);
+  std::optional<v1::BrokerToClient> answer = client.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
+  ASSERT_TRUE(answer && answer->has_accepted());
+  EXPECT_EQ(answer->accepted().job_count(), 3u);
+  EXPECT_EQ(answer->accepted().queued(), 3u);
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().clients_lost == 1; }));  // it never heartbeats
+  EXPECT_EQ(broker.stats().queued, 0u);
+  EXPECT_EQ(log.Count("client quiet lost (silent for 0.5 s); dropped its 3 pending jobs"), 1);
+}
+
+TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {
+  BrokerThread broker(TestBrokerOptions());
+  RawPeer client(broker.client_endpoint());
+  const auto submit_with = [&](const std::function<void(v1::Submit&)>& spoil) {
+    v1::ClientToBroker message;
+    message.set_protocol_version(proto::kProtocolVersion);
+    v1::Submit& submit = *message.mutable_submit();
+    submit.set_batch_id("b");
+    submit.set_client_id("c");
+    *submit.add_jobs() = MakeJob("job-0", 0);
+    *submit.add_jobs() = MakeJob("job-1", 1);
+    spoil(submit);
+    client.Send(message);
+    std::optional<v1::BrokerToClient> answer = client.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
+    return answer && answer->has_error() ? answer->error().message() : std::string("(no ERROR)");
+  };
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.mutable_jobs(1)->clear_job_id(); }), "job 1: empty job_id");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.mutable_jobs(1)->set_job_id("job-0"); }),
+            "job 1 (id 'job-0'): job_id repeated within the SUBMIT");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.mutable_jobs(0)->set_batch_id("other"); }),
+            "job 0 (id 'job-0'): batch_id 'other' differs from the SUBMIT's 'b'");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.mutable_jobs(0)->set_protocol_version(2); }),
+            "job 0 (id 'job-0'): protocol_version 2 (expected 1)");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_batch_id(); }), "empty batch_id");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_client_id(); }), "empty client_id");
+  EXPECT_EQ(broker.stats().queued, 0u);
+  EXPECT_EQ(broker.stats().batches, 0);
+  EXPECT_EQ(broker.stats().submits_rejected, 6u);
+  EXPECT_EQ(broker.stats().messages_dropped, 0u);
+}
+
+TEST(Broker, BatchOfAnotherClientCannotBeJoined) {
+  BrokerThread broker(TestBrokerOptions());
+  broker::BatchClientOptions options = TestClientOptions(broker.client_endpoint());
+  options.batch_id = "shared-name";
+  BatchClient owner(options);
+  owner.Submit({MakeJob("job-0", 0)});
+  BatchClient intruder(options);
+  try {
+    intruder.Submit({MakeJob("job-1", 1)});
+    FAIL() << "expected a BatchClientError";
+  } catch (const BatchClientError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("rejected batch shared-name: batch 'shared-name' belongs to another client"));
+  }
+  EXPECT_THROW(intruder.Next(milliseconds(0)), BatchClientError);  // errors stay
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().queued == 1; }));
+}
+
+TEST(Broker, GarbageWrongVersionsAndTruncatedMessagesAreDroppedAndTheBrokerKeepsServing) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  RawPeer bad_worker(broker.worker_endpoint());
+  RawPeer bad_client(broker.client_endpoint());
+
+  std::mt19937 bytes(12345);  // seeded: the same garbage every run
+  std::string garbage(200, '\0');
+  for (char& c : garbage) c = static_cast<char>(bytes() & 0xff);
+  v1::WorkerToBroker wrong_version = ReadyMessage("impostor", 2);
+  wrong_version.set_protocol_version(7);
+  const std::string ready = ReadyMessage("truncated", 2).SerializeAsString();
+  v1::WorkerToBroker no_body;
+  no_body.set_protocol_version(proto::kProtocolVersion);
+  v1::WorkerToBroker old_result = ResultMessage(MakeJob("job-x", 1), "old");
+  old_result.mutable_result()->set_protocol_version(0);
+
+  int sent = 0;
+  for (const std::vector<std::string>& frames : std::vector<std::vector<std::string>>{
+           {garbage},
+           {""},
+           {"a", "b", "c"},
+           {wrong_version.SerializeAsString()},
+           {ready.substr(0, ready.size() - 3)},
+           {no_body.SerializeAsString()},
+           {ReadyMessage("greedy", 0).SerializeAsString()},
+           {old_result.SerializeAsString()},
+       }) {
+    bad_worker.SendFrames(frames);
+    ++sent;
+  }
+  v1::ClientToBroker wrong_client;
+  wrong_client.set_protocol_version(99);
+  wrong_client.mutable_heartbeat();
+  v1::ClientToBroker submit;
+  submit.set_protocol_version(proto::kProtocolVersion);
+  submit.mutable_submit()->set_batch_id("b");
+  submit.mutable_submit()->set_client_id("c");
+  *submit.mutable_submit()->add_jobs() = MakeJob("job-0", 0);
+  const std::string submit_bytes = submit.SerializeAsString();
+  for (const std::string& frame : {garbage, wrong_client.SerializeAsString(), submit_bytes.substr(0, 20)}) {
+    bad_client.SendFrames({frame});
+    ++sent;
+  }
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().messages_dropped == static_cast<std::uint64_t>(sent); }));
+  EXPECT_EQ(broker.stats().workers, 0);  // none of it registered anybody
+  EXPECT_EQ(broker.stats().batches, 0);
+  EXPECT_EQ(log.Count("dropped a message from worker"), 1);  // logged once per peer
+  EXPECT_EQ(log.Count("dropped a message from client"), 1);
+  EXPECT_EQ(bad_client.Receive(milliseconds(100)), std::nullopt);  // and never answered
+
+  EchoWorker worker(TestWorkerOptions(broker.worker_endpoint(), "good", 2));
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit(MakeJobs("job-", 5));
+  ExpectEachJobOnce(Collect(client, 5), "job-", 5, client.batch_id());
+}
+
+TEST(Broker, StopSaysGoodbyeToWorkersWhichConnectAgain) {
+  LogLines log;
+  auto broker = std::make_unique<BrokerThread>(TestBrokerOptions(&log));
+  worker::WorkerConnection connection(TestWorkerOptions(broker->worker_endpoint(), "w", 2, &log));
+  ASSERT_TRUE(WaitFor([&] { return connection.stats().broker_answering; }));
+  broker->Stop();
+  ASSERT_TRUE(WaitFor([&] { return connection.stats().connections >= 2; }));
+  EXPECT_EQ(log.Count("said goodbye (broker shutting down); connecting again"), 1);
+  EXPECT_EQ(log.Count("stopped: told 1 workers and 0 clients"), 1);
+}
+
+TEST(Broker, BadOptionsAndBusyPortsAreReportedAtConstruction) {
+  broker::BrokerOptions options = TestBrokerOptions();
+  options.liveness = 1;
+  EXPECT_THROW(broker::Broker{options}, std::invalid_argument);
+  BrokerThread first(TestBrokerOptions());
+  options = TestBrokerOptions();
+  const std::string endpoint = first.client_endpoint();
+  options.client_port = std::stoi(endpoint.substr(endpoint.rfind(':') + 1));
+  try {
+    broker::Broker second(options);
+    FAIL() << "expected the port to be busy";
+  } catch (const std::runtime_error& error) {
+    EXPECT_THAT(error.what(), HasSubstr("cannot bind the client socket to " + endpoint + ": Address already in use"));
+  }
+}
+
+}  // namespace
+}  // namespace orcs::test_support

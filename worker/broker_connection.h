@@ -1,0 +1,120 @@
+// A worker's connection to the broker (docs/protocol.md, "Worker conversation"): announces the worker with its
+// credit, receives jobs into a small queue the caller takes them from one at a time, sends results back, and
+// heartbeats from a background I/O thread — so the broker keeps hearing from the worker while a job runs for
+// minutes. When the broker falls silent or says goodbye, the connection starts over on a new socket and sends
+// READY again (the jobs it held but had not handed out are dropped: the broker requeues them).
+//
+// Links only the wire schema and ZeroMQ (no model/): orcs-worker translates between jobs and simulations.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <zmq.hpp>
+
+#include "orcs/v1/broker.pb.h"
+
+namespace orcs::worker {
+
+/// Where the worker connects and how it paces itself.
+struct WorkerConnectionOptions {
+  /// The broker's worker endpoint, e.g. "tcp://127.0.0.1:5556".
+  std::string endpoint;
+  /// The worker's name in the broker's log and in Result.worker_id; "" = "<hostname>-<pid>".
+  std::string worker_id;
+  /// How many jobs the broker may hand this worker at once (the running one plus those waiting), 1..1024.
+  /// 2 hides the round trip between two jobs.
+  int credit = 2;
+  /// How often the worker sends heartbeats; should equal the broker's.
+  std::chrono::milliseconds heartbeat_interval{1000};
+  /// The broker silent for this many heartbeat intervals → a new connection and READY again.
+  int liveness = 5;
+  /// Where log lines (connection events, one per line, no newline) go; empty = stderr, prefixed "orcs-worker: ".
+  std::function<void(std::string_view)> log;
+};
+
+/// What a connection has done so far. Counters only grow.
+struct WorkerConnectionStats {
+  std::uint64_t connections = 0;       ///< READY messages sent: 1 + the number of reconnections
+  std::uint64_t jobs_received = 0;     ///< JOB messages received
+  std::uint64_t jobs_discarded = 0;    ///< received jobs dropped untaken at a reconnection
+  std::uint64_t results_sent = 0;      ///< RESULT messages sent
+  std::uint64_t messages_dropped = 0;  ///< malformed or foreign messages from the broker, dropped
+  bool broker_answering = false;       ///< whether the broker has been heard on the current connection
+};
+
+/// A worker's connection to the broker. All public functions are thread-safe.
+class WorkerConnection {
+ public:
+  /// Starts the I/O thread, which connects and sends READY. Never blocks on the broker: a worker may start before
+  /// its broker. Throws std::invalid_argument for an empty endpoint, a credit outside 1..1024, a non-positive
+  /// interval, a liveness below 2, or an endpoint ZeroMQ cannot parse.
+  explicit WorkerConnection(WorkerConnectionOptions options);
+  /// Says DISCONNECT to the broker (its jobs go back to the queue, not counted as a loss) and stops the I/O thread.
+  ~WorkerConnection();
+  WorkerConnection(const WorkerConnection&) = delete;
+  WorkerConnection& operator=(const WorkerConnection&) = delete;
+
+  /// The next job, oldest first; nullopt when none arrives within `timeout`. Throws std::runtime_error when the
+  /// I/O thread has failed (it logs why; nothing in the protocol makes it fail).
+  std::optional<v1::Job> NextJob(std::chrono::milliseconds timeout);
+
+  /// Sends the result of a job NextJob returned (one result per job; it gives the broker back one credit).
+  /// `result.job_id` and `result.batch_id` must be the job's; protocol_version is set and an empty worker_id is
+  /// filled in here. Returns at once: the I/O thread sends it.
+  void SendResult(v1::Result result);
+
+  /// The name the worker announced (WorkerConnectionOptions::worker_id or its default).
+  const std::string& worker_id() const { return worker_id_; }
+  /// The broker endpoint.
+  const std::string& endpoint() const { return options_.endpoint; }
+  /// A snapshot of the counters.
+  WorkerConnectionStats stats() const;
+
+ private:
+  /// What a message from the broker meant to the I/O loop.
+  enum class Heard { kNothing, kAlive, kReconnected };
+
+  void IoLoop();
+  void Serve();
+  void Connect();
+  void Reconnect(const std::string& why);
+  Heard OnBrokerMessage(const zmq::message_t& payload);
+  void DropMessage(const std::string& why);
+  void Send(const v1::WorkerToBroker& message);
+  void Wake();
+  void Log(const std::string& line) const;
+
+  const WorkerConnectionOptions options_;
+  const std::string worker_id_;
+  zmq::context_t context_;
+  int wake_fd_ = -1;  ///< eventfd: SendResult() and the destructor wake the I/O thread's poll through it
+
+  // Owned by the I/O thread.
+  std::unique_ptr<zmq::socket_t> socket_;
+  v1::BrokerToWorker in_;
+  std::string out_;
+  bool warned_bad_message_ = false;  ///< a dropped message was logged on this connection
+  bool warned_silence_ = false;      ///< the broker's silence was logged and no answer has come since
+
+  // Shared with the caller's threads, guarded by mutex_.
+  mutable std::mutex mutex_;
+  std::condition_variable job_arrived_;
+  std::deque<v1::Job> jobs_;       ///< received, not yet taken
+  std::deque<v1::Result> outbox_;  ///< given to SendResult, not yet sent
+  bool stopping_ = false;
+  std::string failure_;  ///< why the I/O thread stopped, when it failed
+  WorkerConnectionStats stats_;
+
+  std::thread io_thread_;  ///< last: starts after everything above exists
+};
+
+}  // namespace orcs::worker

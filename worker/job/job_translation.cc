@@ -1,0 +1,93 @@
+#include "worker/job/job_translation.h"
+
+#include <chrono>
+
+#include "model/core/error.h"
+#include "model/core/json_node.h"
+#include "model/scene/scenario.h"
+
+namespace orcs::worker {
+namespace {
+
+v1::Result::Status StatusOf(evaluation::EvaluationStatus status) {
+  switch (status) {
+    case evaluation::EvaluationStatus::kOk: return v1::Result::OK;
+    case evaluation::EvaluationStatus::kInvalidInput: return v1::Result::INVALID_INPUT;
+    case evaluation::EvaluationStatus::kUnstablePhysics: return v1::Result::UNSTABLE_PHYSICS;
+    case evaluation::EvaluationStatus::kTimeout: return v1::Result::TIMEOUT;
+    case evaluation::EvaluationStatus::kInternalError: return v1::Result::INTERNAL_ERROR;
+  }
+  return v1::Result::INTERNAL_ERROR;
+}
+
+evaluation::EvaluationRequest RequestOf(const v1::Job& job) {
+  const std::string source = "job " + job.job_id();
+  evaluation::EvaluationRequest request;
+  request.scenario = scene::ParseScenario(ParseJson(job.scenario_json(), source + " scenario"), source + " scenario");
+  request.genome = job.genome_json().empty() ? nlohmann::json::array() : ParseJson(job.genome_json(), source + " genome");
+  request.seed = job.seed();
+  for (const v1::Override& override : job.overrides()) {
+    request.overrides.push_back({override.path(), override.value(), source + " override", 0});
+  }
+  request.time_limit_seconds = job.time_limit_seconds();
+  return request;
+}
+
+}  // namespace
+
+v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& outcome) {
+  v1::Result result;
+  result.set_job_id(job.job_id());
+  result.set_batch_id(job.batch_id());
+  result.set_status(StatusOf(outcome.status));
+  result.set_message(outcome.message);
+  result.set_fitness(outcome.fitness);
+  double simulated = 0.0;
+  for (const evaluation::SetOutcome& set : outcome.sets) {
+    v1::Result::ParameterSetResult* out = result.add_parameter_sets();
+    out->set_index(static_cast<std::uint32_t>(set.index));
+    for (const auto& [path, value] : set.drawn) {
+      v1::DrawnValue* drawn = out->add_drawn();
+      drawn->set_path(path);
+      drawn->set_value(value);
+    }
+    for (const auto& [name, value] : set.terms) {
+      v1::Term* term = out->add_terms();
+      term->set_name(name);
+      term->set_value(value);
+    }
+    out->set_fitness(set.fitness);
+    out->set_status(StatusOf(set.status));
+    out->set_message(set.message);
+    simulated += set.simulated_seconds;
+    if (!set.log_csv.empty()) {
+      v1::LogFile* log = result.add_logs();
+      log->set_name("set-" + std::to_string(set.index) + ".csv");
+      log->set_csv(set.log_csv);
+    }
+  }
+  result.mutable_timings()->set_run_seconds(outcome.wall_seconds);
+  result.mutable_timings()->set_simulated_seconds(simulated);
+  result.set_attempts(job.attempt() + 1);
+  return result;
+}
+
+v1::Result RunJob(const v1::Job& job) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    return ToResult(job, evaluation::Evaluate(RequestOf(job)));
+  } catch (const InputError& error) {
+    evaluation::EvaluationOutcome outcome;
+    outcome.status = evaluation::EvaluationStatus::kInvalidInput;
+    outcome.message = error.what();
+    outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return ToResult(job, outcome);
+  } catch (const std::exception& error) {
+    evaluation::EvaluationOutcome outcome;
+    outcome.status = evaluation::EvaluationStatus::kInternalError;
+    outcome.message = error.what();
+    return ToResult(job, outcome);
+  }
+}
+
+}  // namespace orcs::worker

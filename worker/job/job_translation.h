@@ -1,0 +1,18 @@
+// Between wire jobs/results (proto orcs.v1) and the model's evaluation types: the one place where a worker
+// turns bytes into a scenario and an outcome back into bytes (DESIGN.md: model/ never sees protobuf).
+#pragma once
+
+#include "orcs/v1/job.pb.h"
+#include "orcs/v1/result.pb.h"
+#include "worker/evaluation/evaluation.h"
+
+namespace orcs::worker {
+
+/// Runs a job: parses its scenario and genome (bad JSON or fields → INVALID_INPUT with the message), evaluates
+/// it and returns the result. Never throws.
+v1::Result RunJob(const v1::Job& job);
+
+/// The wire result of an evaluation outcome for `job`.
+v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& outcome);
+
+}  // namespace orcs::worker

@@ -1,0 +1,72 @@
+// orcs-worker: a headless simulation worker. Connects to a broker, holds credit for a few jobs, runs them one
+// at a time (worker/job/job_translation.h) and returns their results; heartbeats and reconnection happen in
+// the connection's own thread (worker/broker_connection.h). Serves until SIGINT or SIGTERM.
+//
+//   orcs-worker --connect tcp://127.0.0.1:5556 [--credit 2] [--id NAME] [--heartbeat SECONDS]
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <iostream>
+
+#include "worker/broker_connection.h"
+#include "worker/cli_style.h"
+#include "worker/job/job_translation.h"
+
+namespace {
+
+std::atomic<bool> stop_requested{false};
+
+extern "C" void OnSignal(int) { stop_requested.store(true); }
+
+// How long NextJob waits before looking at the stop flag again.
+constexpr std::chrono::milliseconds kPollInterval{200};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  orcs::worker::WorkerConnectionOptions options;
+  CLI::App app{"orcs-worker: runs simulation jobs from a broker", "orcs-worker"};
+  app.add_option("--connect", options.endpoint, "the broker's worker endpoint, e.g. tcp://127.0.0.1:5556")->required();
+  app.add_option("--credit", options.credit, "jobs held at once (queued at the worker)")->check(CLI::Range(1, 64));
+  app.add_option("--id", options.worker_id, "worker name in results (default: host-pid)");
+  double heartbeat_seconds = 1.0;
+  app.add_option("--heartbeat", heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
+      ->check(CLI::Range(0.001, 3600.0));
+  const std::vector<std::string> arguments = orcs::cli::NormaliseSingleDashOptions(argc, argv, {"connect"});
+  std::vector<const char*> pointers;
+  for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
+  try {
+    app.parse(static_cast<int>(pointers.size()), pointers.data());
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return orcs::cli::kExitOk;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "orcs-worker: " << error.what() << " (see orcs-worker --help)\n";
+    return orcs::cli::kExitBadInput;
+  }
+  options.heartbeat_interval = std::chrono::milliseconds(std::lround(heartbeat_seconds * 1000.0));
+  options.log = [](std::string_view line) { std::cerr << "orcs-worker: " << line << "\n"; };
+
+  struct sigaction action = {};
+  action.sa_handler = OnSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+
+  std::unique_ptr<orcs::worker::WorkerConnection> connection;
+  try {
+    connection = std::make_unique<orcs::worker::WorkerConnection>(options);
+  } catch (const std::exception& error) {
+    std::cerr << "orcs-worker: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  }
+  while (!stop_requested.load()) {
+    std::optional<orcs::v1::Job> job = connection->NextJob(kPollInterval);
+    if (!job) continue;
+    orcs::v1::Result result = orcs::worker::RunJob(*job);
+    connection->SendResult(std::move(result));
+  }
+  return orcs::cli::kExitOk;
+}
