@@ -80,6 +80,14 @@ void EnsureOdeReady() {
   (void)thread_data;
 }
 
+// dWorldQuickStep shuffles its constraints with ODE's one process-wide random generator (dRand), so a QuickStep
+// run would depend on what the process stepped before it. Each world keeps its own generator state and steps with
+// it under this lock, which keeps threads from interleaving their states (uncontended: one simulation per thread).
+std::mutex& QuickStepMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 void ToOde(const Eigen::Quaterniond& q, dQuaternion out) {
   out[0] = q.w();  // ODE stores quaternions as (w, x, y, z)
   out[1] = q.x();
@@ -159,6 +167,40 @@ class OdeWorld final : public PhysicsWorld {
   StepStatus CheckStability(const PhysicsParameters& parameters) const;
   bool IsHinge(int joint) const { return model_->joint(joint).type == JointType::kHinge; }
 
+  // Motor and brake rows (docs/model.md): see StepExact.
+  enum class RowCase {
+    kTwoRows,       // both rows, as built
+    kBrakeSliding,  // brake at its limit against the rate's sign: the motor row plus the brake as a fixed torque
+    kBothFree,      // neither at its limit: one unbounded row with the pair's combined target and CFM
+  };
+  struct MotorRows {  // per model joint
+    double velocity = 0.0;       // angular motor target v, rad/s
+    double max_torque = 0.0;     // angular motor FMax τ ≥ 0, N·m
+    double friction = 0.0;       // brake FMax f ≥ 0, N·m
+    double last_velocity = 0.0;  // v of the last step
+    double last_rate = 0.0;      // joint rate u after the last step, rad/s
+    bool has_last = false;       // a StepExact has recorded last_velocity and last_rate since the build
+  };
+  struct CombinedJoint {  // per motorised hinge, during one StepExact
+    int joint = -1;
+    RowCase row_case = RowCase::kTwoRows;
+    double sign = 0.0;  // kBrakeSliding: the sign of u
+    dVector3 axis{};    // the hinge axis before the step: the direction both rows constrain
+  };
+  struct SavedBody {  // what a repeated dWorldStep needs back
+    dVector3 position{}, linear_velocity{}, angular_velocity{}, force{}, torque{};
+    dQuaternion orientation{};
+  };
+  int StepExact(double dt, bool combine);
+  RowCase PredictRowCase(int joint, double& sign) const;
+  void CombineRows(const CombinedJoint& joint);
+  void SeparateRows(const CombinedJoint& joint);
+  bool RowCaseHeld(const CombinedJoint& joint) const;
+  void ReportMotorShare(const CombinedJoint& joint);
+  double RateAbout(int joint, const dVector3 axis) const;
+  void SaveBodies();
+  void RestoreBodies();
+
   std::shared_ptr<const PhysicsModel> model_;
   dWorldID world_ = nullptr;
   dSpaceID space_ = nullptr;
@@ -169,6 +211,10 @@ class OdeWorld final : public PhysicsWorld {
   std::vector<dJointID> motors_;  // per model joint: the AMotor of a motorised hinge, else nullptr
   // Per model joint: what ODE reports the AMotor applied in the last step. Sized once: ODE keeps pointers.
   std::vector<dJointFeedback> motor_feedback_;
+  std::vector<MotorRows> motor_rows_;    // per model joint
+  std::vector<CombinedJoint> combined_;  // per motorised hinge, of the running step
+  std::vector<SavedBody> saved_bodies_;  // per model body
+  unsigned long quickstep_seed_ = 0;     // this world's state of ODE's generator (QuickStepMutex)
   std::vector<BodyFrictionParameters> body_friction_;  // per model body, for unknown materials
   std::vector<Contact> contacts_;                       // of the last step; capacity is kept across steps
   std::array<dContactGeom, PhysicsParameters::kMaxContactPoints> contact_buffer_{};  // dCollide's output
@@ -225,6 +271,11 @@ void OdeWorld::Build() {
   geoms_.assign(model_->geom_count(), nullptr);
   joints_.assign(model_->joint_count(), nullptr);
   motors_.assign(model_->joint_count(), nullptr);
+  motor_rows_.assign(model_->joint_count(), MotorRows{});
+  combined_.clear();
+  combined_.reserve(model_->joint_count());
+  saved_bodies_.resize(model_->body_count());
+  quickstep_seed_ = 0;
   for (int b = 0; b < model_->body_count(); ++b) BuildBody(b);
   for (int j = 0; j < model_->joint_count(); ++j) BuildJoint(j);
 }
@@ -367,8 +418,16 @@ StepStatus OdeWorld::Step(double dt, const PhysicsParameters& parameters) {
     ApplyParameters(parameters);
     parameters_ = &parameters;
     dSpaceCollide(space_, this, &OdeWorld::NearCallback);
-    const int stepped =
-        parameters.solver == Solver::kQuickStep ? dWorldQuickStep(world_, dt) : dWorldStep(world_, dt);
+    int stepped = 0;
+    if (parameters.solver == Solver::kQuickStep) {
+      for (MotorRows& rows : motor_rows_) rows.has_last = false;  // StepExact predicts from its own steps only
+      const std::lock_guard<std::mutex> lock(QuickStepMutex());
+      dRandSetSeed(quickstep_seed_);
+      stepped = dWorldQuickStep(world_, dt);
+      quickstep_seed_ = dRandGetSeed();
+    } else {
+      stepped = StepExact(dt, parameters.combine_motor_rows);
+    }
     dJointGroupEmpty(contact_group_);
     if (stepped == 0) throw PhysicsError("ODE could not allocate memory for the step");
   } catch (const PhysicsError& error) {
@@ -459,6 +518,189 @@ void OdeWorld::AddContactJoint(const dContactGeom& point, dBodyID b1, dBodyID b2
   dJointAttach(joint, b1, b2);
 }
 
+// A motorised hinge carries two constraint rows on the same axis: the angular motor (rate v, |torque| ≤ τ, CFM c1)
+// and the hinge's friction brake (rate 0, |torque| ≤ f, CFM c2). Identical rows make the pivoting LCP solver of
+// dWorldStep shuttle between them: for the A-Series the 21 pairs more than double the cost of a step. With u the
+// joint rate after the step, the rows satisfy u = v − c1·λ1 while the motor is inside its limits and u = −c2·λ2
+// while the brake is, so which of them is at its limit follows from u alone, and in the usual cases one row does
+// the work of both:
+//   kBrakeSliding  brake at its limit, λ2 = −f·sign(u): the motor row, plus the brake as a fixed torque;
+//   kBothFree      neither at its limit: one unbounded row u = c2·v/(c1+c2) − c1·c2/(c1+c2)·(λ1 + λ2).
+// Each hinge's case is predicted from the last step. After the step, u shows whether every prediction held; the
+// solution then satisfies the two-row problem's conditions too. If one did not hold, the bodies are put back and
+// the step is repeated with both rows everywhere. Results differ from two rows by rounding and by the path the
+// pivoting takes through ODE's approximate friction bounds (A-Series, 10 s: below 2e-9 m); they stay deterministic.
+int OdeWorld::StepExact(double dt, bool combine) {
+  combined_.clear();
+  bool any = false;
+  for (int j = 0; j < model_->joint_count(); ++j) {
+    if (motors_[j] == nullptr) continue;
+    CombinedJoint& joint = combined_.emplace_back();
+    joint.joint = j;
+    dJointGetHingeAxis(joints_[j], joint.axis);
+    if (combine) joint.row_case = PredictRowCase(j, joint.sign);
+    any = any || joint.row_case != RowCase::kTwoRows;
+  }
+  if (any) {
+    SaveBodies();
+    for (const CombinedJoint& joint : combined_) CombineRows(joint);
+  }
+  int stepped = dWorldStep(world_, dt);
+  if (any) {
+    bool held = true;
+    for (const CombinedJoint& joint : combined_) {
+      SeparateRows(joint);
+      held = held && RowCaseHeld(joint);
+    }
+    if (!held && stepped != 0) {
+      RestoreBodies();
+      stepped = dWorldStep(world_, dt);
+    } else if (held) {
+      for (const CombinedJoint& joint : combined_) {
+        if (joint.row_case == RowCase::kBothFree) ReportMotorShare(joint);
+      }
+    }
+  }
+  for (const CombinedJoint& joint : combined_) {
+    MotorRows& rows = motor_rows_[joint.joint];
+    rows.last_velocity = rows.velocity;
+    rows.last_rate = RateAbout(joint.joint, joint.axis);
+    rows.has_last = true;
+  }
+  return stepped;
+}
+
+OdeWorld::RowCase OdeWorld::PredictRowCase(int joint, double& sign) const {
+  const MotorRows& rows = motor_rows_[joint];
+  if (!rows.has_last || rows.max_torque <= 0.0 || rows.friction <= 0.0) return RowCase::kTwoRows;  // < 2 rows
+  dJointID hinge = joints_[joint];
+  const double c1 = dJointGetAMotorParam(motors_[joint], dParamCFM);
+  const double c2 = dJointGetHingeParam(hinge, dParamCFM);
+  // At a stop ODE makes the hinge row the stop and applies the brake as a torque of its own (addLimot): keep it.
+  const double angle = dJointGetHingeAngle(hinge);
+  if (!(angle > dJointGetHingeParam(hinge, dParamLoStop) && angle < dJointGetHingeParam(hinge, dParamHiStop))) {
+    return RowCase::kTwoRows;
+  }
+  const double offset = rows.last_velocity - rows.last_rate;  // c1·λ1 while the motor was inside its limits
+  if (std::abs(offset) >= c1 * rows.max_torque) return RowCase::kTwoRows;  // the motor was at its limit
+  if (std::abs(rows.last_rate) < c2 * rows.friction) return RowCase::kBothFree;  // the brake held
+  const double predicted_rate = rows.velocity - offset;  // the motor's load changes slowly
+  if (std::abs(predicted_rate) < 2.0 * c2 * rows.friction) return RowCase::kTwoRows;  // may stop: unclear
+  sign = predicted_rate > 0.0 ? 1.0 : -1.0;
+  return RowCase::kBrakeSliding;
+}
+
+void OdeWorld::CombineRows(const CombinedJoint& joint) {
+  const MotorRows& rows = motor_rows_[joint.joint];
+  dJointID motor = motors_[joint.joint];
+  dJointID hinge = joints_[joint.joint];
+  switch (joint.row_case) {
+    case RowCase::kTwoRows:
+      return;
+    case RowCase::kBrakeSliding:
+      dJointSetHingeParam(hinge, dParamFMax, 0.0);
+      dJointAddAMotorTorques(motor, -joint.sign * rows.friction, 0.0, 0.0);  // body1 +, body2 −, like the row
+      return;
+    case RowCase::kBothFree: {
+      const double c1 = dJointGetAMotorParam(motor, dParamCFM);
+      const double c2 = dJointGetHingeParam(hinge, dParamCFM);
+      dJointSetHingeParam(hinge, dParamFMax, 0.0);
+      dJointSetAMotorParam(motor, dParamVel, c2 * rows.velocity / (c1 + c2));
+      dJointSetAMotorParam(motor, dParamCFM, c1 * c2 / (c1 + c2));
+      dJointSetAMotorParam(motor, dParamFMax, dInfinity);
+      return;
+    }
+  }
+}
+
+void OdeWorld::SeparateRows(const CombinedJoint& joint) {
+  if (joint.row_case == RowCase::kTwoRows) return;
+  const MotorRows& rows = motor_rows_[joint.joint];
+  dJointSetHingeParam(joints_[joint.joint], dParamFMax, rows.friction);
+  if (joint.row_case == RowCase::kBothFree) {
+    dJointID motor = motors_[joint.joint];
+    dJointSetAMotorParam(motor, dParamVel, rows.velocity);
+    dJointSetAMotorParam(motor, dParamCFM, kMotorCfm);
+    dJointSetAMotorParam(motor, dParamFMax, rows.max_torque);
+  }
+}
+
+// Whether the rate after the step is one the predicted case allows; then the two-row conditions hold as well.
+bool OdeWorld::RowCaseHeld(const CombinedJoint& joint) const {
+  const MotorRows& rows = motor_rows_[joint.joint];
+  const double u = RateAbout(joint.joint, joint.axis);
+  const double c1 = dJointGetAMotorParam(motors_[joint.joint], dParamCFM);
+  const double c2 = dJointGetHingeParam(joints_[joint.joint], dParamCFM);
+  switch (joint.row_case) {
+    case RowCase::kTwoRows:
+      return true;
+    case RowCase::kBrakeSliding:
+      return joint.sign * u >= c2 * rows.friction;
+    case RowCase::kBothFree:
+      return std::abs(u) <= c2 * rows.friction && std::abs(rows.velocity - u) <= c1 * rows.max_torque;
+  }
+  return false;
+}
+
+// In kBothFree one row carried motor and brake together, and ODE's feedback holds their sum. The motor's share is
+// λ1 = (v − u)/c1, as in the two-row step; report that (joint_motor_torque).
+void OdeWorld::ReportMotorShare(const CombinedJoint& joint) {
+  const MotorRows& rows = motor_rows_[joint.joint];
+  const double torque =
+      (rows.velocity - RateAbout(joint.joint, joint.axis)) / dJointGetAMotorParam(motors_[joint.joint], dParamCFM);
+  const bool two_bodies = model_->joint_body2(joint.joint) >= 0;
+  dJointFeedback& feedback = motor_feedback_[joint.joint];
+  for (int k = 0; k < 3; ++k) {
+    feedback.f1[k] = 0.0;
+    feedback.f2[k] = 0.0;
+    feedback.t1[k] = torque * joint.axis[k];
+    feedback.t2[k] = two_bodies ? -torque * joint.axis[k] : 0.0;
+  }
+}
+
+// (ω1 − ω2)·axis, the rate both rows constrain (body 2 may be the static world).
+double OdeWorld::RateAbout(int joint, const dVector3 axis) const {
+  const dReal* w1 = dBodyGetAngularVel(bodies_[model_->joint_body1(joint)]);
+  double rate = axis[0] * w1[0] + axis[1] * w1[1] + axis[2] * w1[2];
+  const int b2 = model_->joint_body2(joint);
+  if (b2 >= 0 && bodies_[b2] != nullptr) {
+    const dReal* w2 = dBodyGetAngularVel(bodies_[b2]);
+    rate -= axis[0] * w2[0] + axis[1] * w2[1] + axis[2] * w2[2];
+  }
+  return rate;
+}
+
+void OdeWorld::SaveBodies() {
+  const auto copy = [](const dReal* from, dReal* to, int n) { std::copy(from, from + n, to); };
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    dBodyID id = bodies_[b];
+    if (id == nullptr) continue;
+    SavedBody& saved = saved_bodies_[b];
+    copy(dBodyGetPosition(id), saved.position, 3);
+    copy(dBodyGetQuaternion(id), saved.orientation, 4);
+    copy(dBodyGetLinearVel(id), saved.linear_velocity, 3);
+    copy(dBodyGetAngularVel(id), saved.angular_velocity, 3);
+    // What was added for this step (AddJointTorque, ...), before CombineRows adds the brake torques.
+    copy(dBodyGetForce(id), saved.force, 3);
+    copy(dBodyGetTorque(id), saved.torque, 3);
+  }
+}
+
+// ODE renormalises a quaternion it is given, so a repeated step may start a rounding error away from the first.
+void OdeWorld::RestoreBodies() {
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    dBodyID id = bodies_[b];
+    if (id == nullptr) continue;
+    const SavedBody& saved = saved_bodies_[b];
+    dBodySetPosition(id, saved.position[0], saved.position[1], saved.position[2]);
+    dBodySetQuaternion(id, saved.orientation);
+    dBodySetLinearVel(id, saved.linear_velocity[0], saved.linear_velocity[1], saved.linear_velocity[2]);
+    dBodySetAngularVel(id, saved.angular_velocity[0], saved.angular_velocity[1], saved.angular_velocity[2]);
+    dBodySetForce(id, saved.force[0], saved.force[1], saved.force[2]);
+    dBodySetTorque(id, saved.torque[0], saved.torque[1], saved.torque[2]);
+  }
+}
+
 StepStatus OdeWorld::CheckStability(const PhysicsParameters& p) const {
   const double max_linear2 = p.max_linear_speed * p.max_linear_speed;
   const double max_angular2 = p.max_angular_speed * p.max_angular_speed;
@@ -537,6 +779,8 @@ void OdeWorld::SetJointMotor(int joint, double velocity, double max_torque) {
   if (motor == nullptr) return;
   dJointSetAMotorParam(motor, dParamVel, velocity);
   dJointSetAMotorParam(motor, dParamFMax, std::max(0.0, max_torque));  // a negative limit means none
+  motor_rows_[joint].velocity = velocity;
+  motor_rows_[joint].max_torque = std::max(0.0, max_torque);
 }
 
 void OdeWorld::SetJointFriction(int joint, double max_torque) {
@@ -544,6 +788,7 @@ void OdeWorld::SetJointFriction(int joint, double max_torque) {
   assert(IsHinge(joint) && "SetJointFriction needs a hinge");
   if (!IsHinge(joint)) return;
   dJointSetHingeParam(joints_[joint], dParamFMax, std::max(0.0, max_torque));
+  motor_rows_[joint].friction = std::max(0.0, max_torque);
 }
 
 void OdeWorld::AddJointTorque(int joint, double torque) {

@@ -514,6 +514,80 @@ TEST(OdeWorldTest, ResetGivesBitIdenticalTrajectories) {
   EXPECT_TRUE(first == second);  // exact, not approximate
 }
 
+// The motor model's commands on both hinges of the chain: a velocity-driven motor, sometimes at its torque limit,
+// and a friction brake that grows with the rate, so that every hinge is in turn sliding, held and at a stop.
+std::vector<double> BrakedTrajectory(PhysicsWorld& world, int steps, const PhysicsParameters& parameters) {
+  std::vector<double> out;
+  for (int i = 0; i < steps; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      world.SetJointMotor(j, (j == 0 ? 3.0 : -1.5) * std::sin(0.03 * i + j), j == 0 ? 0.05 : 0.004);
+      world.SetJointFriction(j, 0.001 + 0.01 * std::abs(world.joint_rate(j)));
+    }
+    EXPECT_EQ(world.Step(kDt, parameters), StepStatus::kOk);
+    for (int b = 1; b < 4; ++b) {
+      const BodyState s = world.body_state(b);
+      out.insert(out.end(), s.position.data(), s.position.data() + 3);
+    }
+    for (int j = 0; j < 2; ++j) out.push_back(world.joint_motor_torque(j));  // the motor's share, not the pair's
+  }
+  return out;
+}
+
+TEST(OdeWorldTest, CombinedMotorRowsFollowTheTwoRowSolution) {
+  const auto model = Compile(Chain());
+  PhysicsParameters two_rows;
+  two_rows.combine_motor_rows = false;
+  auto reference = MakeOdeWorld(model);
+  auto combined = MakeOdeWorld(model);
+  const std::vector<double> expected = BrakedTrajectory(*reference, 400, two_rows);
+  const std::vector<double> actual = BrakedTrajectory(*combined, 400, {});
+  ASSERT_EQ(actual.size(), expected.size());
+  for (size_t k = 0; k < actual.size(); ++k) ASSERT_NEAR(actual[k], expected[k], 1e-9) << "coordinate " << k;
+}
+
+TEST(OdeWorldTest, CombinedMotorRowsReportTheMotorsShareOfAHoldingTorque) {
+  // A motor commanded to rate 0 and a brake, both strong enough, hold the pendulum horizontal. Two rows on one
+  // axis with the same target share the load in inverse proportion to their CFM (equal here): the motor reports
+  // half of it, whether the step solved the pair as two rows or as one.
+  const auto model = Compile(Pendulum(false, true));
+  const double gravity_torque = 0.1 * kG * 0.2;
+  std::vector<double> torques[2];
+  for (int variant = 0; variant < 2; ++variant) {
+    PhysicsParameters parameters;
+    parameters.combine_motor_rows = variant == 1;
+    auto world = MakeOdeWorld(model);
+    for (int i = 0; i < 100; ++i) {
+      world->SetJointMotor(0, 0.0, 1.0);
+      world->SetJointFriction(0, 0.5);
+      ASSERT_EQ(world->Step(kDt, parameters), StepStatus::kOk);
+      torques[variant].push_back(world->joint_motor_torque(0));
+    }
+  }
+  EXPECT_NEAR(torques[1].back(), 0.5 * gravity_torque, 1e-3);
+  for (size_t k = 0; k < torques[0].size(); ++k) EXPECT_NEAR(torques[1][k], torques[0][k], 1e-9) << "step " << k;
+}
+
+TEST(OdeWorldTest, CombinedMotorRowsKeepAnAddedTorqueWhenTheStepIsRepeated) {
+  // A motor holding against a brake, then a torque kick that reverses the joint: the predicted case fails and the
+  // step is repeated with both rows, which must see the kick again.
+  const auto model = Compile(Pendulum(false, true));
+  std::vector<double> rates[2];
+  for (int variant = 0; variant < 2; ++variant) {
+    PhysicsParameters parameters = ZeroGravity();
+    parameters.combine_motor_rows = variant == 1;
+    auto world = MakeOdeWorld(model);
+    for (int i = 0; i < 40; ++i) {
+      world->SetJointMotor(0, 0.5, 0.1);
+      world->SetJointFriction(0, 0.002);
+      if (i == 20) world->AddJointTorque(0, -1.0);
+      ASSERT_EQ(world->Step(kDt, parameters), StepStatus::kOk);
+      rates[variant].push_back(world->joint_rate(0));
+    }
+  }
+  EXPECT_LT(rates[1][20], 0.0);  // the kick acted
+  for (size_t k = 0; k < rates[0].size(); ++k) EXPECT_NEAR(rates[1][k], rates[0][k], 1e-9) << "step " << k;
+}
+
 TEST(OdeWorldTest, ResetTurnsMotorsAndFrictionOff) {
   auto world = MakeOdeWorld(Compile(Pendulum(false, true)));
   world->SetJointMotor(0, 3.0, 10.0);
@@ -592,6 +666,25 @@ TEST(OdeWorldTest, QuickStepSolverAlsoRestsTheSphere) {
   p.solver = Solver::kQuickStep;
   RunFor(*world, 3.0, p);
   EXPECT_NEAR(world->body_state(1).position.y(), 0.05, 1.5e-3);
+}
+
+TEST(OdeWorldTest, QuickStepRunsDoNotDependOnWhatTheProcessSteppedBefore) {
+  // dWorldQuickStep shuffles its constraints with ODE's one process-wide random generator.
+  PhysicsParameters quick;
+  quick.solver = Solver::kQuickStep;
+  const auto model = Compile(Chain());
+  const auto run = [&] {
+    auto world = MakeOdeWorld(model);
+    std::vector<double> out;
+    for (int i = 0; i < 100; ++i) {
+      EXPECT_EQ(world->Step(kDt, quick), StepStatus::kOk);
+      const Eigen::Vector3d p = world->body_state(3).position;
+      out.insert(out.end(), p.data(), p.data() + 3);
+    }
+    return out;
+  };
+  const std::vector<double> first = run();
+  EXPECT_TRUE(run() == first);  // exact
 }
 
 }  // namespace
