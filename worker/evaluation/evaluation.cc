@@ -32,6 +32,14 @@ scene::EnvironmentDescription EnvironmentOf(const scene::Scenario& scenario) {
   return scene::EnvironmentReader::ReadString(scenario.environment_xml, scenario.environment_name);
 }
 
+int FindScenarioAgent(const scene::Simulation& simulation, const scene::Scenario& scenario) {
+  const int agent = simulation.FindAgent(scenario.agent);
+  if (agent < 0) {
+    throw InputError(scenario.source, 0, "field 'agent' names '" + scenario.agent + "', which the environment lacks");
+  }
+  return agent;
+}
+
 void SetDrawn(VariableRepository& values, const std::string& path, double value) {
   Value& target = values.Get(path);
   if (target.type() == ValueType::kInt) {
@@ -66,10 +74,7 @@ void Configure(const EvaluationRequest& request, const scene::ParameterSet* set,
     for (const auto& [path, value] : set->values) SetDrawn(simulation.repository(), path, value);
     outcome.drawn = set->values;
   }
-  run.agent = simulation.FindAgent(scenario.agent);
-  if (run.agent < 0) {
-    throw InputError(scenario.source, 0, "field 'agent' names '" + scenario.agent + "', which the environment lacks");
-  }
+  run.agent = FindScenarioAgent(simulation, scenario);
   const control::ControlTarget target{scenario.agent, simulation.agent(run.agent).motor_names()};
   run.controller = control::MakeController(scenario.controller, request.genome, target, simulation.repository(),
                                            scenario.source);
@@ -154,6 +159,20 @@ std::string_view EvaluationStatusName(EvaluationStatus status) {
     case EvaluationStatus::kInternalError: return "internal error";
   }
   return "?";
+}
+
+void CheckRequest(const EvaluationRequest& request) {
+  const std::vector<scene::ParameterSet> sets = DrawSets(request);
+  SetRun run;
+  SetOutcome outcome;
+  Configure(request, sets.empty() ? nullptr : &sets.front(), run, outcome);
+}
+
+control::ControlTarget ControlTargetOf(const scene::Scenario& scenario) {
+  scene::Simulation simulation;
+  simulation.LoadEnvironment(EnvironmentOf(scenario));
+  simulation.Build();
+  return {scenario.agent, simulation.agent(FindScenarioAgent(simulation, scenario)).motor_names()};
 }
 
 EvaluationOutcome Evaluate(const EvaluationRequest& request) {

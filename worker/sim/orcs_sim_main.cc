@@ -16,6 +16,7 @@
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
 #include "worker/cli_style.h"
+#include "worker/sim/scenario_run.h"
 #include "worker/sim/sim_options.h"
 
 namespace orcs::sim {
@@ -201,6 +202,7 @@ int main(int argc, char** argv) {
   const orcs::sim::ParsedOptions parsed = orcs::sim::ParseSimOptions(argc, argv);
   if (parsed.exit_code >= 0) return parsed.exit_code;
   try {
+    if (!parsed.options.scenario.empty()) return orcs::sim::RunScenario(parsed.options);
     return orcs::sim::Run(parsed.options);
   } catch (const orcs::InputError& error) {
     std::cerr << "orcs-sim: " << error.what() << "\n";
