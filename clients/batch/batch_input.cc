@@ -70,6 +70,21 @@ bool SameOverrides(const v1::Job& a, const v1::Job& b) {
   return true;
 }
 
+// A parameter set's absolute draw replaces the job's override of the same path, so sweeping such a path would
+// change nothing; a relative draw scales the swept value and is fine.
+void CheckSweptPathsAreNotRedrawn(const ScenarioInput& input, const SweepPoint& point) {
+  const std::vector<scene::ParameterDistribution>& drawn = input.scenario.randomisation.parameters;
+  for (const auto& [path, value] : point) {
+    for (std::size_t i = 0; i < drawn.size(); ++i) {
+      if (drawn[i].path != path || drawn[i].relative) continue;
+      throw InputError("--param " + path, 0,
+                       "the scenario's randomisation.parameters[" + std::to_string(i) +
+                           "] draws this path anew for every parameter set, replacing the swept value; make that "
+                           "distribution \"relative\" or remove it");
+    }
+  }
+}
+
 }  // namespace
 
 ScenarioInput LoadScenario(const std::string& path) {
@@ -127,6 +142,7 @@ std::vector<PlannedJob> PlanRunJobs(const ScenarioInput& input, const std::vecto
 
 std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& genome,
                                       const std::vector<SweepPoint>& points, const JobSettings& settings) {
+  if (!points.empty()) CheckSweptPathsAreNotRedrawn(input, points.front());
   std::vector<PlannedJob> jobs;
   for (std::size_t p = 0; p < points.size(); ++p) {
     nlohmann::ordered_json point = nlohmann::ordered_json::object();

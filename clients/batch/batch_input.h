@@ -61,7 +61,8 @@ std::vector<PlannedJob> PlanRunJobs(const ScenarioInput& input, const std::vecto
 using SweepPoint = std::vector<std::pair<std::string, double>>;
 
 /// The jobs of `orcs-batch sweep`: every point × every repeat, one genome, the point's values as overrides; ids
-/// "point-0000-r0", ...; every point uses the same seeds (settings.seed + r).
+/// "point-0000-r0", ...; every point uses the same seeds (settings.seed + r). Throws InputError when the scenario's
+/// randomisation draws a swept path with an absolute distribution (it would replace the swept value).
 std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& genome,
                                       const std::vector<SweepPoint>& points, const JobSettings& settings);
 
