@@ -87,17 +87,29 @@ std::uint64_t SetSeed(std::uint64_t seed, int k) {
   return RandomStream(seed, "set-seed", static_cast<std::uint64_t>(k)).NextU64();
 }
 
+// The set's start pose: the joints posed about the agent's root, then the agent moved as a whole; what was
+// drawn is reported as start_pose/x, /y, /z, /yaw_degrees, then start_pose/<motor> per motor.
+void StartPose(const scene::ParameterSet& set, SetRun& run, SetOutcome& outcome) {
+  scene::Simulation& simulation = run.simulation;
+  if (!set.motor_angles_degrees.empty()) simulation.SetAgentJointAngles(run.agent, set.motor_angles_degrees);
+  if (set.position_offset != Eigen::Vector3d::Zero() || set.yaw_degrees != 0.0) {
+    simulation.MoveAgent(run.agent, set.position_offset, set.yaw_degrees);
+    outcome.drawn.emplace_back("start_pose/x", set.position_offset.x());
+    outcome.drawn.emplace_back("start_pose/y", set.position_offset.y());
+    outcome.drawn.emplace_back("start_pose/z", set.position_offset.z());
+    outcome.drawn.emplace_back("start_pose/yaw_degrees", set.yaw_degrees);
+  }
+  const std::vector<std::string>& motors = simulation.agent(run.agent).motor_names();
+  for (std::size_t m = 0; m < set.motor_angles_degrees.size(); ++m) {
+    outcome.drawn.emplace_back("start_pose/" + motors[m], set.motor_angles_degrees[m]);
+  }
+}
+
 void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet* set, SetRun& run,
               SetOutcome& outcome, Clock::time_point deadline) {
   scene::Simulation& simulation = run.simulation;
   simulation.Reset(SetSeed(request.seed, k));
-  if (set != nullptr && (set->position_offset != Eigen::Vector3d::Zero() || set->yaw_degrees != 0.0)) {
-    simulation.MoveAgent(run.agent, set->position_offset, set->yaw_degrees);
-    outcome.drawn.emplace_back("start_pose/x", set->position_offset.x());
-    outcome.drawn.emplace_back("start_pose/y", set->position_offset.y());
-    outcome.drawn.emplace_back("start_pose/z", set->position_offset.z());
-    outcome.drawn.emplace_back("start_pose/yaw_degrees", set->yaw_degrees);
-  }
+  if (set != nullptr) StartPose(*set, run, outcome);
   run.controller->Reset();
   run.fitness->Start(simulation);
   if (run.logger) {
@@ -144,7 +156,11 @@ std::vector<scene::ParameterSet> DrawSets(const EvaluationRequest& request) {
   nominal.Build();
   ValueFile::ApplyAssignments(request.scenario.values, nominal.repository());
   ValueFile::ApplyAssignments(request.overrides, nominal.repository());
+  // A missing agent draws no motor angles here and fails in Configure, with the scenario's field named.
+  const int agent = nominal.FindAgent(request.scenario.agent);
+  const std::vector<aseries::MorphologyMotor> no_motors;
   return scene::DrawParameterSets(request.scenario.randomisation, request.seed, nominal.repository(),
+                                  agent < 0 ? no_motors : nominal.model().morphology(agent).motors,
                                   request.scenario.source);
 }
 
