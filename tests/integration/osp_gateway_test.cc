@@ -215,7 +215,8 @@ std::vector<float> Inputs(float angle) {
 class OspGatewayTest : public ::testing::Test {
  protected:
   void Start(std::vector<std::string> extra = {}) {
-    std::vector<std::string> argv = {kBin + "orcs-osp", "-env", dir_.Write("two.xml", kEnvironment), "-port", "0"};
+    std::vector<std::string> argv = {kBin + "orcs-osp", "-env", dir_.Write("two.xml", kEnvironment), "-port", "0",
+                                     "-odcp_port", "0"};
     argv.insert(argv.end(), extra.begin(), extra.end());
     server_ = std::make_unique<BackgroundProcess>(argv);
     const std::optional<std::string> line = server_->ReadLine(milliseconds(10000));

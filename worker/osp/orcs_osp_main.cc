@@ -1,14 +1,18 @@
 // orcs-osp: a live, headless simulation served over OSP 1.1 (docs/osp.md), so that the original's evolution
-// environments, slider tools and network evaluators drive it unchanged. Prints "orcs-osp osp=ADDRESS:PORT" on
-// stdout once it listens, logs events on stderr, serves until SIGINT or SIGTERM.
+// environments, slider tools and network evaluators drive it unchanged, and ODCP 1.0 for each agent in the same
+// thread, so that motion editors and slider tools move them directly. Prints "orcs-osp osp=ADDRESS:PORT" on
+// stdout once it listens, then one "orcs-osp odcp AGENT=ADDRESS:PORT" line per agent; logs events on stderr;
+// serves until SIGINT or SIGTERM.
 //
-//   orcs-osp [-env FILE] [-ival FILE]... [-val FILE]... [-port 45454] [--bind 127.0.0.1] [--client-timeout 10]
+//   orcs-osp [-env FILE] [-ival FILE]... [-val FILE]... [-port 45454] [-odcp_port 45453] [--bind 127.0.0.1]
+//            [--client-timeout 10]
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <iostream>
 
 #include "model/core/error.h"
 #include "worker/cli_style.h"
+#include "worker/osp/odcp_server.h"
 #include "worker/osp/osp_server.h"
 #include "worker/sim/world_setup.h"
 
@@ -25,24 +29,57 @@ struct OspOptions {
   std::vector<std::string> initial_value_files;
   std::vector<std::string> value_files;
   int port = -1;  // -1: /UDPCommunication/ServerPort
+  int odcp_port = -1;  // base port of the ODCP servers; -1: /SimpleUdpMotorInterface/ServerPort
   std::string bind_address = "127.0.0.1";
   double client_timeout_seconds = 10.0;
 };
 
+// The port of an option, or of its repository value when the option was not given; InputError when out of range.
+int PortOf(int option, const orcs::VariableRepository& repository, const std::string& path) {
+  const std::int64_t port = option >= 0 ? option : repository.Get(path).as_int();
+  if (port < 0 || port > 65535) {
+    throw orcs::InputError(path, 0, "expected a port 0..65535, found " + std::to_string(port));
+  }
+  return static_cast<int>(port);
+}
+
+// One ODCP server per agent (docs/osp.md, "Ports"), served in the OSP server's thread; a line on stdout each.
+struct OdcpServers {
+  std::vector<std::unique_ptr<orcs::osp::AgentMotors>> motors;  // what each server drives (outlives it)
+  std::vector<std::unique_ptr<orcs::osp::OdcpServer>> servers;  // by agent index
+};
+
+OdcpServers StartOdcp(orcs::scene::Simulation& simulation, orcs::osp::OspServer& osp, const OspOptions& options) {
+  OdcpServers odcp;
+  const int base = PortOf(options.odcp_port, simulation.repository(), "/SimpleUdpMotorInterface/ServerPort");
+  try {
+    const std::vector<std::uint16_t> ports = orcs::osp::OdcpPorts(base, simulation.agent_count(), osp.endpoint().port);
+    for (int a = 0; a < simulation.agent_count(); ++a) {
+      odcp.motors.push_back(std::make_unique<orcs::osp::AgentMotors>(orcs::osp::MakeAgentInterface(simulation, a)));
+      orcs::osp::OdcpServerOptions server_options;
+      server_options.bind_address = options.bind_address;
+      server_options.port = ports[static_cast<std::size_t>(a)];
+      server_options.name = "orcs-osp: ODCP " + odcp.motors.back()->name();
+      odcp.servers.push_back(std::make_unique<orcs::osp::OdcpServer>(*odcp.motors.back(), server_options));
+      osp.AddService(odcp.servers.back().get());
+    }
+  } catch (const std::runtime_error& error) {  // a port in use or beyond 65535: bad input
+    throw orcs::InputError(std::string("-odcp_port: ") + error.what());
+  }
+  return odcp;
+}
+
 int Serve(const OspOptions& options) {
   orcs::scene::Simulation simulation;
-  // The original's port value, so that a value file can set it as it could there.
+  // The original's port values, so that a value file can set them as it could there.
   simulation.repository().Add("/UDPCommunication/ServerPort", 45454);
+  simulation.repository().Add("/SimpleUdpMotorInterface/ServerPort", 45453);
   orcs::sim::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   simulation.Reset(0);
   orcs::osp::OspServerOptions server_options;
   server_options.bind_address = options.bind_address;
-  const std::int64_t port =
-      options.port >= 0 ? options.port : simulation.repository().Get("/UDPCommunication/ServerPort").as_int();
-  if (port < 0 || port > 65535) {
-    throw orcs::InputError("/UDPCommunication/ServerPort", 0, "expected a port 0..65535, found " + std::to_string(port));
-  }
-  server_options.port = static_cast<std::uint16_t>(port);
+  server_options.port =
+      static_cast<std::uint16_t>(PortOf(options.port, simulation.repository(), "/UDPCommunication/ServerPort"));
   server_options.client_timeout = std::chrono::milliseconds(std::lround(options.client_timeout_seconds * 1000.0));
   std::unique_ptr<orcs::osp::OspServer> server;
   try {
@@ -50,6 +87,7 @@ int Serve(const OspOptions& options) {
   } catch (const std::runtime_error& error) {  // a port in use, an address that cannot be bound: bad input
     throw orcs::InputError(error.what());
   }
+  const OdcpServers odcp = StartOdcp(simulation, *server, options);
   running_server = server.get();
   struct sigaction action = {};
   action.sa_handler = OnSignal;
@@ -57,6 +95,10 @@ int Serve(const OspOptions& options) {
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
   std::cout << "orcs-osp osp=" << server->endpoint().ToString() << std::endl;
+  for (std::size_t a = 0; a < odcp.servers.size(); ++a) {
+    std::cout << "orcs-osp odcp " << odcp.motors[a]->name() << "=" << odcp.servers[a]->endpoint().ToString()
+              << std::endl;
+  }
   server->Run();
   running_server = nullptr;
   return orcs::cli::kExitOk;
@@ -75,12 +117,16 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_option("--port", options.port, "OSP server port (default /UDPCommunication/ServerPort, 45454; 0 = any)")
       ->check(CLI::Range(0, 65535));
+  app.add_option("--odcp_port,--odcp-port", options.odcp_port,
+                 "base port of the ODCP servers, one per agent, skipping the OSP port (default "
+                 "/SimpleUdpMotorInterface/ServerPort, 45453; 0 = any)")
+      ->check(CLI::Range(0, 65535));
   app.add_option("--bind", options.bind_address, "interface to listen on (default 127.0.0.1; * = every interface)");
   app.add_option("--client-timeout", options.client_timeout_seconds,
                  "seconds of silence after which a client loses its agents (default 10)")
       ->check(CLI::Range(0.001, 1e6));
   const std::vector<std::string> arguments =
-      orcs::cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "port"});
+      orcs::cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "port", "odcp_port"});
   std::vector<const char*> pointers;
   for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
   try {

@@ -16,6 +16,7 @@
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
 #include "worker/cli_style.h"
+#include "worker/sim/realtime.h"
 #include "worker/sim/scenario_run.h"
 #include "worker/sim/sim_options.h"
 #include "worker/sim/world_setup.h"
@@ -170,8 +171,14 @@ int Run(const SimOptions& options) {
     logger->Open(options.out, LogComments(options));
     logger->Sample(simulation.time());
   }
+  std::unique_ptr<RealtimeRunner> realtime;
+  if (options.realtime) {
+    realtime = std::make_unique<RealtimeRunner>(simulation, options.odcp_port, options.bind_address);
+    realtime->PrintEndpoints(std::cout);
+  }
   const auto start = std::chrono::steady_clock::now();
   for (std::int64_t i = 0; i < steps; ++i) {
+    if (realtime) realtime->WaitForStep(i, simulation.StepDuration());
     for (control::KeyframePlayer& player : players) player.Apply(simulation.time());
     if (simulation.Step() != scene::SimulationStatus::kOk) break;
     if (logger) logger->Sample(simulation.time());

@@ -32,8 +32,17 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
                                                "print its result as one JSON line, as orcs-batch writes it");
   app.add_option("--genome", o.genome, "the job's genome as JSON text or @FILE (default: the scenario's \"genome\")")
       ->needs(scenario);
+  CLI::Option* realtime =
+      app.add_flag("--realtime", o.realtime, "pace the steps to the wall clock (one simulated second per second)");
+  CLI::Option* port = app.add_option("--port", o.odcp_port,
+                                     "with --realtime: serve ODCP 1.0 for each agent from this base port, skipping "
+                                     "45454 (-port also accepted; 0 = any free port)")
+                          ->check(CLI::Range(0, 65535))
+                          ->needs(realtime);
+  app.add_option("--bind", o.bind_address, "interface the ODCP servers listen on (default 127.0.0.1; * = every one)")
+      ->needs(port);
 
-  const std::vector<std::string> arguments = cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "play"});
+  const std::vector<std::string> arguments = cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "play", "port"});
   std::vector<const char*> pointers;
   for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
   try {
@@ -42,10 +51,10 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
     if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
     const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
                                !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
-                               app.count("--duration") > 0;
+                               app.count("--duration") > 0 || o.realtime;
     if (!o.scenario.empty() && world_options) {
       throw CLI::ValidationError("--scenario", "takes only --genome and --seed: the scenario gives the world, the "
-                                               "duration and what to log");
+                                               "duration and what to log, and runs as fast as it can");
     }
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();

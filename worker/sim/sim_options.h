@@ -22,6 +22,9 @@ struct SimOptions {
   bool describe = false;                         ///< --describe: print the world as JSON and exit
   std::string scenario;                          ///< --scenario FILE.json: evaluate one job and print its result
   std::string genome;                            ///< --genome JSON or @FILE: the job's genome ("" = the scenario's)
+  bool realtime = false;                         ///< --realtime: steps paced to the wall clock
+  int odcp_port = -1;                            ///< -port BASE (needs --realtime): ODCP servers; −1 = none, 0 = any
+  std::string bind_address = "127.0.0.1";        ///< --bind: interface the ODCP servers listen on
 };
 
 /// Result of parsing the command line.
