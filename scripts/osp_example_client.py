@@ -163,7 +163,8 @@ class OspClient:
         result.int()
         n_out, n_info, n_events, _ = result.int(), result.int(), result.int(), result.int()
         outputs = [result.float() for _ in range(n_out)]
-        [result.float() for _ in range(n_info)]
+        for _ in range(n_info):
+            result.float()  # info values: the A-Series has none
         events = [result.int() for _ in range(n_events)]
         self.send(("b", 86))
         return outputs, events

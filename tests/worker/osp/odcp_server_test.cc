@@ -31,11 +31,11 @@ class FakeMotors : public OdcpMotors {
   }
   void OnConnect() override { ++connects; }
   void OnDisconnect() override { ++disconnects; }
-  std::vector<double> angles;  // degrees
-  std::vector<double> torques;  // raw
-  int sets = 0;
-  int connects = 0;
-  int disconnects = 0;
+  std::vector<double> angles;   // goal angles, degrees
+  std::vector<double> torques;  // raw torques, 0…1
+  int sets = 0;                 // set-motors commands applied
+  int connects = 0;             // connects answered
+  int disconnects = 0;          // disconnects answered
 };
 
 Bytes Words(std::uint8_t code, const std::vector<std::int32_t>& words) {
