@@ -416,7 +416,7 @@ TEST_F(OdcpTest, TheSniffersRecordReplaysTheMotionThatWasSent) {
   for (int k = 0; k < kCommands; ++k) {
     const std::vector<double>& row = rows[static_cast<std::size_t>(k)];
     ASSERT_EQ(row.size(), 1u + 2 * kMotors);
-    EXPECT_NEAR(row[0], sent_ms[static_cast<std::size_t>(k)], 3.0) << "row " << k;
+    EXPECT_NEAR(row[0], sent_ms[static_cast<std::size_t>(k)], 5.0) << "row " << k << ": delivery took too long";
     latest = std::max(latest, std::abs(row[0] - sent_ms[static_cast<std::size_t>(k)]));
     for (int m = 0; m < kMotors; ++m) {
       EXPECT_NEAR(row[1 + 2 * static_cast<std::size_t>(m)], AngleOf(poses[static_cast<std::size_t>(k)][static_cast<std::size_t>(m)]), 1e-9);
