@@ -39,7 +39,9 @@ Datagram Expect(UdpSocket& socket, std::uint8_t code) {
   return *datagram;
 }
 
-void Send(UdpSocket& socket, const DatagramWriter& writer, const Endpoint& to) { socket.SendTo(writer.Finish(false), to); }
+void Send(UdpSocket& socket, const DatagramWriter& writer, const Endpoint& to) {
+  socket.SendTo(writer.Finish(false), to);
+}
 
 // One client of a server running in its own thread.
 class ClientOfServerThread {

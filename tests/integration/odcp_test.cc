@@ -54,7 +54,9 @@ constexpr const char* kTwoRobots = R"xml(<?xml version="1.0"?>
 )xml";
 
 // ---- The spec's ODCP: int32 little-endian words; w ↔ n = −1 + 2w/1023; angle 150·n°, torque (n+1)/2. ----
-std::int32_t AngleWord(double degrees) { return static_cast<std::int32_t>(std::lround((degrees / 150.0 + 1.0) * 511.5)); }
+std::int32_t AngleWord(double degrees) {
+  return static_cast<std::int32_t>(std::lround((degrees / 150.0 + 1.0) * 511.5));
+}
 double AngleOf(std::int32_t word) { return 150.0 * (-1.0 + 2.0 * word / 1023.0); }
 double TorqueOf(std::int32_t word) { return word / 1023.0; }
 constexpr std::int32_t kCentre = 512;         // 0° (n = 1/1023)
@@ -193,7 +195,9 @@ class OspStepper {
       const std::vector<std::int32_t> ints = Ints(*result);
       EXPECT_EQ(ints[0], agents[a]);
       std::vector<float> values;
-      for (std::int32_t i = 0; i < ints[1]; ++i) values.push_back(std::bit_cast<float>(ints[5 + static_cast<std::size_t>(i)]));
+      for (std::size_t i = 0; i < static_cast<std::size_t>(ints[1]); ++i) {
+        values.push_back(std::bit_cast<float>(ints[5 + i]));
+      }
       outputs.push_back(values);
       peer_.SendTo(handler_, {86});
     }
@@ -413,15 +417,14 @@ TEST_F(OdcpTest, TheSniffersRecordReplaysTheMotionThatWasSent) {
   ASSERT_EQ(rows.size(), static_cast<std::size_t>(kCommands));
   EXPECT_EQ(rows[0][0], 0.0) << "times count from the first command, not from the connect";
   double latest = 0.0;
-  for (int k = 0; k < kCommands; ++k) {
-    const std::vector<double>& row = rows[static_cast<std::size_t>(k)];
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const std::vector<double>& row = rows[k];
     ASSERT_EQ(row.size(), 1u + 2 * kMotors);
-    EXPECT_NEAR(row[0], sent_ms[static_cast<std::size_t>(k)], 5.0) << "row " << k << ": delivery took too long";
-    latest = std::max(latest, std::abs(row[0] - sent_ms[static_cast<std::size_t>(k)]));
-    for (int m = 0; m < kMotors; ++m) {
-      EXPECT_NEAR(row[1 + 2 * static_cast<std::size_t>(m)], AngleOf(poses[static_cast<std::size_t>(k)][static_cast<std::size_t>(m)]), 1e-9);
-      EXPECT_NEAR(row[2 + 2 * static_cast<std::size_t>(m)],
-                  TorqueOf(poses[static_cast<std::size_t>(k)][static_cast<std::size_t>(kMotors + m)]), 1e-9);
+    EXPECT_NEAR(row[0], sent_ms[k], 5.0) << "row " << k << ": delivery took too long";
+    latest = std::max(latest, std::abs(row[0] - sent_ms[k]));
+    for (std::size_t m = 0; m < kMotors; ++m) {
+      EXPECT_NEAR(row[1 + 2 * m], AngleOf(poses[k][m]), 1e-9) << "row " << k << ", motor " << m;
+      EXPECT_NEAR(row[2 + 2 * m], TorqueOf(poses[k][kMotors + m]), 1e-9) << "row " << k << ", motor " << m;
     }
   }
 

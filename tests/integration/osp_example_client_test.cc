@@ -18,7 +18,8 @@ TEST(OspExampleClientTest, StepsASineOnOneJointAndResets) {
   test_support::BackgroundProcess server({ORCS_BINARY_DIR "/bin/orcs-osp", "-port", "0", "-odcp_port", "0"});
   const std::optional<std::string> line = server.ReadLine(milliseconds(10000));
   std::smatch match;
-  ASSERT_TRUE(line && std::regex_match(*line, match, std::regex("orcs-osp osp=127\\.0\\.0\\.1:(\\d+)"))) << server.err();
+  ASSERT_TRUE(line && std::regex_match(*line, match, std::regex("orcs-osp osp=127\\.0\\.0\\.1:(\\d+)")))
+      << server.err();
   const test_support::ProcessResult client = test_support::RunProcess(
       {"/usr/bin/python3", ORCS_SOURCE_DIR "/scripts/osp_example_client.py", "--port", match[1].str()});
   ASSERT_EQ(client.exit_code, 0) << client.err << client.out;

@@ -52,7 +52,8 @@ void RealtimeRunner::ServeUntil(Clock::time_point deadline) {
   // Bounded by the deadline: every pass either serves a datagram or waits until the deadline.
   for (Clock::time_point now = Clock::now(); now < deadline; now = Clock::now()) {
     const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - now);
-    const timespec timeout{static_cast<time_t>(left.count() / 1000000000), static_cast<long>(left.count() % 1000000000)};
+    const timespec timeout{static_cast<time_t>(left.count() / 1000000000),
+                           static_cast<long>(left.count() % 1000000000)};
     for (pollfd& entry : fds) entry.revents = 0;
     if (ppoll(fds.data(), fds.size(), &timeout, nullptr) <= 0) continue;
     for (std::size_t s = 0; s < fds.size(); ++s) {

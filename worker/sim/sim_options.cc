@@ -42,7 +42,8 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
   app.add_option("--bind", o.bind_address, "interface the ODCP servers listen on (default 127.0.0.1; * = every one)")
       ->needs(port);
 
-  const std::vector<std::string> arguments = cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "play", "port"});
+  const std::vector<std::string> arguments =
+      cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "play", "port"});
   std::vector<const char*> pointers;
   for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
   try {

@@ -157,7 +157,9 @@ TEST_F(OdcpServerTest, BadDatagramsAreIgnoredOrClampedAndTheServerGoesOn) {
   EXPECT_EQ(motors_.sets, 0) << "nothing applied";
   EXPECT_EQ(server_->stats().datagrams_ignored, ignored.size());
   EXPECT_EQ(log_.size(), 1u) << "one line, not a flood";
-  Send(Words(100, {-5, 2000, std::numeric_limits<std::int32_t>::min(), 512, 512, std::numeric_limits<std::int32_t>::max()}));
+  constexpr std::int32_t kLowest = std::numeric_limits<std::int32_t>::min();
+  constexpr std::int32_t kHighest = std::numeric_limits<std::int32_t>::max();
+  Send(Words(100, {-5, 2000, kLowest, 512, 512, kHighest}));
   EXPECT_EQ(server_->stats().words_clamped, 4u);
   Send({150, 99, 99});  // get-motors with trailing bytes: answered
   const std::optional<Bytes> reply = Reply();
