@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev
   libbenchmark-dev
   python3
+  python3-matplotlib    # scripts/plot_*.py (orcs-batch sweep plots)
 )
 
 missing=()

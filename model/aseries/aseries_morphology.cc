@@ -253,7 +253,7 @@ ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::str
   const Json document = ParseJson(json, source);
 
   const Node root(document, "", source);
-  root.ExpectOnly({"format", "version", "lift", "bodies", "geoms", "boards", "motors", "fixed_joints",
+  root.ExpectOnly({"format", "version", "lift", "root_body", "bodies", "geoms", "boards", "motors", "fixed_joints",
                    "contact_exclusions"});
   const Node format = root.At("format");
   if (format.String("\"" + std::string(kFormat) + "\"") != kFormat) {
@@ -270,6 +270,12 @@ ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::str
   const Node bodies = root.At("bodies");
   for (const Node& node : bodies.Elements()) morphology.bodies.push_back(ParseBody(node));
   CheckUnique(morphology.bodies, bodies, [](const MorphologyBody& b) { return b.name; }, "a body name");
+  // Optional: the first body when absent.
+  if (root.Has("root_body")) {
+    morphology.root_body = BodyRef(root.At("root_body"), morphology);
+  } else if (!morphology.bodies.empty()) {
+    morphology.root_body = morphology.bodies.front().name;
+  }
 
   const Node geoms = root.At("geoms");
   for (const Node& node : geoms.Elements()) morphology.geoms.push_back(ParseGeom(node, morphology));

@@ -94,6 +94,10 @@ struct ASeriesMorphology {
   /// The global lift NERD applies to every body after building, m (§1): already included in
   /// MorphologyBody::centre, NOT in the motor anchors.
   double lift = 0.0;
+  /// The body the kinematic tree hangs from when nothing holds the robot (spec §4a: the pelvis,
+  /// "Middle/InvisiblePart"): posing the joints (Simulation::SetAgentJointAngles) leaves it where it is and turns
+  /// the limbs away from it. A body name of `bodies`; "" only when no body exists (never for a parsed file).
+  std::string root_body;
   std::vector<MorphologyBody> bodies;             ///< in NERD's creation order (the agent's object order)
   std::vector<MorphologyGeom> geoms;              ///< extra geoms, in NERD's order
   std::vector<MorphologyBoard> boards;            ///< accelerometer boards in output order (ABFR … ABAL)

@@ -30,6 +30,7 @@ ASeriesMorphology MakePendulumMorphology(const PendulumPole& pole) {
   body.material = "Default";
   body.color = {192, 192, 200, 255};
   morphology.bodies.push_back(body);
+  morphology.root_body = kPendulumPole;  // moot: the motor clamps the pole to the world, which is the root then
   MorphologyMotor motor;
   motor.name = kPendulumMotor;
   motor.first_body = kPendulumPole;

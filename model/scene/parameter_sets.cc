@@ -30,10 +30,23 @@ double Draw(const ParameterDistribution& distribution, double nominal, RandomStr
   return scale * std::clamp(drawn, distribution.low, distribution.high);
 }
 
+// One initial angle per motor, uniform in ±amplitude, clamped to the motor's range; none when amplitude is 0.
+std::vector<double> DrawMotorAngles(double amplitude, const std::vector<aseries::MorphologyMotor>& motors,
+                                    RandomStream& stream) {
+  std::vector<double> angles;
+  if (amplitude == 0.0) return angles;
+  for (const aseries::MorphologyMotor& motor : motors) {
+    angles.push_back(std::clamp(stream.Uniform(-amplitude, amplitude), motor.min_degrees, motor.max_degrees));
+  }
+  return angles;
+}
+
 }  // namespace
 
 std::vector<ParameterSet> DrawParameterSets(const Randomisation& randomisation, std::uint64_t seed,
-                                            const VariableRepository& nominal, const std::string& source) {
+                                            const VariableRepository& nominal,
+                                            const std::vector<aseries::MorphologyMotor>& motors,
+                                            const std::string& source) {
   std::vector<double> nominal_values;
   for (std::size_t i = 0; i < randomisation.parameters.size(); ++i) {
     nominal_values.push_back(NominalValue(nominal, randomisation.parameters[i], i, source));
@@ -59,6 +72,7 @@ std::vector<ParameterSet> DrawParameterSets(const Randomisation& randomisation, 
       set.position_offset[axis] = stream.Uniform(low, pose.position[axis]);
     }
     set.yaw_degrees = stream.Uniform(-pose.yaw_degrees, pose.yaw_degrees);
+    set.motor_angles_degrees = DrawMotorAngles(pose.motor_angle_degrees, motors, stream);
     sets.push_back(std::move(set));
   }
   return sets;

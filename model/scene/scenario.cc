@@ -231,7 +231,7 @@ void ReadFitnessAggregate(const JsonNode& fitness, Scenario& scenario) {
 Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode root(resolved, "", source);
   root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
-                   "randomisation", "log"});
+                   "randomisation", "log", "genome"});
   Scenario scenario;
   scenario.source = source;
   scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
@@ -260,6 +260,11 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
     for (const JsonNode& pattern : root.At("log").Elements()) {
       scenario.log.push_back(pattern.String("a regular expression"));
     }
+  }
+  if (root.Has("genome")) {
+    const JsonNode genome = root.At("genome");
+    if (!genome.value().is_array() && !genome.value().is_object()) genome.Fail("an array of numbers or a network object");
+    scenario.genome = genome.value();
   }
   return scenario;
 }

@@ -70,6 +70,7 @@ struct Scenario {
   double quantile = 0.5;         ///< for Aggregate::kQuantile, 0…1
   Randomisation randomisation;
   std::vector<std::string> log;  ///< regular expressions of values logged every step ([] = no log)
+  nlohmann::json genome;         ///< "genome": the genome of a job that brings none (flat array or network); null = none
 };
 
 /// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found

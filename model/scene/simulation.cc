@@ -232,8 +232,46 @@ void Simulation::MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_
     state.angular_velocity = turn * state.angular_velocity;
     world_->SetBodyState(body, state);
   }
-  agents_[index]->Reset(*world_, static_cast<std::uint64_t>(repository_.Get("/Simulation/Seed").as_int()));
+  agents_[index]->Reset(*world_, seed());
   PublishBodiesStage();
+}
+
+void Simulation::SetAgentJointAngles(int index, const std::vector<double>& degrees) {
+  assert(built() && steps_ == 0 && "SetAgentJointAngles() right after Reset()");
+  const aseries::ASeriesLayout& layout = model_->agents()[index];
+  const aseries::ASeriesMorphology& morphology = model_->morphology(index);
+  assert(degrees.size() == layout.motors.size() && "one angle per motor");
+  const physics::PhysicsModel& physics = *model_->physics();
+  for (const PosingJoint& hinge : PosingOrder(physics, layout, PosingRoot(physics, layout, morphology))) {
+    const double angle = degrees[hinge.motor];
+    assert(angle >= morphology.motors[hinge.motor].min_degrees && angle <= morphology.motors[hinge.motor].max_degrees &&
+           "within the motor's range");
+    TurnHinge(hinge, DegreesToRadians(angle));
+  }
+  agents_[index]->Reset(*world_, seed());
+  PublishBodiesStage();
+}
+
+// Turns the far side of `hinge` rigidly about the hinge's line until the hinge reads `angle_rad`.
+void Simulation::TurnHinge(const PosingJoint& hinge, double angle_rad) {
+  const double change = angle_rad - world_->joint_angle(hinge.joint);
+  if (change == 0.0) return;
+  const physics::BodyState proximal =
+      hinge.proximal_body < 0 ? physics::BodyState{} : world_->body_state(hinge.proximal_body);
+  const HingeLine line = HingeLineNow(*model_->physics(), hinge, proximal);
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(hinge.sign * change, line.axis));
+  for (int body : hinge.distal_bodies) {
+    physics::BodyState state = world_->body_state(body);
+    state.position = line.anchor + turn * (state.position - line.anchor);
+    state.orientation = (turn * state.orientation).normalized();
+    state.linear_velocity = turn * state.linear_velocity;  // zero right after a reset, and so it stays
+    state.angular_velocity = turn * state.angular_velocity;
+    world_->SetBodyState(body, state);
+  }
+}
+
+std::uint64_t Simulation::seed() const {
+  return static_cast<std::uint64_t>(repository_.Get("/Simulation/Seed").as_int());
 }
 
 void Simulation::PublishBodiesStage() {

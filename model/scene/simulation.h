@@ -19,6 +19,7 @@
 #include "model/core/event_manager.h"
 #include "model/core/variable_repository.h"
 #include "model/physics/physics_world.h"
+#include "model/scene/agent_posing.h"
 #include "model/scene/world_model.h"
 
 namespace orcs::scene {
@@ -54,6 +55,14 @@ class Simulation {
   /// placement position, then shifted by `offset` (m) — start-pose randomisation. Its sensors restart there.
   void MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_degrees);
 
+  /// Poses agent `index`'s joints, right after Reset() and before or after MoveAgent(): motor m's hinge is turned
+  /// to `degrees[m]` (motor order, each within the motor's MinAngle…MaxAngle) by turning the bodies on its far
+  /// side from the agent's root about the hinge's line, from the root outward (model/scene/agent_posing.h). The
+  /// root — the static world for a held agent or the pendulum rig, else the morphology's root body (the
+  /// A-Series pelvis) — stays where it is; velocities stay zero. Angles are the hinge angles relative to the
+  /// initial pose, so JointAngle then reads `degrees` (before noise). Its sensors and motors restart there.
+  void SetAgentJointAngles(int index, const std::vector<double>& degrees);
+
   /// One simulation step of /Simulation/TimeStepSize seconds (IterationsPerStep physics steps of that size
   /// each, as the original). Does nothing once the status is not kOk.
   SimulationStatus Step();
@@ -86,6 +95,8 @@ class Simulation {
   void PhysicsStage();
   void PublishBodiesStage();
   void CollisionEventsStage();
+  void TurnHinge(const PosingJoint& hinge, double angle_rad);
+  std::uint64_t seed() const;
 
   VariableRepository repository_;
   EventManager events_;

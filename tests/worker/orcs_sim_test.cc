@@ -524,5 +524,46 @@ TEST_F(OrcsSimTest, PlayWithAMissingRecordOrArgument) {
   ExpectBadInput(Run({"-play", "Humanoid"}));
 }
 
+// --scenario: one job evaluated as a worker would, printed as one results.jsonl line.
+constexpr const char* kHipScenario = R"({
+  "duration": 0.1,
+  "controller": {"type": "oscillator", "joints": ["Right/HipYaw", "Left/HipYaw"]},
+  "fitness": {"terms": [{"type": "final_height", "body": "Middle/Head"}]},
+  "randomisation": {"sets": 2, "default_motor_model": true},
+  "genome": [20, 2, 0, 0, 20, 2, 3, 0]
+})";
+
+TEST_F(OrcsSimTest, ScenarioPrintsOneResultLineThatDependsOnSeedAndGenomeOnly) {
+  const std::string scenario = dir_.Write("hips.json", kHipScenario);
+  const ProcessResult first = Run({"--scenario", scenario, "--seed", "5"});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const nlohmann::json line = nlohmann::json::parse(first.out);
+  EXPECT_EQ(line["status"], "ok");
+  EXPECT_EQ(line["seed"], 5);
+  EXPECT_EQ(line["sets"].size(), 2u);
+  EXPECT_GT(line["fitness"].get<double>(), 0.3);  // the head stays up
+  // What a job computes, without its timings (wall clock).
+  const auto computed = [](const ProcessResult& result) {
+    const nlohmann::json parsed = nlohmann::json::parse(result.out);
+    return parsed["fitness"].dump() + parsed["sets"].dump();
+  };
+  EXPECT_EQ(computed(Run({"--scenario", scenario, "--seed", "5"})), computed(first));
+  EXPECT_NE(computed(Run({"--scenario", scenario, "--seed", "6"})), computed(first));
+  const std::string genome = dir_.Write("g.json", "[0, 1, 0, 0, 0, 1, 0, 0]");
+  EXPECT_NE(computed(Run({"--scenario", scenario, "--seed", "5", "--genome", "@" + genome})), computed(first));
+}
+
+TEST_F(OrcsSimTest, ScenarioBadInputIsOneLine) {
+  const std::string scenario = dir_.Write("hips.json", kHipScenario);
+  ProcessResult result = Run({"--scenario", scenario, "--genome", "[1, 2]"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("field 'genome' expected 8 numbers, found an array of 2"));
+  result = Run({"--scenario", scenario, "-env", scenario});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("--scenario"));
+  ExpectBadInput(Run({"--genome", "[1]"}));  // --genome needs --scenario
+  ExpectBadInput(Run({"--scenario", dir_.PathOf("missing.json")}));
+}
+
 }  // namespace
 }  // namespace orcs

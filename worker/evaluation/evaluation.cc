@@ -32,6 +32,14 @@ scene::EnvironmentDescription EnvironmentOf(const scene::Scenario& scenario) {
   return scene::EnvironmentReader::ReadString(scenario.environment_xml, scenario.environment_name);
 }
 
+int FindScenarioAgent(const scene::Simulation& simulation, const scene::Scenario& scenario) {
+  const int agent = simulation.FindAgent(scenario.agent);
+  if (agent < 0) {
+    throw InputError(scenario.source, 0, "field 'agent' names '" + scenario.agent + "', which the environment lacks");
+  }
+  return agent;
+}
+
 void SetDrawn(VariableRepository& values, const std::string& path, double value) {
   Value& target = values.Get(path);
   if (target.type() == ValueType::kInt) {
@@ -66,10 +74,7 @@ void Configure(const EvaluationRequest& request, const scene::ParameterSet* set,
     for (const auto& [path, value] : set->values) SetDrawn(simulation.repository(), path, value);
     outcome.drawn = set->values;
   }
-  run.agent = simulation.FindAgent(scenario.agent);
-  if (run.agent < 0) {
-    throw InputError(scenario.source, 0, "field 'agent' names '" + scenario.agent + "', which the environment lacks");
-  }
+  run.agent = FindScenarioAgent(simulation, scenario);
   const control::ControlTarget target{scenario.agent, simulation.agent(run.agent).motor_names()};
   run.controller = control::MakeController(scenario.controller, request.genome, target, simulation.repository(),
                                            scenario.source);
@@ -82,17 +87,29 @@ std::uint64_t SetSeed(std::uint64_t seed, int k) {
   return RandomStream(seed, "set-seed", static_cast<std::uint64_t>(k)).NextU64();
 }
 
+// The set's start pose: the joints posed about the agent's root, then the agent moved as a whole; what was
+// drawn is reported as start_pose/x, /y, /z, /yaw_degrees, then start_pose/<motor> per motor.
+void StartPose(const scene::ParameterSet& set, SetRun& run, SetOutcome& outcome) {
+  scene::Simulation& simulation = run.simulation;
+  if (!set.motor_angles_degrees.empty()) simulation.SetAgentJointAngles(run.agent, set.motor_angles_degrees);
+  if (set.position_offset != Eigen::Vector3d::Zero() || set.yaw_degrees != 0.0) {
+    simulation.MoveAgent(run.agent, set.position_offset, set.yaw_degrees);
+    outcome.drawn.emplace_back("start_pose/x", set.position_offset.x());
+    outcome.drawn.emplace_back("start_pose/y", set.position_offset.y());
+    outcome.drawn.emplace_back("start_pose/z", set.position_offset.z());
+    outcome.drawn.emplace_back("start_pose/yaw_degrees", set.yaw_degrees);
+  }
+  const std::vector<std::string>& motors = simulation.agent(run.agent).motor_names();
+  for (std::size_t m = 0; m < set.motor_angles_degrees.size(); ++m) {
+    outcome.drawn.emplace_back("start_pose/" + motors[m], set.motor_angles_degrees[m]);
+  }
+}
+
 void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet* set, SetRun& run,
               SetOutcome& outcome, Clock::time_point deadline) {
   scene::Simulation& simulation = run.simulation;
   simulation.Reset(SetSeed(request.seed, k));
-  if (set != nullptr && (set->position_offset != Eigen::Vector3d::Zero() || set->yaw_degrees != 0.0)) {
-    simulation.MoveAgent(run.agent, set->position_offset, set->yaw_degrees);
-    outcome.drawn.emplace_back("start_pose/x", set->position_offset.x());
-    outcome.drawn.emplace_back("start_pose/y", set->position_offset.y());
-    outcome.drawn.emplace_back("start_pose/z", set->position_offset.z());
-    outcome.drawn.emplace_back("start_pose/yaw_degrees", set->yaw_degrees);
-  }
+  if (set != nullptr) StartPose(*set, run, outcome);
   run.controller->Reset();
   run.fitness->Start(simulation);
   if (run.logger) {
@@ -139,7 +156,11 @@ std::vector<scene::ParameterSet> DrawSets(const EvaluationRequest& request) {
   nominal.Build();
   ValueFile::ApplyAssignments(request.scenario.values, nominal.repository());
   ValueFile::ApplyAssignments(request.overrides, nominal.repository());
+  // A missing agent draws no motor angles here and fails in Configure, with the scenario's field named.
+  const int agent = nominal.FindAgent(request.scenario.agent);
+  const std::vector<aseries::MorphologyMotor> no_motors;
   return scene::DrawParameterSets(request.scenario.randomisation, request.seed, nominal.repository(),
+                                  agent < 0 ? no_motors : nominal.model().morphology(agent).motors,
                                   request.scenario.source);
 }
 
@@ -154,6 +175,20 @@ std::string_view EvaluationStatusName(EvaluationStatus status) {
     case EvaluationStatus::kInternalError: return "internal error";
   }
   return "?";
+}
+
+void CheckRequest(const EvaluationRequest& request) {
+  const std::vector<scene::ParameterSet> sets = DrawSets(request);
+  SetRun run;
+  SetOutcome outcome;
+  Configure(request, sets.empty() ? nullptr : &sets.front(), run, outcome);
+}
+
+control::ControlTarget ControlTargetOf(const scene::Scenario& scenario) {
+  scene::Simulation simulation;
+  simulation.LoadEnvironment(EnvironmentOf(scenario));
+  simulation.Build();
+  return {scenario.agent, simulation.agent(FindScenarioAgent(simulation, scenario)).motor_names()};
 }
 
 EvaluationOutcome Evaluate(const EvaluationRequest& request) {

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "model/control/controller_factory.h"
 #include "model/core/value_file.h"
 #include "model/scene/scenario.h"
 
@@ -53,5 +54,14 @@ struct EvaluationOutcome {
 
 /// Runs a job. Never throws for bad input: an InputError becomes kInvalidInput with its message.
 EvaluationOutcome Evaluate(const EvaluationRequest& request);
+
+/// Checks a job without simulating it — what a client does before it submits: builds the world, draws the
+/// parameter sets and sets up the first set's controller, fitness and log, so that every error a worker would
+/// report as invalid input is thrown here as the same InputError.
+void CheckRequest(const EvaluationRequest& request);
+
+/// The agent a scenario's controller drives, with its motors: what control::CheckGenome checks genomes against.
+/// Builds the scenario's world; throws InputError for a bad environment or an agent it lacks.
+control::ControlTarget ControlTargetOf(const scene::Scenario& scenario);
 
 }  // namespace orcs::evaluation

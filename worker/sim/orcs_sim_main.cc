@@ -16,7 +16,9 @@
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
 #include "worker/cli_style.h"
+#include "worker/sim/scenario_run.h"
 #include "worker/sim/sim_options.h"
+#include "worker/sim/world_setup.h"
 
 namespace orcs::sim {
 namespace {
@@ -140,17 +142,7 @@ void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
 
 int Run(const SimOptions& options) {
   scene::Simulation simulation;
-  scene::EnvironmentDescription environment;
-  if (options.environment.empty()) {
-    environment.source = "(default: one A-Series named Humanoid on the floor)";
-    environment.agents.push_back(scene::AgentDescription{});
-  } else {
-    environment = scene::EnvironmentReader::ReadFile(options.environment);
-  }
-  simulation.LoadEnvironment(environment);
-  for (const std::string& file : options.initial_value_files) ValueFile::Apply(file, simulation.repository());
-  simulation.Build();
-  for (const std::string& file : options.value_files) ValueFile::Apply(file, simulation.repository());
+  SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   simulation.Reset(options.seed);
   std::vector<control::KeyframePlayer> players = MakePlayers(options, simulation);
 
@@ -201,6 +193,7 @@ int main(int argc, char** argv) {
   const orcs::sim::ParsedOptions parsed = orcs::sim::ParseSimOptions(argc, argv);
   if (parsed.exit_code >= 0) return parsed.exit_code;
   try {
+    if (!parsed.options.scenario.empty()) return orcs::sim::RunScenario(parsed.options);
     return orcs::sim::Run(parsed.options);
   } catch (const orcs::InputError& error) {
     std::cerr << "orcs-sim: " << error.what() << "\n";

@@ -27,6 +27,11 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
       ->allow_extra_args(false);
   app.add_option("--print-values", o.print_values, "print matching repository values as path=value and exit");
   app.add_flag("--describe", o.describe, "print the bodies, joints and agents as JSON and exit");
+  CLI::Option* scenario =
+      app.add_option("--scenario", o.scenario, "evaluate one job of this scenario (docs/scenarios.md) with --seed and "
+                                               "print its result as one JSON line, as orcs-batch writes it");
+  app.add_option("--genome", o.genome, "the job's genome as JSON text or @FILE (default: the scenario's \"genome\")")
+      ->needs(scenario);
 
   const std::vector<std::string> arguments = cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "play"});
   std::vector<const char*> pointers;
@@ -35,6 +40,13 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
     app.parse(static_cast<int>(pointers.size()), pointers.data());
     if (!o.log.empty() && o.out.empty()) throw CLI::ValidationError("--log", "needs --out FILE.csv");
     if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
+    const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
+                               !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
+                               app.count("--duration") > 0;
+    if (!o.scenario.empty() && world_options) {
+      throw CLI::ValidationError("--scenario", "takes only --genome and --seed: the scenario gives the world, the "
+                                               "duration and what to log");
+    }
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     parsed.exit_code = cli::kExitOk;

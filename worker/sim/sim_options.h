@@ -20,6 +20,8 @@ struct SimOptions {
   std::vector<std::pair<std::string, std::string>> play;
   std::string print_values;                      ///< --print-values REGEX: print matching values and exit
   bool describe = false;                         ///< --describe: print the world as JSON and exit
+  std::string scenario;                          ///< --scenario FILE.json: evaluate one job and print its result
+  std::string genome;                            ///< --genome JSON or @FILE: the job's genome ("" = the scenario's)
 };
 
 /// Result of parsing the command line.

@@ -215,6 +215,15 @@ TEST(ASeriesMorphologyTest, TheDefaultJsonParsesAgain) {
   EXPECT_EQ(ErrorAfter([](Json&) {}), "");
 }
 
+TEST(ASeriesMorphologyTest, RootBodyIsThePelvisOrTheFirstBodyWhenNotGiven) {
+  EXPECT_EQ(DefaultASeriesMorphology().root_body, "Middle/InvisiblePart");  // spec §4a
+  Json json = DefaultJson();
+  json.erase("root_body");
+  EXPECT_EQ(ParseASeriesMorphology(json.dump(), "robot.json").root_body, "Right/Foot");
+  EXPECT_THAT(ErrorAfter([](Json& j) { j["root_body"] = "Middle/Tail"; }),
+              AllOf(HasSubstr("'root_body'"), HasSubstr("unknown body \"Middle/Tail\"")));
+}
+
 TEST(ASeriesMorphologyTest, MissingFieldIsNamed) {
   EXPECT_THAT(ErrorAfter([](Json& j) { j["bodies"][3].erase("mass"); }),
               AllOf(HasSubstr("robot.json"), HasSubstr("'bodies[3].mass'"), HasSubstr("missing")));

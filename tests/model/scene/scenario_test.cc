@@ -117,13 +117,14 @@ class ParameterSetsTest : public ::testing::Test {
     randomisation.start_pose.position = {0.1, 0.05, 0.1};
     return randomisation;
   }
+  const std::vector<aseries::MorphologyMotor>& Motors() const { return simulation_.model().morphology(0).motors; }
   Simulation simulation_;
 };
 
 TEST_F(ParameterSetsTest, DrawsFromTheSeedAloneWithinTheDistributions) {
-  const std::vector<ParameterSet> a = DrawParameterSets(Varied(), 7, simulation_.repository(), "s.json");
-  const std::vector<ParameterSet> b = DrawParameterSets(Varied(), 7, simulation_.repository(), "s.json");
-  const std::vector<ParameterSet> c = DrawParameterSets(Varied(), 8, simulation_.repository(), "s.json");
+  const std::vector<ParameterSet> a = DrawParameterSets(Varied(), 7, simulation_.repository(), Motors(), "s.json");
+  const std::vector<ParameterSet> b = DrawParameterSets(Varied(), 7, simulation_.repository(), Motors(), "s.json");
+  const std::vector<ParameterSet> c = DrawParameterSets(Varied(), 8, simulation_.repository(), Motors(), "s.json");
   ASSERT_EQ(a.size(), 50u);
   bool clamped_low = false, clamped_high = false;
   for (std::size_t k = 0; k < a.size(); ++k) {
@@ -146,17 +147,17 @@ TEST_F(ParameterSetsTest, DrawsFromTheSeedAloneWithinTheDistributions) {
 TEST_F(ParameterSetsTest, FilesInSequenceCycle) {
   Randomisation randomisation = Varied();
   randomisation.files_in_sequence = true;
-  const std::vector<ParameterSet> sets = DrawParameterSets(randomisation, 1, simulation_.repository(), "s.json");
+  const std::vector<ParameterSet> sets = DrawParameterSets(randomisation, 1, simulation_.repository(), Motors(), "s.json");
   for (int k = 0; k < 6; ++k) EXPECT_EQ(sets[k].parameter_file, k % 3);
 }
 
 TEST_F(ParameterSetsTest, UnknownOrNonNumericPathIsNamed) {
   Randomisation randomisation;
   randomisation.parameters.push_back({"/AngularMotor/Nope", ParameterDistribution::Kind::kUniform, 0, 1, 0, 0, false});
-  EXPECT_EQ(InputErrorOf([&] { DrawParameterSets(randomisation, 1, simulation_.repository(), "s.json"); }),
+  EXPECT_EQ(InputErrorOf([&] { DrawParameterSets(randomisation, 1, simulation_.repository(), Motors(), "s.json"); }),
             "s.json: field 'randomisation.parameters[0].path' names an unknown repository path '/AngularMotor/Nope'");
   randomisation.parameters[0].path = "/Sim/Floor/Material";
-  EXPECT_THAT(InputErrorOf([&] { DrawParameterSets(randomisation, 1, simulation_.repository(), "s.json"); }),
+  EXPECT_THAT(InputErrorOf([&] { DrawParameterSets(randomisation, 1, simulation_.repository(), Motors(), "s.json"); }),
               HasSubstr("expected the path of a number, found '/Sim/Floor/Material'"));
 }
 

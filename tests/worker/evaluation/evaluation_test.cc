@@ -4,6 +4,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "model/scene/scenario.h"
 
 namespace orcs::evaluation {
@@ -63,6 +67,51 @@ TEST(EvaluationTest, NetworkScenarioRunsItsSetsAndLogs) {
     EXPECT_EQ(set.drawn.size(), 7u + 4u);  // default motor randomisation + the start pose
   }
   EXPECT_EQ(outcome.fitness, std::min({outcome.sets[0].fitness, outcome.sets[1].fitness, outcome.sets[2].fitness}));
+}
+
+// The first data row of a set's log (after the comment lines and the header), split at commas.
+std::vector<double> FirstLogRow(const std::string& csv) {
+  std::istringstream lines(csv);
+  std::string line;
+  while (std::getline(lines, line) && (line.empty() || line[0] == '#' || line.rfind("time", 0) == 0)) {
+  }
+  std::vector<double> row;
+  std::istringstream cells(line);
+  for (std::string cell; std::getline(cells, cell, ',');) row.push_back(std::stod(cell));
+  return row;
+}
+
+TEST(EvaluationTest, InitialMotorAnglesAreDrawnPosedAndReported) {
+  EvaluationRequest request = Request("stand_network.json", {0, 0, 0, 0, 0, 0}, 5);
+  request.scenario.randomisation.start_pose.motor_angle_degrees = 3.0;
+  request.scenario.log = {"/Sim/Humanoid/Right/ShoulderYaw/JointAngle"};
+  const EvaluationOutcome a = Evaluate(request);
+  const EvaluationOutcome b = Evaluate(request);
+  ASSERT_EQ(a.status, EvaluationStatus::kOk) << a.message;
+  ASSERT_EQ(a.sets.size(), 3u);
+  EXPECT_EQ(a.fitness, b.fitness);
+  for (std::size_t k = 0; k < a.sets.size(); ++k) {
+    const SetOutcome& set = a.sets[k];
+    EXPECT_EQ(set.drawn, b.sets[k].drawn);  // bit for bit
+    EXPECT_EQ(set.terms, b.sets[k].terms);
+    EXPECT_EQ(set.log_csv, b.sets[k].log_csv);
+    // The default motor model's 7 values, start_pose/x, /y, /z, /yaw_degrees, then one angle per motor.
+    ASSERT_EQ(set.drawn.size(), 7u + 4u + 21u);
+    EXPECT_EQ(set.drawn[11].first, "start_pose/Waist");
+    EXPECT_EQ(set.drawn[12].first, "start_pose/Right/ShoulderYaw");
+    EXPECT_EQ(set.drawn[31].first, "start_pose/Head/Tilt");
+    for (std::size_t i = 11; i < set.drawn.size(); ++i) {
+      EXPECT_LE(std::abs(set.drawn[i].second), 3.0) << set.drawn[i].first;
+    }
+    EXPECT_GE(set.drawn[11].second, 0.0);  // the waist's range is 0…150°
+    // The set started in the drawn pose: the log's first row (t = 0) reads the drawn shoulder angle.
+    const std::vector<double> row = FirstLogRow(set.log_csv);
+    ASSERT_EQ(row.size(), 2u);
+    EXPECT_EQ(row[0], 0.0);
+    EXPECT_NEAR(row[1], set.drawn[12].second, 1e-9);
+    EXPECT_NEAR(set.terms[0].second, 3.0, 1e-9);  // 3° offsets: upright all 3 s
+  }
+  EXPECT_NE(a.sets[0].drawn[12].second, a.sets[1].drawn[12].second);
 }
 
 TEST(EvaluationTest, KeyframeTrackingErrorIsSmallForTheRecordItPlays) {

@@ -1,0 +1,185 @@
+#include "clients/batch/batch_input.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include "model/control/controller_factory.h"
+#include "model/core/error.h"
+#include "model/core/json_node.h"
+#include "model/core/text.h"
+#include "model/core/text_file.h"
+#include "worker/evaluation/evaluation.h"
+
+namespace orcs::batch {
+namespace {
+
+using Json = nlohmann::json;
+
+bool IsBlankOrComment(const std::string& line) {
+  const std::size_t first = line.find_first_not_of(" \t\r");
+  return first == std::string::npos || line[first] == '#';
+}
+
+Genome CheckedGenome(Json value, const std::string& source, int line) {
+  if (!value.is_array() && !value.is_object()) {
+    throw InputError(source, line, "expected a genome (an array of numbers or a network object), found " +
+                                       DescribeJson(value));
+  }
+  return Genome{std::move(value), source, line};
+}
+
+// "job-0007" with enough digits for `count` jobs, so that ids and log files sort in job order.
+std::string NumberedId(const std::string& prefix, std::size_t index, std::size_t count) {
+  const int width = static_cast<int>(std::to_string(count > 0 ? count - 1 : 0).size());
+  const std::string number = std::to_string(index);
+  return prefix + std::string(static_cast<std::size_t>(std::max(0, width - static_cast<int>(number.size()))), '0') +
+         number;
+}
+
+v1::Job MakeJob(const ScenarioInput& input, const Genome& genome, std::uint64_t seed, const JobSettings& settings) {
+  v1::Job job;
+  job.set_scenario_json(input.resolved_json);
+  job.set_genome_json(genome.value.dump());
+  job.set_seed(seed);
+  job.set_time_limit_seconds(settings.time_limit_seconds);
+  return job;
+}
+
+std::string GenomeSource(const Genome& genome) {
+  return genome.line > 0 ? genome.source + ":" + std::to_string(genome.line) : genome.source;
+}
+
+evaluation::EvaluationRequest RequestOf(const ScenarioInput& input, const Genome& genome, const v1::Job& job) {
+  evaluation::EvaluationRequest request;
+  request.scenario = input.scenario;
+  request.genome = genome.value;
+  request.seed = job.seed();
+  for (const v1::Override& override : job.overrides()) {
+    request.overrides.push_back({override.path(), override.value(), "override " + override.path(), 0});
+  }
+  return request;
+}
+
+bool SameOverrides(const v1::Job& a, const v1::Job& b) {
+  if (a.overrides_size() != b.overrides_size()) return false;
+  for (int i = 0; i < a.overrides_size(); ++i) {
+    if (a.overrides(i).path() != b.overrides(i).path() || a.overrides(i).value() != b.overrides(i).value()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// A parameter set's absolute draw replaces the job's override of the same path, so sweeping such a path would
+// change nothing; a relative draw scales the swept value and is fine.
+void CheckSweptPathsAreNotRedrawn(const ScenarioInput& input, const SweepPoint& point) {
+  const std::vector<scene::ParameterDistribution>& drawn = input.scenario.randomisation.parameters;
+  for (const auto& [path, value] : point) {
+    for (std::size_t i = 0; i < drawn.size(); ++i) {
+      if (drawn[i].path != path || drawn[i].relative) continue;
+      throw InputError("--param " + path, 0,
+                       "the scenario's randomisation.parameters[" + std::to_string(i) +
+                           "] draws this path anew for every parameter set, replacing the swept value; make that "
+                           "distribution \"relative\" or remove it");
+    }
+  }
+}
+
+}  // namespace
+
+ScenarioInput LoadScenario(const std::string& path) {
+  ScenarioInput input;
+  input.path = path;
+  const Json resolved = scene::ResolveScenarioFile(path);
+  input.scenario = scene::ParseScenario(resolved, path);
+  input.resolved_json = resolved.dump();
+  return input;
+}
+
+std::vector<Genome> ReadGenomes(const std::string& path) {
+  std::istringstream text(ReadTextFile(path));
+  std::vector<Genome> genomes;
+  std::string line;
+  for (int number = 1; std::getline(text, line); ++number) {
+    if (IsBlankOrComment(line)) continue;
+    genomes.push_back(CheckedGenome(ParseJson(line, path + ":" + std::to_string(number)), path, number));
+  }
+  if (genomes.empty()) throw InputError(path, 0, "expected one genome per line, found none");
+  return genomes;
+}
+
+Genome ParseGenomeOption(const std::string& text) {
+  if (text.starts_with("@")) {
+    const std::string path = text.substr(1);
+    return CheckedGenome(ParseJson(ReadTextFile(path), path), path, 0);
+  }
+  return CheckedGenome(ParseJson(text, "--genome"), "--genome", 0);
+}
+
+Genome DefaultGenome(const ScenarioInput& input) {
+  if (input.scenario.genome.is_null()) return Genome{Json::array(), input.path + " (no genome given)", 0};
+  return Genome{input.scenario.genome, input.path + " field 'genome'", 0};
+}
+
+std::vector<PlannedJob> PlanRunJobs(const ScenarioInput& input, const std::vector<Genome>& genomes,
+                                    const JobSettings& settings) {
+  std::vector<PlannedJob> jobs;
+  const std::size_t count = genomes.size() * static_cast<std::size_t>(settings.repeats);
+  for (std::size_t g = 0; g < genomes.size(); ++g) {
+    for (int r = 0; r < settings.repeats; ++r) {
+      PlannedJob planned;
+      const std::uint64_t seed = settings.seed + static_cast<std::uint64_t>(r);
+      planned.job = MakeJob(input, genomes[g], seed, settings);
+      planned.job.set_job_id(NumberedId("job-", jobs.size(), count));
+      planned.extra["seed"] = seed;
+      planned.extra["genome_index"] = g;
+      planned.genome = static_cast<int>(g);
+      jobs.push_back(std::move(planned));
+    }
+  }
+  return jobs;
+}
+
+std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& genome,
+                                      const std::vector<SweepPoint>& points, const JobSettings& settings) {
+  if (!points.empty()) CheckSweptPathsAreNotRedrawn(input, points.front());
+  std::vector<PlannedJob> jobs;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    nlohmann::ordered_json point = nlohmann::ordered_json::object();
+    for (const auto& [path, value] : points[p]) point[path] = value;
+    for (int r = 0; r < settings.repeats; ++r) {
+      PlannedJob planned;
+      const std::uint64_t seed = settings.seed + static_cast<std::uint64_t>(r);
+      planned.job = MakeJob(input, genome, seed, settings);
+      planned.job.set_job_id(NumberedId("point-", p, points.size()) + "-r" + std::to_string(r));
+      for (const auto& [path, value] : points[p]) {
+        v1::Override* override = planned.job.add_overrides();
+        override->set_path(path);
+        override->set_value(text::FormatDouble(value));
+      }
+      planned.extra["seed"] = seed;
+      planned.extra["point"] = p;
+      planned.extra["params"] = point;
+      jobs.push_back(std::move(planned));
+    }
+  }
+  return jobs;
+}
+
+void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const std::vector<PlannedJob>& jobs) {
+  if (jobs.empty()) return;
+  // Genomes first, so that a genome's error names its file and line rather than the scenario.
+  const control::ControlTarget target = evaluation::ControlTargetOf(input.scenario);
+  for (const Genome& genome : genomes) {
+    control::CheckGenome(input.scenario.controller, genome.value, target, GenomeSource(genome));
+  }
+  const v1::Job& first = jobs.front().job;
+  evaluation::CheckRequest(RequestOf(input, genomes.at(jobs.front().genome), first));
+  for (const PlannedJob& planned : jobs) {
+    if (!SameOverrides(planned.job, first)) {
+      evaluation::CheckRequest(RequestOf(input, genomes.at(planned.genome), planned.job));
+    }
+  }
+}
+
+}  // namespace orcs::batch

@@ -1,0 +1,79 @@
+// What orcs-batch reads before it submits anything: the scenario file (resolved, so the jobs carry every file
+// they need), genomes, and the jobs built from them. Everything is checked here, with the file and field named,
+// so bad input is an error before submission (exit 2), never a batch of failed jobs.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/scene/scenario.h"
+#include "orcs/v1/job.pb.h"
+
+namespace orcs::batch {
+
+/// A scenario file, read and resolved.
+struct ScenarioInput {
+  std::string path;           ///< the file as given on the command line
+  std::string resolved_json;  ///< the scenario with every referenced file inlined: what each job carries
+  scene::Scenario scenario;   ///< parsed from resolved_json
+};
+
+/// Reads, resolves and parses a scenario file. Throws InputError naming the file and field.
+ScenarioInput LoadScenario(const std::string& path);
+
+/// One genome with where it came from, for messages ("genomes.jsonl:3", "--genome", "scenario 'genome'").
+struct Genome {
+  nlohmann::json value;  ///< a flat array of numbers or a full network object
+  std::string source;    ///< where it was read
+  int line = 0;          ///< 1-based line in `source`, 0 when it has none
+};
+
+/// The genomes of a JSON-lines file: one genome per non-blank line ('#' lines are comments). Throws InputError
+/// "FILE:LINE: ..." for a line that is not JSON or not an array or object, and for a file without genomes.
+std::vector<Genome> ReadGenomes(const std::string& path);
+
+/// A genome given as JSON text on the command line (or "@FILE" for a file holding one). Throws InputError.
+Genome ParseGenomeOption(const std::string& text);
+
+/// A job to submit, with what results.jsonl adds to its line.
+struct PlannedJob {
+  v1::Job job;                   ///< complete but for batch_id (the client library sets it)
+  nlohmann::ordered_json extra;  ///< merged into the job's results.jsonl line: seed, genome index, sweep point
+  int genome = 0;                ///< index of its genome in the list the plan was made from
+};
+
+/// How the jobs of a batch are made.
+struct JobSettings {
+  std::uint64_t seed = 1;            ///< seed of the first repeat; repeat r uses seed + r
+  int repeats = 1;                   ///< jobs per genome (or per sweep point), ≥ 1, each with its own seed
+  double time_limit_seconds = 0.0;   ///< per job, wall clock; 0 = none
+};
+
+/// The jobs of `orcs-batch run`: every genome × every repeat, ids "job-0000", "job-0001", ... in that order.
+/// Genome g, repeat r gets seed settings.seed + r (every genome meets the same parameter sets: fair comparison).
+std::vector<PlannedJob> PlanRunJobs(const ScenarioInput& input, const std::vector<Genome>& genomes,
+                                    const JobSettings& settings);
+
+/// One point of a sweep: repository path → value, in axis order.
+using SweepPoint = std::vector<std::pair<std::string, double>>;
+
+/// The jobs of `orcs-batch sweep`: every point × every repeat, one genome, the point's values as overrides; ids
+/// "point-0000-r0", ...; every point uses the same seeds (settings.seed + r). Throws InputError when the scenario's
+/// randomisation draws a swept path with an absolute distribution (it would replace the swept value).
+std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& genome,
+                                      const std::vector<SweepPoint>& points, const JobSettings& settings);
+
+/// Checks the jobs as a worker would, without simulating: every genome against the controller (an error names
+/// the genome's file and line), then the first job fully (evaluation::CheckRequest: world, overrides, parameter
+/// sets, controller, fitness, log), then every job whose overrides differ from the first's. Throws the first
+/// InputError.
+void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const std::vector<PlannedJob>& jobs);
+
+/// The genomes to use when none is given on the command line: the scenario's "genome", else an empty one (a
+/// controller without genes, e.g. a keyframe player).
+Genome DefaultGenome(const ScenarioInput& input);
+
+}  // namespace orcs::batch

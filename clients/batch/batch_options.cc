@@ -1,0 +1,75 @@
+#include "clients/batch/batch_options.h"
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "worker/cli_style.h"
+
+namespace orcs::batch {
+namespace {
+
+// The options every subcommand shares: what the jobs are and where the results go.
+void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
+  command.add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md)")->required();
+  if (many_genomes) {
+    command.add_option("--genomes", o.genomes, "JSON-lines file, one genome per line: one job per genome and seed");
+  }
+  command.add_option("--genome", o.genome, "one genome as JSON text, or @FILE (default: the scenario's \"genome\")");
+  command.add_option("--jobs", o.jobs, many_genomes ? "jobs per genome, seeds S, S+1, ... (default 1)"
+                                                    : "jobs per grid point, seeds S, S+1, ... (default 1)")
+      ->check(CLI::Range(1, 1000000));
+  command.add_option("--seed", o.seed, "seed of the first job (default 1)");
+  command.add_option("--out", o.out, "output folder (default runs/<scenario name>)");
+  command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
+      ->check(CLI::Range(0.0, 1e7));
+  command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
+      ->check(CLI::Range(0.001, 3600.0));
+  command.add_flag("--quiet", o.quiet, "no progress display");
+}
+
+void AddWorkersOption(CLI::App& command, BatchOptions& o) {
+  command.add_option("--workers", o.workers, "local worker processes (default: one per core)")
+      ->check(CLI::Range(1, 4096));
+}
+
+}  // namespace
+
+ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
+  ParsedBatchOptions parsed;
+  BatchOptions& o = parsed.options;
+  CLI::App app{"orcs-batch: evaluates batches of genome-and-scenario jobs on local workers or a broker",
+               "orcs-batch"};
+  app.require_subcommand(1);
+  CLI::App* run = app.add_subcommand("run", "run a batch on an embedded broker with local workers");
+  AddJobOptions(*run, o, true);
+  AddWorkersOption(*run, o);
+  CLI::App* submit = app.add_subcommand("submit", "run a batch on a running broker");
+  AddJobOptions(*submit, o, true);
+  submit->add_option("--broker", o.broker, "the broker's client endpoint, e.g. tcp://127.0.0.1:5555")->required();
+  CLI::App* sweep = app.add_subcommand("sweep", "evaluate one genome over a grid of repository values");
+  AddJobOptions(*sweep, o, false);
+  sweep->add_option("--param", o.params, "PATH=LOW:HIGH:STEPS, one axis of the grid (repeatable)")
+      ->required()
+      ->allow_extra_args(false);
+  CLI::Option* sweep_workers = sweep->add_option("--workers", o.workers, "local worker processes (default: one per core)")
+                                   ->check(CLI::Range(1, 4096));
+  sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->excludes(sweep_workers);
+  try {
+    app.parse(argc, argv);
+    if (!o.genome.empty() && !o.genomes.empty()) throw CLI::ValidationError("--genome", "excludes --genomes");
+    o.command = submit->parsed() ? Command::kSubmit : sweep->parsed() ? Command::kSweep : Command::kRun;
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    parsed.exit_code = cli::kExitOk;
+  } catch (const CLI::CallForAllHelp&) {
+    std::cout << app.help("", CLI::AppFormatMode::All);
+    parsed.exit_code = cli::kExitOk;
+  } catch (const CLI::ParseError& error) {
+    std::cerr << "orcs-batch: " << error.what() << " (see orcs-batch --help)\n";
+    parsed.exit_code = cli::kExitBadInput;
+  }
+  return parsed;
+}
+
+}  // namespace orcs::batch

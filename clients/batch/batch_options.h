@@ -1,0 +1,41 @@
+// The command line of orcs-batch (docs/batch.md):
+//   orcs-batch run SCENARIO.json [--genomes FILE.jsonl | --genome JSON] [--jobs N] [--seed S] [--workers N]
+//                                [--out DIR] [--time-limit SECONDS]
+//   orcs-batch submit --broker ENDPOINT SCENARIO.json ... (the same job options, no --workers)
+//   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
+//                                  [--workers N | --broker ENDPOINT] [--out DIR]
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace orcs::batch {
+
+enum class Command { kRun, kSubmit, kSweep };
+
+struct BatchOptions {
+  Command command = Command::kRun;
+  std::string scenario;              ///< SCENARIO.json
+  std::string genomes;               ///< --genomes FILE.jsonl: one genome per line ("" = none)
+  std::string genome;                ///< --genome JSON or @FILE ("" = none)
+  int jobs = 1;                      ///< --jobs N: jobs (seeds) per genome or sweep point, ≥ 1
+  std::uint64_t seed = 1;            ///< --seed S: seed of the first job of each genome or point
+  int workers = 0;                   ///< --workers N: local workers (0 = one per core, at most one per job)
+  std::string broker;                ///< --broker ENDPOINT: a running broker's client endpoint ("" = embedded)
+  std::string out;                   ///< --out DIR ("" = runs/<scenario name>)
+  double time_limit_seconds = 0.0;   ///< --time-limit: wall-clock seconds per job (0 = none)
+  double heartbeat_seconds = 1.0;    ///< --heartbeat: the client's (and embedded broker's) heartbeat interval
+  std::vector<std::string> params;   ///< --param PATH=LOW:HIGH:STEPS (sweep)
+  bool quiet = false;                ///< --quiet: no progress display
+};
+
+struct ParsedBatchOptions {
+  BatchOptions options;
+  int exit_code = -1;  ///< ≥ 0: exit now with this code (help printed: 0; bad options reported: 2)
+};
+
+/// Parses argv; --help prints help (exit 0); a bad or missing option prints one line to stderr (exit 2).
+ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv);
+
+}  // namespace orcs::batch

@@ -1,0 +1,50 @@
+// One batch from submission to the last result: submits the planned jobs through a BatchClient, writes each
+// result as it arrives, shows progress, and sums up. Shared by run, submit and sweep.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "broker/client.h"
+#include "clients/batch/batch_input.h"
+#include "clients/batch/progress_display.h"
+#include "clients/batch/results_writer.h"
+
+namespace orcs::batch {
+
+/// How a batch went.
+struct BatchSummary {
+  std::size_t jobs = 0;        ///< jobs submitted
+  std::size_t ok = 0;          ///< results with status ok
+  std::size_t failed = 0;      ///< results with any other status
+  bool interrupted = false;    ///< stopped (signal) before every result arrived
+  double seconds = 0.0;        ///< wall clock from submission to the last result
+  double best_fitness = 0.0;   ///< highest fitness among ok results (when ok > 0)
+  std::string best_job;        ///< its job id
+  std::map<std::string, std::size_t> failures;  ///< status name → count, for the failed ones
+  std::vector<v1::Result> results;  ///< every result, in arrival order, logs stripped (kept when asked)
+
+  double jobs_per_second() const { return seconds > 0 ? static_cast<double>(ok + failed) / seconds : 0.0; }
+  /// Exit code: 0 every job ran ok, 1 some failed or the batch was interrupted.
+  int exit_code() const { return failed == 0 && !interrupted ? 0 : 1; }
+};
+
+struct SessionOptions {
+  const std::atomic<bool>* stop = nullptr;  ///< set (e.g. by SIGINT) to stop waiting and keep what arrived
+  bool keep_results = false;                ///< keep every result in BatchSummary::results (sweep reports)
+};
+
+/// Submits `jobs`, waits for all results (or `stop`), writes them and returns the summary. Throws
+/// broker::BatchClientError when the broker is unreachable or lost for good, InputError when output cannot be
+/// written.
+BatchSummary RunSession(broker::BatchClient& client, const std::vector<PlannedJob>& jobs, ResultsWriter& writer,
+                        ProgressDisplay& progress, const SessionOptions& options);
+
+/// The closing lines: jobs ok/failed (by status), best fitness and job, jobs per second, where the results are.
+std::string SummaryText(const BatchSummary& summary, const std::string& results_path);
+
+}  // namespace orcs::batch

@@ -1,0 +1,140 @@
+// orcs-batch: evaluates batches of genome-and-scenario jobs (docs/batch.md). `run` and `sweep` start an embedded
+// broker and local orcs-worker processes — the one-machine default with no set-up; `submit` and `sweep --broker`
+// use a running broker. Every input is checked before anything is submitted. Exit 0 when every job ran ok, 1
+// when some failed (or the batch was interrupted), 2 on bad input or when no broker answers.
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include "broker/client.h"
+#include "clients/batch/batch_input.h"
+#include "clients/batch/batch_options.h"
+#include "clients/batch/batch_session.h"
+#include "clients/batch/local_cluster.h"
+#include "clients/batch/sweep_grid.h"
+#include "clients/batch/sweep_report.h"
+#include "model/core/error.h"
+#include "worker/cli_style.h"
+
+namespace orcs::batch {
+namespace {
+
+std::atomic<bool> stop_requested{false};
+
+extern "C" void OnSignal(int) { stop_requested.store(true); }
+
+void CatchStopSignals() {
+  struct sigaction action = {};
+  action.sa_handler = OnSignal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+// Everything decided before anything runs.
+struct Plan {
+  ScenarioInput input;
+  std::vector<Genome> genomes;
+  std::vector<SweepAxis> axes;        // sweep only
+  std::vector<SweepPoint> points;     // sweep only
+  std::vector<PlannedJob> jobs;
+  std::string out;
+};
+
+std::vector<Genome> GenomesOf(const BatchOptions& options, const ScenarioInput& input) {
+  if (!options.genomes.empty()) return ReadGenomes(options.genomes);
+  if (!options.genome.empty()) return {ParseGenomeOption(options.genome)};
+  return {DefaultGenome(input)};
+}
+
+Plan MakePlan(const BatchOptions& options) {
+  Plan plan;
+  plan.input = LoadScenario(options.scenario);
+  plan.genomes = GenomesOf(options, plan.input);
+  const JobSettings settings{options.seed, options.jobs, options.time_limit_seconds};
+  if (options.command == Command::kSweep) {
+    for (const std::string& param : options.params) plan.axes.push_back(ParseSweepAxis(param));
+    plan.points = SweepGrid(plan.axes);
+    plan.jobs = PlanSweepJobs(plan.input, plan.genomes.front(), plan.points, settings);
+  } else {
+    plan.jobs = PlanRunJobs(plan.input, plan.genomes, settings);
+  }
+  CheckJobs(plan.input, plan.genomes, plan.jobs);
+  plan.out = options.out.empty() ? (std::filesystem::path("runs") / plan.input.scenario.name).string() : options.out;
+  return plan;
+}
+
+int LocalWorkerCount(const BatchOptions& options, std::size_t jobs) {
+  int workers = options.workers;
+  if (workers <= 0) workers = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  return std::max(1, std::min(workers, static_cast<int>(std::min<std::size_t>(jobs, 4096))));
+}
+
+// Runs the session against `endpoint`; prints the summary (and, for a sweep, the table).
+int RunAgainst(const std::string& endpoint, const BatchOptions& options, const Plan& plan, ResultsWriter& writer) {
+  broker::BatchClientOptions client_options;
+  client_options.endpoint = endpoint;
+  client_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
+  broker::BatchClient client(client_options);
+  ProgressDisplay progress(std::cerr, plan.jobs.size(), isatty(STDERR_FILENO) != 0,
+                           ProgressDisplay::Clock::now());
+  std::ostringstream discard;
+  ProgressDisplay quiet(discard, plan.jobs.size(), false, ProgressDisplay::Clock::now());
+  SessionOptions session;
+  session.stop = &stop_requested;
+  session.keep_results = options.command == Command::kSweep;
+  const BatchSummary summary = RunSession(client, plan.jobs, writer, options.quiet ? quiet : progress, session);
+  if (!summary.interrupted) writer.Finish();
+  if (options.command == Command::kSweep) {
+    const std::vector<SweepRow> rows = SweepRows(plan.points, plan.jobs, summary.results);
+    std::cout << SweepTable(plan.axes, rows);
+    WriteSweepCsv(plan.out, plan.axes, rows);
+    std::cout << "orcs-batch: sweep table in " << (std::filesystem::path(plan.out) / "sweep.csv").string()
+              << "; plot it with scripts/plot_sweep.py " << plan.out << "\n";
+  }
+  std::cout << SummaryText(summary, writer.results_path()) << std::flush;
+  return summary.exit_code();
+}
+
+int Execute(const BatchOptions& options) {
+  const Plan plan = MakePlan(options);
+  ResultsWriter writer(plan.out);
+  CatchStopSignals();
+  if (!options.broker.empty()) return RunAgainst(options.broker, options, plan, writer);
+  LocalClusterOptions cluster_options;
+  cluster_options.workers = LocalWorkerCount(options, plan.jobs.size());
+  cluster_options.worker_program = WorkerProgramBesideSelf();
+  cluster_options.log_path = (std::filesystem::path(plan.out) / "workers.log").string();
+  cluster_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
+  LocalCluster cluster(cluster_options);
+  if (!options.quiet) {
+    std::cerr << "orcs-batch: " << plan.jobs.size() << " jobs on " << cluster_options.workers
+              << " local workers (broker " << cluster.client_endpoint() << ")\n";
+  }
+  return RunAgainst(cluster.client_endpoint(), options, plan, writer);
+}
+
+}  // namespace
+}  // namespace orcs::batch
+
+int main(int argc, char** argv) {
+  const orcs::batch::ParsedBatchOptions parsed = orcs::batch::ParseBatchOptions(argc, argv);
+  if (parsed.exit_code >= 0) return parsed.exit_code;
+  try {
+    return orcs::batch::Execute(parsed.options);
+  } catch (const orcs::InputError& error) {
+    std::cerr << "orcs-batch: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  } catch (const orcs::broker::BatchClientError& error) {
+    std::cerr << "orcs-batch: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  } catch (const std::exception& error) {
+    std::cerr << "orcs-batch: " << error.what() << "\n";
+    return orcs::cli::kExitRunFailed;
+  }
+}

@@ -1,0 +1,70 @@
+#include "clients/batch/progress_display.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace orcs::batch {
+namespace {
+
+constexpr int kBarWidth = 30;
+constexpr std::chrono::milliseconds kTerminalInterval{100};
+
+std::string Fixed(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  return text;
+}
+
+}  // namespace
+
+std::string FormatDuration(double seconds) {
+  const long long s = std::llround(std::max(0.0, seconds));
+  if (s < 60) return std::to_string(s) + " s";
+  if (s < 3600) return std::to_string(s / 60) + " min " + std::to_string(s % 60) + " s";
+  return std::to_string(s / 3600) + " h " + std::to_string(s % 3600 / 60) + " min";
+}
+
+ProgressDisplay::ProgressDisplay(std::ostream& out, std::size_t total, bool terminal, Clock::time_point start,
+                                 std::chrono::milliseconds plain_interval)
+    : out_(out), total_(total), terminal_(terminal), start_(start), interval_(plain_interval), last_drawn_(start) {}
+
+std::string ProgressDisplay::StatusText(std::size_t ok, std::size_t failed, Clock::time_point now) const {
+  const std::size_t done = ok + failed;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  std::string text = std::to_string(done) + "/" + std::to_string(total_) + " jobs (ok " + std::to_string(ok) +
+                     ", failed " + std::to_string(failed) + ")";
+  if (done > 0 && elapsed > 0) {
+    const double rate = static_cast<double>(done) / elapsed;
+    text += ", " + Fixed(rate, rate < 10 ? 2 : 1) + " jobs/s";
+    if (done < total_) text += ", ETA " + FormatDuration(static_cast<double>(total_ - done) / rate);
+  }
+  return text;
+}
+
+void ProgressDisplay::Update(std::size_t ok, std::size_t failed, Clock::time_point now) {
+  const auto interval = terminal_ ? kTerminalInterval : interval_;
+  if (drawn_ && now - last_drawn_ < interval) return;
+  Draw(ok, failed, now);
+}
+
+void ProgressDisplay::Finish(std::size_t ok, std::size_t failed, Clock::time_point now) {
+  Draw(ok, failed, now);
+  if (terminal_) out_ << '\n';
+  out_ << std::flush;
+}
+
+void ProgressDisplay::Draw(std::size_t ok, std::size_t failed, Clock::time_point now) {
+  drawn_ = true;
+  last_drawn_ = now;
+  if (!terminal_) {
+    out_ << StatusText(ok, failed, now) << '\n' << std::flush;
+    return;
+  }
+  const std::size_t done = ok + failed;
+  const int filled = total_ == 0 ? kBarWidth : static_cast<int>(kBarWidth * done / total_);
+  out_ << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+       << std::string(static_cast<std::size_t>(kBarWidth - filled), '.') << "] " << StatusText(ok, failed, now)
+       << "\x1b[K" << std::flush;  // erase what a longer previous line left
+}
+
+}  // namespace orcs::batch

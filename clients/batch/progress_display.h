@@ -1,0 +1,44 @@
+// How a batch shows its progress: on a terminal one bar redrawn in place ("[#####.....] 12/40 ok 12 failed 0
+// 3.2 jobs/s ETA 8 s"), otherwise — a log file, CI — a plain line at most every `plain_interval`. The clock is
+// passed in, so what is shown depends only on the counts and the times given.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <ostream>
+#include <string>
+
+namespace orcs::batch {
+
+class ProgressDisplay {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  /// `terminal`: redraw one line with '\r'; else plain lines. Starts counting at `start`.
+  ProgressDisplay(std::ostream& out, std::size_t total, bool terminal, Clock::time_point start,
+                  std::chrono::milliseconds plain_interval = std::chrono::seconds(10));
+
+  /// A result arrived; redraws when due (terminal: at most every 100 ms; plain: every plain_interval).
+  void Update(std::size_t ok, std::size_t failed, Clock::time_point now);
+  /// Draws the final state and ends the line (terminal).
+  void Finish(std::size_t ok, std::size_t failed, Clock::time_point now);
+
+  /// The status text without bar or '\r': "12/40 jobs (ok 12, failed 0), 3.2 jobs/s, ETA 8 s".
+  std::string StatusText(std::size_t ok, std::size_t failed, Clock::time_point now) const;
+
+ private:
+  void Draw(std::size_t ok, std::size_t failed, Clock::time_point now);
+
+  std::ostream& out_;
+  std::size_t total_;
+  bool terminal_;
+  Clock::time_point start_;
+  std::chrono::milliseconds interval_;
+  Clock::time_point last_drawn_;
+  bool drawn_ = false;
+};
+
+/// "8 s", "3 min 20 s", "2 h 5 min".
+std::string FormatDuration(double seconds);
+
+}  // namespace orcs::batch

@@ -1,0 +1,82 @@
+#include "clients/batch/results_writer.h"
+
+#include <filesystem>
+
+#include "model/core/atomic_file.h"
+#include "model/core/error.h"
+#include "worker/job/result_json.h"
+
+namespace orcs::batch {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kResults = "results.jsonl";
+constexpr const char* kPartial = "results.jsonl.partial";
+
+// A job id as a file name: anything but letters, digits, '-', '_' and '.' becomes '_'.
+std::string FileNameOf(const std::string& job_id) {
+  std::string name = job_id;
+  for (char& c : name) {
+    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+                      c == '_' || c == '.';
+    if (!safe) c = '_';
+  }
+  if (name.empty() || name.front() == '.') name.insert(0, "_");
+  return name;
+}
+
+}  // namespace
+
+ResultsWriter::ResultsWriter(std::string folder) : folder_(std::move(folder)) {
+  std::error_code error;
+  fs::create_directories(fs::path(folder_) / "logs", error);
+  if (error) throw InputError(folder_, 0, "cannot create the output folder: " + error.message());
+  for (const fs::directory_entry& entry : fs::directory_iterator(fs::path(folder_) / "logs", error)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".csv") fs::remove(entry.path(), error);
+  }
+  partial_.open(fs::path(folder_) / kPartial, std::ios::trunc);
+  if (!partial_) throw InputError((fs::path(folder_) / kPartial).string(), 0, "cannot be written");
+}
+
+std::string ResultsWriter::results_path() const {
+  return (fs::path(folder_) / (finished_ ? kResults : kPartial)).string();
+}
+
+void ResultsWriter::Write(const v1::Result& result, const nlohmann::ordered_json& extra) {
+  const nlohmann::ordered_json fields = worker::ResultToJson(result);
+  nlohmann::ordered_json line;
+  for (auto it = fields.begin(); it != fields.end(); ++it) {
+    line[it.key()] = it.value();
+    if (it.key() == "id") {
+      for (auto e = extra.begin(); e != extra.end(); ++e) line[e.key()] = e.value();
+    }
+  }
+  partial_ << line.dump() << '\n' << std::flush;
+  if (!partial_) throw InputError(results_path(), 0, "writing failed");
+  WriteLogs(result);
+}
+
+void ResultsWriter::WriteLogs(const v1::Result& result) {
+  const std::string base = FileNameOf(result.job_id());
+  for (const v1::LogFile& log : result.logs()) {
+    std::string name = base + ".csv";
+    if (result.parameter_sets_size() > 1) {
+      const std::string set = fs::path(log.name()).stem().string();  // "set-1"
+      name = base + "." + FileNameOf(set) + ".csv";
+    }
+    AtomicFile file((fs::path(folder_) / "logs" / name).string());
+    file.stream() << log.csv();
+    file.Commit();
+  }
+}
+
+void ResultsWriter::Finish() {
+  partial_.close();
+  std::error_code error;
+  fs::rename(fs::path(folder_) / kPartial, fs::path(folder_) / kResults, error);
+  if (error) throw InputError(results_path(), 0, "cannot be renamed: " + error.message());
+  finished_ = true;
+}
+
+}  // namespace orcs::batch

@@ -1,0 +1,41 @@
+// The output folder of a batch (docs/batch.md): DIR/results.jsonl, one JSON object per job in arrival order, and
+// DIR/logs/JOB.csv (JOB.set-K.csv when a job has several parameter sets) for the logged values.
+//
+// Lines go to DIR/results.jsonl.partial as results arrive, flushed each time, so an interrupted batch keeps what
+// it has; Finish() renames it to results.jsonl, so a results.jsonl is always a complete batch.
+#pragma once
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "orcs/v1/result.pb.h"
+
+namespace orcs::batch {
+
+class ResultsWriter {
+ public:
+  /// Creates DIR and DIR/logs (CSV files left there by an earlier batch are removed). Throws InputError naming
+  /// the folder when it cannot be created or written.
+  explicit ResultsWriter(std::string folder);
+
+  /// Appends the result's line (worker::ResultToJson with `extra`'s members added after "id") and writes its
+  /// logs. Throws InputError when a file cannot be written.
+  void Write(const v1::Result& result, const nlohmann::ordered_json& extra);
+
+  /// Renames results.jsonl.partial to results.jsonl.
+  void Finish();
+
+  const std::string& folder() const { return folder_; }
+  /// The path results end up in (results.jsonl), or the partial file's before Finish().
+  std::string results_path() const;
+
+ private:
+  void WriteLogs(const v1::Result& result);
+
+  std::string folder_;
+  std::ofstream partial_;
+  bool finished_ = false;
+};
+
+}  // namespace orcs::batch

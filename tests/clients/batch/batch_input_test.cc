@@ -1,0 +1,152 @@
+// orcs-batch's input: scenario files, genome files, the jobs made from them and the checks before submission.
+#include "clients/batch/batch_input.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "model/scene/scenario.h"
+#include "tests/support/input_error_of.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs::batch {
+namespace {
+
+using test_support::InputErrorOf;
+using test_support::TempDir;
+using ::testing::HasSubstr;
+
+// Two hip oscillators: flat genomes of 8 numbers.
+constexpr const char* kScenario = R"({
+  "duration": 0.1,
+  "controller": {"type": "oscillator", "joints": ["Right/HipYaw", "Left/HipYaw"]},
+  "fitness": {"terms": [{"type": "final_height", "body": "Middle/Head"}]},
+  "genome": [10, 1, 0, 0, 10, 1, 3, 0]
+})";
+
+class BatchInputTest : public ::testing::Test {
+ protected:
+  ScenarioInput Scenario(const std::string& text = kScenario) {
+    return LoadScenario(dir_.Write("scenario.json", text));
+  }
+  TempDir dir_;
+};
+
+TEST_F(BatchInputTest, ReadsGenomesOnePerLineSkippingBlankAndCommentLines) {
+  const std::string path = dir_.Write("g.jsonl", "# header\n[1, 2]\n\n  \n{\"neurons\": []}\n[3]\n");
+  const std::vector<Genome> genomes = ReadGenomes(path);
+  ASSERT_EQ(genomes.size(), 3u);
+  EXPECT_EQ(genomes[0].value, nlohmann::json({1, 2}));
+  EXPECT_EQ(genomes[0].line, 2);
+  EXPECT_TRUE(genomes[1].value.is_object());
+  EXPECT_EQ(genomes[1].line, 5);
+  EXPECT_EQ(genomes[2].line, 6);
+}
+
+TEST_F(BatchInputTest, NamesTheFileAndLineOfABadGenome) {
+  const std::string path = dir_.Write("g.jsonl", "[1, 2]\n[1, 2\n");
+  EXPECT_THAT(InputErrorOf([&] { ReadGenomes(path); }), HasSubstr("g.jsonl:2"));
+  const std::string scalar = dir_.Write("s.jsonl", "[1]\n\"abc\"\n");
+  EXPECT_THAT(InputErrorOf([&] { ReadGenomes(scalar); }), HasSubstr("s.jsonl:2: expected a genome"));
+  const std::string empty = dir_.Write("e.jsonl", "# nothing\n");
+  EXPECT_THAT(InputErrorOf([&] { ReadGenomes(empty); }), HasSubstr("found none"));
+}
+
+TEST_F(BatchInputTest, ReadsAGenomeOptionInlineOrFromAFile) {
+  EXPECT_EQ(ParseGenomeOption("[1, 2.5]").value, nlohmann::json({1, 2.5}));
+  const std::string path = dir_.Write("one.json", "[4, 5]");
+  EXPECT_EQ(ParseGenomeOption("@" + path).value, nlohmann::json({4, 5}));
+  EXPECT_THAT(InputErrorOf([] { ParseGenomeOption("[1,"); }), HasSubstr("--genome"));
+}
+
+TEST_F(BatchInputTest, RunJobsAreEveryGenomeTimesEverySeedWithSortableIds) {
+  const ScenarioInput input = Scenario();
+  const std::vector<Genome> genomes = {{nlohmann::json({1}), "a", 1}, {nlohmann::json({2}), "a", 2}};
+  const std::vector<PlannedJob> jobs = PlanRunJobs(input, genomes, {.seed = 7, .repeats = 6});
+  ASSERT_EQ(jobs.size(), 12u);
+  EXPECT_EQ(jobs[0].job.job_id(), "job-00");
+  EXPECT_EQ(jobs[11].job.job_id(), "job-11");
+  EXPECT_EQ(jobs[5].job.seed(), 12u);  // genome 0, repeat 5
+  EXPECT_EQ(jobs[6].job.seed(), 7u);   // genome 1 meets the same seeds
+  EXPECT_EQ(jobs[6].job.genome_json(), "[2]");
+  EXPECT_EQ(jobs[6].genome, 1);
+  EXPECT_EQ(jobs[6].extra["genome_index"], 1);
+  EXPECT_EQ(jobs[6].extra["seed"], 7);
+  // The job carries the resolved scenario, not a file name.
+  EXPECT_EQ(nlohmann::json::parse(jobs[0].job.scenario_json())["duration"], 0.1);
+}
+
+TEST_F(BatchInputTest, SweepJobsCarryThePointAsOverridesThatReadBackExactly) {
+  const ScenarioInput input = Scenario();
+  const std::vector<SweepPoint> points = {{{"/AngularMotor/PID/Proportional", 0.1 + 0.2}}, {{"/AngularMotor/PID/Proportional", 30}}};
+  const std::vector<PlannedJob> jobs = PlanSweepJobs(input, DefaultGenome(input), points, {.seed = 3, .repeats = 2});
+  ASSERT_EQ(jobs.size(), 4u);
+  EXPECT_EQ(jobs[0].job.job_id(), "point-0-r0");
+  EXPECT_EQ(jobs[3].job.job_id(), "point-1-r1");
+  EXPECT_EQ(jobs[1].job.seed(), 4u);
+  ASSERT_EQ(jobs[0].job.overrides_size(), 1);
+  EXPECT_EQ(std::stod(jobs[0].job.overrides(0).value()), 0.1 + 0.2);
+  EXPECT_EQ(jobs[2].extra["params"]["/AngularMotor/PID/Proportional"], 30.0);
+  EXPECT_EQ(jobs[2].extra["point"], 1);
+}
+
+TEST_F(BatchInputTest, ASweptPathTheRandomisationDrawsAbsolutelyIsRejected) {
+  const ScenarioInput input = Scenario(R"({
+    "controller": {"type": "oscillator", "joints": []}, "fitness": {"terms": [{"type": "energy"}]},
+    "randomisation": {"sets": 2, "parameters": [
+      {"path": "/AngularMotor/PID/Proportional", "uniform": [10, 20]},
+      {"path": "/AngularMotor/MaxVelocity", "uniform": [0.9, 1.1], "relative": true}]}})");
+  const Genome genome = DefaultGenome(input);
+  EXPECT_THAT(InputErrorOf([&] { PlanSweepJobs(input, genome, {{{"/AngularMotor/PID/Proportional", 5}}}, {}); }),
+              HasSubstr("--param /AngularMotor/PID/Proportional: the scenario's randomisation.parameters[0] draws"));
+  EXPECT_EQ(PlanSweepJobs(input, genome, {{{"/AngularMotor/MaxVelocity", 5}}}, {}).size(), 1u);  // relative: fine
+}
+
+TEST_F(BatchInputTest, DefaultGenomeIsTheScenariosOrEmpty) {
+  EXPECT_EQ(DefaultGenome(Scenario()).value.size(), 8u);
+  const ScenarioInput none = Scenario(R"({"controller": {"type": "oscillator", "joints": []},
+                                          "fitness": {"terms": [{"type": "energy"}]}})");
+  EXPECT_EQ(DefaultGenome(none).value, nlohmann::json::array());
+}
+
+TEST_F(BatchInputTest, ChecksPassForGoodJobs) {
+  const ScenarioInput input = Scenario();
+  const std::vector<Genome> genomes = {DefaultGenome(input)};
+  EXPECT_NO_THROW(CheckJobs(input, genomes, PlanRunJobs(input, genomes, {})));
+}
+
+TEST_F(BatchInputTest, AGenomeOfTheWrongLengthIsNamedByFileAndLine) {
+  const ScenarioInput input = Scenario();
+  const std::string path = dir_.Write("g.jsonl", "[1,2,3,4,5,6,7,8]\n[1,2,3]\n");
+  const std::vector<Genome> genomes = ReadGenomes(path);
+  EXPECT_THAT(InputErrorOf([&] { CheckJobs(input, genomes, PlanRunJobs(input, genomes, {})); }),
+              HasSubstr("g.jsonl:2: field 'genome' expected 8 numbers, found an array of 3"));
+}
+
+TEST_F(BatchInputTest, AnUnknownSweptPathIsCaughtBeforeSubmission) {
+  const ScenarioInput input = Scenario();
+  const std::vector<Genome> genomes = {DefaultGenome(input)};
+  const std::vector<SweepPoint> points = {{{"/No/Such/Value", 1.0}}};
+  EXPECT_THAT(InputErrorOf([&] { CheckJobs(input, genomes, PlanSweepJobs(input, genomes[0], points, {})); }),
+              HasSubstr("/No/Such/Value"));
+}
+
+TEST_F(BatchInputTest, AnUnknownPathInADistributionIsCaughtWithTheScenarioField) {
+  const ScenarioInput input = Scenario(R"({
+    "controller": {"type": "oscillator", "joints": []}, "fitness": {"terms": [{"type": "energy"}]},
+    "randomisation": {"sets": 2, "parameters": [{"path": "/No/Such/Value", "uniform": [0, 1]}]}})");
+  const std::vector<Genome> genomes = {DefaultGenome(input)};
+  const std::string message = InputErrorOf([&] { CheckJobs(input, genomes, PlanRunJobs(input, genomes, {})); });
+  EXPECT_THAT(message, HasSubstr("scenario.json"));
+  EXPECT_THAT(message, HasSubstr("/No/Such/Value"));
+}
+
+TEST_F(BatchInputTest, ScenarioErrorsNameTheFileAndField) {
+  EXPECT_THAT(InputErrorOf([&] { Scenario(R"({"controller": {}, "fitness": {}, "durration": 1})"); }),
+              HasSubstr("durration"));
+  EXPECT_THAT(InputErrorOf([&] { Scenario(R"({"controller": {}, "fitness": {}, "genome": 5})"); }),
+              HasSubstr("field 'genome'"));
+  EXPECT_THAT(InputErrorOf([&] { LoadScenario(dir_.PathOf("missing.json")); }), HasSubstr("missing.json"));
+}
+
+}  // namespace
+}  // namespace orcs::batch

@@ -1,0 +1,244 @@
+// orcs-batch as users run it: the real program with its embedded broker and local orcs-worker processes, against
+// a running orcs-broker, and its sweep with the plot script; everything on 127.0.0.1. Checks what the output
+// folder holds, the exit codes, that bad input stops before anything runs, and that a job replays with
+// `orcs-sim --scenario` to the same bits.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "tests/support/background_process.h"
+#include "tests/support/process.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+using test_support::BackgroundProcess;
+using test_support::ProcessResult;
+using test_support::RunProcess;
+using test_support::TempDir;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+const std::string kBin = ORCS_BINARY_DIR "/bin/";
+
+// Hip oscillators for a fifth of a second under two randomised parameter sets, logging one joint angle.
+constexpr const char* kScenario = R"({
+  "name": "hips",
+  "duration": 0.2,
+  "controller": {"type": "oscillator", "joints": ["Right/HipYaw", "Left/HipYaw"]},
+  "fitness": {"terms": [{"type": "distance", "body": "Middle/UpperBody", "axis": "z"}, {"type": "energy"}]},
+  "randomisation": {"sets": 2, "default_motor_model": true},
+  "log": ["/Sim/Humanoid/Right/HipYaw/JointAngle"],
+  "genome": [20, 2, 0, 0, 20, 2, 3, 0]
+})";
+
+constexpr const char* kGenomes = "[20, 2, 0, 0, 20, 2, 3, 0]\n[30, 1, 0, 5, 30, 1, 0, -5]\n";
+
+std::vector<nlohmann::json> ReadLines(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<nlohmann::json> lines;
+  std::string line;
+  while (std::getline(in, line)) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+std::map<std::string, nlohmann::json> ById(const std::vector<nlohmann::json>& lines) {
+  std::map<std::string, nlohmann::json> by_id;
+  for (const nlohmann::json& line : lines) by_id[line["id"]] = line;
+  return by_id;
+}
+
+// A loopback port nothing listens on (bound, then released).
+int UnusedPort() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
+  socklen_t length = sizeof address;
+  getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
+  close(fd);
+  return ntohs(address.sin_port);
+}
+
+class OrcsBatchTest : public ::testing::Test {
+ protected:
+  ProcessResult Batch(std::vector<std::string> arguments) {
+    arguments.insert(arguments.begin(), kBin + "orcs-batch");
+    return RunProcess(arguments);
+  }
+  std::string Scenario(const std::string& text = kScenario) { return dir_.Write("hips.json", text); }
+  std::string Out(const std::string& name) { return dir_.PathOf(name); }
+  TempDir dir_;
+};
+
+TEST_F(OrcsBatchTest, RunWritesEveryResultAndLogAndTheSameBitsOnOneWorkerAsOnTwo) {
+  const std::string scenario = Scenario();
+  const std::string genomes = dir_.Write("genomes.jsonl", kGenomes);
+  const ProcessResult two = Batch({"run", scenario, "--genomes", genomes, "--jobs", "3", "--seed", "10",
+                                   "--workers", "2", "--out", Out("two")});
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_THAT(two.out, HasSubstr("6 of 6 jobs ran: 6 ok, 0 failed"));
+  EXPECT_THAT(two.out, HasSubstr("best fitness"));
+  EXPECT_THAT(two.err, HasSubstr("6/6 jobs (ok 6, failed 0)"));  // plain progress lines: stderr is no terminal
+  EXPECT_THAT(two.err, Not(HasSubstr("\r")));
+  EXPECT_FALSE(fs::exists(Out("two") + "/results.jsonl.partial"));
+
+  const std::vector<nlohmann::json> lines = ReadLines(Out("two") + "/results.jsonl");
+  ASSERT_EQ(lines.size(), 6u);
+  const std::map<std::string, nlohmann::json> by_id = ById(lines);
+  ASSERT_EQ(by_id.size(), 6u) << "no duplicate ids";
+  std::set<std::string> workers;
+  for (const auto& [id, line] : by_id) {
+    EXPECT_EQ(line["status"], "ok") << line["message"];
+    EXPECT_TRUE(line["fitness"].is_number());
+    EXPECT_EQ(line["sets"].size(), 2u);
+    EXPECT_TRUE(line["sets"][0]["drawn"].contains("/AngularMotor/PID/Proportional"));
+    EXPECT_TRUE(line["terms"].contains("distance"));
+    EXPECT_GT(line["timings"]["run_seconds"].get<double>(), 0.0);
+    workers.insert(line["worker"]);
+    for (int k = 0; k < 2; ++k) {
+      const std::string log = dir_.Read(Out("two") + "/logs/" + id + ".set-" + std::to_string(k) + ".csv");
+      EXPECT_THAT(log, HasSubstr("/Sim/Humanoid/Right/HipYaw/JointAngle")) << id;
+    }
+  }
+  EXPECT_EQ(workers.size(), 2u) << "both local workers got jobs";
+  EXPECT_EQ(by_id.at("job-4")["seed"], 11);  // genome 1, repeat 1
+  EXPECT_EQ(by_id.at("job-4")["genome_index"], 1);
+
+  const ProcessResult one = Batch({"run", scenario, "--genomes", genomes, "--jobs", "3", "--seed", "10",
+                                   "--workers", "1", "--out", Out("one"), "--quiet"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(one.err, "");  // --quiet
+  for (const auto& [id, line] : ById(ReadLines(Out("one") + "/results.jsonl"))) {
+    EXPECT_EQ(line["fitness"].dump(), by_id.at(id)["fitness"].dump()) << id;  // the same text: the same bits
+    EXPECT_EQ(line["sets"].dump(), by_id.at(id)["sets"].dump()) << id;
+  }
+}
+
+TEST_F(OrcsBatchTest, AJobReplaysWithOrcsSimToTheSameBits) {
+  const std::string scenario = Scenario();
+  const ProcessResult batch = Batch({"run", scenario, "--seed", "42", "--workers", "1", "--out", Out("b")});
+  ASSERT_EQ(batch.exit_code, 0) << batch.err;
+  const nlohmann::json line = ReadLines(Out("b") + "/results.jsonl").at(0);
+  const ProcessResult sim = RunProcess({kBin + "orcs-sim", "--scenario", scenario, "--seed", "42"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const nlohmann::json replay = nlohmann::json::parse(sim.out);
+  EXPECT_EQ(replay["fitness"].dump(), line["fitness"].dump());
+  EXPECT_EQ(replay["sets"].dump(), line["sets"].dump());
+}
+
+TEST_F(OrcsBatchTest, BadInputStopsBeforeAnythingRunsWithTheFileNamed) {
+  const std::string scenario = Scenario();
+  const std::string genomes = dir_.Write("genomes.jsonl", "[20, 2, 0, 0, 20, 2, 3, 0]\n[1, 2, 3]\n");
+  ProcessResult result = Batch({"run", scenario, "--genomes", genomes, "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("genomes.jsonl:2: field 'genome' expected 8 numbers, found an array of 3"));
+  EXPECT_FALSE(fs::exists(Out("bad"))) << "nothing written, nothing submitted";
+
+  const std::string typo = dir_.Write("typo.json", R"({"controller": {"type": "oscillator", "joints": []},
+      "fitness": {"terms": []}, "randomisation": {"sets": 2, "parameters": [{"path": "/X", "uniform": [2, 1]}]}})");
+  result = Batch({"run", typo, "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("typo.json"));
+  EXPECT_THAT(result.err, HasSubstr("randomisation.parameters[0]"));
+
+  result = Batch({"sweep", scenario, "--param", "/AngularMotor/PID/Proportional=30:10:3", "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("LOW 30 is above HIGH 10"));
+
+  result = Batch({"run", scenario, "--jobs", "0"});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("--jobs"));
+  EXPECT_FALSE(fs::exists(Out("bad")));
+}
+
+TEST_F(OrcsBatchTest, FailedJobsGiveExitCodeOneAndTheirStatus) {
+  nlohmann::json slow = nlohmann::json::parse(kScenario);
+  slow["duration"] = 1000;
+  const std::string scenario = dir_.Write("slow.json", slow.dump());
+  const ProcessResult result = Batch({"run", scenario, "--jobs", "2", "--time-limit", "0.05", "--workers", "2",
+                                      "--out", Out("slow")});
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("0 ok, 2 failed (timeout 2)"));
+  for (const nlohmann::json& line : ReadLines(Out("slow") + "/results.jsonl")) {
+    EXPECT_EQ(line["status"], "timeout");
+    EXPECT_TRUE(line["fitness"].is_null());
+    EXPECT_THAT(line["message"].get<std::string>(), HasSubstr("time limit"));
+  }
+}
+
+TEST_F(OrcsBatchTest, SubmitRunsTheBatchOnARunningBroker) {
+  BackgroundProcess broker({kBin + "orcs-broker", "--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
+  const std::optional<std::string> endpoints = broker.ReadLine(milliseconds(10000));
+  ASSERT_TRUE(endpoints.has_value()) << broker.err();
+  std::smatch match;
+  const std::regex pattern("orcs-broker clients=(\\S+) workers=(\\S+)");
+  ASSERT_TRUE(std::regex_match(*endpoints, match, pattern)) << *endpoints;
+  BackgroundProcess worker({kBin + "orcs-worker", "--connect", match[2], "--heartbeat", "0.1", "--id", "remote"});
+  const ProcessResult result = Batch({"submit", "--broker", match[1], "--heartbeat", "0.1", Scenario(), "--jobs", "3",
+                                      "--out", Out("remote")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::vector<nlohmann::json> lines = ReadLines(Out("remote") + "/results.jsonl");
+  ASSERT_EQ(lines.size(), 3u);
+  for (const nlohmann::json& line : lines) EXPECT_EQ(line["worker"], "remote");
+}
+
+TEST_F(OrcsBatchTest, AnUnreachableBrokerIsAClearErrorNotAHang) {
+  const std::string endpoint = "tcp://127.0.0.1:" + std::to_string(UnusedPort());
+  const ProcessResult result = Batch({"submit", "--broker", endpoint, Scenario(), "--out", Out("none")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr(endpoint));
+}
+
+TEST_F(OrcsBatchTest, SweepWritesATableACsvAndAPlot) {
+  const ProcessResult result =
+      Batch({"sweep", Scenario(), "--param", "/AngularMotor/PID/Proportional=10:20:2", "--param",
+             "/Simulation/ODE/FrictionScaling=0.8:1.2:3", "--jobs", "2", "--workers", "2", "--out", Out("sweep")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("PID/Proportional"));
+  EXPECT_THAT(result.out, HasSubstr("12 of 12 jobs ran: 12 ok"));
+  const std::string csv = dir_.Read(Out("sweep") + "/sweep.csv");
+  std::istringstream rows(csv);
+  std::string row;
+  std::vector<std::string> all;
+  while (std::getline(rows, row)) all.push_back(row);
+  ASSERT_EQ(all.size(), 7u) << csv;  // header + 2 × 3 points
+  EXPECT_EQ(all[0], "/AngularMotor/PID/Proportional,/Simulation/ODE/FrictionScaling,fitness,min_fitness,max_fitness,ok,jobs");
+  EXPECT_EQ(all[6].substr(0, 7), "20,1.2,");
+  EXPECT_EQ(all[6].substr(all[6].size() - 4), ",2,2");
+  // The sweep changes what it says it changes: the gain's two values give different fitness (same seeds).
+  std::set<std::string> fitness_by_gain[2];
+  for (const nlohmann::json& line : ReadLines(Out("sweep") + "/results.jsonl")) {
+    const double gain = line["params"]["/AngularMotor/PID/Proportional"];
+    fitness_by_gain[gain == 10 ? 0 : 1].insert(line["fitness"].dump());
+  }
+  for (const std::string& fitness : fitness_by_gain[0]) EXPECT_FALSE(fitness_by_gain[1].contains(fitness));
+
+  const ProcessResult plot = RunProcess({"/usr/bin/python3", ORCS_SOURCE_DIR "/scripts/plot_sweep.py", Out("sweep")});
+  ASSERT_EQ(plot.exit_code, 0) << plot.err;
+  EXPECT_EQ(dir_.Read(Out("sweep") + "/sweep.png").substr(1, 3), "PNG");
+}
+
+TEST_F(OrcsBatchTest, ThePlotScriptNamesABadSweepFileLine) {
+  dir_.Write("bad/sweep.csv", "/A,fitness,min_fitness,max_fitness,ok,jobs\n1,2,3\n");
+  const ProcessResult plot = RunProcess({"/usr/bin/python3", ORCS_SOURCE_DIR "/scripts/plot_sweep.py", Out("bad")});
+  EXPECT_EQ(plot.exit_code, 2);
+  EXPECT_THAT(plot.err, HasSubstr("sweep.csv:2: expected 6 fields, found 3"));
+}
+
+}  // namespace
+}  // namespace orcs

@@ -1,0 +1,476 @@
+// orcs-osp driven over real UDP sockets on 127.0.0.1 by a client written from ../shared/spec/osp.md alone (its
+// own encoding below; nothing of the server's code): the handshake, agent overview and info, exclusive control,
+// lock-step stepping of two clients, values by id, an observed collision event, reset with a seed, silent
+// clients, communication reset, and every kind of bad datagram.
+#include <arpa/inet.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <regex>
+
+#include "tests/support/background_process.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs {
+namespace {
+
+using std::chrono::milliseconds;
+using test_support::BackgroundProcess;
+using Bytes = std::vector<std::uint8_t>;
+
+const std::string kBin = ORCS_BINARY_DIR "/bin/";
+// Two robots a metre apart and a sphere dropped from 0.5 m beside them.
+constexpr const char* kEnvironment = R"xml(<?xml version="1.0"?>
+<ORCS version="1.0">
+  <Environment>
+    <object type="sphere" name="SecondSphere" position="(-0.6, 0.5, 0.3)" dimension="(0.05)"
+            material="ABS" dynamic="true" mass="0.1"/>
+  </Environment>
+  <Agent>
+    <ASeries name="Humanoid" position="(0, 0.001, 0)"/>
+    <ASeries name="SecondASeries" position="(1, 0.001, 0)"/>
+  </Agent>
+</ORCS>
+)xml";
+
+// ---- The spec's encoding, written out again: byte, int32 LE, float32 bits LE, NUL string. ----
+struct Message {
+  Bytes bytes;
+  Message& Byte(std::uint8_t b) { bytes.push_back(b); return *this; }
+  Message& Int(std::int32_t v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<std::uint8_t>(static_cast<std::uint32_t>(v) >> (8 * i)));
+    return *this;
+  }
+  Message& Float(float f) { return Int(std::bit_cast<std::int32_t>(f)); }
+  Message& String(const std::string& s) {
+    bytes.insert(bytes.end(), s.begin(), s.end());
+    bytes.push_back(0);
+    return *this;
+  }
+};
+
+struct Parsed {
+  Bytes bytes;
+  std::size_t at = 0;
+  std::uint8_t Byte() { return bytes.at(at++); }
+  std::int32_t Int() {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | bytes.at(at + static_cast<std::size_t>(i));
+    at += 4;
+    return static_cast<std::int32_t>(v);
+  }
+  float Float() { return std::bit_cast<float>(Int()); }
+  std::string String() {
+    std::string s;
+    while (bytes.at(at) != 0) s.push_back(static_cast<char>(bytes[at++]));
+    ++at;
+    return s;
+  }
+  bool EndsWith120() const { return !bytes.empty() && bytes.back() == 120; }
+};
+
+// A client: one UDP socket; after the handshake it talks to the handler port.
+class OspClient {
+ public:
+  OspClient() {
+    fd_ = socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in local{};
+    local.sin_family = AF_INET;
+    local.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local);
+  }
+  ~OspClient() { close(fd_); }
+  OspClient(const OspClient&) = delete;
+  OspClient& operator=(const OspClient&) = delete;
+
+  void SendTo(std::uint16_t port, const Bytes& bytes) {
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    to.sin_port = htons(port);
+    sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+  }
+  void Send(const Message& message) { SendTo(handler_port_, message.bytes); }
+  // The next datagram within `timeout` (and the port it came from).
+  std::optional<Parsed> Receive(milliseconds timeout = milliseconds(5000), std::uint16_t* from_port = nullptr) {
+    pollfd entry{fd_, POLLIN, 0};
+    if (poll(&entry, 1, static_cast<int>(timeout.count())) <= 0) return std::nullopt;
+    Bytes buffer(4096);
+    sockaddr_in from{};
+    socklen_t length = sizeof from;
+    const ssize_t n = recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &length);
+    if (n < 0) return std::nullopt;
+    buffer.resize(static_cast<std::size_t>(n));
+    if (from_port != nullptr) *from_port = ntohs(from.sin_port);
+    return Parsed{buffer};
+  }
+  // The next datagram, which must start with `code` and end with 120.
+  Parsed Expect(std::uint8_t code) {
+    std::optional<Parsed> reply = Receive();
+    if (!reply) {
+      ADD_FAILURE() << "no reply, expected " << int{code};
+      return Parsed{Bytes{0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}};
+    }
+    EXPECT_EQ(reply->Byte(), code);
+    EXPECT_TRUE(reply->EndsWith120());
+    return *reply;
+  }
+  bool Handshake(std::uint16_t server_port) {
+    SendTo(server_port, Message().Byte(5).Byte(1).Byte(1).bytes);
+    std::uint16_t from = 0;
+    std::optional<Parsed> ack = Receive(milliseconds(5000), &from);
+    if (!ack || ack->bytes != Bytes{6, 1, 1, 120} || from == server_port) return false;
+    handler_port_ = from;
+    return true;
+  }
+
+  std::int32_t ValueId(const std::string& path) {
+    Send(Message().Byte(40).String(path));
+    Parsed count = Expect(41);
+    const std::int32_t n = count.Int();
+    std::int32_t id = 0;
+    for (std::int32_t i = 0; i < n; ++i) {
+      Parsed entry = Expect(43);
+      EXPECT_EQ(entry.Int(), i);
+      id = entry.Int();
+      entry.String();
+      EXPECT_EQ(entry.String(), path);
+      Send(Message().Byte(42));
+    }
+    EXPECT_EQ(n, 1) << path;
+    return id;
+  }
+  std::string Get(std::int32_t id) {
+    Send(Message().Byte(50).Int(id));
+    Parsed reply = Expect(51);
+    EXPECT_EQ(reply.Int(), id);
+    return reply.String();
+  }
+  std::uint8_t Set(std::int32_t id, const std::string& value) {
+    Send(Message().Byte(52).Int(id).String(value));
+    Parsed reply = Expect(53);
+    EXPECT_EQ(reply.Int(), id);
+    return reply.Byte();
+  }
+  bool TakeControl(std::int32_t agent) {
+    Send(Message().Byte(100).Int(agent));
+    Parsed reply = Expect(101);
+    EXPECT_EQ(reply.Int(), agent);
+    return reply.Byte() == 1;
+  }
+  void SendStep(std::int32_t agent, const std::vector<float>& inputs) {
+    Message message;
+    message.Byte(80).Int(agent).Int(static_cast<std::int32_t>(inputs.size()));
+    for (float f : inputs) message.Float(f);
+    Send(message);
+    Parsed ack = Expect(81);
+    EXPECT_EQ(ack.Int(), agent);
+  }
+  struct StepResult {
+    std::vector<float> outputs;
+    std::vector<std::int32_t> events;
+  };
+  StepResult ReceiveStepResult(std::int32_t agent) {
+    Parsed reply = Expect(85);
+    StepResult result;
+    EXPECT_EQ(reply.Int(), agent);
+    const std::int32_t outputs = reply.Int();
+    EXPECT_EQ(reply.Int(), 0);  // no info values
+    const std::int32_t events = reply.Int();
+    EXPECT_EQ(reply.Int(), 0);
+    for (std::int32_t i = 0; i < outputs; ++i) result.outputs.push_back(reply.Float());
+    for (std::int32_t i = 0; i < events; ++i) result.events.push_back(reply.Int());
+    Send(Message().Byte(86));
+    return result;
+  }
+  void Reset(std::int32_t seed) {
+    Send(Message().Byte(70).Int(seed));
+    Expect(71);
+  }
+
+  std::uint16_t handler_port() const { return handler_port_; }
+
+ private:
+  int fd_ = -1;
+  std::uint16_t handler_port_ = 0;
+};
+
+// 42 normalised inputs: every motor at angle n·150° with full torque.
+std::vector<float> Inputs(float angle) {
+  std::vector<float> inputs;
+  for (int motor = 0; motor < 21; ++motor) {
+    inputs.push_back(angle);
+    inputs.push_back(1.0f);
+  }
+  return inputs;
+}
+
+class OspGatewayTest : public ::testing::Test {
+ protected:
+  void Start(std::vector<std::string> extra = {}) {
+    std::vector<std::string> argv = {kBin + "orcs-osp", "-env", dir_.Write("two.xml", kEnvironment), "-port", "0"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    server_ = std::make_unique<BackgroundProcess>(argv);
+    const std::optional<std::string> line = server_->ReadLine(milliseconds(10000));
+    ASSERT_TRUE(line.has_value()) << server_->err();
+    std::smatch match;
+    const std::regex pattern("orcs-osp osp=127\\.0\\.0\\.1:(\\d+)");
+    ASSERT_TRUE(std::regex_match(*line, match, pattern)) << *line;
+    port_ = static_cast<std::uint16_t>(std::stoi(match[1]));
+  }
+  test_support::TempDir dir_;
+  std::unique_ptr<BackgroundProcess> server_;
+  std::uint16_t port_ = 0;
+};
+
+TEST_F(OspGatewayTest, HandshakeOverviewAndInfoFollowTheSpec) {
+  Start();
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  client.Send(Message().Byte(90));
+  Parsed count = client.Expect(91);
+  ASSERT_EQ(count.Int(), 2);
+  std::vector<std::string> names;
+  for (int i = 0; i < 2; ++i) {
+    Parsed entry = client.Expect(92);
+    EXPECT_EQ(entry.Int(), i);
+    EXPECT_EQ(entry.Int(), i + 1);
+    EXPECT_EQ(entry.String(), "Agent");
+    EXPECT_EQ(entry.Byte(), 1);  // available
+    names.push_back(entry.String());
+    client.Send(Message().Byte(93));
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"Humanoid", "SecondASeries"}));
+
+  client.Send(Message().Byte(95).Int(2));
+  Parsed info = client.Expect(96);
+  EXPECT_EQ(info.Int(), 2);
+  EXPECT_EQ(info.Int(), 42);
+  EXPECT_EQ(info.Int(), 37);
+  EXPECT_EQ(info.Int(), 0);
+  EXPECT_EQ(info.String(), "SecondASeries");
+  std::vector<std::string> values;
+  std::vector<std::pair<float, float>> ranges;
+  for (int i = 0; i < 79; ++i) {
+    Parsed value = client.Expect(98);
+    EXPECT_EQ(value.Int(), i);
+    const float low = value.Float();
+    const float high = value.Float();
+    ranges.emplace_back(low, high);
+    values.push_back(value.String());
+    client.Send(Message().Byte(97));
+  }
+  EXPECT_EQ(values[0], "/Waist/DesiredAngle");  // motor order of spec/aseries.md §4c
+  EXPECT_EQ(values[1], "/Waist/DesiredTorque");
+  EXPECT_EQ(ranges[1], std::make_pair(0.0f, 1.0f));
+  EXPECT_EQ(values[2], "/Right/ShoulderYaw/DesiredAngle");
+  EXPECT_EQ(values[42], "/Waist/JointAngle");
+  EXPECT_EQ(ranges[42], std::make_pair(-1.0f, 1.0f));
+  EXPECT_EQ(values[63], "/ABFR/AccelAxis1");
+  EXPECT_EQ(values[78], "/ABAL/AccelAxis2");
+
+  client.Send(Message().Byte(95).Int(7));  // unknown agent: all zero
+  Parsed unknown = client.Expect(96);
+  EXPECT_EQ(unknown.Int(), 0);
+  EXPECT_EQ(unknown.Int(), 0);
+
+  client.Send(Message().Byte(7));
+  client.Expect(8);
+}
+
+TEST_F(OspGatewayTest, TwoClientsStepTwoAgentsInLockStep) {
+  Start();
+  OspClient a;
+  OspClient b;
+  ASSERT_TRUE(a.Handshake(port_));
+  ASSERT_TRUE(b.Handshake(port_));
+  ASSERT_TRUE(a.TakeControl(1));
+  ASSERT_TRUE(b.TakeControl(2));
+  EXPECT_FALSE(b.TakeControl(1)) << "an agent has one controlling client";
+  const std::int32_t time_id = a.ValueId("/Simulation/CurrentStep");
+  for (int step = 1; step <= 5; ++step) {
+    a.SendStep(1, Inputs(0.1f));
+    EXPECT_FALSE(a.Receive(milliseconds(100)).has_value()) << "no step before every controller has sent its inputs";
+    b.SendStep(2, Inputs(-0.1f));
+    const OspClient::StepResult ra = a.ReceiveStepResult(1);
+    const OspClient::StepResult rb = b.ReceiveStepResult(2);
+    EXPECT_EQ(ra.outputs.size(), 37u);
+    EXPECT_EQ(rb.outputs.size(), 37u);
+    EXPECT_EQ(a.Get(time_id), std::to_string(step));
+  }
+  // Raw outputs in degrees: the commanded +15° and −15° turn the right shoulders (output 1) apart.
+  for (int step = 0; step < 30; ++step) {
+    a.SendStep(1, Inputs(0.1f));
+    b.SendStep(2, Inputs(-0.1f));
+    const float angle_a = a.ReceiveStepResult(1).outputs[1];
+    const float angle_b = b.ReceiveStepResult(2).outputs[1];
+    if (step == 29) {
+      EXPECT_GT(angle_a, 5.0f);
+      EXPECT_LT(angle_b, -5.0f);
+    }
+  }
+}
+
+TEST_F(OspGatewayTest, ValuesAreReadAndSetById) {
+  Start();
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  const std::int32_t id = client.ValueId("/AngularMotor/PID/Proportional");
+  EXPECT_GT(id, 0);
+  EXPECT_EQ(client.Set(id, "12.5"), 1);
+  EXPECT_EQ(client.Get(id), "12.5");
+  EXPECT_EQ(client.Set(id, "abc"), 0);
+  EXPECT_EQ(client.Get(id), "12.5");
+  EXPECT_EQ(client.Set(999999, "1"), 2);
+  client.Send(Message().Byte(50).Int(999999));
+  Parsed unknown = client.Expect(51);
+  EXPECT_EQ(unknown.Int(), -1);
+  EXPECT_EQ(unknown.String(), "");
+  client.Send(Message().Byte(54).Int(2).Int(id).Int(999999));
+  Parsed observed = client.Expect(55);
+  EXPECT_EQ(observed.Int(), 2);
+  EXPECT_EQ(observed.Int(), id);
+  EXPECT_EQ(observed.Int(), 0);
+}
+
+TEST_F(OspGatewayTest, AnObservedCollisionEventShowsUpInTheStepReply) {
+  Start();
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  client.Send(Message().Byte(20).String("/Sim/SecondSphere/Collision"));
+  Parsed reply = client.Expect(21);
+  const std::int32_t event = reply.Int();
+  ASSERT_GT(event, 0);
+  client.Send(Message().Byte(20).String("/No/Such/Event"));
+  EXPECT_EQ(client.Expect(21).Int(), 0);
+  client.Send(Message().Byte(30).Int(event));
+  EXPECT_EQ(client.Expect(31).Int(), event);
+  ASSERT_TRUE(client.TakeControl(1));
+  int first_step_with_event = -1;
+  for (int step = 1; step <= 100 && first_step_with_event < 0; ++step) {  // the sphere falls 0.45 m: ~0.3 s
+    client.SendStep(1, Inputs(0.0f));
+    const OspClient::StepResult result = client.ReceiveStepResult(1);
+    if (!result.events.empty()) {
+      EXPECT_EQ(result.events, std::vector<std::int32_t>{event});
+      first_step_with_event = step;
+    }
+  }
+  EXPECT_GT(first_step_with_event, 20);
+  EXPECT_LT(first_step_with_event, 40);
+}
+
+TEST_F(OspGatewayTest, ResetWithASeedGivesTheSameSensorTraceTwice) {
+  Start();
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  ASSERT_TRUE(client.TakeControl(1));
+  EXPECT_EQ(client.Set(client.ValueId("/AngularMotor/IncludeNoise"), "T"), 1);
+  const auto trace = [&](std::int32_t seed) {
+    client.Reset(seed);
+    client.Expect(75);
+    client.Send(Message().Byte(76));
+    std::vector<float> angles;
+    for (int step = 0; step < 20; ++step) {
+      client.SendStep(1, Inputs(0.2f * std::sin(0.3f * static_cast<float>(step))));
+      const std::vector<float> outputs = client.ReceiveStepResult(1).outputs;
+      angles.insert(angles.end(), outputs.begin(), outputs.end());
+    }
+    return angles;
+  };
+  const std::vector<float> first = trace(7);
+  const std::vector<float> second = trace(7);
+  EXPECT_EQ(std::memcmp(first.data(), second.data(), first.size() * sizeof(float)), 0) << "bit for bit";
+  EXPECT_NE(trace(8), first) << "another seed, other noise";
+}
+
+TEST_F(OspGatewayTest, ResetWaitsForEveryControllingClient) {
+  Start();
+  OspClient a;
+  OspClient b;
+  ASSERT_TRUE(a.Handshake(port_));
+  ASSERT_TRUE(b.Handshake(port_));
+  ASSERT_TRUE(a.TakeControl(1));
+  ASSERT_TRUE(b.TakeControl(2));
+  a.Reset(3);
+  EXPECT_FALSE(a.Receive(milliseconds(100)).has_value()) << "75 only once b has asked too";
+  b.Reset(3);
+  a.Expect(75);
+  b.Expect(75);
+}
+
+TEST_F(OspGatewayTest, ASilentClientLosesItsAgents) {
+  Start({"--client-timeout", "0.3"});
+  OspClient silent;
+  OspClient other;
+  ASSERT_TRUE(silent.Handshake(port_));
+  ASSERT_TRUE(silent.TakeControl(1));
+  ASSERT_TRUE(other.Handshake(port_));
+  ASSERT_TRUE(other.TakeControl(2));
+  other.SendStep(2, Inputs(0.0f));  // waits for the silent client ...
+  const std::optional<Parsed> result = other.Receive(milliseconds(3000));  // ... until it is dropped
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->bytes.front(), 85);
+  EXPECT_TRUE(other.TakeControl(1)) << "the silent client's agent is free";
+}
+
+TEST_F(OspGatewayTest, ResetOfTheCommunicationDropsEveryClient) {
+  Start();
+  OspClient a;
+  OspClient b;
+  ASSERT_TRUE(a.Handshake(port_));
+  ASSERT_TRUE(b.Handshake(port_));
+  ASSERT_TRUE(b.TakeControl(1));
+  a.Send(Message().Byte(10));
+  a.Expect(11);
+  b.Expect(71);
+  b.Send(Message().Byte(90));
+  EXPECT_FALSE(b.Receive(milliseconds(200)).has_value()) << "its handler is gone";
+  OspClient c;
+  ASSERT_TRUE(c.Handshake(port_));
+  EXPECT_TRUE(c.TakeControl(1)) << "the server listens anew, every agent free";
+}
+
+TEST_F(OspGatewayTest, BadDatagramsAreIgnoredAndTheGatewayGoesOn) {
+  Start();
+  OspClient client;
+  EXPECT_FALSE([&] {
+    client.SendTo(port_, Message().Byte(5).Byte(2).Byte(0).bytes);  // another version: no reply
+    return client.Receive(milliseconds(200)).has_value();
+  }());
+  ASSERT_TRUE(client.Handshake(port_));
+  ASSERT_TRUE(client.TakeControl(1));
+  const std::int32_t id = client.ValueId("/Simulation/TimeStepSize");
+  const std::vector<Bytes> garbage = {
+      {},                                                 // empty
+      {50, 1, 0},                                         // truncated int
+      Bytes(2000, 52),                                    // oversized
+      {250, 1, 2, 3},                                     // unknown command
+      Message().Byte(52).Int(id).Byte('x').bytes,         // a string without NUL
+      Message().Byte(54).Int(1000000).bytes,              // a count beyond the datagram
+      Message().Byte(80).Int(2).Int(42).bytes,            // a step for an agent it does not control
+      Message().Byte(80).Int(1).Int(3).Float(0).Float(0).Float(0).bytes,  // wrong input count
+      Message().Byte(100).Int(-5).bytes,                  // out-of-range id (answered: not ok)
+  };
+  for (const Bytes& bytes : garbage) client.SendTo(client.handler_port(), bytes);
+  Parsed refused = client.Expect(101);
+  EXPECT_EQ(refused.Int(), -5);
+  EXPECT_EQ(refused.Byte(), 0);
+  EXPECT_FALSE(client.Receive(milliseconds(100)).has_value()) << "the rest is ignored";
+  EXPECT_EQ(client.Get(id), "0.01") << "the gateway still answers";
+  // NaN inputs leave those inputs as they were; the step runs.
+  std::vector<float> inputs = Inputs(0.0f);
+  inputs[0] = std::nanf("");
+  client.SendStep(1, inputs);
+  EXPECT_EQ(client.ReceiveStepResult(1).outputs.size(), 37u);
+  EXPECT_EQ(server_->Wait(milliseconds(0)), std::nullopt) << "still running";
+}
+
+}  // namespace
+}  // namespace orcs

@@ -1,0 +1,473 @@
+#include "worker/osp/osp_server.h"
+
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "model/core/error.h"
+#include "worker/osp/osp_protocol.h"
+
+namespace orcs::osp {
+namespace {
+
+// How often silent clients are looked for, and how long one poll waits at most.
+constexpr int kTickMilliseconds = 100;
+// Bytes of a step result before its outputs and events: code, agentId, nOut, nInfo, nEvents, 0.
+constexpr std::size_t kStepResultHeaderBytes = 1 + 5 * 4;
+
+// Wire ids count from 1, so that 0 can mean "unknown" where the protocol says so.
+std::int32_t WireId(int index) { return static_cast<std::int32_t>(index) + 1; }
+
+DatagramWriter Reply(Command command) {
+  DatagramWriter writer;
+  writer.Byte(command);
+  return writer;
+}
+
+}  // namespace
+
+OspServer::OspServer(scene::Simulation& simulation, OspServerOptions options)
+    : simulation_(simulation), options_(std::move(options)), server_socket_(options_.bind_address, options_.port) {
+  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (wake_fd_ < 0) throw std::runtime_error("cannot create an eventfd");
+  for (int a = 0; a < simulation_.agent_count(); ++a) agents_.push_back(MakeAgentInterface(simulation_, a));
+}
+
+OspServer::~OspServer() { close(wake_fd_); }
+
+void OspServer::Stop() {
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t written = write(wake_fd_, &one, sizeof one);
+}
+
+OspServerStats OspServer::stats() const {
+  std::lock_guard lock(stats_mutex_);
+  return stats_;
+}
+
+void OspServer::Log(const std::string& line) const {
+  if (options_.log) {
+    options_.log(line);
+  } else {
+    std::cerr << "orcs-osp: " << line << "\n";
+  }
+}
+
+void OspServer::Run() {
+  Log("OSP 1.1 server on " + endpoint().ToString() + ", " + std::to_string(agents_.size()) + " agents");
+  for (;;) {
+    std::vector<pollfd> fds = {{wake_fd_, POLLIN, 0}, {server_socket_.fd(), POLLIN, 0}};
+    std::vector<int> session_ids;
+    for (const auto& [id, session] : sessions_) {
+      fds.push_back({session->socket.fd(), POLLIN, 0});
+      session_ids.push_back(id);
+    }
+    for (DatagramService* service : services_) fds.push_back({service->fd(), POLLIN, 0});
+    poll(fds.data(), fds.size(), kTickMilliseconds);
+    if (fds[0].revents & POLLIN) return;
+    if (fds[1].revents & POLLIN) {
+      while (std::optional<Datagram> datagram = server_socket_.Receive()) OnServerDatagram(*datagram);
+    }
+    for (std::size_t i = 0; i < session_ids.size(); ++i) {
+      if ((fds[2 + i].revents & POLLIN) == 0) continue;
+      auto it = sessions_.find(session_ids[i]);
+      while (it != sessions_.end()) {  // a handler may drop the session (or all of them)
+        std::optional<Datagram> datagram = it->second->socket.Receive();
+        if (!datagram) break;
+        OnSessionDatagram(*it->second, *datagram);
+        it = sessions_.find(session_ids[i]);
+      }
+    }
+    for (std::size_t s = 0; s < services_.size(); ++s) {
+      if (fds[2 + session_ids.size() + s].revents & POLLIN) services_[s]->OnReadable();
+    }
+    OnTick();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The server port: only INIT.
+
+void OspServer::OnServerDatagram(const Datagram& datagram) {
+  try {
+    DatagramReader reader(datagram.bytes);
+    if (reader.Byte() != kInit || reader.Byte() != kMajorVersion || reader.Byte() != kMinorVersion) {
+      return Ignore(nullptr, "a datagram on the server port that is not INIT 1.1, from " + datagram.from.ToString());
+    }
+  } catch (const MalformedDatagram& error) {
+    return Ignore(nullptr, std::string(error.what()) + ", from " + datagram.from.ToString());
+  }
+  auto session =
+      std::make_unique<Session>(next_session_id_++, UdpSocket(options_.bind_address, 0), datagram.from, Clock::now());
+  session->socket.Connect(datagram.from);
+  Send(*session, Reply(kInitAck).Byte(kMajorVersion).Byte(kMinorVersion));
+  Log("client " + std::to_string(session->id) + " at " + datagram.from.ToString() + " connected (handler port " +
+      std::to_string(session->socket.local().port) + ")");
+  sessions_[session->id] = std::move(session);
+  std::lock_guard lock(stats_mutex_);
+  stats_.clients = static_cast<int>(sessions_.size());
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// A client's handler socket: every other command.
+
+void OspServer::OnSessionDatagram(Session& session, const Datagram& datagram) {
+  session.last_heard = Clock::now();
+  if (datagram.truncated) return Ignore(&session, "a datagram longer than " + std::to_string(kMaxDatagramBytes) + " bytes");
+  try {
+    DatagramReader reader(datagram.bytes);
+    Dispatch(session, reader.Byte(), reader);
+  } catch (const MalformedDatagram& error) {
+    Ignore(&session, error.what());
+  }
+}
+
+void OspServer::Dispatch(Session& session, std::uint8_t command, DatagramReader& reader) {
+  switch (command) {
+    case kEnd: return OnEnd(session);
+    case kResetCommunication: return OnResetCommunication(session);
+    case kEventId: return OnEventId(session, reader);
+    case kObserveEvent: return OnObserveEvent(session, reader);
+    case kValueIds: return OnValueIds(session, reader);
+    case kGetValue: return OnGetValue(session, reader);
+    case kSetValue: return OnSetValue(session, reader);
+    case kObserveValues: return OnObserveValues(session, reader, true);
+    case kStopObservingValues: return OnObserveValues(session, reader, false);
+    case kResetSimulation: return OnResetSimulation(session, reader);
+    case kStep: return OnStep(session, reader);
+    case kAgentOverview: return OnAgentOverview(session);
+    case kAgentInfo: return OnAgentInfo(session, reader);
+    case kTakeControl: return OnTakeControl(session, reader);
+    case kReleaseControl: return OnReleaseControl(session, reader);
+    case kValueIdAck:
+    case kResetDoneAck:
+    case kStepResultAck:
+    case kAgentEntryAck:
+    case kAgentValueAck:
+    case kInit:  // a repeated INIT on the handler socket: already connected
+      return;  // acknowledgements need no answer (the protocol does not require them to be checked)
+    default: return Ignore(&session, "unknown command " + std::to_string(command));
+  }
+}
+
+void OspServer::OnEnd(Session& session) {
+  Send(session, Reply(kEndAck));
+  DropSession(session.id, "ended the session");
+}
+
+void OspServer::OnResetCommunication(Session& session) {
+  Send(session, Reply(kResetCommunicationAck));
+  for (auto& [id, other] : sessions_) Send(*other, Reply(kResetSimulationAck));
+  Log("client " + std::to_string(session.id) + " reset the communication: every client is dropped");
+  sessions_.clear();
+  std::lock_guard lock(stats_mutex_);
+  stats_.clients = 0;
+}
+
+void OspServer::OnEventId(Session& session, DatagramReader& reader) {
+  const int event = simulation_.events().Find(reader.String());
+  Send(session, Reply(kEventIdReply).Int(event < 0 ? 0 : WireId(event)));
+}
+
+void OspServer::OnObserveEvent(Session& session, DatagramReader& reader) {
+  const std::int32_t event_id = reader.Int();
+  const bool known = event_id >= 1 && event_id <= simulation_.events().size();
+  if (known) session.observed_events.insert(event_id - 1);
+  Send(session, Reply(kObserveEventReply).Int(known ? event_id : 0));
+}
+
+void OspServer::OnValueIds(Session& session, DatagramReader& reader) {
+  const std::string pattern = reader.String();
+  std::vector<int> ids;
+  try {
+    ids = simulation_.repository().Match(pattern);
+  } catch (const InputError&) {  // an invalid expression matches nothing
+    Ignore(&session, "an invalid regular expression '" + pattern + "'");
+  }
+  Send(session, Reply(kValueIdsCount).Int(static_cast<std::int32_t>(ids.size())));
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const std::string& path = simulation_.repository().path(ids[i]);
+    Send(session, Reply(kValueIdEntry).Int(static_cast<std::int32_t>(i)).Int(WireId(ids[i])).String(path).String(path));
+  }
+}
+
+void OspServer::OnGetValue(Session& session, DatagramReader& reader) {
+  const std::int32_t value_id = reader.Int();
+  if (value_id < 1 || value_id > simulation_.repository().size()) {
+    return Send(session, Reply(kGetValueReply).Int(-1).String(""));
+  }
+  Send(session, Reply(kGetValueReply).Int(value_id).String(simulation_.repository().value(value_id - 1).ToString()));
+}
+
+void OspServer::OnSetValue(Session& session, DatagramReader& reader) {
+  const std::int32_t value_id = reader.Int();
+  const std::string text = reader.String();
+  std::uint8_t status = 2;  // unknown id
+  if (value_id >= 1 && value_id <= simulation_.repository().size()) {
+    status = simulation_.repository().value(value_id - 1).SetFromString(text).empty() ? 1 : 0;
+  }
+  Send(session, Reply(kSetValueReply).Int(value_id).Byte(status));
+}
+
+void OspServer::OnObserveValues(Session& session, DatagramReader& reader, bool observe) {
+  const std::int32_t count = reader.Count(4);
+  DatagramWriter reply = Reply(observe ? kObserveValuesReply : kStopObservingValuesReply);
+  reply.Int(count);
+  for (std::int32_t i = 0; i < count; ++i) {
+    const std::int32_t value_id = reader.Int();
+    const bool known = value_id >= 1 && value_id <= simulation_.repository().size();
+    if (known && observe) session.observed_values.insert(value_id - 1);
+    if (known && !observe) session.observed_values.erase(value_id - 1);
+    reply.Int(known ? value_id : 0);
+  }
+  Send(session, reply);
+}
+
+void OspServer::OnResetSimulation(Session& session, DatagramReader& reader) {
+  session.reset_seed = reader.Int();
+  if (!AnythingPending()) waiting_since_ = Clock::now();
+  session.reset_requested = true;
+  Send(session, Reply(kResetSimulationAck));
+  ResetIfEveryoneAsked();
+}
+
+void OspServer::OnStep(Session& session, DatagramReader& reader) {
+  const std::int32_t agent_id = reader.Int();
+  const int agent = AgentIndexOf(agent_id);
+  if (agent < 0 || !session.agents.contains(agent)) {
+    return Ignore(&session, "a step for agent " + std::to_string(agent_id) + ", which it does not control");
+  }
+  const std::int32_t count = reader.Count(4);
+  if (static_cast<std::size_t>(count) != agents_[agent].inputs.size()) {
+    return Ignore(&session, "a step with " + std::to_string(count) + " inputs for agent " + std::to_string(agent_id) +
+                                ", which has " + std::to_string(agents_[agent].inputs.size()));
+  }
+  std::vector<float> inputs(static_cast<std::size_t>(count));
+  for (float& input : inputs) input = reader.Float();
+  if (!AnythingPending()) waiting_since_ = Clock::now();
+  session.step_inputs[agent] = std::move(inputs);
+  Send(session, Reply(kStepAck).Int(agent_id));
+  StepIfEveryoneIsReady();
+}
+
+void OspServer::OnAgentOverview(Session& session) {
+  Send(session, Reply(kAgentCount).Int(static_cast<std::int32_t>(agents_.size())));
+  for (std::size_t a = 0; a < agents_.size(); ++a) {
+    const bool available = ControllerOf(static_cast<int>(a)) == 0;
+    Send(session, Reply(kAgentEntry)
+                      .Int(static_cast<std::int32_t>(a))
+                      .Int(WireId(static_cast<int>(a)))
+                      .String("Agent")
+                      .Byte(available ? 1 : 0)
+                      .String(agents_[a].name));
+  }
+}
+
+void OspServer::OnAgentInfo(Session& session, DatagramReader& reader) {
+  const std::int32_t agent_id = reader.Int();
+  const int agent = AgentIndexOf(agent_id);
+  if (agent < 0) return Send(session, Reply(kAgentInfoReply).Int(0).Int(0).Int(0).Int(0).String(""));
+  const AgentInterface& interface = agents_[agent];
+  Send(session, Reply(kAgentInfoReply)
+                    .Int(agent_id)
+                    .Int(static_cast<std::int32_t>(interface.inputs.size()))
+                    .Int(static_cast<std::int32_t>(interface.outputs.size()))
+                    .Int(0)
+                    .String(interface.name));
+  std::int32_t running_index = 0;
+  for (const std::vector<InterfaceValue>* list : {&interface.inputs, &interface.outputs}) {
+    for (const InterfaceValue& value : *list) {
+      Send(session, Reply(kAgentValue)
+                        .Int(running_index++)
+                        .Float(static_cast<float>(value.range.norm_min))
+                        .Float(static_cast<float>(value.range.norm_max))
+                        .String(value.name));
+    }
+  }
+}
+
+void OspServer::OnTakeControl(Session& session, DatagramReader& reader) {
+  const std::int32_t agent_id = reader.Int();
+  const int agent = AgentIndexOf(agent_id);
+  const int controller = agent < 0 ? -1 : ControllerOf(agent);
+  const bool ok = agent >= 0 && (controller == 0 || controller == session.id);
+  if (ok && controller == 0) {
+    session.agents.insert(agent);
+    Log("client " + std::to_string(session.id) + " controls agent " + agents_[agent].name);
+  }
+  Send(session, Reply(kTakeControlReply).Int(agent_id).Byte(ok ? 1 : 0));
+}
+
+void OspServer::OnReleaseControl(Session& session, DatagramReader& reader) {
+  const std::int32_t agent_id = reader.Int();
+  const int agent = AgentIndexOf(agent_id);
+  std::uint8_t status = 0;  // failed: no such agent
+  if (agent >= 0) status = session.agents.erase(agent) == 1 ? 1 : 2;
+  if (status == 1) session.step_inputs.erase(agent);
+  Send(session, Reply(kReleaseControlReply).Int(agent_id).Byte(status));
+  StepIfEveryoneIsReady();
+  ResetIfEveryoneAsked();
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Synchronisation.
+
+void OspServer::StepIfEveryoneIsReady() {
+  bool any_controller = false;
+  for (const auto& [id, session] : sessions_) {
+    for (int agent : session->agents) {
+      any_controller = true;
+      if (!session->step_inputs.contains(agent)) return;
+    }
+  }
+  if (!any_controller) return;
+  RunStep();
+  SendStepResults();
+}
+
+void OspServer::RunStep() {
+  for (auto& [id, session] : sessions_) {
+    for (const auto& [agent, inputs] : session->step_inputs) {
+      const std::vector<InterfaceValue>& values = agents_[agent].inputs;
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        if (std::isfinite(inputs[i])) values[i].value->Set(values[i].range.ToRaw(inputs[i]));  // NaN: unchanged
+      }
+    }
+  }
+  if (simulation_.Step() != scene::SimulationStatus::kOk) Log("the simulation stopped: " + simulation_.message());
+  std::lock_guard lock(stats_mutex_);
+  ++stats_.steps;
+}
+
+void OspServer::SendStepResults() {
+  const std::vector<int>& occurred = simulation_.events().occurred();
+  for (auto& [id, session] : sessions_) {
+    for (const auto& [agent, inputs] : session->step_inputs) {
+      const std::vector<InterfaceValue>& outputs = agents_[agent].outputs;
+      std::vector<std::int32_t> events;
+      const std::size_t room = (kMaxDatagramBytes - 1 - kStepResultHeaderBytes - 4 * outputs.size()) / 4;
+      for (int event : occurred) {
+        if (session->observed_events.contains(event) && events.size() < room) events.push_back(WireId(event));
+      }
+      DatagramWriter reply = Reply(kStepResult);
+      reply.Int(WireId(agent)).Int(static_cast<std::int32_t>(outputs.size())).Int(0);
+      reply.Int(static_cast<std::int32_t>(events.size())).Int(0);
+      for (const InterfaceValue& output : outputs) reply.Float(static_cast<float>(output.value->as_double()));
+      for (std::int32_t event : events) reply.Int(event);
+      Send(*session, reply);
+    }
+    session->step_inputs.clear();
+  }
+}
+
+void OspServer::ResetIfEveryoneAsked() {
+  std::int32_t seed = 0;
+  bool anyone_asked = false;
+  for (const auto& [id, session] : sessions_) {
+    if (session->reset_requested) {
+      anyone_asked = true;
+      seed = session->reset_seed;  // the last asker (by id) decides when several seeds differ
+    } else if (!session->agents.empty()) {
+      return;  // a controlling client has not asked yet
+    }
+  }
+  if (!anyone_asked) return;
+  simulation_.Reset(static_cast<std::uint32_t>(seed));
+  Log("simulation reset with seed " + std::to_string(static_cast<std::uint32_t>(seed)));
+  for (auto& [id, session] : sessions_) {
+    session->step_inputs.clear();
+    if (!session->reset_requested) continue;
+    session->reset_requested = false;
+    Send(*session, Reply(kResetDone));
+  }
+  std::lock_guard lock(stats_mutex_);
+  ++stats_.resets;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Housekeeping.
+
+bool OspServer::BlocksOthers(const Session& session) const {
+  if (session.agents.empty()) return false;
+  bool step_pending = false;
+  bool reset_pending = false;
+  for (const auto& [id, other] : sessions_) {
+    step_pending = step_pending || !other->step_inputs.empty();
+    reset_pending = reset_pending || other->reset_requested;
+  }
+  if (reset_pending && !session.reset_requested) return true;
+  if (!step_pending) return false;
+  for (int agent : session.agents) {
+    if (!session.step_inputs.contains(agent)) return true;
+  }
+  return false;
+}
+
+void OspServer::OnTick() {
+  const Clock::time_point now = Clock::now();
+  std::vector<int> silent;
+  for (const auto& [id, session] : sessions_) {
+    const Clock::time_point silent_since = std::max(session->last_heard, waiting_since_);
+    if (BlocksOthers(*session) && now - silent_since > options_.client_timeout) silent.push_back(id);
+  }
+  for (int id : silent) {
+    DropSession(id, "was silent for more than " + std::to_string(options_.client_timeout.count()) + " ms");
+    std::lock_guard lock(stats_mutex_);
+    ++stats_.clients_timed_out;
+  }
+}
+
+void OspServer::DropSession(int id, const std::string& why) {
+  const auto it = sessions_.find(id);
+  if (it == sessions_.end()) return;
+  Log("client " + std::to_string(id) + " " + why + "; its agents are free");
+  sessions_.erase(it);
+  {
+    std::lock_guard lock(stats_mutex_);
+    stats_.clients = static_cast<int>(sessions_.size());
+  }
+  StepIfEveryoneIsReady();  // the others may have been waiting for it
+  ResetIfEveryoneAsked();
+}
+
+void OspServer::Send(Session& session, const DatagramWriter& writer) {
+  try {
+    session.socket.Send(writer.Finish());
+  } catch (const MalformedDatagram& error) {  // a reply too long for the protocol (an over-long value)
+    Log("client " + std::to_string(session.id) + ": reply not sent: " + error.what());
+  }
+}
+
+void OspServer::Ignore(Session* session, const std::string& why) {
+  {
+    std::lock_guard lock(stats_mutex_);
+    ++stats_.datagrams_ignored;
+  }
+  if (session == nullptr) return Log("ignored " + why);
+  if (session->warned) return;  // one line per client: a flood of garbage must not flood the log
+  session->warned = true;
+  Log("client " + std::to_string(session->id) + ": ignored " + why + " (further ignored datagrams not logged)");
+}
+
+bool OspServer::AnythingPending() const {
+  for (const auto& [id, session] : sessions_) {
+    if (!session->step_inputs.empty() || session->reset_requested) return true;
+  }
+  return false;
+}
+
+int OspServer::ControllerOf(int agent) const {
+  for (const auto& [id, session] : sessions_) {
+    if (session->agents.contains(agent)) return id;
+  }
+  return 0;
+}
+
+int OspServer::AgentIndexOf(std::int32_t agent_id) const {
+  return agent_id >= 1 && agent_id <= static_cast<std::int32_t>(agents_.size()) ? agent_id - 1 : -1;
+}
+
+}  // namespace orcs::osp

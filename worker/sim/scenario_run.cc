@@ -1,0 +1,45 @@
+#include "worker/sim/scenario_run.h"
+
+#include <iostream>
+
+#include "model/core/error.h"
+#include "model/core/json_node.h"
+#include "model/core/text_file.h"
+#include "worker/cli_style.h"
+#include "worker/evaluation/evaluation.h"
+#include "worker/job/job_translation.h"
+#include "worker/job/result_json.h"
+
+namespace orcs::sim {
+namespace {
+
+nlohmann::json GenomeOf(const SimOptions& options, const scene::Scenario& scenario) {
+  if (options.genome.starts_with("@")) {
+    const std::string path = options.genome.substr(1);
+    return ParseJson(ReadTextFile(path), path);
+  }
+  if (!options.genome.empty()) return ParseJson(options.genome, "--genome");
+  return scenario.genome.is_null() ? nlohmann::json::array() : scenario.genome;
+}
+
+}  // namespace
+
+int RunScenario(const SimOptions& options) {
+  evaluation::EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scene::ResolveScenarioFile(options.scenario), options.scenario);
+  request.genome = GenomeOf(options, request.scenario);
+  request.seed = options.seed;
+  const evaluation::EvaluationOutcome outcome = evaluation::Evaluate(request);
+  if (outcome.status == evaluation::EvaluationStatus::kInvalidInput) throw InputError(outcome.message);
+  v1::Job job;
+  job.set_job_id("orcs-sim");
+  job.set_seed(options.seed);
+  v1::Result result = worker::ToResult(job, outcome);
+  result.set_worker_id("orcs-sim");
+  nlohmann::ordered_json line = worker::ResultToJson(result);
+  line["seed"] = options.seed;
+  std::cout << line.dump() << std::endl;
+  return outcome.status == evaluation::EvaluationStatus::kOk ? cli::kExitOk : cli::kExitRunFailed;
+}
+
+}  // namespace orcs::sim
