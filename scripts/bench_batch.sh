@@ -15,11 +15,14 @@
 # build directory made by `scripts/build.sh -DORCS_BUILD_BENCHMARKS=ON`. Installs GNU parallel and
 # python3-distributed with apt-get (sudo when not root) when they are missing.
 #
-# Usage: scripts/bench_batch.sh [BUILD_DIR | --build DIR] [--scenario FILE] [--jobs N] [--repeat R] [--write-docs]
+# Usage: scripts/bench_batch.sh [BUILD_DIR | --build DIR] [--scenario FILE] [--jobs N] [--repeat R]
+#                               [--wait-quiet MINUTES] [--write-docs]
 #   BUILD_DIR     default build
 #   --scenario    default scenarios/examples/swing_oscillator.json
 #   --jobs        real jobs per batch (default 40; seeds 1..N)
 #   --repeat      repetitions of every measurement (default 3); the tables give medians
+#   --wait-quiet  before each real-batch run, wait up to MINUTES (default 0: not at all) for other processes to
+#                 take less than 0.15 cores over 2 s; the notes give what they took during every run regardless
 #   --write-docs  also rewrite the figures of docs/benchmarks.md, "Batch evaluation"
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,6 +37,7 @@ scenario=scenarios/examples/swing_oscillator.json
 jobs=40
 repeat=3
 write_docs=0
+quiet_wait=0
 empty_jobs=10000 # BM_BrokerDispatchEmptyJobs's batch size; Dask gets the same number of tasks
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -41,6 +45,7 @@ while [ $# -gt 0 ]; do
     --scenario) scenario=${2:?--scenario needs a file}; shift 2 ;;
     --jobs) jobs=${2:?--jobs needs a number}; shift 2 ;;
     --repeat) repeat=${2:?--repeat needs a number}; shift 2 ;;
+    --wait-quiet) quiet_wait=${2:?--wait-quiet needs minutes}; shift 2 ;;
     --write-docs) write_docs=1; shift ;;
     -h | --help) sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) die "unknown option $1 (see --help)" ;;
@@ -49,6 +54,7 @@ while [ $# -gt 0 ]; do
 done
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || die "--jobs must be a positive integer, got '$jobs'"
 [[ "$repeat" =~ ^[1-9][0-9]*$ ]] || die "--repeat must be a positive integer, got '$repeat'"
+[[ "$quiet_wait" =~ ^[0-9]+$ ]] || die "--wait-quiet must be a whole number of minutes, got '$quiet_wait'"
 [ -f "$scenario" ] || die "no scenario file $scenario"
 for program in bin/orcs-batch bin/orcs-worker bin/orcs-broker bin/orcs-sim; do
   [ -x "$build/$program" ] || die "no $build/$program: run scripts/build.sh first (or give the build directory)"
@@ -57,6 +63,7 @@ dispatch_bench=$build/tests/bench/broker_dispatch_bench
 [ -x "$dispatch_bench" ] || die "no $dispatch_bench: build with scripts/build.sh -DORCS_BUILD_BENCHMARKS=ON"
 py=/usr/bin/python3 # Debian's python: the one with Debian's modules (python3-distributed)
 [ -x "$py" ] || die "no $py"
+[ -x /usr/bin/time ] || die "no /usr/bin/time (Debian package time)"
 
 # --- the peers' packages ------------------------------------------------------------------------------------
 missing=()
@@ -89,13 +96,45 @@ trap 'exit 130' INT TERM
 
 now() { date +%s.%N; }
 load() { cut -d' ' -f1 /proc/loadavg; }
+clk_tck=$(getconf CLK_TCK)
+# CPU seconds the machine spent busy so far (user, nice, system, irq, softirq, and steal: time the hypervisor gave
+# to others), from /proc/stat.
+busy_seconds() { awk -v hz="$clk_tck" '/^cpu / { printf "%.2f\n", ($2 + $3 + $4 + $7 + $8 + $9) / hz }' /proc/stat; }
 # median/min/max of numbers on stdin, printed as "median min max" with %.{$1}f
 stats() { "$py" -c '
 import statistics, sys
 v = [float(x) for x in sys.stdin.read().split()]
 f = "%%.%sf" % sys.argv[1]
 print(" ".join(f % x for x in (statistics.median(v), min(v), max(v))))' "$1"; }
-loads=() # "what: before→after" load averages
+timed() { # $1: file for the wall seconds; $2: what, for the foreign-CPU note; the rest: the command
+  local out=$1 what=$2 start end b0 b1 status=0
+  shift 2
+  b0=$(busy_seconds)
+  start=$(now)
+  /usr/bin/time -f "%U %S" -o "$work/own-cpu" "$@" || status=$?
+  end=$(now)
+  b1=$(busy_seconds)
+  awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f\n", e - s }' >>"$out"
+  # CPU the machine spent beyond the command's own (its children's included), as cores over the wall time.
+  foreign+=("$what: $(tail -1 "$work/own-cpu" | awk -v b0="$b0" -v b1="$b1" -v s="$start" -v e="$end" \
+    '{ f = (b1 - b0 - $1 - $2) / (e - s); printf "%.2f", f < 0 ? 0 : f }')")
+  return $status
+}
+# Waits, at most --wait-quiet minutes, until other processes take less than 0.15 cores over a 2 s sample.
+wait_quiet() {
+  [ "$quiet_wait" -gt 0 ] || return 0
+  local deadline=$((SECONDS + 60 * quiet_wait)) b0 b1
+  while [ $SECONDS -lt $deadline ]; do
+    b0=$(busy_seconds)
+    sleep 2 # the sampling window: CPU use is only defined over an interval
+    b1=$(busy_seconds)
+    awk -v a="$b0" -v b="$b1" 'BEGIN { exit !((b - a) / 2 < 0.15) }' && return 0
+  done
+  echo "bench_batch: other processes still busy after $quiet_wait min; measuring anyway (see the notes)" >&2
+}
+count_ok() { grep -c '"status":"ok"' "$1" || true; }
+loads=()   # "what: before→after" load averages
+foreign=() # "what: N" cores' worth of CPU that other processes took during the measurement
 
 echo "bench_batch: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the start" >&2
 
@@ -119,7 +158,8 @@ loads+=("dispatch: $l0→$(load)")
 # --- 2. Dask ------------------------------------------------------------------------------------------------
 echo "bench_batch: Dask distributed, $empty_jobs empty tasks, 2 worker processes (x$repeat)" >&2
 l0=$(load)
-"$py" scripts/bench_dask.py --tasks "$empty_jobs" --workers 2 --repeat "$repeat" >"$work/dask.txt" 2>"$work/dask.err" ||
+timed "$work/td" "dask" "$py" scripts/bench_dask.py --tasks "$empty_jobs" --workers 2 --repeat "$repeat" \
+  >"$work/dask.txt" 2>"$work/dask.err" ||
   { cat "$work/dask.err" >&2; die "scripts/bench_dask.py failed"; }
 loads+=("dask: $l0→$(load)")
 dask_line=$(tail -1 "$work/dask.txt")
@@ -130,23 +170,14 @@ dask_version=$(sed -n 's/.* dask=\([^ ]*\).*/\1/p' <<<"$dask_line")
 [ -n "$dask_rate" ] || die "no rate in bench_dask.py's output: $dask_line"
 
 # --- 3 and 4. the real batch: orcs-batch run on 1 and 2 workers, orcs-sim under GNU parallel ----------------
-timed() { # $1: file for the wall seconds; the rest: the command
-  local out=$1 start end status=0
-  shift
-  start=$(now)
-  "$@" || status=$?
-  end=$(now)
-  awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f\n", e - s }' >>"$out"
-  return $status
-}
-count_ok() { grep -c '"status":"ok"' "$1" || true; }
 : >"$work/t1" && : >"$work/t2" && : >"$work/tp"
 for r in $(seq "$repeat"); do
   for w in 1 2; do
     echo "bench_batch: orcs-batch run, $jobs jobs, $w worker(s), repetition $r/$repeat" >&2
+    wait_quiet
     l0=$(load)
     status=0
-    timed "$work/t$w" "$build/bin/orcs-batch" run "$scenario" --jobs "$jobs" --workers "$w" \
+    timed "$work/t$w" "run ${w}w #$r" "$build/bin/orcs-batch" run "$scenario" --jobs "$jobs" --workers "$w" \
       --out "$work/batch-w$w-r$r" --quiet >"$work/batch-w$w-r$r.txt" 2>&1 || status=$?
     loads+=("orcs-batch run ${w}w #$r: $l0→$(load)")
     [ $status -le 1 ] || { cat "$work/batch-w$w-r$r.txt" >&2; die "orcs-batch run exited $status"; }
@@ -155,8 +186,9 @@ for r in $(seq "$repeat"); do
     echo "bench_batch:   $(tail -1 "$work/t$w") s; $summary" >&2
   done
   echo "bench_batch: GNU parallel -j2, one orcs-sim --scenario per job, $jobs jobs, repetition $r/$repeat" >&2
+  wait_quiet
   l0=$(load)
-  timed "$work/tp" "$parallel_bin" --will-cite -j2 --halt now,fail=1 \
+  timed "$work/tp" "parallel #$r" "$parallel_bin" --will-cite -j2 --halt now,fail=1 \
     "$build/bin/orcs-sim" --scenario "$scenario" --seed {} ::: $(seq 1 "$jobs") \
     >"$work/parallel-r$r.jsonl" 2>"$work/parallel-r$r.err" ||
     { tail -5 "$work/parallel-r$r.err" >&2; die "GNU parallel: an orcs-sim failed"; }
@@ -245,7 +277,10 @@ table=$(
 | orcs-worker peak resident memory (VmHWM) after $jobs jobs on 2 workers | **$rss_mib MiB** ($rss_mb MB) | < 50 MB |
 EOF
 )
-notes="Recorded $date on $(nproc) cores ($cpu), $memory, $(. /etc/os-release && echo "$PRETTY_NAME"), build type ${build_type:-?}, \`$sim_version\`. A job: $job_sim_seconds simulated seconds (the scenario's parameter sets together), $job_run_seconds s of worker time on average; $batch_ok of $jobs ok; fitness of every seed $same across \`orcs-batch run\` on 1 and 2 workers and \`orcs-sim\`. Load average (1 min, the benchmark's own processes included) before→after each measurement: $(
+notes="Recorded $date on $(nproc) cores ($cpu), $memory, $(. /etc/os-release && echo "$PRETTY_NAME"), build type ${build_type:-?}, \`$sim_version\`. A job: $job_sim_seconds simulated seconds (the scenario's parameter sets together), $job_run_seconds s of worker time on average; $batch_ok of $jobs ok; fitness of every seed $same across \`orcs-batch run\` on 1 and 2 workers and \`orcs-sim\`. Other processes' CPU during each run, in cores (2 = the whole machine; hypervisor steal included): $(
+  IFS=';'
+  echo "${foreign[*]}" | sed 's/;/; /g'
+). Load average (1 min, the benchmark's own processes included) before→after each measurement: $(
   IFS=';'
   echo "${loads[*]}" | sed 's/;/; /g'
 )."
