@@ -32,6 +32,7 @@ die() {
   exit 2
 }
 
+invocation="scripts/bench_batch.sh $*" # recorded with the figures
 build=build
 scenario=scenarios/examples/swing_oscillator.json
 jobs=40
@@ -140,19 +141,22 @@ echo "bench_batch: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg)
 
 # --- 1. dispatch rate of empty jobs -------------------------------------------------------------------------
 run_dispatch() { # $1: benchmark argument suffix, e.g. 2/16 → items/s of each repetition, one per line
-  "$dispatch_bench" --benchmark_filter="BM_BrokerDispatchEmptyJobs/$empty_jobs/$1/" \
-    --benchmark_repetitions="$repeat" --benchmark_format=json 2>/dev/null |
-    "$py" -c '
+  timed "$work/tdisp" "dispatch $1" "$dispatch_bench" --benchmark_filter="BM_BrokerDispatchEmptyJobs/$empty_jobs/$1/" \
+    --benchmark_repetitions="$repeat" --benchmark_format=json >"$work/dispatch.json" 2>/dev/null ||
+    die "$dispatch_bench failed"
+  "$py" -c '
 import json, sys
 for b in json.load(sys.stdin)["benchmarks"]:
     if b.get("run_type") == "iteration":
-        print(b["items_per_second"])'
+        print(b["items_per_second"])' <"$work/dispatch.json"
 }
 echo "bench_batch: dispatch rate, $empty_jobs empty jobs, default settings (x$repeat)" >&2
 l0=$(load)
-read -r dispatch_default dispatch_default_min dispatch_default_max < <(run_dispatch 2/16 | stats 0)
+run_dispatch 2/16 >"$work/dispatch-default" # not in a subshell: timed records the foreign CPU
+read -r dispatch_default dispatch_default_min dispatch_default_max < <(stats 0 <"$work/dispatch-default")
 echo "bench_batch: dispatch rate, credit fixed at 2 (x$repeat)" >&2
-read -r dispatch_fixed dispatch_fixed_min dispatch_fixed_max < <(run_dispatch 2/2 | stats 0)
+run_dispatch 2/2 >"$work/dispatch-fixed"
+read -r dispatch_fixed dispatch_fixed_min dispatch_fixed_max < <(stats 0 <"$work/dispatch-fixed")
 loads+=("dispatch: $l0→$(load)")
 
 # --- 2. Dask ------------------------------------------------------------------------------------------------
@@ -261,7 +265,7 @@ build_type=$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$build/CMakeCache.txt" 2>/
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
 memory=$(awk '/^MemTotal:/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo)
 date=$(date +%Y-%m-%d)
-command="scripts/bench_batch.sh $build --scenario $scenario --jobs $jobs --repeat $repeat"
+command=$invocation
 scenario_name=$(basename "$scenario")
 table=$(
   cat <<EOF
@@ -300,7 +304,7 @@ begin, end = "<!-- bench_batch.sh: begin -->", "<!-- bench_batch.sh: end -->"
 text = open(path).read()
 if begin not in text or end not in text:
     sys.exit(f"bench_batch: {path} has no '{begin}' ... '{end}' block in its Batch evaluation section")
-block = f"{begin}\n```sh\n{command} --write-docs\n```\n\n{table}\n\n{notes}\n{end}"
+block = f"{begin}\n```sh\n{command}\n```\n\n{table}\n\n{notes}\n{end}"
 head, rest = text.split(begin, 1)
 tail = rest.split(end, 1)[1]
 open(path + ".tmp", "w").write(head + block + tail)
