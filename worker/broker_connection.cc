@@ -37,6 +37,11 @@ WorkerConnectionOptions Checked(WorkerConnectionOptions options) {
     throw std::invalid_argument("WorkerConnection: heartbeat interval must be positive");
   }
   if (options.liveness < 2) throw std::invalid_argument("WorkerConnection: liveness must be at least 2");
+  if (options.short_job_credit > kMaxCredit) {
+    throw std::invalid_argument("WorkerConnection: short-job credit " + std::to_string(options.short_job_credit) +
+                                " above 1024");
+  }
+  if (options.short_job.count() < 0) throw std::invalid_argument("WorkerConnection: negative short-job time");
   return options;
 }
 
@@ -61,6 +66,7 @@ WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
   }
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) throw std::runtime_error("WorkerConnection: eventfd failed");
+  wanted_credit_ = options_.credit;
   io_thread_ = std::thread([this] { IoLoop(); });
 }
 
@@ -84,15 +90,27 @@ std::optional<v1::Job> WorkerConnection::NextJob(std::chrono::milliseconds timeo
   }
   v1::Job job = std::move(jobs_.front());
   jobs_.pop_front();
+  ++in_hand_;
+  taken_at_ = Clock::now();
   return job;
 }
 
 void WorkerConnection::SendResult(v1::Result result) {
   result.set_protocol_version(kProtocolVersion);
   if (result.worker_id().empty()) result.set_worker_id(worker_id_);
+  const Clock::time_point now = Clock::now();
   {
     std::lock_guard lock(mutex_);
     outbox_.push_back(std::move(result));
+    if (in_hand_ == 1 && options_.short_job_credit > options_.credit) {  // one job in hand: its time is exact
+      if (now - taken_at_ < options_.short_job) {
+        if (++short_in_a_row_ >= kShortJobsToRaise) wanted_credit_ = options_.short_job_credit;
+      } else {
+        short_in_a_row_ = 0;
+        wanted_credit_ = options_.credit;
+      }
+    }
+    if (in_hand_ > 0) --in_hand_;
   }
   Wake();
 }
@@ -137,6 +155,7 @@ void WorkerConnection::Serve() {
   Clock::time_point next_heartbeat = Clock::now() + options_.heartbeat_interval;
   Clock::time_point broker_deadline = Clock::now() + liveness_period;
   std::deque<v1::Result> sending;
+  std::uint64_t jobs_at_last_heartbeat = 0;
   v1::WorkerToBroker message;
   message.set_protocol_version(kProtocolVersion);
   while (true) {
@@ -155,15 +174,19 @@ void WorkerConnection::Serve() {
     }
 
     bool stopping = false;
+    int wanted_credit = 0;
     {
       std::lock_guard lock(mutex_);
       sending.swap(outbox_);
       stopping = stopping_;
+      wanted_credit = wanted_credit_;
     }
     for (v1::Result& result : sending) {
       message.set_allocated_result(new v1::Result(std::move(result)));
       Send(message);
     }
+    // After the results, so that the broker frees their credit before it sees a lower one.
+    if (!stopping && wanted_credit != announced_credit_) AnnounceCredit(wanted_credit);
     if (!sending.empty()) {
       std::lock_guard lock(mutex_);
       stats_.results_sent += sending.size();
@@ -192,6 +215,19 @@ void WorkerConnection::Serve() {
       message.mutable_heartbeat();
       Send(message);
       next_heartbeat = now + options_.heartbeat_interval;
+      // A raised credit falls back once a whole heartbeat interval brought no job: the short batch is over, and
+      // the next batch may hold long jobs, which must not pile up at one worker.
+      bool idle = false;
+      {
+        std::lock_guard lock(mutex_);
+        idle = stats_.jobs_received == jobs_at_last_heartbeat && announced_credit_ != options_.credit;
+        jobs_at_last_heartbeat = stats_.jobs_received;
+        if (idle) {
+          short_in_a_row_ = 0;
+          wanted_credit_ = options_.credit;
+        }
+      }
+      if (idle) AnnounceCredit(options_.credit);
     }
     if (now >= broker_deadline) {
       Reconnect("no answer from the broker at " + options_.endpoint + " for " + Seconds(liveness_period));
@@ -211,16 +247,32 @@ void WorkerConnection::Connect() {
   socket_->set(zmq::sockopt::rcvhwm, 0);
   socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
   warned_bad_message_ = false;
+  announced_credit_ = options_.credit;  // a new connection starts from the base credit
   {
     std::lock_guard lock(mutex_);
     ++stats_.connections;  // before READY leaves, so that whoever sees the READY sees the count
     stats_.broker_answering = false;
+    stats_.credit = static_cast<std::uint32_t>(options_.credit);
+    short_in_a_row_ = 0;
+    wanted_credit_ = options_.credit;
   }
   v1::WorkerToBroker ready;
   ready.set_protocol_version(kProtocolVersion);
   ready.mutable_ready()->set_worker_id(worker_id_);
   ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(options_.credit));
   Send(ready);
+}
+
+void WorkerConnection::AnnounceCredit(int credit) {
+  v1::WorkerToBroker ready;
+  ready.set_protocol_version(kProtocolVersion);
+  ready.mutable_ready()->set_worker_id(worker_id_);
+  ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
+  Send(ready);
+  announced_credit_ = credit;
+  std::lock_guard lock(mutex_);
+  stats_.credit = static_cast<std::uint32_t>(credit);
+  ++stats_.credit_changes;
 }
 
 void WorkerConnection::Reconnect(const std::string& why) {

@@ -4,6 +4,12 @@
 // minutes. When the broker falls silent or says goodbye, the connection starts over on a new socket and sends
 // READY again (the jobs it held but had not handed out are dropped: the broker requeues them).
 //
+// Credit adapts to short jobs: a credit of 2 hides the round trip to the broker behind a running job, but a job
+// much shorter than that round trip leaves the worker waiting for the next one. So after a run of short jobs
+// (each answered within `short_job` of being handed out) the connection announces `short_job_credit` with a
+// second READY on the same connection; the first longer job, a quiet heartbeat interval or a new connection bring
+// it back to `credit`. Jobs of seconds — every A-Series simulation — never raise it.
+//
 // Links only the wire schema and ZeroMQ (no model/): orcs-worker translates between jobs and simulations.
 #pragma once
 
@@ -33,6 +39,12 @@ struct WorkerConnectionOptions {
   /// How many jobs the broker may hand this worker at once (the running one plus those waiting), 1..1024.
   /// 2 hides the round trip between two jobs.
   int credit = 2;
+  /// The credit announced instead after `kShortJobsToRaise` short jobs in a row (see the top of this file);
+  /// at most 1024. A value ≤ `credit` keeps the credit fixed at `credit`.
+  int short_job_credit = 16;
+  /// A job is short when its result is given to SendResult within this time of NextJob handing it out (measured
+  /// when one job at a time is in the caller's hands, as in orcs-worker).
+  std::chrono::microseconds short_job{1000};
   /// How often the worker sends heartbeats; should equal the broker's.
   std::chrono::milliseconds heartbeat_interval{1000};
   /// The broker silent for this many heartbeat intervals → a new connection and READY again.
@@ -49,11 +61,16 @@ struct WorkerConnectionStats {
   std::uint64_t results_sent = 0;      ///< RESULT messages sent
   std::uint64_t messages_dropped = 0;  ///< malformed or foreign messages from the broker, dropped
   bool broker_answering = false;       ///< whether the broker has been heard on the current connection
+  std::uint32_t credit = 0;            ///< the credit last announced (READY) on the current connection
+  std::uint64_t credit_changes = 0;    ///< READY messages sent on an open connection to change the credit
 };
 
 /// A worker's connection to the broker. All public functions are thread-safe.
 class WorkerConnection {
  public:
+  /// How many short jobs in a row raise the credit to `short_job_credit`.
+  static constexpr int kShortJobsToRaise = 16;
+
   /// Starts the I/O thread, which connects and sends READY. Never blocks on the broker: a worker may start before
   /// its broker. Throws std::invalid_argument for an empty endpoint, a credit outside 1..1024, a non-positive
   /// interval, a liveness below 2, or an endpoint ZeroMQ cannot parse.
@@ -90,6 +107,7 @@ class WorkerConnection {
   Heard OnBrokerMessage(const zmq::message_t& payload);
   void DropMessage(const std::string& why);
   void Send(const v1::WorkerToBroker& message);
+  void AnnounceCredit(int credit);
   void Wake();
   void Log(const std::string& line) const;
 
@@ -104,6 +122,7 @@ class WorkerConnection {
   std::string out_;
   bool warned_bad_message_ = false;  ///< a dropped message was logged on this connection
   bool warned_silence_ = false;      ///< the broker's silence was logged and no answer has come since
+  int announced_credit_ = 0;         ///< the credit of the last READY on this connection
 
   // Shared with the caller's threads, guarded by mutex_.
   mutable std::mutex mutex_;
@@ -113,6 +132,10 @@ class WorkerConnection {
   bool stopping_ = false;
   std::string failure_;  ///< why the I/O thread stopped, when it failed
   WorkerConnectionStats stats_;
+  int in_hand_ = 0;                           ///< jobs NextJob handed out whose result has not been given yet
+  std::chrono::steady_clock::time_point taken_at_;  ///< when NextJob last handed out a job
+  int short_in_a_row_ = 0;                    ///< short jobs since the last long one (or the last reset)
+  int wanted_credit_ = 0;                     ///< the credit the I/O thread should announce
 
   std::thread io_thread_;  ///< last: starts after everything above exists
 };

@@ -1,7 +1,8 @@
 // Dispatch rate of the broker: empty jobs from one BatchClient through a real Broker to two echo workers (real
 // WorkerConnections) and back, over TCP on 127.0.0.1, everything in this process on its own threads. An empty
 // job carries only its ids; the echo worker answers at once. So the figure is the protocol's and the broker's
-// overhead per job: serialising, three socket hops each way, the dispatch bookkeeping. docs/benchmarks.md.
+// overhead per job: serialising, three socket hops each way, the dispatch bookkeeping. docs/benchmarks.md;
+// scripts/bench_batch.sh runs the default-settings case next to the same empty tasks through Dask.
 #include <benchmark/benchmark.h>
 
 #include <atomic>
@@ -23,11 +24,12 @@ using std::chrono::milliseconds;
 // A worker answering every job at once with status OK and nothing else.
 class EchoWorker {
  public:
-  EchoWorker(const std::string& endpoint, const std::string& name, int credit) {
+  EchoWorker(const std::string& endpoint, const std::string& name, int credit, int short_job_credit) {
     worker::WorkerConnectionOptions options;
     options.endpoint = endpoint;
     options.worker_id = name;
     options.credit = credit;
+    options.short_job_credit = short_job_credit;
     connection_ = std::make_unique<worker::WorkerConnection>(options);
     thread_ = std::thread([this] {
       while (!stop_.load()) {
@@ -52,17 +54,19 @@ class EchoWorker {
   std::thread thread_;
 };
 
-// range(0): jobs per batch; range(1): each worker's credit.
+// range(0): jobs per batch; range(1): each worker's credit; range(2): its short-job credit (WorkerConnectionOptions:
+// the credit it asks for once its jobs prove short; ≤ credit keeps the credit fixed).
 void BM_BrokerDispatchEmptyJobs(benchmark::State& state) {
   const int jobs_per_batch = static_cast<int>(state.range(0));
   const int credit = static_cast<int>(state.range(1));
+  const int short_job_credit = static_cast<int>(state.range(2));
   broker::BrokerOptions broker_options;  // 127.0.0.1, ephemeral ports
   broker_options.log = [](std::string_view) {};
   broker::Broker broker(broker_options);
   std::thread broker_thread([&] { broker.Run(); });
   {
-    EchoWorker a(broker.worker_endpoint(), "a", credit);
-    EchoWorker b(broker.worker_endpoint(), "b", credit);
+    EchoWorker a(broker.worker_endpoint(), "a", credit, short_job_credit);
+    EchoWorker b(broker.worker_endpoint(), "b", credit, short_job_credit);
     broker::BatchClientOptions client_options;
     client_options.endpoint = broker.client_endpoint();
     broker::BatchClient client(client_options);
@@ -89,10 +93,12 @@ void BM_BrokerDispatchEmptyJobs(benchmark::State& state) {
   broker_thread.join();
 }
 BENCHMARK(BM_BrokerDispatchEmptyJobs)
-    ->Args({10000, 2})
-    ->Args({10000, 8})
-    ->Args({10000, 32})
+    ->Args({10000, 2, 16})  // the defaults of WorkerConnectionOptions (and orcs-worker)
+    ->Args({10000, 2, 2})   // credit fixed at 2
+    ->Args({10000, 8, 8})
+    ->Args({10000, 32, 32})
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()  // the CPU column: every thread's CPU time (broker, client, workers, ZeroMQ's)
     ->UseRealTime();
 
 }  // namespace

@@ -243,6 +243,31 @@ TEST(MotionsTest, SitUpRaisesTheTrunkFromLyingToUpright) {
   EXPECT_GT(run.Position("Middle/Head").y(), 0.2);
 }
 
+TEST(MotionsTest, StandUpGetsFromLyingOnTheBackToStanding) {
+  MotionRun run("scenarios/environments/lying_on_back.xml", "scenarios/motions/stand_up.csv");
+  // Lying on its back the head's centre is 0.14 m up (the face points up); standing it is 0.40 m up.
+  ASSERT_LT(run.Position("Middle/Head").y(), 0.2);
+  const double end = run.record().frames.back().time_ms / 1000.0;
+  bool face_down = false;  // the record gets up over its front: it rolls over first
+  double head_lowest = INFINITY, head_highest = -INFINITY;  // over the last 0.5 s
+  run.RunUntil(end, [&] {
+    if (run.Axis("Middle/InvisiblePart", Eigen::Vector3d::UnitZ()).y() < -0.95) face_down = true;
+    if (run.time() > end - 0.5) {
+      head_lowest = std::min(head_lowest, run.Position("Middle/Head").y());
+      head_highest = std::max(head_highest, run.Position("Middle/Head").y());
+    }
+  });
+  EXPECT_TRUE(face_down);
+  // Standing at the end and not falling: the head stays above 0.35 m (before the record rises from its crouch the
+  // head is never above 0.19 m) and hardly moves over the last half second.
+  EXPECT_GT(head_lowest, 0.35);
+  EXPECT_LT(head_highest - head_lowest, 0.005);
+  // Upright on straight legs: the trunk's long axis points up and the pelvis is at its standing height (0.256 m
+  // in the initial pose; in the record's crouch it is at most 0.21 m up).
+  EXPECT_GT(Elevation(run.Axis("Middle/UpperBody", Eigen::Vector3d::UnitY())), 80.0);
+  EXPECT_GT(run.Position("Middle/InvisiblePart").y(), 0.24);
+}
+
 TEST(MotionsTest, PendulumHoldsThePoleLevelAtFullTorqueAndSagsAtTheDefaultTorque) {
   MotionRun run("scenarios/environments/pendulum.xml", "scenarios/motions/pendulum_steps.csv", "Pendulum");
   const scene::AgentDescription& rig = run.environment().agents.at(0);

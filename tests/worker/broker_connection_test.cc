@@ -4,6 +4,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <thread>
+#include <vector>
+
 #include "proto/envelope.h"
 #include "tests/broker/test_peers.h"
 
@@ -217,12 +220,85 @@ TEST(WorkerConnection, ServesANewBrokerStartedOnTheSamePort) {
   EXPECT_GE(worker.connection().stats().connections, 2u);
 }
 
+TEST(WorkerConnection, ShortJobsRaiseTheCreditAndALongOneLowersIt) {
+  FakeBroker broker;
+  worker::WorkerConnectionOptions options = TestWorkerOptions(broker.endpoint(), "w", 2);
+  options.short_job_credit = 8;
+  options.short_job = milliseconds(50);
+  WorkerConnection connection(options);
+  std::optional<FakeBroker::Received> ready = broker.Receive();
+  ASSERT_TRUE(ready && ready->message.has_ready());
+  EXPECT_EQ(ready->message.ready().credit(), 2u);
+  // Jobs answered at once, one at a time: after kShortJobsToRaise of them the credit goes up, on the same socket.
+  for (int i = 0; i < WorkerConnection::kShortJobsToRaise; ++i) {
+    broker.SendJob(ready->peer, MakeJob("short-" + std::to_string(i), static_cast<std::uint64_t>(i)));
+    v1::Job job = connection.NextJob(milliseconds(5000)).value();
+    v1::Result result;
+    result.set_job_id(job.job_id());
+    result.set_status(v1::Result::OK);
+    connection.SendResult(result);
+  }
+  for (int i = 0; i < WorkerConnection::kShortJobsToRaise; ++i) {
+    std::optional<FakeBroker::Received> answer = broker.Receive();
+    ASSERT_TRUE(answer && answer->message.has_result()) << i;
+    EXPECT_EQ(answer->message.result().job_id(), "short-" + std::to_string(i));
+  }
+  std::optional<FakeBroker::Received> raised = broker.Receive();
+  ASSERT_TRUE(raised && raised->message.has_ready());
+  EXPECT_EQ(raised->peer, ready->peer);
+  EXPECT_EQ(raised->message.ready().credit(), 8u);
+  EXPECT_EQ(raised->message.ready().worker_id(), "w");
+  EXPECT_TRUE(WaitFor([&] { return connection.stats().credit == 8; }));
+
+  // One job that takes longer than options.short_job: back to the base credit, after its result.
+  broker.SendJob(ready->peer, MakeJob("long", 99));
+  v1::Job job = connection.NextJob(milliseconds(5000)).value();
+  std::this_thread::sleep_for(milliseconds(80));  // the job's work
+  v1::Result result;
+  result.set_job_id(job.job_id());
+  result.set_status(v1::Result::OK);
+  connection.SendResult(result);
+  std::optional<FakeBroker::Received> answer = broker.Receive();
+  ASSERT_TRUE(answer && answer->message.has_result());
+  EXPECT_EQ(answer->message.result().job_id(), "long");
+  std::optional<FakeBroker::Received> lowered = broker.Receive();
+  ASSERT_TRUE(lowered && lowered->message.has_ready());
+  EXPECT_EQ(lowered->peer, ready->peer);
+  EXPECT_EQ(lowered->message.ready().credit(), 2u);
+  const worker::WorkerConnectionStats stats = connection.stats();
+  EXPECT_EQ(stats.credit, 2u);
+  EXPECT_EQ(stats.credit_changes, 2u);
+  EXPECT_EQ(stats.connections, 1u);
+}
+
+TEST(WorkerConnection, RaisedCreditFallsBackWhenNoJobComesForAHeartbeat) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  EchoWorker worker(TestWorkerOptions(broker.worker_endpoint(), "quick", 2, &log));
+  broker::BatchClient client(TestClientOptions(broker.client_endpoint()));
+  std::vector<v1::Job> jobs;
+  for (int i = 0; i < 200; ++i) jobs.push_back(MakeJob("job-" + std::to_string(i), static_cast<std::uint64_t>(i)));
+  client.Submit(std::move(jobs));
+  EXPECT_EQ(Collect(client, 200).size(), 200u);
+  // The jobs took microseconds each: the worker asked for its short-job credit (default 16; more than once if a
+  // preempted job looked long to it on a busy machine) ...
+  EXPECT_GE(log.Count("worker quick sent READY again; credit now 16"), 1);
+  // ... and once the batch is over, a heartbeat interval without a job brings it back to 2.
+  EXPECT_TRUE(WaitFor([&] { return worker.connection().stats().credit == 2; }));
+  EXPECT_TRUE(WaitFor([&] { return log.Count("worker quick sent READY again; credit now 2") >= 1; }));
+  EXPECT_EQ(worker.connection().stats().connections, 1u);
+  EXPECT_EQ(broker.stats().workers_lost, 0u);
+}
+
 TEST(WorkerConnection, RejectsBadOptions) {
   EXPECT_THROW(WorkerConnection(TestWorkerOptions("", "w", 1)), std::invalid_argument);
   EXPECT_THROW(WorkerConnection(TestWorkerOptions("tcp://127.0.0.1:1", "w", 0)), std::invalid_argument);
   EXPECT_THROW(WorkerConnection(TestWorkerOptions("tcp://127.0.0.1:1", "w", 1025)), std::invalid_argument);
   worker::WorkerConnectionOptions options = TestWorkerOptions("tcp://127.0.0.1:1", "w", 1);
   options.liveness = 1;
+  EXPECT_THROW(WorkerConnection{options}, std::invalid_argument);
+  options = TestWorkerOptions("tcp://127.0.0.1:1", "w", 1);
+  options.short_job_credit = 1025;
   EXPECT_THROW(WorkerConnection{options}, std::invalid_argument);
   for (const char* endpoint : {"127.0.0.1:5556", "udp://127.0.0.1:5556", "tcp://127.0.0.1"}) {
     EXPECT_THROW(WorkerConnection(TestWorkerOptions(endpoint, "w", 1)), std::invalid_argument) << endpoint;

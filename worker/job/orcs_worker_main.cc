@@ -2,7 +2,7 @@
 // at a time (worker/job/job_translation.h) and returns their results; heartbeats and reconnection happen in
 // the connection's own thread (worker/broker_connection.h). Serves until SIGINT or SIGTERM.
 //
-//   orcs-worker --connect tcp://127.0.0.1:5556 [--credit 2] [--id NAME] [--heartbeat SECONDS]
+//   orcs-worker --connect tcp://127.0.0.1:5556 [--credit 2] [--short-job-credit 16] [--id NAME] [--heartbeat SECONDS]
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
   CLI::App app{"orcs-worker: runs simulation jobs from a broker", "orcs-worker"};
   app.add_option("--connect", options.endpoint, "the broker's worker endpoint, e.g. tcp://127.0.0.1:5556")->required();
   app.add_option("--credit", options.credit, "jobs held at once (queued at the worker)")->check(CLI::Range(1, 64));
+  app.add_option("--short-job-credit", options.short_job_credit,
+                 "credit after 16 jobs in a row shorter than 1 ms (default 16; <= --credit keeps it fixed)")
+      ->check(CLI::Range(0, 1024));
   app.add_option("--id", options.worker_id, "worker name in results (default: host-pid)");
   double heartbeat_seconds = 1.0;
   app.add_option("--heartbeat", heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")

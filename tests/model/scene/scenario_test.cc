@@ -29,6 +29,13 @@ TEST(ScenarioTest, MinimalScenarioTakesTheDefaults) {
   EXPECT_EQ(scenario.aggregate, Aggregate::kMean);
 }
 
+TEST(ScenarioTest, ADefaultGenomeIsKeptAsGiven) {
+  nlohmann::json scenario = Minimal();
+  EXPECT_TRUE(ParseScenario(scenario, "s.json").genome.is_null());
+  scenario["genome"] = {1.5, -2};
+  EXPECT_EQ(ParseScenario(scenario, "s.json").genome, nlohmann::json({1.5, -2}));
+}
+
 TEST(ScenarioTest, BadInputNamesFileAndField) {
   auto with = [](const char* key, nlohmann::json value) {
     nlohmann::json scenario = Minimal();
@@ -37,7 +44,9 @@ TEST(ScenarioTest, BadInputNamesFileAndField) {
   };
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duratoin", 3), "s.json"); }),
             "s.json: field 'duratoin' expected no such field (allowed: name, environment, value_files, values, "
-            "duration, agent, controller, fitness, randomisation, log), found 'duratoin'");
+            "duration, agent, controller, fitness, randomisation, log, genome), found 'duratoin'");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("genome", 5), "s.json"); }),
+            "s.json: field 'genome' expected an array of numbers or a network object, found the number 5");
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duration", "long"), "s.json"); }),
             "s.json: field 'duration' expected seconds > 0, found the string \"long\"");
   EXPECT_THAT(InputErrorOf([&] { ParseScenario(with("duration", -1), "s.json"); }),
