@@ -1,6 +1,8 @@
 // Command-line conventions shared by the orcs programs.
 #pragma once
 
+#include <CLI/CLI.hpp>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,6 +13,12 @@ namespace orcs::cli {
 /// as "--env" etc. Rewrites every argument that is exactly "-<name>" for a name in `long_names` to "--<name>".
 std::vector<std::string> NormaliseSingleDashOptions(int argc, const char* const* argv,
                                                     const std::vector<std::string_view>& long_names);
+
+/// Parses argv into `app`, accepting the single-dash spellings of `long_names`. Returns -1 when the program goes
+/// on; kExitOk after printing --help; kExitBadInput after printing one line "NAME: what (see NAME --help)" to
+/// stderr, NAME being the app's name. `validate`, when given, runs after parsing and may throw CLI::Error too.
+int ParseArguments(CLI::App& app, int argc, const char* const* argv, const std::vector<std::string_view>& long_names,
+                   const std::function<void()>& validate = {});
 
 /// Exit codes of every orcs program.
 constexpr int kExitOk = 0;

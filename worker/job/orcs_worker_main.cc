@@ -37,17 +37,8 @@ int main(int argc, char** argv) {
   double heartbeat_seconds = 1.0;
   app.add_option("--heartbeat", heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
       ->check(CLI::Range(0.001, 3600.0));
-  const std::vector<std::string> arguments = orcs::cli::NormaliseSingleDashOptions(argc, argv, {"connect"});
-  std::vector<const char*> pointers;
-  for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
-  try {
-    app.parse(static_cast<int>(pointers.size()), pointers.data());
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return orcs::cli::kExitOk;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "orcs-worker: " << error.what() << " (see orcs-worker --help)\n";
-    return orcs::cli::kExitBadInput;
+  if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"connect"}); exit_code >= 0) {
+    return exit_code;
   }
   options.heartbeat_interval = std::chrono::milliseconds(std::lround(heartbeat_seconds * 1000.0));
   options.log = [](std::string_view line) { std::cerr << "orcs-worker: " << line << "\n"; };

@@ -125,18 +125,8 @@ int main(int argc, char** argv) {
   app.add_option("--client-timeout", options.client_timeout_seconds,
                  "seconds of silence after which a client loses its agents (default 10)")
       ->check(CLI::Range(0.001, 1e6));
-  const std::vector<std::string> arguments =
-      orcs::cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "port", "odcp_port"});
-  std::vector<const char*> pointers;
-  for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
-  try {
-    app.parse(static_cast<int>(pointers.size()), pointers.data());
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return orcs::cli::kExitOk;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "orcs-osp: " << error.what() << " (see orcs-osp --help)\n";
-    return orcs::cli::kExitBadInput;
+  if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "port", "odcp_port"}); exit_code >= 0) {
+    return exit_code;
   }
   try {
     return Serve(options);

@@ -91,17 +91,8 @@ int main(int argc, char** argv) {
   app.add_option("--bind", options.bind_address, "interface to listen on (default 127.0.0.1; * = every interface)");
   app.add_option("--motors", options.motors, "motors of the agent the editor drives (default 21, the A-Series)")
       ->check(CLI::Range(1, 127));
-  const std::vector<std::string> arguments = orcs::cli::NormaliseSingleDashOptions(argc, argv, {"port"});
-  std::vector<const char*> pointers;
-  for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
-  try {
-    app.parse(static_cast<int>(pointers.size()), pointers.data());
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return orcs::cli::kExitOk;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "orcs-sniffer: " << error.what() << " (see orcs-sniffer --help)\n";
-    return orcs::cli::kExitBadInput;
+  if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"port"}); exit_code >= 0) {
+    return exit_code;
   }
   try {
     return Sniff(options);

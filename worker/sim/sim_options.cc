@@ -42,12 +42,7 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
   app.add_option("--bind", o.bind_address, "interface the ODCP servers listen on (default 127.0.0.1; * = every one)")
       ->needs(port);
 
-  const std::vector<std::string> arguments =
-      cli::NormaliseSingleDashOptions(argc, argv, {"env", "ival", "val", "play", "port"});
-  std::vector<const char*> pointers;
-  for (const std::string& argument : arguments) pointers.push_back(argument.c_str());
-  try {
-    app.parse(static_cast<int>(pointers.size()), pointers.data());
+  const auto validate = [&] {
     if (!o.log.empty() && o.out.empty()) throw CLI::ValidationError("--log", "needs --out FILE.csv");
     if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
     const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
@@ -57,13 +52,8 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
       throw CLI::ValidationError("--scenario", "takes only --genome and --seed: the scenario gives the world, the "
                                                "duration and what to log, and runs as fast as it can");
     }
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    parsed.exit_code = cli::kExitOk;
-  } catch (const CLI::ParseError& error) {
-    std::cerr << "orcs-sim: " << error.what() << " (see orcs-sim --help)\n";
-    parsed.exit_code = cli::kExitBadInput;
-  }
+  };
+  parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port"}, validate);
   return parsed;
 }
 
