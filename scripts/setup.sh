@@ -14,7 +14,8 @@ packages=(
   libgtest-dev libgmock-dev
   libbenchmark-dev
   python3
-  python3-matplotlib    # scripts/plot_*.py (orcs-batch sweep plots)
+  python3-matplotlib    # scripts/plot_*.py (orcs-batch sweep plots, orcs-gap plots)
+  libpagmo-dev          # pagmo2: CMA-ES for orcs-gap's simulation-in-the-loop fits
 )
 
 missing=()
