@@ -1,5 +1,8 @@
 #include "model/aseries/aseries_agent.h"
 
+#include <deque>
+#include <map>
+
 #include "model/aseries/value_range.h"
 #include "model/core/rotation.h"
 
@@ -21,6 +24,7 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
   WatchParameters(values, kDynamixelParameterTable, parameters_changed_);
   WatchParameters(values, kAngleSensorParameterTable, parameters_changed_);
   WatchParameters(values, kAccelerometerParameterTable, parameters_changed_);
+  WatchParameters(values, kMotorEffectsTable, parameters_changed_);
   const std::string prefix = "/Sim/" + layout_.agent_name + "/";
   motors_.resize(morphology.motors.size());
   for (size_t m = 0; m < motors_.size(); ++m) {
@@ -33,6 +37,7 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     motor.desired_torque = &values.Add(path + "DesiredTorque", kDefaultDesiredTorqueRaw);
     motor.joint_angle = &values.Add(path + "JointAngle", 0.0);
     motor.current_velocity = &values.Add(path + "CurrentVelocity", 0.0);
+    motor.motor_torque = &values.Add(path + "MotorTorque", 0.0);
     values.Add(path + "MinAngle", spec.min_degrees);
     values.Add(path + "MaxAngle", spec.max_degrees);
   }
@@ -45,12 +50,44 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     board.axis1 = &values.Add(prefix + spec.name + "/AccelAxis1", 0.0);
     board.axis2 = &values.Add(prefix + spec.name + "/AccelAxis2", 0.0);
   }
+  FindDistalBodies(morphology);
+}
+
+// Breadth-first from the root body over the motors and fixed joints: of a motor's two bodies the one found later
+// is on the far side. A motor holding a body to the static world ("" body 2, the rigs) turns that body.
+void ASeriesAgent::FindDistalBodies(const ASeriesMorphology& morphology) {
+  std::multimap<std::string, std::string> links;
+  const auto link = [&links](const std::string& a, const std::string& b) {
+    links.emplace(a, b);
+    links.emplace(b, a);
+  };
+  for (const MorphologyMotor& motor : morphology.motors) link(motor.first_body, motor.second_body);
+  for (const MorphologyFixedJoint& joint : morphology.fixed_joints) link(joint.first_body, joint.second_body);
+  std::map<std::string, int> depth{{"", -1}, {morphology.root_body, 0}};
+  std::deque<std::string> queue{morphology.root_body};
+  while (!queue.empty()) {
+    const std::string body = queue.front();
+    queue.pop_front();
+    const auto [first, last] = links.equal_range(body);
+    for (auto it = first; it != last; ++it) {
+      if (depth.emplace(it->second, depth[body] + 1).second) queue.push_back(it->second);
+    }
+  }
+  for (size_t m = 0; m < motors_.size(); ++m) {
+    const MorphologyMotor& spec = morphology.motors[m];
+    const bool first_is_distal = spec.second_body.empty() || depth[spec.first_body] > depth[spec.second_body];
+    const std::string& distal = first_is_distal ? spec.first_body : spec.second_body;
+    motors_[m].distal_body = layout_.bodies[static_cast<size_t>(morphology.FindBody(distal))];
+    // Morphology bodies are axis-aligned in the initial pose, so the world axis is also the body-frame axis.
+    motors_[m].axis_in_body = (spec.axis_point2 - spec.axis_point1).normalized();
+  }
 }
 
 void ASeriesAgent::ReadParameters() {
   aseries::ReadParameters(values_, kDynamixelParameterTable, motor_parameters_);
   aseries::ReadParameters(values_, kAngleSensorParameterTable, angle_parameters_);
   aseries::ReadParameters(values_, kAccelerometerParameterTable, accel_parameters_);
+  aseries::ReadParameters(values_, kMotorEffectsTable, effects_);
   parameters_changed_ = false;
 }
 
@@ -61,6 +98,8 @@ void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed)
   accel_noise_.emplace(seed, "aseries/accelerometer-noise", stream_index);
   for (Motor& motor : motors_) {
     aseries::Reset(motor.state, world.joint_angle(motor.joint));
+    ResetEffects(motor.effect_state, world.joint_angle(motor.joint));
+    motor.motor_torque->Set(0.0);
     motor.joint_angle->Set(RadiansToDegrees(world.joint_angle(motor.joint)));
     motor.current_velocity->Set(0.0);
   }
@@ -68,23 +107,44 @@ void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed)
     const physics::BodyState host = world.body_state(board.host_body);
     aseries::Reset(board.state, board.board, host.position, host.orientation);
   }
+  rotor_inertia_added_ = false;
 }
 
 void ASeriesAgent::MotorStage(physics::PhysicsWorld& world, double dt) {
   if (parameters_changed_) ReadParameters();
-  for (Motor& motor : motors_) {
-    const DynamixelCommand command =
-        Update(motor_parameters_, motor.state, world.joint_angle(motor.joint), motor.desired_angle->as_double(),
-               motor.desired_torque->as_double(), dt, &*motor_noise_);
-    world.SetJointMotor(motor.joint, command.velocity, command.max_torque);
-    world.SetJointFriction(motor.joint, command.friction_torque);
-    motor.current_velocity->Set(command.velocity);
+  if (effects_.rotor_inertia && !rotor_inertia_added_) AddRotorInertia(world);
+  for (Motor& motor : motors_) MoveMotor(world, motor, dt);
+}
+
+void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double dt) {
+  const double angle = world.joint_angle(motor.joint);
+  const double desired_angle = motor.desired_angle->as_double();
+  const double desired_torque = motor.desired_torque->as_double();
+  DynamixelCommand command;
+  if (effects_.any()) {  // the original's bits stay untouched while every effect is off
+    const JointReading reading{angle, world.joint_rate(motor.joint), world.joint_motor_torque(motor.joint)};
+    const EffectCommand with_effects = UpdateWithEffects(motor_parameters_, effects_, motor.state,
+                                                         motor.effect_state, reading, desired_angle, desired_torque,
+                                                         dt, &*motor_noise_);
+    world.SetJointMotorCompliance(motor.joint, with_effects.compliance);
+    command = with_effects.motor;
+  } else {
+    command = Update(motor_parameters_, motor.state, angle, desired_angle, desired_torque, dt, &*motor_noise_);
   }
+  world.SetJointMotor(motor.joint, command.velocity, command.max_torque);
+  world.SetJointFriction(motor.joint, command.friction_torque);
+  motor.current_velocity->Set(command.velocity);
+}
+
+void ASeriesAgent::AddRotorInertia(physics::PhysicsWorld& world) {
+  for (const Motor& motor : motors_) world.AddBodyInertia(motor.distal_body, motor.axis_in_body, effects_.inertia);
+  rotor_inertia_added_ = true;
 }
 
 void ASeriesAgent::SensorStage(const physics::PhysicsWorld& world, double dt) {
   for (Motor& motor : motors_) {
     motor.joint_angle->Set(MeasureJointAngle(world.joint_angle(motor.joint), angle_parameters_, &*angle_noise_));
+    motor.motor_torque->Set(world.joint_motor_torque(motor.joint));
   }
   for (Board& board : boards_) {
     const physics::BodyState host = world.body_state(board.host_body);

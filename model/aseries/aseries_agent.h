@@ -6,9 +6,11 @@
 //   /Sim/A/M/DesiredTorque  double, fraction of the maximum torque, −1…1; ≤ 0 gives no torque (input)
 //   /Sim/A/M/JointAngle     double, degrees, with sensor noise (output)
 //   /Sim/A/M/CurrentVelocity double, rad/s, the velocity the motor controller commands
+//   /Sim/A/M/MotorTorque    double, N·m, the torque the motor applied in the last step (output, for analysis)
 //   /Sim/A/M/MinAngle, MaxAngle  double, degrees, the hinge stops (informational)
 //   /Sim/A/B/AccelAxis1, AccelAxis2  double, m/s² (output)
-// and the global motor and sensor parameters /AngularMotor/..., /AccelSensor/... (docs/model.md).
+// and the global motor and sensor parameters /AngularMotor/..., /AccelSensor/... (docs/model.md), and the motor
+// effects /Effects/... (motor_effects.h, docs/gap.md), all off by default.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +22,7 @@
 #include "model/aseries/aseries_builder.h"
 #include "model/aseries/aseries_morphology.h"
 #include "model/aseries/dynamixel_motor.h"
+#include "model/aseries/motor_effects.h"
 #include "model/core/random_stream.h"
 #include "model/core/variable_repository.h"
 #include "model/physics/physics_world.h"
@@ -56,7 +59,11 @@ class ASeriesAgent {
     Value* desired_torque = nullptr;  // −1…1
     Value* joint_angle = nullptr;     // degrees
     Value* current_velocity = nullptr;  // rad/s
+    Value* motor_torque = nullptr;      // N·m
     DynamixelState state;
+    MotorEffectState effect_state;
+    int distal_body = -1;  // physics body on the far side from the root: it carries the rotor inertia
+    Eigen::Vector3d axis_in_body = Eigen::Vector3d::UnitX();  // the hinge axis in that body's frame
   };
   struct Board {
     int host_body = -1;  // physics body index
@@ -67,6 +74,9 @@ class ASeriesAgent {
   };
 
   void ReadParameters();
+  void FindDistalBodies(const ASeriesMorphology& morphology);
+  void MoveMotor(physics::PhysicsWorld& world, Motor& motor, double dt);
+  void AddRotorInertia(physics::PhysicsWorld& world);
 
   ASeriesLayout layout_;
   int index_ = 0;
@@ -77,6 +87,8 @@ class ASeriesAgent {
   DynamixelParameters motor_parameters_;
   AngleSensorParameters angle_parameters_;
   AccelerometerParameters accel_parameters_;
+  MotorEffects effects_;
+  bool rotor_inertia_added_ = false;  // since the last Reset (the world's Reset takes it away)
   bool parameters_changed_ = true;  // set by observers of the global parameter values
   std::optional<RandomStream> motor_noise_;
   std::optional<RandomStream> angle_noise_;

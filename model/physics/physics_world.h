@@ -72,6 +72,15 @@ class PhysicsWorld {
   virtual void SetJointFriction(int joint, double max_torque) = 0;
   /// Adds a torque (N·m) about a hinge's axis for the next step only (body1 gets +torque, body2 −torque).
   virtual void AddJointTorque(int joint, double torque) = 0;
+  /// How far the angular motor of a motorised hinge yields under load: after the step the joint rate is
+  /// u = velocity − compliance·τ while |τ| < max_torque, in rad/s per N·m. A compliant motor with target
+  /// velocity c·(k·Δθ + d·v) and compliance c = 1/(k·dt + d) is an implicit spring k (N·m/rad) with damper
+  /// d (N·m·s/rad), which is how the gear-elasticity effect works (docs/gap.md). 0 = the stiff default. Stays
+  /// in force until changed or Reset.
+  virtual void SetJointMotorCompliance(int joint, double compliance) = 0;
+  /// Adds `inertia` (kg·m²) about `axis_in_body` (a unit vector in the body's frame, through its centre of
+  /// mass) to a dynamic body's inertia, until Reset: the reflected rotor inertia of a geared motor.
+  virtual void AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) = 0;
 
   /// The engine's message after kEngineError, else "".
   virtual const std::string& last_error() const = 0;

@@ -148,6 +148,8 @@ class OdeWorld final : public PhysicsWorld {
   void SetJointMotor(int joint, double velocity, double max_torque) override;
   void SetJointFriction(int joint, double max_torque) override;
   void AddJointTorque(int joint, double torque) override;
+  void SetJointMotorCompliance(int joint, double compliance) override;
+  void AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) override;
   const std::string& last_error() const override { return last_error_; }
 
  private:
@@ -177,6 +179,7 @@ class OdeWorld final : public PhysicsWorld {
     double velocity = 0.0;       // angular motor target v, rad/s
     double max_torque = 0.0;     // angular motor FMax τ ≥ 0, N·m
     double friction = 0.0;       // brake FMax f ≥ 0, N·m
+    double cfm = kMotorCfm;      // angular motor CFM c1 (SetJointMotorCompliance), rad/s per N·m
     double last_velocity = 0.0;  // v of the last step
     double last_rate = 0.0;      // joint rate u after the last step, rad/s
     bool has_last = false;       // a StepExact has recorded last_velocity and last_rate since the build
@@ -620,7 +623,7 @@ void OdeWorld::SeparateRows(const CombinedJoint& joint) {
   if (joint.row_case == RowCase::kBothFree) {
     dJointID motor = motors_[joint.joint];
     dJointSetAMotorParam(motor, dParamVel, rows.velocity);
-    dJointSetAMotorParam(motor, dParamCFM, kMotorCfm);
+    dJointSetAMotorParam(motor, dParamCFM, rows.cfm);
     dJointSetAMotorParam(motor, dParamFMax, rows.max_torque);
   }
 }
@@ -796,6 +799,30 @@ void OdeWorld::AddJointTorque(int joint, double torque) {
   assert(IsHinge(joint) && "AddJointTorque needs a hinge");
   if (!IsHinge(joint)) return;
   dJointAddHingeTorque(joints_[joint], torque);  // ODE clears body torques after each step
+}
+
+void OdeWorld::SetJointMotorCompliance(int joint, double compliance) {
+  assert(joint >= 0 && joint < model_->joint_count());
+  dJointID motor = motors_[joint];
+  assert(motor != nullptr && "SetJointMotorCompliance needs a motorised hinge");
+  if (motor == nullptr) return;
+  const double cfm = compliance > 0.0 ? compliance : kMotorCfm;
+  dJointSetAMotorParam(motor, dParamCFM, cfm);
+  motor_rows_[joint].cfm = cfm;
+}
+
+void OdeWorld::AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) {
+  assert(body >= 0 && body < model_->body_count());
+  dBodyID id = bodies_[body];
+  assert(id != nullptr && "AddBodyInertia needs a dynamic body");
+  if (id == nullptr || !(inertia > 0.0)) return;
+  const Eigen::Vector3d a = axis_in_body.normalized();
+  dMass mass;
+  dBodyGetMass(id, &mass);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) mass.I[4 * r + c] += inertia * a[r] * a[c];  // dMatrix3 rows are 4 wide
+  }
+  dBodySetMass(id, &mass);
 }
 
 }  // namespace

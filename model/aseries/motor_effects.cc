@@ -1,0 +1,153 @@
+#include "model/aseries/motor_effects.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "model/aseries/value_range.h"
+#include "model/core/rotation.h"
+
+namespace orcs::aseries {
+namespace {
+
+constexpr int kHistory = MotorEffectState::kHistory;
+
+// The gap is closed when the gear side reaches a wall within this much (rad): the step's rounding must not open it.
+constexpr double kWallTolerance = 1e-9;
+
+void PushCommand(MotorEffectState& state, double angle_deg, double torque_raw) {
+  if (state.history_count == 0) {  // before the first command the motor has seen this one all along
+    state.angle_history.fill(angle_deg);
+    state.torque_history.fill(torque_raw);
+  }
+  state.angle_history[state.history_next] = angle_deg;
+  state.torque_history[state.history_next] = torque_raw;
+  state.history_next = (state.history_next + 1) % kHistory;
+  state.history_count = std::min(state.history_count + 1, kHistory);
+}
+
+// The value `steps_back` steps before the newest (0 = newest), linear between stored steps.
+double Delayed(const std::array<double, kHistory>& history, const MotorEffectState& state, double steps_back) {
+  const double back = std::clamp(steps_back, 0.0, static_cast<double>(kHistory - 2));
+  const int whole = static_cast<int>(back);
+  const double fraction = back - whole;
+  const auto at = [&](int k) { return history[(state.history_next - 1 - k + 2 * kHistory) % kHistory]; };
+  return (1.0 - fraction) * at(whole) + fraction * at(whole + 1);
+}
+
+// The desired angle that gives the controller the dead-banded error: errors within ±margin count as none, larger
+// ones lose the margin.
+double DeadBandTarget(double angle_rad, double desired_deg, double margin) {
+  const double error = DegreesToRadians(kDesiredAngleRange.ClampRaw(desired_deg)) - angle_rad;
+  const double reduced = std::copysign(std::max(0.0, std::abs(error) - margin), error);
+  return RadiansToDegrees(angle_rad + reduced);
+}
+
+// The motor side winds the spring at the controller's velocity, never further than its torque limit can hold;
+// the compliant motor row then makes the spring implicit (PhysicsWorld::SetJointMotorCompliance).
+void ApplyElasticity(const MotorEffects& effects, MotorEffectState& state, const JointReading& joint, double dt,
+                     EffectCommand& command) {
+  const double stiffness = std::max(effects.stiffness, 1e-9);
+  const double damping = std::max(effects.damping, 0.0);
+  const double velocity = command.motor.velocity;
+  const double reach = command.motor.max_torque / stiffness;
+  state.spring_angle = std::clamp(state.spring_angle + velocity * dt, joint.angle - reach, joint.angle + reach);
+  const double compliance = 1.0 / (stiffness * dt + damping);
+  command.motor.velocity = compliance * (stiffness * (state.spring_angle - joint.angle) + damping * velocity);
+  command.compliance = compliance;
+}
+
+// The gear side moves at the commanded velocity inside the gap; only when it touches a wall does the motor act
+// on the output (and its friction with it).
+void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const JointReading& joint, double dt,
+                   double gear_velocity, EffectCommand& command) {
+  const double half = 0.5 * std::max(effects.backlash_width, 0.0);
+  const double lower = joint.angle - half;
+  const double upper = joint.angle + half;
+  const double gear = state.gear_angle + gear_velocity * dt;
+  state.engaged = gear >= upper - kWallTolerance || gear <= lower + kWallTolerance;
+  state.gear_angle = std::clamp(gear, lower, upper);
+  if (!state.engaged) {
+    command.motor.max_torque = 0.0;
+    command.motor.friction_torque = 0.0;
+  }
+}
+
+}  // namespace
+
+bool MotorEffects::any() const {
+  return transport_delay || dead_band || back_emf || stribeck || load_friction || backlash || elasticity ||
+         rotor_inertia;
+}
+
+const std::vector<EffectDescription>& EffectCatalogue() {
+  static const std::vector<EffectDescription> catalogue{
+      {"TransportDelay", "the command reaches the motor late", "velocity",
+       {{"/Effects/TransportDelay/Delay", "s", 0.005, 0.15, true}}},
+      {"DeadBand", "position errors within a margin are ignored", "command_error",
+       {{"/Effects/DeadBand/Margin", "rad", 0.002, 0.1, true}}},
+      {"BackEmf", "available torque falls with speed", "speed",
+       {{"/Effects/BackEmf/NoLoadSpeed", "rad/s", 1.0, 50.0, true}}},
+      {"Stribeck", "extra friction at low speed", "speed",
+       {{"/Effects/Stribeck/BreakawayTorque", "N·m", 0.005, 0.5, true},
+        {"/Effects/Stribeck/Velocity", "rad/s", 0.01, 1.0, true}}},
+      {"LoadFriction", "gearbox friction grows with the transmitted torque", "load",
+       {{"/Effects/LoadFriction/Coefficient", "1", 0.01, 1.0, true}}},
+      {"Backlash", "the output turns freely within a gap", "load",
+       {{"/Effects/Backlash/Width", "rad", 0.002, 0.15, true}}},
+      {"Elasticity", "the gear train is a torsional spring", "acceleration",
+       {{"/Effects/Elasticity/Stiffness", "N·m/rad", 0.5, 200.0, true}}},
+      {"RotorInertia", "the reflected rotor inertia adds to the joint's", "acceleration",
+       {{"/Effects/RotorInertia/Inertia", "kg·m²", 1e-4, 0.05, true}}},
+  };
+  return catalogue;
+}
+
+const EffectDescription* FindEffect(std::string_view name) {
+  for (const EffectDescription& effect : EffectCatalogue()) {
+    if (effect.name == name) return &effect;
+  }
+  return nullptr;
+}
+
+void ResetEffects(MotorEffectState& state, double angle_rad) {
+  state = MotorEffectState{};
+  state.gear_angle = angle_rad;
+  state.spring_angle = angle_rad;
+}
+
+EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const MotorEffects& effects,
+                                DynamixelState& state, MotorEffectState& effect_state, const JointReading& joint,
+                                double desired_angle_deg, double desired_torque_raw, double dt, RandomStream* noise) {
+  assert(dt > 0.0);
+  // Stages that change what the controller sees.
+  if (effects.transport_delay) {
+    PushCommand(effect_state, desired_angle_deg, desired_torque_raw);
+    const double steps_back = std::max(effects.delay, 0.0) / dt;
+    desired_angle_deg = Delayed(effect_state.angle_history, effect_state, steps_back);
+    desired_torque_raw = Delayed(effect_state.torque_history, effect_state, steps_back);
+  }
+  if (effects.dead_band) desired_angle_deg = DeadBandTarget(joint.angle, desired_angle_deg, effects.margin);
+
+  EffectCommand command{Update(parameters, state, joint.angle, desired_angle_deg, desired_torque_raw, dt, noise),
+                        0.0};
+
+  // Stages that change what the motor can do.
+  const double speed = std::abs(joint.rate);
+  if (effects.back_emf) {
+    command.motor.max_torque *= std::max(0.0, 1.0 - speed / std::max(effects.no_load_speed, 1e-9));
+  }
+  if (effects.stribeck) {
+    const double ratio = speed / std::max(effects.stribeck_velocity, 1e-9);
+    command.motor.friction_torque += std::max(effects.breakaway_torque, 0.0) * std::exp(-ratio * ratio);
+  }
+  if (effects.load_friction) {
+    command.motor.friction_torque += std::max(effects.load_coefficient, 0.0) * std::abs(joint.motor_torque);
+  }
+  const double gear_velocity = command.motor.velocity;
+  if (effects.elasticity) ApplyElasticity(effects, effect_state, joint, dt, command);
+  if (effects.backlash) ApplyBacklash(effects, effect_state, joint, dt, gear_velocity, command);
+  return command;
+}
+
+}  // namespace orcs::aseries

@@ -1,0 +1,128 @@
+// The effect catalogue (docs/gap.md): switchable physical extensions of the Dynamixel motor model that the
+// original's model lacks, each off by default and controlled by repository values under /Effects/<Name>/...,
+// so that a model fitted by orcs-gap is just a value file. Pure computation like dynamixel_motor.h: the caller
+// keeps one MotorEffectState per motor and calls ApplyEffects around the base controller step.
+//
+//   TransportDelay  the command reaches the motor `Delay` s late (linear interpolation between steps)
+//   DeadBand        the controller ignores position errors within ±`Margin` (the AX-12's compliance margin)
+//   BackEmf         the torque limit falls linearly with speed, to 0 at `NoLoadSpeed`
+//   Stribeck        extra friction `BreakawayTorque`·exp(−(ω/`Velocity`)²) that vanishes once the joint moves
+//   LoadFriction    extra friction `Coefficient`·|motor torque|: a gearbox whose friction grows with its load
+//   Backlash        the output turns freely within a gap of `Width` between the gear and the output
+//   Elasticity      the gear train is a torsional spring `Stiffness` with damper `Damping` between motor and output
+//   RotorInertia    the motor's rotor, reflected through the gearbox, adds `Inertia` about the joint axis
+#pragma once
+
+#include <array>
+#include <string_view>
+#include <vector>
+
+#include "model/aseries/dynamixel_motor.h"
+#include "model/aseries/parameter_table.h"
+
+namespace orcs::aseries {
+
+/// Every effect's switch and parameters; all off by default (the original's model).
+struct MotorEffects {
+  bool transport_delay = false;  ///< /Effects/TransportDelay/Enabled
+  double delay = 0.0;            ///< s, command to motor, /Effects/TransportDelay/Delay
+  bool dead_band = false;        ///< /Effects/DeadBand/Enabled
+  double margin = 0.0;           ///< rad, half-width of the ignored error band, /Effects/DeadBand/Margin
+  bool back_emf = false;         ///< /Effects/BackEmf/Enabled
+  double no_load_speed = 1e9;    ///< rad/s where the available torque reaches 0, /Effects/BackEmf/NoLoadSpeed
+  bool stribeck = false;         ///< /Effects/Stribeck/Enabled
+  double breakaway_torque = 0.0;  ///< N·m extra friction at rest, /Effects/Stribeck/BreakawayTorque
+  double stribeck_velocity = 0.1;  ///< rad/s over which it fades, /Effects/Stribeck/Velocity
+  bool load_friction = false;    ///< /Effects/LoadFriction/Enabled
+  double load_coefficient = 0.0;  ///< N·m of friction per N·m of motor torque, /Effects/LoadFriction/Coefficient
+  bool backlash = false;         ///< /Effects/Backlash/Enabled
+  double backlash_width = 0.0;   ///< rad, full width of the gap, /Effects/Backlash/Width
+  bool elasticity = false;       ///< /Effects/Elasticity/Enabled
+  double stiffness = 1e9;        ///< N·m/rad of the gear train, /Effects/Elasticity/Stiffness
+  double damping = 0.02;         ///< N·m·s/rad across the spring, /Effects/Elasticity/Damping
+  bool rotor_inertia = false;    ///< /Effects/RotorInertia/Enabled
+  double inertia = 0.0;          ///< kg·m² about the joint axis, /Effects/RotorInertia/Inertia
+
+  /// Whether any effect is on (the agent skips ApplyEffects otherwise, keeping the original's bits).
+  bool any() const;
+};
+
+inline constexpr std::array<ParameterField<MotorEffects>, 18> kMotorEffectsTable{{
+    {"/Effects/TransportDelay/Enabled", &MotorEffects::transport_delay},
+    {"/Effects/TransportDelay/Delay", &MotorEffects::delay},
+    {"/Effects/DeadBand/Enabled", &MotorEffects::dead_band},
+    {"/Effects/DeadBand/Margin", &MotorEffects::margin},
+    {"/Effects/BackEmf/Enabled", &MotorEffects::back_emf},
+    {"/Effects/BackEmf/NoLoadSpeed", &MotorEffects::no_load_speed},
+    {"/Effects/Stribeck/Enabled", &MotorEffects::stribeck},
+    {"/Effects/Stribeck/BreakawayTorque", &MotorEffects::breakaway_torque},
+    {"/Effects/Stribeck/Velocity", &MotorEffects::stribeck_velocity},
+    {"/Effects/LoadFriction/Enabled", &MotorEffects::load_friction},
+    {"/Effects/LoadFriction/Coefficient", &MotorEffects::load_coefficient},
+    {"/Effects/Backlash/Enabled", &MotorEffects::backlash},
+    {"/Effects/Backlash/Width", &MotorEffects::backlash_width},
+    {"/Effects/Elasticity/Enabled", &MotorEffects::elasticity},
+    {"/Effects/Elasticity/Stiffness", &MotorEffects::stiffness},
+    {"/Effects/Elasticity/Damping", &MotorEffects::damping},
+    {"/Effects/RotorInertia/Enabled", &MotorEffects::rotor_inertia},
+    {"/Effects/RotorInertia/Inertia", &MotorEffects::inertia},
+}};
+
+/// One parameter the gap workflow fits, with its search range.
+struct FittedParameter {
+  std::string_view path;   ///< repository path
+  std::string_view unit;   ///< for reports
+  double lower = 0.0;      ///< search range, in the unit
+  double upper = 0.0;
+  bool log_scale = true;   ///< search log(value) (positive scale parameters)
+};
+
+/// One entry of the catalogue: what orcs-gap adds, fits and reports.
+struct EffectDescription {
+  std::string_view name;       ///< "Backlash": /Effects/<name>/Enabled switches it
+  std::string_view summary;    ///< one line for reports
+  std::string_view quantity;   ///< the signal its residual shows against (plot_gap.py): speed, velocity, load, ...
+  std::vector<FittedParameter> parameters;  ///< what a fit adjusts (other parameters keep their values)
+};
+
+/// The catalogue, in a fixed order.
+const std::vector<EffectDescription>& EffectCatalogue();
+/// The catalogue entry called `name`, or nullptr.
+const EffectDescription* FindEffect(std::string_view name);
+
+/// What the motor stage knows about a joint before the step.
+struct JointReading {
+  double angle = 0.0;         ///< rad, joint (output) angle
+  double rate = 0.0;          ///< rad/s, joint rate
+  double motor_torque = 0.0;  ///< N·m the motor applied in the last step
+};
+
+/// The memory the effects need per motor. Reset it with ResetEffects at every simulation reset.
+struct MotorEffectState {
+  static constexpr int kHistory = 256;     ///< commands remembered: the longest delay is kHistory − 2 steps
+  std::array<double, kHistory> angle_history{};   ///< desired angles, degrees, ring (newest at next − 1)
+  std::array<double, kHistory> torque_history{};  ///< desired torques, raw, ring
+  int history_next = 0;     ///< where the next command goes
+  int history_count = 0;    ///< commands stored so far (≤ kHistory)
+  double gear_angle = 0.0;  ///< rad, the motor side of the backlash gap / of the spring
+  bool engaged = true;      ///< backlash: the gap was closed in the last step
+  double spring_angle = 0.0;  ///< rad, motor-side angle of the elastic gear train
+};
+
+/// What the engine applies: the base command, possibly made compliant (elasticity).
+struct EffectCommand {
+  DynamixelCommand motor;   ///< velocity, torque limit, friction
+  double compliance = 0.0;  ///< rad/s per N·m for PhysicsWorld::SetJointMotorCompliance; 0 = stiff
+};
+
+/// Clears the effect memory; `angle_rad` is the joint angle at the reset.
+void ResetEffects(MotorEffectState& state, double angle_rad);
+
+/// One motor step with the effects: delays and dead-bands the command, runs the base controller (Update), then
+/// shapes its torque limit, friction, backlash gap and compliance. With every effect off it returns Update's
+/// command unchanged.
+EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const MotorEffects& effects,
+                                DynamixelState& state, MotorEffectState& effect_state, const JointReading& joint,
+                                double desired_angle_deg, double desired_torque_raw, double dt, RandomStream* noise);
+
+}  // namespace orcs::aseries
