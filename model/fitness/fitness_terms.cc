@@ -107,6 +107,34 @@ class TrackingError : public FitnessTerm {
   double step_start_ = 0.0;
 };
 
+class MeasuredError : public FitnessTerm {
+ public:
+  MeasuredError(std::vector<std::vector<double>> measured, std::vector<const Value*> angles)
+      : measured_(std::move(measured)), angles_(std::move(angles)) {}
+  void Start(const scene::Simulation&) override {
+    sum_ = 0.0;
+    count_ = 0;
+    step_ = 0;
+  }
+  void Sample(const scene::Simulation&, double) override {
+    for (std::size_t m = 0; m < angles_.size(); ++m) {
+      if (step_ >= measured_[m].size()) continue;
+      const double error = angles_[m]->as_double() - measured_[m][step_];
+      sum_ += error * error;
+      ++count_;
+    }
+    ++step_;
+  }
+  double value() const override { return count_ == 0 ? 0.0 : std::sqrt(sum_ / static_cast<double>(count_)); }
+
+ private:
+  std::vector<std::vector<double>> measured_;  // per listed motor: degrees after each step
+  std::vector<const Value*> angles_;           // the motors' JointAngle values
+  double sum_ = 0.0;
+  long count_ = 0;
+  std::size_t step_ = 0;
+};
+
 class Falls : public FitnessTerm {
  public:
   Falls(int body, double min_height) : body_(body), min_height_(min_height) {}
@@ -154,6 +182,23 @@ std::unique_ptr<FitnessTerm> MakeTrackingError(const JsonNode& entry, const scen
   return std::make_unique<TrackingError>(std::move(parsed), std::move(angles));
 }
 
+std::unique_ptr<FitnessTerm> MakeMeasuredError(const JsonNode& entry, const scene::Simulation& simulation,
+                                               int agent_index) {
+  const JsonNode angles = entry.At("angles");
+  if (!angles.value().is_object()) angles.Fail("an object {\"<motor>\": [degrees, ...]}");
+  const std::string prefix = "/Sim/" + simulation.model().agents()[agent_index].agent_name + "/";
+  std::vector<std::vector<double>> measured;
+  std::vector<const Value*> values;
+  for (const auto& [motor, list] : angles.Members()) {
+    const Value* angle = simulation.repository().Find(prefix + motor + "/JointAngle");
+    if (angle == nullptr) list.Fail("the angles of a motor of the agent");
+    values.push_back(angle);
+    std::vector<double>& trace = measured.emplace_back();
+    for (const JsonNode& element : list.Elements()) trace.push_back(element.Number("a finite angle in degrees"));
+  }
+  return std::make_unique<MeasuredError>(std::move(measured), std::move(values));
+}
+
 }  // namespace
 
 std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene::Simulation& simulation,
@@ -178,6 +223,10 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
   if (type == "tracking_error") {
     entry.ExpectOnly({"type", "name", "weight", "record"});
     return MakeTrackingError(entry, simulation, agent_index);
+  }
+  if (type == "measured_error") {
+    entry.ExpectOnly({"type", "name", "weight", "angles"});
+    return MakeMeasuredError(entry, simulation, agent_index);
   }
   if (type == "falls") {
     entry.ExpectOnly({"type", "name", "weight", "body", "min_height"});

@@ -8,6 +8,9 @@
 //   energy          {}                                          Σ over steps and motors of |τ·ω|·dt, J
 //   tracking_error  {"record": {"file", "text"}}                RMS of JointAngle − the record's DesiredAngle, degrees
 //   falls           {"body": "Middle/Head", "min_height": 0.2}  times the body went from above to below the height
+//   measured_error  {"angles": {"Right/Knee": [deg, ...], ...}}  RMS of JointAngle − a measured run's angle after
+//                   each step (entry k after step k+1; steps beyond the list are not compared), pooled over the
+//                   listed motors, degrees: orcs-gap's objective (docs/gap.md)
 #pragma once
 
 #include <memory>
@@ -36,6 +39,7 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
 
 /// The type names MakeFitnessTerm knows.
 inline constexpr const char* kFitnessTermTypes =
-    "\"distance\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\" or \"falls\"";
+    "\"distance\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\", \"falls\" or "
+    "\"measured_error\"";
 
 }  // namespace orcs::fitness

@@ -1,0 +1,243 @@
+#include "clients/gap/gap_diagnosis.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <future>
+#include <sstream>
+
+#include "model/aseries/motor_effects.h"
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+namespace orcs::gap {
+namespace {
+
+// The model's own parameters: what a mistuned model gets wrong before anything is missing (spec §6e).
+struct BaseSpec {
+  const char* path;
+  const char* unit;
+  double lower;
+  double upper;
+};
+constexpr BaseSpec kBase[] = {
+    {"/AngularMotor/PID/Proportional", "1/s", 2.0, 100.0},
+    {"/AngularMotor/FMaxFactor", "N·m", 0.3, 3.0},
+    {"/AngularMotor/DynamicFriction", "N·m·s/rad", 0.005, 1.0},
+};
+
+std::vector<ReplayRun> Concatenate(const std::vector<ReplayRun>& a, const std::vector<ReplayRun>& b) {
+  std::vector<ReplayRun> all = a;
+  all.insert(all.end(), b.begin(), b.end());
+  return all;
+}
+
+double Rms(double mse) { return std::sqrt(mse); }
+
+double MeanSquaredError(JobRunner& runner, const std::vector<ReplayRun>& runs, const std::vector<Override>& model) {
+  return ReplayObjective(runner, runs, {}).MeanSquaredErrors({model})[0];
+}
+
+std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
+  std::vector<FittedValue> report;
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    report.push_back({parameters[i].path, parameters[i].unit, parameters[i].start, values[i]});
+  }
+  return report;
+}
+
+// The replays of one model with logs, as per-run channel traces: measured, simulated, desired, motor torque.
+std::vector<std::vector<ChannelTrace>> Traces(JobRunner& runner, const std::vector<ReplayRun>& runs,
+                                              const std::vector<Override>& model) {
+  std::vector<v1::Job> jobs;
+  for (const ReplayRun& run : runs) jobs.push_back(MakeReplayJob(run, model, true));
+  const std::vector<v1::Result> results = runner.Run(std::move(jobs));
+  std::vector<std::vector<ChannelTrace>> traces;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const MeasuredRun& measured = *runs[r].run;
+    const std::vector<v1::Result>::value_type& result = results[r];
+    std::vector<std::pair<std::string, std::vector<double>>> columns;
+    if (result.status() == v1::Result::OK && result.logs_size() > 0) {
+      columns = ParseLogColumns(result.logs(0).csv(), runs[r].name);
+    }
+    const auto column = [&columns](const std::string& path) -> std::vector<double> {
+      for (const auto& [name, values] : columns) {
+        if (name == path) return values;
+      }
+      return {};
+    };
+    std::vector<ChannelTrace>& run_traces = traces.emplace_back();
+    for (const std::string& motor : runs[r].channels) {
+      ChannelTrace trace;
+      trace.name = runs[r].name + ":" + motor;
+      trace.measured = measured.joint_angle.at(motor);
+      trace.desired = measured.desired_angle.at(motor);
+      const std::string prefix = "/Sim/" + measured.agent + "/" + motor + "/";
+      trace.simulated = column(prefix + "JointAngle");
+      trace.motor_torque = column(prefix + "MotorTorque");
+      // A failed replay (unstable physics) compares against NaN: the statistics show it, nothing crashes.
+      trace.simulated.resize(trace.measured.size(), std::nan(""));
+      if (!trace.motor_torque.empty()) trace.motor_torque.resize(trace.measured.size(), 0.0);
+      run_traces.push_back(std::move(trace));
+    }
+  }
+  return traces;
+}
+
+GapSnapshot Snapshot(JobRunner& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+                     const std::vector<Override>& model, double step) {
+  GapSnapshot snapshot;
+  snapshot.fit_rms = Rms(MeanSquaredError(runner, fit, model));
+  snapshot.holdout_rms = Rms(MeanSquaredError(runner, holdout, model));
+  snapshot.traces = Traces(runner, Concatenate(fit, holdout), model);
+  std::vector<ChannelTrace> all;
+  for (const auto& run : snapshot.traces) all.insert(all.end(), run.begin(), run.end());
+  snapshot.channels = AnalyseChannels(all, step);
+  return snapshot;
+}
+
+ModelScore ScoreFit(JobRunner& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+                    const std::vector<FitParameter>& parameters, const std::vector<Override>& fixed,
+                    const FitOptions& options) {
+  ModelScore score;
+  score.fit = Fit(ReplayObjective(runner, fit, fixed), parameters, options);
+  score.values = Report(parameters, score.fit.values);
+  score.fit_rms = Rms(score.fit.mse);
+  std::vector<Override> model = fixed;
+  const std::vector<Override> fitted = OverridesOf(parameters, score.fit.values);
+  model.insert(model.end(), fitted.begin(), fitted.end());
+  score.holdout_rms = Rms(MeanSquaredError(runner, holdout, model));
+  return score;
+}
+
+std::vector<Override> ModelOf(const ModelScore& score, const std::string& effect) {
+  std::vector<Override> model;
+  if (!effect.empty()) model.emplace_back("/Effects/" + effect + "/Enabled", "T");
+  for (const FittedValue& value : score.values) model.emplace_back(value.path, text::FormatDouble(value.value));
+  return model;
+}
+
+std::vector<const aseries::EffectDescription*> Candidates(const std::vector<std::string>& names) {
+  std::vector<const aseries::EffectDescription*> candidates;
+  if (names.empty()) {
+    for (const aseries::EffectDescription& effect : aseries::EffectCatalogue()) candidates.push_back(&effect);
+    return candidates;
+  }
+  for (const std::string& name : names) {
+    const aseries::EffectDescription* effect = aseries::FindEffect(name);
+    if (effect == nullptr) throw InputError("--effects: no effect '" + name + "' in the catalogue (docs/gap.md)");
+    candidates.push_back(effect);
+  }
+  return candidates;
+}
+
+std::string Percent(double fraction) { return text::FormatDouble(std::round(fraction * 1000.0) / 10.0) + " %"; }
+std::string Degrees(double value) { return text::FormatDouble(std::round(value * 1000.0) / 1000.0) + "°"; }
+
+std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
+  std::ostringstream text;
+  const double base = d.base.score;
+  if (d.effect.empty()) {
+    text << "No missing effect found: after refitting the base parameters the held-out gap is "
+         << Degrees(d.base.holdout_rms) << " RMS, and no effect of the catalogue lowers the penalised score below "
+         << Percent(options.win_ratio) << " of that";
+    if (!d.candidates.empty()) {
+      text << " (best: " << d.candidates[0].label << ", " << Percent(d.candidates[0].score / base) << ")";
+    }
+    text << ".";
+    return text.str();
+  }
+  const ModelScore& winner = d.candidates[0];
+  text << "Missing effect: " << d.effect << " (" << winner.summary << "). With it the held-out gap falls from "
+       << Degrees(d.before.holdout_rms) << " (model as given) and " << Degrees(d.base.holdout_rms)
+       << " (base parameters refitted) to " << Degrees(winner.holdout_rms) << " RMS; its penalised score is "
+       << Percent(winner.score / base) << " of \"nothing missing\"";
+  if (d.candidates.size() > 1) {
+    text << ", the runner-up " << d.candidates[1].label << " reaches " << Percent(d.candidates[1].score / base);
+  }
+  text << ".";
+  return text.str();
+}
+
+}  // namespace
+
+std::vector<FitParameter> BaseParameters(const Rig& rig, const std::vector<ValueAssignment>& model) {
+  std::vector<std::string> paths;
+  for (const BaseSpec& spec : kBase) paths.emplace_back(spec.path);
+  const std::vector<double> start = ModelValues(rig, model, paths);
+  std::vector<FitParameter> parameters;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    parameters.push_back({kBase[i].path, kBase[i].unit, kBase[i].lower, kBase[i].upper, true, start[i]});
+  }
+  return parameters;
+}
+
+Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRun>& fit_given,
+                   const std::vector<ReplayRun>& holdout_given, const std::vector<ValueAssignment>& model,
+                   const DiagnosisOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  const std::uint64_t jobs_before = runner.jobs_run();
+  const std::vector<const aseries::EffectDescription*> candidates = Candidates(options.candidates);
+  Diagnosis d;
+  std::vector<ReplayRun> fit = fit_given;
+  std::vector<ReplayRun> holdout = holdout_given;
+  if (holdout.empty() && fit.size() >= 2) {
+    holdout.push_back(fit.back());
+    fit.pop_back();
+  } else if (holdout.empty()) {
+    holdout = fit;
+    d.holdout_in_sample = true;
+  }
+  for (const ReplayRun& run : fit) d.fit_runs.push_back(run.source);
+  for (const ReplayRun& run : holdout) d.holdout_runs.push_back(run.source);
+
+  // 1. The model as given.
+  d.before = Snapshot(runner, fit, holdout, {}, rig.step);
+
+  // 2. Its own parameters refitted.
+  const std::vector<FitParameter> base = BaseParameters(rig, model);
+  d.base = ScoreFit(runner, fit, holdout, base, {}, options.fit);
+  d.base.label = "refit";
+  d.base.score = d.base.holdout_rms * d.base.holdout_rms;
+
+  // 3. Every candidate effect, fitted with the base parameters (from the refit), all at once.
+  std::vector<FitParameter> refitted = base;
+  for (std::size_t i = 0; i < base.size(); ++i) refitted[i].start = d.base.fit.values[i];
+  std::vector<std::future<ModelScore>> fits;
+  for (const aseries::EffectDescription* effect : candidates) {
+    fits.push_back(std::async(std::launch::async, [&, effect] {
+      std::vector<FitParameter> parameters = refitted;
+      for (const aseries::FittedParameter& p : effect->parameters) {
+        // Effects start weak: the geometric middle between the bottom of the range and its middle.
+        const double start = std::sqrt(p.lower * std::sqrt(p.lower * p.upper));
+        parameters.push_back({std::string(p.path), std::string(p.unit), p.lower, p.upper, p.log_scale, start});
+      }
+      const std::vector<Override> enabled{{"/Effects/" + std::string(effect->name) + "/Enabled", "T"}};
+      ModelScore score = ScoreFit(runner, fit, holdout, parameters, enabled, options.fit);
+      score.label = std::string(effect->name);
+      score.summary = std::string(effect->summary);
+      score.quantity = std::string(effect->quantity);
+      score.added_parameters = static_cast<int>(effect->parameters.size());
+      score.score = score.holdout_rms * score.holdout_rms *
+                    (1.0 + options.penalty_per_parameter * score.added_parameters);
+      return score;
+    }));
+  }
+  for (auto& future : fits) d.candidates.push_back(future.get());
+  std::stable_sort(d.candidates.begin(), d.candidates.end(),
+                   [](const ModelScore& a, const ModelScore& b) { return a.score < b.score; });
+
+  // 4. The verdict, and the gap of the model it leaves.
+  const bool won = !d.candidates.empty() && d.candidates[0].score < options.win_ratio * d.base.score;
+  d.effect = won ? d.candidates[0].label : "";
+  d.quantity = won ? d.candidates[0].quantity : "speed";
+  d.model_values = won ? ModelOf(d.candidates[0], d.effect) : ModelOf(d.base, "");
+  d.refit = Snapshot(runner, fit, holdout, ModelOf(d.base, ""), rig.step);
+  d.after = won ? Snapshot(runner, fit, holdout, d.model_values, rig.step) : d.refit;
+  d.verdict = Verdict(d, options);
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  d.jobs = runner.jobs_run() - jobs_before;
+  return d;
+}
+
+}  // namespace orcs::gap

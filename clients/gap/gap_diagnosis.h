@@ -1,0 +1,79 @@
+// The gap workflow (docs/gap.md): replay the measured runs under the current model, refit the model's own
+// parameters, then try every effect of the catalogue (model/aseries/motor_effects.h) — each fitted together with
+// the base parameters, each scored on held-out runs with a penalty per added parameter — and name the winner only
+// when it clearly beats "nothing missing".
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "clients/gap/gap_statistics.h"
+#include "clients/gap/job_runner.h"
+#include "clients/gap/model_fit.h"
+#include "clients/gap/replay.h"
+
+namespace orcs::gap {
+
+struct DiagnosisOptions {
+  FitOptions fit;                        ///< CMA-ES budget and seed of every fit
+  std::vector<std::string> candidates;   ///< effect names to try; empty = the whole catalogue
+  double penalty_per_parameter = 0.05;   ///< the score grows by this share per parameter an effect adds
+  double win_ratio = 0.5;                ///< a winner's score must be below this share of "nothing missing"'s
+};
+
+/// A fitted parameter as reported.
+struct FittedValue {
+  std::string path;
+  std::string unit;
+  double start = 0.0;  ///< where the fit started
+  double value = 0.0;  ///< where it ended
+};
+
+/// One model's fit and scores.
+struct ModelScore {
+  std::string label;                  ///< "refit" or the effect's name
+  std::string summary;                ///< the effect's one-line description ("" for refit)
+  std::string quantity;               ///< the effect's signature quantity
+  std::vector<FittedValue> values;    ///< every fitted parameter (base ones first)
+  int added_parameters = 0;           ///< parameters beyond the base ones
+  double fit_rms = 0.0;               ///< degrees, pooled over the fit runs
+  double holdout_rms = 0.0;           ///< degrees, pooled over the held-out runs
+  double score = 0.0;                 ///< holdout_rms² · (1 + penalty · added_parameters), deg²
+  FitOutcome fit;                     ///< budget, convergence
+};
+
+/// The gap of one model version, with the channel statistics over all runs (fit and holdout).
+struct GapSnapshot {
+  double fit_rms = 0.0;      ///< degrees
+  double holdout_rms = 0.0;  ///< degrees
+  std::vector<ChannelStatistics> channels;  ///< per run and motor ("run:motor"), worst first
+  std::vector<std::vector<ChannelTrace>> traces;  ///< per run (fit runs, then holdout runs): the channels' traces
+};
+
+struct Diagnosis {
+  std::vector<std::string> fit_runs;      ///< files
+  std::vector<std::string> holdout_runs;  ///< files
+  bool holdout_in_sample = false;         ///< no run could be held out: holdout scores are the fit runs'
+  GapSnapshot before;                     ///< the model as given
+  GapSnapshot refit;                      ///< base parameters refitted
+  GapSnapshot after;                      ///< with the winning effect (== refit when none won)
+  ModelScore base;                        ///< the refit
+  std::vector<ModelScore> candidates;     ///< every effect tried, best score first
+  std::string effect;                     ///< the winner, "" = no missing effect found
+  std::string verdict;                    ///< one paragraph
+  std::string quantity;                   ///< the quantity its residual is plotted against ("speed" when none)
+  std::vector<Override> model_values;     ///< the fitted model: refit base values, winner's switch and values
+  double seconds = 0.0;                   ///< wall clock
+  std::uint64_t jobs = 0;                 ///< replay jobs run
+};
+
+/// Runs the whole workflow. `holdout` may be empty: then the last fit run is held out (when there are two or
+/// more), else scores are in-sample. Throws InputError for unknown candidate names.
+Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRun>& fit,
+                   const std::vector<ReplayRun>& holdout, const std::vector<ValueAssignment>& model,
+                   const DiagnosisOptions& options);
+
+/// The base parameters every diagnosis refits first, with the model's values as start.
+std::vector<FitParameter> BaseParameters(const Rig& rig, const std::vector<ValueAssignment>& model);
+
+}  // namespace orcs::gap

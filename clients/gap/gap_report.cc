@@ -1,0 +1,213 @@
+#include "clients/gap/gap_report.h"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "model/core/atomic_file.h"
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+namespace orcs::gap {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json RoundedOrNull(double value) {
+  if (!std::isfinite(value)) return nullptr;
+  return value;
+}
+
+nlohmann::json ChannelsJson(const std::vector<ChannelStatistics>& channels) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ChannelStatistics& c : channels) {
+    nlohmann::json regimes = nlohmann::json::object();
+    for (const RegimeError& r : c.regimes) {
+      regimes[r.regime] = {{"rms", RoundedOrNull(r.rms)}, {"share", r.share}, {"samples", r.samples}};
+    }
+    list.push_back({{"channel", c.name}, {"rms", RoundedOrNull(c.rms)}, {"max_abs", RoundedOrNull(c.max_abs)},
+                    {"bias", RoundedOrNull(c.bias)}, {"best_shift_s", c.best_shift},
+                    {"rms_at_best_shift", RoundedOrNull(c.rms_at_best_shift)}, {"regimes", regimes}});
+  }
+  return list;
+}
+
+nlohmann::json SnapshotJson(const GapSnapshot& s) {
+  return {{"fit_rms", RoundedOrNull(s.fit_rms)},
+          {"holdout_rms", RoundedOrNull(s.holdout_rms)},
+          {"channels", ChannelsJson(s.channels)}};
+}
+
+nlohmann::json ScoreJson(const ModelScore& s) {
+  nlohmann::json values = nlohmann::json::array();
+  for (const FittedValue& v : s.values) {
+    values.push_back({{"path", v.path}, {"unit", v.unit}, {"start", v.start}, {"value", v.value}});
+  }
+  return {{"model", s.label},
+          {"summary", s.summary},
+          {"quantity", s.quantity},
+          {"added_parameters", s.added_parameters},
+          {"parameters", values},
+          {"fit_rms", RoundedOrNull(s.fit_rms)},
+          {"holdout_rms", RoundedOrNull(s.holdout_rms)},
+          {"score", RoundedOrNull(s.score)},
+          {"fit", {{"generations", s.fit.generations}, {"evaluations", s.fit.evaluations},
+                   {"converged", s.fit.converged}, {"convergence", s.fit.convergence}}}};
+}
+
+// The motors of the worst channels, worst first, without repeats (for the plots).
+std::vector<std::string> WorstChannels(const GapSnapshot& snapshot, std::size_t count) {
+  std::vector<std::string> worst;
+  for (const ChannelStatistics& c : snapshot.channels) {
+    const std::string motor = c.name.substr(c.name.find(':') + 1);
+    if (std::find(worst.begin(), worst.end(), motor) == worst.end()) worst.push_back(motor);
+    if (worst.size() == count) break;
+  }
+  return worst;
+}
+
+std::string Number(double value) { return std::isfinite(value) ? text::FormatDouble(value) : ""; }
+std::string Deg(double value) {
+  return std::isfinite(value) ? text::FormatDouble(std::round(value * 1000.0) / 1000.0) + "°" : "—";
+}
+
+void WriteFile(const fs::path& path, const std::string& content) {
+  AtomicFile file(path.string());
+  file.stream() << content;
+  file.Commit();
+}
+
+std::string TraceCsv(const ChannelTrace& before, const ChannelTrace& refit, const ChannelTrace* after,
+                     double step) {
+  const SampleQuantities q = DeriveQuantities(before.measured, step);
+  std::ostringstream csv;
+  csv << "time,measured,before,refit,after,desired,velocity,speed,acceleration,load,command_error\n";
+  for (std::size_t k = 0; k < before.measured.size(); ++k) {
+    const double load = k < refit.motor_torque.size() ? refit.motor_torque[k] : std::nan("");
+    csv << Number(static_cast<double>(k) * step) << ',' << Number(before.measured[k]) << ','
+        << Number(before.simulated[k]) << ',' << Number(refit.simulated[k]) << ','
+        << (after != nullptr ? Number(after->simulated[k]) : "") << ',' << Number(before.desired[k]) << ','
+        << Number(q.velocity[k]) << ',' << Number(std::abs(q.velocity[k])) << ',' << Number(q.acceleration[k])
+        << ',' << Number(load) << ',' << Number(before.desired[k] - before.measured[k]) << '\n';
+  }
+  return csv.str();
+}
+
+}  // namespace
+
+nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOptions& options) {
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const ModelScore& c : d.candidates) candidates.push_back(ScoreJson(c));
+  nlohmann::json model = nlohmann::json::object();
+  for (const Override& value : d.model_values) model[value.first] = value.second;
+  const double reduction = d.before.holdout_rms > 0 ? 1.0 - d.after.holdout_rms / d.before.holdout_rms : 0.0;
+  return {
+      {"rig", rig.kind},
+      {"environment", rig.environment_name},
+      {"agent", rig.agent},
+      {"runs", {{"fit", d.fit_runs}, {"holdout", d.holdout_runs}, {"holdout_in_sample", d.holdout_in_sample}}},
+      {"gap", {{"before", SnapshotJson(d.before)}, {"refit", SnapshotJson(d.refit)}, {"after", SnapshotJson(d.after)}}},
+      {"refit", ScoreJson(d.base)},
+      {"candidates", candidates},
+      {"verdict",
+       {{"effect", d.effect.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.effect)},
+        {"text", d.verdict},
+        {"quantity", d.quantity},
+        {"holdout_rms_before", RoundedOrNull(d.before.holdout_rms)},
+        {"holdout_rms_refit", RoundedOrNull(d.refit.holdout_rms)},
+        {"holdout_rms_after", RoundedOrNull(d.after.holdout_rms)},
+        {"holdout_reduction", RoundedOrNull(reduction)}}},
+      {"model", model},
+      {"worst_channels", WorstChannels(d.before, 4)},
+      {"criterion",
+       {{"score", "holdout_rms² × (1 + penalty_per_parameter × added parameters)"},
+        {"penalty_per_parameter", options.penalty_per_parameter},
+        {"win_ratio", options.win_ratio},
+        {"generations", options.fit.generations},
+        {"seed", options.fit.seed}}},
+      {"cost", {{"seconds", d.seconds}, {"jobs", d.jobs}}},
+  };
+}
+
+std::string ModelValueFile(const Diagnosis& d, const std::vector<ValueAssignment>& model) {
+  std::ostringstream file;
+  file << "# orcs-gap fitted model\n";
+  file << "# " << (d.effect.empty() ? "no missing effect found; base parameters refitted" : "added effect: " + d.effect)
+       << "\n";
+  for (const ValueAssignment& line : model) file << line.path << "=" << line.value << "\n";
+  for (const Override& value : d.model_values) file << value.first << "=" << value.second << "\n";
+  return file.str();
+}
+
+std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOptions& options) {
+  std::ostringstream md;
+  md << "# orcs-gap report\n\n";
+  md << "Rig: " << rig.kind << " (" << rig.environment_name << "), agent " << rig.agent << ". Fit runs: "
+     << d.fit_runs.size() << ", held-out runs: " << d.holdout_runs.size()
+     << (d.holdout_in_sample ? " (none given: scores are in-sample)" : "") << ".\n\n";
+  md << "## Verdict\n\n" << d.verdict << "\n\n";
+  md << "## The gap\n\n| model | fit runs, RMS | held-out runs, RMS |\n|---|---|---|\n";
+  md << "| as given | " << Deg(d.before.fit_rms) << " | " << Deg(d.before.holdout_rms) << " |\n";
+  md << "| base parameters refitted | " << Deg(d.refit.fit_rms) << " | " << Deg(d.refit.holdout_rms) << " |\n";
+  if (!d.effect.empty()) {
+    md << "| with " << d.effect << " | " << Deg(d.after.fit_rms) << " | " << Deg(d.after.holdout_rms) << " |\n";
+  }
+  md << "\n## Where the gap is (model as given, worst channels)\n\n"
+     << "| channel | RMS | bias | at rest | high speed | reversals | high load | accelerating | best shift |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t i = 0; i < d.before.channels.size() && i < 8; ++i) {
+    const ChannelStatistics& c = d.before.channels[i];
+    md << "| " << c.name << " | " << Deg(c.rms) << " | " << Deg(c.bias);
+    for (const char* regime : {"at_rest", "high_speed", "reversal", "high_load", "accelerating"}) {
+      std::string cell = "—";
+      for (const RegimeError& r : c.regimes) {
+        if (r.regime == regime && r.samples > 0) cell = Deg(r.rms);
+      }
+      md << " | " << cell;
+    }
+    md << " | " << text::FormatDouble(std::round(c.best_shift * 1000.0)) << " ms |\n";
+  }
+  md << "\n## Candidates (best first)\n\n"
+     << "| model | added parameters | fit RMS | held-out RMS | score / refit | converged | fitted values |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  const auto row = [&](const ModelScore& s) {
+    md << "| " << s.label << " | " << s.added_parameters << " | " << Deg(s.fit_rms) << " | " << Deg(s.holdout_rms)
+       << " | " << text::FormatDouble(std::round(s.score / d.base.score * 1000.0) / 1000.0) << " | "
+       << (s.fit.converged ? "yes" : "no") << " |";
+    for (const FittedValue& v : s.values) {
+      md << " " << v.path.substr(v.path.rfind('/') + 1) << " " << text::FormatDouble(v.value) << " " << v.unit << ";";
+    }
+    md << " |\n";
+  };
+  row(d.base);
+  for (const ModelScore& s : d.candidates) row(s);
+  md << "\nScore: held-out RMS² × (1 + " << options.penalty_per_parameter
+     << " × added parameters); an effect is named when its score is below " << options.win_ratio
+     << " × the refit's. Fits: CMA-ES (pagmo2), " << options.fit.generations << " generations, seed "
+     << options.fit.seed << ". " << d.jobs << " replay jobs in " << text::FormatDouble(std::round(d.seconds * 10) / 10)
+     << " s.\n\nPlots: `scripts/plot_gap.py DIR` → DIR/plots/.\n";
+  return md.str();
+}
+
+void WriteReport(const std::string& folder, const Diagnosis& d, const Rig& rig,
+                 const std::vector<ValueAssignment>& model, const DiagnosisOptions& options) {
+  const fs::path root(folder);
+  std::error_code error;
+  fs::create_directories(root / "traces", error);
+  if (error) throw InputError(folder + ": cannot create the output folder: " + error.message());
+  WriteFile(root / "model.val", ModelValueFile(d, model));
+  WriteFile(root / "report.json", ReportJson(d, rig, options).dump(2) + "\n");
+  WriteFile(root / "report.md", ReportMarkdown(d, rig, options));
+  for (std::size_t r = 0; r < d.before.traces.size(); ++r) {
+    for (std::size_t c = 0; c < d.before.traces[r].size(); ++c) {
+      const ChannelTrace& before = d.before.traces[r][c];
+      std::string name = before.name;
+      std::replace(name.begin(), name.end(), '/', '_');
+      std::replace(name.begin(), name.end(), ':', '.');
+      const ChannelTrace* after = d.effect.empty() ? nullptr : &d.after.traces[r][c];
+      WriteFile(root / "traces" / (name + ".csv"), TraceCsv(before, d.refit.traces[r][c], after, rig.step));
+    }
+  }
+}
+
+}  // namespace orcs::gap

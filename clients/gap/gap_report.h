@@ -1,0 +1,28 @@
+// What orcs-gap leaves in its output folder (docs/gap.md, "Output"): model.val (the fitted model as a value
+// file), report.json (every figure), report.md (for people), traces/*.csv (for scripts/plot_gap.py).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "clients/gap/gap_diagnosis.h"
+
+namespace orcs::gap {
+
+/// The report as JSON: rig, runs, gap before/refit/after (overall and per channel), every candidate's fit and
+/// score, the verdict and the criterion.
+nlohmann::json ReportJson(const Diagnosis& diagnosis, const Rig& rig, const DiagnosisOptions& options);
+
+/// The fitted model: the given model file's lines, then the fitted values.
+std::string ModelValueFile(const Diagnosis& diagnosis, const std::vector<ValueAssignment>& model);
+
+/// The report in Markdown.
+std::string ReportMarkdown(const Diagnosis& diagnosis, const Rig& rig, const DiagnosisOptions& options);
+
+/// Writes model.val, report.json, report.md and traces/<run>.<motor>.csv into `folder` (created). Throws
+/// InputError when a file cannot be written.
+void WriteReport(const std::string& folder, const Diagnosis& diagnosis, const Rig& rig,
+                 const std::vector<ValueAssignment>& model, const DiagnosisOptions& options);
+
+}  // namespace orcs::gap

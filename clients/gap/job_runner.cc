@@ -1,0 +1,91 @@
+#include "clients/gap/job_runner.h"
+
+#include <algorithm>
+#include <thread>
+
+namespace orcs::gap {
+
+JobRunner::JobRunner(const RunnerOptions& options) {
+  std::string endpoint = options.broker;
+  if (endpoint.empty()) {
+    batch::LocalClusterOptions cluster;
+    cluster.workers = options.workers > 0 ? options.workers
+                                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+    cluster.worker_program =
+        options.worker_program.empty() ? batch::WorkerProgramBesideSelf() : options.worker_program;
+    cluster.log_path = options.log_path;
+    cluster_ = std::make_unique<batch::LocalCluster>(cluster);
+    local_workers_ = cluster.workers;
+    endpoint = cluster_->client_endpoint();
+  }
+  broker::BatchClientOptions client;
+  client.endpoint = endpoint;
+  client.log = [](std::string_view) {};  // reconnections are retried by the client; the report says what failed
+  client_ = std::make_unique<broker::BatchClient>(client);
+}
+
+JobRunner::~JobRunner() {
+  client_.reset();  // tell the broker first, then stop it
+  cluster_.reset();
+}
+
+std::vector<v1::Result> JobRunner::Run(std::vector<v1::Job> jobs) {
+  std::vector<std::string> ids;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (v1::Job& job : jobs) {
+      job.set_job_id("g" + std::to_string(next_id_++));
+      ids.push_back(job.job_id());
+    }
+  }
+  if (jobs.empty()) return {};
+  client_->Submit(std::move(jobs));
+  std::vector<v1::Result> results(ids.size());
+  std::size_t collected = 0;
+  std::vector<bool> have(ids.size(), false);
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (collected < ids.size()) {
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+      if (have[i]) continue;
+      auto found = results_.find(ids[i]);
+      if (found == results_.end()) continue;
+      results[i] = std::move(found->second);
+      results_.erase(found);
+      have[i] = true;
+      ++collected;
+    }
+    if (collected == ids.size()) break;
+    if (reading_) {
+      arrived_.wait(lock);
+    } else {
+      ReadOneResult(lock);
+    }
+  }
+  jobs_run_ += ids.size();
+  return results;
+}
+
+void JobRunner::ReadOneResult(std::unique_lock<std::mutex>& lock) {
+  reading_ = true;
+  lock.unlock();
+  std::optional<v1::Result> result;
+  try {
+    result = client_->Next(std::chrono::milliseconds(200));
+  } catch (...) {
+    lock.lock();
+    reading_ = false;
+    arrived_.notify_all();
+    throw;
+  }
+  lock.lock();
+  reading_ = false;
+  if (result) results_.emplace(result->job_id(), std::move(*result));
+  arrived_.notify_all();
+}
+
+std::uint64_t JobRunner::jobs_run() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return jobs_run_;
+}
+
+}  // namespace orcs::gap

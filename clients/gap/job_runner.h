@@ -1,0 +1,62 @@
+// Runs batches of jobs through the broker and hands each caller its own results: the evaluation back end of
+// orcs-gap's fits. Several fits run at once, each on its own thread, each calling Run() with one generation of
+// jobs; they share one BatchClient, so every generation of every fit is in the broker's queue together and the
+// workers (one machine or a cluster) stay busy. Whoever waits reads the broker's results for everyone.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "broker/client.h"
+#include "clients/batch/local_cluster.h"
+
+namespace orcs::gap {
+
+/// Where the jobs go: a running broker, or a local one with N worker processes.
+struct RunnerOptions {
+  std::string broker;          ///< client endpoint of a running broker; "" = start a local cluster
+  int workers = 0;             ///< local worker processes; ≤ 0 = one per core
+  std::string worker_program;  ///< orcs-worker for the local cluster ("" = beside this program)
+  std::string log_path;        ///< the local cluster's log file ("" = /dev/null)
+};
+
+class JobRunner {
+ public:
+  /// Starts the local cluster (when no broker is given) and the client. Throws std::runtime_error when the
+  /// cluster cannot start.
+  explicit JobRunner(const RunnerOptions& options);
+  ~JobRunner();
+  JobRunner(const JobRunner&) = delete;
+  JobRunner& operator=(const JobRunner&) = delete;
+
+  /// Runs `jobs` (job ids are assigned here) and returns their results in the same order. Thread-safe. Throws
+  /// broker::BatchClientError when the broker is unreachable or lost.
+  std::vector<v1::Result> Run(std::vector<v1::Job> jobs);
+
+  /// Jobs run so far.
+  std::uint64_t jobs_run() const;
+  /// The number of local workers started (0 with an external broker).
+  int local_workers() const { return local_workers_; }
+
+ private:
+  /// Waits for one result from the broker and files it; false on timeout.
+  void ReadOneResult(std::unique_lock<std::mutex>& lock);
+
+  int local_workers_ = 0;
+  std::unique_ptr<batch::LocalCluster> cluster_;
+  std::unique_ptr<broker::BatchClient> client_;
+  mutable std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::map<std::string, v1::Result> results_;  ///< arrived, not yet collected by their caller
+  bool reading_ = false;                       ///< one caller is inside client_->Next()
+  std::uint64_t next_id_ = 0;
+  std::uint64_t jobs_run_ = 0;
+};
+
+}  // namespace orcs::gap

@@ -1,0 +1,140 @@
+#include "clients/gap/model_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <pagmo/algorithm.hpp>
+#include <pagmo/algorithms/cmaes.hpp>
+#include <pagmo/batch_evaluators/member_bfe.hpp>
+#include <pagmo/bfe.hpp>
+#include <pagmo/population.hpp>
+#include <pagmo/problem.hpp>
+
+#include "model/core/text.h"
+
+namespace orcs::gap {
+namespace {
+
+// A converged population lies within this share of every parameter's (normalised) range of its best point.
+constexpr double kConvergedSpread = 0.02;
+
+double FromUnit(const FitParameter& p, double u) {
+  u = std::clamp(u, 0.0, 1.0);
+  return p.log_scale ? std::exp(std::log(p.lower) + u * (std::log(p.upper) - std::log(p.lower)))
+                     : p.lower + u * (p.upper - p.lower);
+}
+
+double ToUnit(const FitParameter& p, double value) {
+  value = std::clamp(value, p.lower, p.upper);
+  const double u = p.log_scale ? (std::log(value) - std::log(p.lower)) / (std::log(p.upper) - std::log(p.lower))
+                               : (value - p.lower) / (p.upper - p.lower);
+  return std::clamp(u, 0.0, 1.0);
+}
+
+std::vector<double> Values(const std::vector<FitParameter>& parameters, const double* unit) {
+  std::vector<double> values;
+  for (std::size_t i = 0; i < parameters.size(); ++i) values.push_back(FromUnit(parameters[i], unit[i]));
+  return values;
+}
+
+// The pagmo problem: the unit box, scored in batches through the broker (member_bfe calls batch_fitness).
+struct ReplayProblem {
+  const ReplayObjective* objective = nullptr;
+  const std::vector<FitParameter>* parameters = nullptr;
+
+  pagmo::vector_double fitness(const pagmo::vector_double& x) const { return batch_fitness(x); }
+  pagmo::vector_double batch_fitness(const pagmo::vector_double& xs) const {
+    const std::size_t n = parameters->size();
+    std::vector<std::vector<Override>> points;
+    for (std::size_t start = 0; start + n <= xs.size(); start += n) {
+      points.push_back(OverridesOf(*parameters, Values(*parameters, xs.data() + start)));
+    }
+    return objective->MeanSquaredErrors(points);
+  }
+  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
+    return {pagmo::vector_double(parameters->size(), 0.0), pagmo::vector_double(parameters->size(), 1.0)};
+  }
+  bool has_batch_fitness() const { return true; }
+  std::string get_name() const { return "orcs-gap replay fit"; }
+};
+
+std::string Convergence(const pagmo::population& population, bool* converged) {
+  const auto best = population.best_idx();
+  const pagmo::vector_double& champion = population.get_x()[best];
+  double spread = 0.0;
+  for (const pagmo::vector_double& x : population.get_x()) {
+    for (std::size_t i = 0; i < x.size(); ++i) spread = std::max(spread, std::abs(x[i] - champion[i]));
+  }
+  *converged = spread < kConvergedSpread;
+  return std::string(*converged ? "converged" : "did not converge") + ": the final population spans " +
+         text::FormatDouble(std::round(spread * 1000.0) / 10.0) + " % of the search range (converged below " +
+         text::FormatDouble(kConvergedSpread * 100.0) + " %)";
+}
+
+}  // namespace
+
+ReplayObjective::ReplayObjective(JobRunner& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed)
+    : runner_(runner), runs_(runs), fixed_(std::move(fixed)) {}
+
+std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::vector<Override>>& points) const {
+  std::vector<v1::Job> jobs;
+  for (const std::vector<Override>& point : points) {
+    std::vector<Override> overrides = fixed_;
+    overrides.insert(overrides.end(), point.begin(), point.end());
+    for (const ReplayRun& run : runs_) jobs.push_back(MakeReplayJob(run, overrides, false));
+  }
+  const std::vector<v1::Result> results = runner_.Run(std::move(jobs));
+  std::vector<double> errors;
+  std::size_t next = 0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    double sum = 0.0;
+    double samples = 0.0;
+    bool failed = false;
+    for (const ReplayRun& run : runs_) {
+      const v1::Result& result = results[next++];
+      failed = failed || result.status() != v1::Result::OK || !std::isfinite(result.fitness());
+      const double rms = result.fitness();
+      sum += rms * rms * static_cast<double>(run.samples);
+      samples += static_cast<double>(run.samples);
+    }
+    errors.push_back(failed || samples == 0.0 ? kFailedPoint : sum / samples);
+  }
+  return errors;
+}
+
+std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
+  std::vector<Override> overrides;
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    overrides.emplace_back(parameters[i].path, text::FormatDouble(values[i]));
+  }
+  return overrides;
+}
+
+FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+               const FitOptions& options) {
+  const auto dimension = static_cast<double>(parameters.size());
+  const int size = options.population > 0
+                       ? options.population
+                       : std::max(8, 4 + static_cast<int>(std::floor(3.0 * std::log(dimension))));
+  pagmo::problem problem{ReplayProblem{&objective, &parameters}};
+  const pagmo::bfe batch{pagmo::member_bfe{}};
+  pagmo::population population(problem, batch, static_cast<pagmo::population::size_type>(size), options.seed);
+  // The search starts from the given point: it replaces the worst of the random initial individuals.
+  pagmo::vector_double start;
+  for (const FitParameter& p : parameters) start.push_back(ToUnit(p, p.start));
+  population.set_x(population.worst_idx(), start);
+
+  pagmo::cmaes cmaes(static_cast<unsigned>(options.generations), -1, -1, -1, -1, 0.3, 1e-10, 1e-4, false, true,
+                     options.seed);
+  cmaes.set_bfe(batch);
+  population = pagmo::algorithm{cmaes}.evolve(population);
+
+  FitOutcome outcome;
+  outcome.values = Values(parameters, population.champion_x().data());  // the best point ever evaluated
+  outcome.mse = population.champion_f()[0];
+  outcome.evaluations = static_cast<int>(population.get_problem().get_fevals());
+  outcome.generations = options.generations;
+  outcome.convergence = Convergence(population, &outcome.converged);
+  return outcome;
+}
+
+}  // namespace orcs::gap

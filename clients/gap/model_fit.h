@@ -1,0 +1,65 @@
+// Fitting model parameters to measured runs with the simulation in the loop (docs/gap.md, "How a fit works"):
+// pagmo2's CMA-ES searches a box in normalised coordinates (log-scaled where a parameter is a positive scale),
+// and every generation's population is one batch of replay jobs through the broker, so a fit scales from two
+// cores to a cluster. The objective is the mean squared joint-angle error over all fit runs and channels.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "clients/gap/job_runner.h"
+#include "clients/gap/replay.h"
+
+namespace orcs::gap {
+
+/// One fitted repository value.
+struct FitParameter {
+  std::string path;        ///< repository path
+  std::string unit;        ///< for reports
+  double lower = 0.0;      ///< search range, in the unit
+  double upper = 0.0;
+  bool log_scale = true;   ///< search log(value)
+  double start = 0.0;      ///< where the search starts (clamped into the range)
+};
+
+/// The replay jobs of a set of runs, evaluated as one batch per call.
+class ReplayObjective {
+ public:
+  /// `fixed` is applied to every job after the model (e.g. an effect's Enabled switch).
+  ReplayObjective(JobRunner& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed);
+
+  /// The pooled mean squared error (deg²) of every point, in order. A point whose replay fails (unstable physics)
+  /// scores kFailedPoint.
+  std::vector<double> MeanSquaredErrors(const std::vector<std::vector<Override>>& points) const;
+
+  static constexpr double kFailedPoint = 1e6;
+
+ private:
+  JobRunner& runner_;
+  const std::vector<ReplayRun>& runs_;
+  std::vector<Override> fixed_;
+};
+
+struct FitOptions {
+  int generations = 40;   ///< CMA-ES generation budget
+  int population = 0;     ///< per generation; ≤ 0 = max(8, 4 + 3·ln(dimension))
+  unsigned seed = 1;      ///< CMA-ES's own generator: the same inputs give the same fit
+};
+
+struct FitOutcome {
+  std::vector<double> values;    ///< the best point found, in each parameter's unit
+  double mse = 0.0;              ///< its objective, deg²
+  int generations = 0;           ///< generations run
+  int evaluations = 0;           ///< points evaluated (each = one job per run)
+  bool converged = false;        ///< the final population has contracted (see convergence)
+  std::string convergence;       ///< why it counts as converged or not, one line
+};
+
+/// The assignments of `values` to `parameters`' paths.
+std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values);
+
+/// Minimises the objective over `parameters` (≥ 1). Throws broker::BatchClientError when the broker is lost.
+FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+               const FitOptions& options);
+
+}  // namespace orcs::gap

@@ -1,0 +1,171 @@
+// orcs-gap: finds where simulation and measured runs disagree, names the missing physical effect, adds it to the
+// model and shows the gap shrink (docs/gap.md).
+//
+//   orcs-gap --rig RIG --measured FILE... [--holdout FILE...] [--model FILE.val] [--workers N | --broker EP]
+//            [--out DIR]
+//   orcs-gap synth --rig RIG --motion RECORD... [--effect NAME] [--set PATH=VALUE]... --out DIR
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <iostream>
+
+#include "clients/gap/gap_diagnosis.h"
+#include "clients/gap/gap_report.h"
+#include "clients/gap/synthetic_runs.h"
+#include "model/aseries/motor_effects.h"
+#include "model/core/error.h"
+#include "model/core/text.h"
+#include "worker/cli_style.h"
+
+namespace orcs::gap {
+namespace {
+
+struct GapOptions {
+  RigOptions rig;
+  std::string model;                  // value file of the current model
+  std::string agent;                  // synth: the agent ("" = Pendulum / Humanoid)
+  // diagnose
+  std::vector<std::string> measured;
+  std::vector<std::string> holdout;
+  std::string mapping;
+  int workers = 0;
+  std::string broker;
+  std::string out = "gap-report";
+  int generations = 40;
+  unsigned seed = 1;
+  std::vector<std::string> effects;
+  // synth
+  std::vector<std::string> motions;
+  std::vector<std::string> effect_switches;
+  std::vector<std::string> sets;
+  std::uint64_t noise_seed = 1;
+  double duration = 0.0;
+};
+
+void AddRigOptions(CLI::App& app, GapOptions& o) {
+  app.add_option("--rig", o.rig.kind, "aseries (default) or pendulum")->check(CLI::IsMember({"aseries", "pendulum"}));
+  app.add_option("--env", o.rig.environment_file, "aseries: the ORCS XML environment the runs were made in");
+  app.add_option("--pole-mass", o.rig.pole_mass, "pendulum: pole mass, kg (default 0.5)");
+  app.add_option("--pole-length", o.rig.pole_length, "pendulum: pole length, m (default 0.3)");
+  app.add_option("--model", o.model, "value file of the current model (default: the original's)");
+}
+
+std::vector<ValueAssignment> ReadModel(const std::string& file) {
+  return file.empty() ? std::vector<ValueAssignment>{} : ValueFile::Read(file);
+}
+
+std::vector<Override> HiddenValues(const GapOptions& o) {
+  std::vector<Override> hidden;
+  for (const std::string& name : o.effect_switches) {
+    if (aseries::FindEffect(name) == nullptr) throw InputError("--effect: no effect '" + name + "' (docs/gap.md)");
+    hidden.emplace_back("/Effects/" + name + "/Enabled", "T");
+  }
+  for (const std::string& set : o.sets) {
+    const std::size_t equals = set.find('=');
+    if (equals == std::string::npos || equals == 0) throw InputError("--set: expected PATH=VALUE, found '" + set + "'");
+    hidden.emplace_back(std::string(text::Trim(set.substr(0, equals))), std::string(text::Trim(set.substr(equals + 1))));
+  }
+  return hidden;
+}
+
+int Synth(const GapOptions& o) {
+  const std::vector<ValueAssignment> model = ReadModel(o.model);
+  const std::string agent = !o.agent.empty() ? o.agent : o.rig.kind == "pendulum" ? "Pendulum" : "Humanoid";
+  const Rig rig = MakeRig(o.rig, agent, model);
+  SynthOptions synth;
+  synth.motions = o.motions;
+  synth.hidden = HiddenValues(o);
+  synth.seed = o.noise_seed;
+  synth.duration = o.duration;
+  synth.out = o.out;
+  for (const std::string& file : WriteSyntheticRuns(rig, model, synth)) std::cout << "orcs-gap: wrote " << file << "\n";
+  return cli::kExitOk;
+}
+
+std::vector<MeasuredRun> ReadRuns(const std::vector<std::string>& files, const ColumnMapping* mapping) {
+  std::vector<MeasuredRun> runs;
+  for (const std::string& file : files) runs.push_back(ReadMeasuredRun(file, mapping));
+  return runs;
+}
+
+int Diagnose(const GapOptions& o) {
+  const std::vector<ValueAssignment> model = ReadModel(o.model);
+  std::optional<ColumnMapping> mapping;
+  if (!o.mapping.empty()) mapping = ReadColumnMapping(o.mapping);
+  CheckDisjoint(o.measured, o.holdout);
+  const std::vector<MeasuredRun> fit_data = ReadRuns(o.measured, mapping ? &*mapping : nullptr);
+  const std::vector<MeasuredRun> holdout_data = ReadRuns(o.holdout, mapping ? &*mapping : nullptr);
+  std::vector<MeasuredRun> all = fit_data;
+  all.insert(all.end(), holdout_data.begin(), holdout_data.end());
+  CheckRunsAgree(all);
+  const Rig rig = MakeRig(o.rig, all.front().agent, model);
+  std::vector<ReplayRun> fit;
+  std::vector<ReplayRun> holdout;
+  for (const MeasuredRun& run : fit_data) fit.push_back(MakeReplayRun(rig, run, model));
+  for (const MeasuredRun& run : holdout_data) holdout.push_back(MakeReplayRun(rig, run, model));
+
+  DiagnosisOptions options;
+  options.fit.generations = o.generations;
+  options.fit.seed = o.seed;
+  options.candidates = o.effects;
+  std::filesystem::create_directories(o.out);
+  RunnerOptions runner_options;
+  runner_options.broker = o.broker;
+  runner_options.workers = o.workers;
+  runner_options.log_path = (std::filesystem::path(o.out) / "workers.log").string();
+  JobRunner runner(runner_options);
+  std::cerr << "orcs-gap: " << fit.size() << " fit run(s), " << holdout.size() << " held-out run(s); "
+            << (o.broker.empty() ? std::to_string(runner.local_workers()) + " local workers" : "broker " + o.broker)
+            << "\n";
+  const Diagnosis diagnosis = Diagnose(runner, rig, fit, holdout, model, options);
+  WriteReport(o.out, diagnosis, rig, model, options);
+  std::cout << diagnosis.verdict << "\n"
+            << "orcs-gap: report in " << o.out << "/report.md, fitted model in " << o.out
+            << "/model.val; plot with scripts/plot_gap.py " << o.out << "\n";
+  return cli::kExitOk;
+}
+
+}  // namespace
+}  // namespace orcs::gap
+
+int main(int argc, char** argv) {
+  using namespace orcs::gap;
+  GapOptions o;
+  CLI::App app{"orcs-gap: finds where simulation and measured runs disagree and which effect the model lacks",
+               "orcs-gap"};
+  AddRigOptions(app, o);
+  app.add_option("--measured", o.measured, "measured runs (orcs-sim logs, or any CSV with --mapping)");
+  app.add_option("--holdout", o.holdout, "held-out runs, scored but never fitted (default: the last measured run)");
+  app.add_option("--mapping", o.mapping, "column mapping JSON for CSVs that are not orcs logs (docs/gap.md)");
+  CLI::Option* workers = app.add_option("--workers", o.workers, "local worker processes (default: one per core)")
+                             ->check(CLI::Range(1, 4096));
+  app.add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")->excludes(workers);
+  app.add_option("--out", o.out, "output folder (default gap-report)");
+  app.add_option("--generations", o.generations, "CMA-ES generations per fit (default 40)")->check(CLI::Range(1, 10000));
+  app.add_option("--seed", o.seed, "seed of the fits (default 1)");
+  app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
+  CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");
+  AddRigOptions(*synth, o);
+  synth->add_option("--motion", o.motions, "keyframe records to play, one run each")->required();
+  synth->add_option("--effect", o.effect_switches, "switch an effect on (repeatable)");
+  synth->add_option("--set", o.sets, "PATH=VALUE, a hidden value (repeatable)");
+  synth->add_option("--seed", o.noise_seed, "noise seed of the first run (default 1)");
+  synth->add_option("--duration", o.duration, "seconds per run (default: the record's length)");
+  synth->add_option("--agent", o.agent, "the agent (default Pendulum / Humanoid)");
+  synth->add_option("--out", o.out, "output folder")->required();
+  const int parsed = orcs::cli::ParseArguments(app, argc, argv, {"env"}, [&] {
+    if (!synth->parsed() && o.measured.empty()) throw CLI::RequiredError("--measured");
+  });
+  if (parsed >= 0) return parsed;
+  try {
+    return synth->parsed() ? Synth(o) : Diagnose(o);
+  } catch (const orcs::InputError& error) {
+    std::cerr << "orcs-gap: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  } catch (const orcs::broker::BatchClientError& error) {
+    std::cerr << "orcs-gap: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  } catch (const std::exception& error) {
+    std::cerr << "orcs-gap: " << error.what() << "\n";
+    return orcs::cli::kExitRunFailed;
+  }
+}

@@ -1,0 +1,174 @@
+#include "clients/gap/replay.h"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "model/control/keyframe_record.h"
+#include "model/core/error.h"
+#include "model/core/text.h"
+#include "model/core/text_file.h"
+#include "model/scene/environment_reader.h"
+#include "model/scene/simulation.h"
+
+namespace orcs::gap {
+namespace {
+
+std::string PendulumXml(const RigOptions& options, const std::string& agent) {
+  for (double value : {options.pole_mass, options.pole_length}) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw InputError("--pole-mass and --pole-length must be positive and finite, found " +
+                       text::FormatDouble(value));
+    }
+  }
+  return "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n    <Pendulum name=\"" + agent +
+         "\" position=\"(0,0.5,0)\" poleMass=\"" + text::FormatDouble(options.pole_mass) + "\" poleLength=\"" +
+         text::FormatDouble(options.pole_length) + "\"/>\n  </Agent>\n</ORCS>\n";
+}
+
+scene::EnvironmentDescription EnvironmentOf(const Rig& rig) {
+  if (rig.environment_xml.empty()) {
+    scene::EnvironmentDescription environment;
+    environment.source = rig.environment_name;
+    environment.agents.push_back(scene::AgentDescription{});
+    return environment;
+  }
+  return scene::EnvironmentReader::ReadString(rig.environment_xml, rig.environment_name);
+}
+
+nlohmann::json ValuesObject(const std::vector<ValueAssignment>& model) {
+  nlohmann::json values = nlohmann::json::object();
+  for (const ValueAssignment& assignment : model) values[assignment.path] = assignment.value;
+  values["/AngularMotor/IncludeNoise"] = false;  // the replay is the model's expectation; noise is the data's
+  return values;
+}
+
+std::string ColumnPath(const MeasuredRun& run, const std::string& motor, const char* value) {
+  return "/Sim/" + run.agent + "/" + motor + "/" + value;
+}
+
+void CheckRunFitsRig(const Rig& rig, const MeasuredRun& run) {
+  if (run.agent != rig.agent) {
+    throw InputError(run.source + ": the columns are of agent '" + run.agent + "', the rig's agent is '" + rig.agent +
+                     "'");
+  }
+  if (std::abs(run.step - rig.step) > 1e-9) {
+    throw InputError(run.source + ": column 'time': steps of " + text::FormatDouble(run.step) +
+                     " s, but the rig simulates steps of " + text::FormatDouble(rig.step) +
+                     " s (/Simulation/TimeStepSize)");
+  }
+  for (const std::string& motor : run.motors) {
+    bool known = false;
+    for (const std::string& rig_motor : rig.motors) known = known || rig_motor == motor;
+    if (!known) {
+      throw InputError(run.source + ": column '" + ColumnPath(run, motor, "JointAngle") + "': agent '" + rig.agent +
+                       "' of " + rig.environment_name + " has no motor '" + motor + "'");
+    }
+  }
+}
+
+}  // namespace
+
+Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vector<ValueAssignment>& model) {
+  Rig rig;
+  rig.kind = options.kind;
+  rig.agent = agent;
+  if (options.kind == "pendulum") {
+    rig.environment_name = "(pendulum rig)";
+    rig.environment_xml = PendulumXml(options, agent);
+  } else if (options.kind == "aseries") {
+    rig.environment_name = options.environment_file.empty() ? "(default A-Series)" : options.environment_file;
+    if (!options.environment_file.empty()) rig.environment_xml = ReadTextFile(options.environment_file);
+  } else {
+    throw InputError("--rig: expected 'aseries' or 'pendulum', found '" + options.kind + "'");
+  }
+  scene::Simulation simulation;
+  simulation.LoadEnvironment(EnvironmentOf(rig));
+  simulation.Build();
+  ValueFile::ApplyAssignments(model, simulation.repository());
+  const int index = simulation.FindAgent(agent);
+  if (index < 0) throw InputError(rig.environment_name + ": no agent '" + agent + "' (the runs' agent)");
+  for (const auto& motor : simulation.model().morphology(index).motors) rig.motors.push_back(motor.name);
+  rig.step = simulation.StepDuration();
+  return rig;
+}
+
+std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignment>& model,
+                                const std::vector<std::string>& paths) {
+  scene::Simulation simulation;
+  simulation.LoadEnvironment(EnvironmentOf(rig));
+  simulation.Build();
+  ValueFile::ApplyAssignments(model, simulation.repository());
+  std::vector<double> values;
+  for (const std::string& path : paths) values.push_back(simulation.repository().Get(path).as_double());
+  return values;
+}
+
+ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model) {
+  CheckRunFitsRig(rig, run);
+  ReplayRun replay;
+  replay.source = run.source;
+  replay.name = std::filesystem::path(run.source).stem().string();
+  replay.run = &run;
+  replay.channels = run.motors;
+  const control::KeyframeRecord record = CommandsAsRecord(run, rig.motors);
+  nlohmann::json angles = nlohmann::json::object();
+  for (const std::string& motor : replay.channels) {
+    const std::vector<double>& measured = run.joint_angle.at(motor);
+    angles[motor] = std::vector<double>(measured.begin() + 1, measured.end());  // row k+1 follows step k+1
+    replay.samples += measured.size() - 1;
+  }
+  nlohmann::json scenario = {
+      {"name", "gap:" + replay.name},
+      {"agent", rig.agent},
+      {"duration", run.time.back()},
+      {"controller", {{"type", "keyframes"}, {"record", {{"file", run.source}, {"text", control::FormatKeyframeRecord(record, {})}}}}},
+      {"fitness", {{"terms", nlohmann::json::array({{{"type", "measured_error"}, {"angles", angles}}})}}},
+      {"values", ValuesObject(model)},
+  };
+  if (!rig.environment_xml.empty()) {
+    scenario["environment"] = {{"file", rig.environment_name}, {"xml", rig.environment_xml}};
+  }
+  replay.scenario = std::move(scenario);
+  return replay;
+}
+
+v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log) {
+  nlohmann::json scenario = replay.scenario;
+  if (log) scenario["log"] = {"/Sim/" + scenario["agent"].get<std::string>() + "/.*/(JointAngle|MotorTorque)"};
+  v1::Job job;
+  job.set_scenario_json(scenario.dump());
+  job.set_genome_json("[]");
+  job.set_seed(0);
+  for (const Override& entry : overrides) {
+    v1::Override* override_value = job.add_overrides();
+    override_value->set_path(entry.first);
+    override_value->set_value(entry.second);
+  }
+  return job;
+}
+
+std::vector<std::pair<std::string, std::vector<double>>> ParseLogColumns(const std::string& csv,
+                                                                         const std::string& source) {
+  std::vector<std::pair<std::string, std::vector<double>>> columns;
+  std::istringstream lines(csv);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("# columns: ", 0) == 0) {
+      for (std::string_view name : text::Split(std::string_view(line).substr(11), ',')) {
+        columns.emplace_back(std::string(text::Trim(name)), std::vector<double>{});
+      }
+      continue;
+    }
+    if (line.empty() || line[0] == '#') continue;
+    if (columns.empty()) throw InputError(source + ": no '# columns:' line before the data");
+    const std::vector<std::string_view> fields = text::Split(line, ',');
+    for (std::size_t c = 0; c < columns.size() && c < fields.size(); ++c) {
+      columns[c].second.push_back(text::ParseDouble(fields[c]).value_or(std::nan("")));
+    }
+  }
+  if (columns.empty()) throw InputError(source + ": no '# columns:' line");
+  return columns;
+}
+
+}  // namespace orcs::gap

@@ -1,0 +1,71 @@
+// Replaying measured runs in simulation (docs/gap.md): the rig a run was recorded on, and one job per run and
+// model that plays the run's commands into the rig and scores the simulated joint angles against the measured
+// ones (fitness term "measured_error", degrees RMS). The jobs are ordinary scenario jobs, so any worker of any
+// broker runs them.
+#pragma once
+
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "clients/gap/measured_run.h"
+#include "model/core/value_file.h"
+#include "orcs/v1/job.pb.h"
+
+namespace orcs::gap {
+
+/// A value assignment for a job: repository path and value text.
+using Override = std::pair<std::string, std::string>;
+
+/// What the runs were recorded on.
+struct RigOptions {
+  std::string kind = "aseries";  ///< "aseries" (any environment with A-Series agents) or "pendulum"
+  std::string environment_file;  ///< aseries: an ORCS XML environment; "" = one A-Series standing on the floor
+  double pole_mass = 0.5;        ///< pendulum: kg
+  double pole_length = 0.3;      ///< pendulum: m
+};
+
+/// The rig, ready to put into a scenario.
+struct Rig {
+  std::string kind;              ///< "aseries" or "pendulum"
+  std::string environment_name;  ///< the file, "(pendulum rig)" or "(default A-Series)", for messages
+  std::string environment_xml;   ///< the ORCS XML; "" = the default A-Series world
+  std::string agent;             ///< the agent the runs belong to
+  std::vector<std::string> motors;  ///< its motors in input order
+  double step = 0.01;            ///< s per simulation step under the model (/Simulation/TimeStepSize)
+};
+
+/// Builds the rig for agent `agent` under the model's values and checks it has that agent. Throws InputError for
+/// an unknown kind, an unreadable environment, a pole that is not positive and finite, or a missing agent.
+Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vector<ValueAssignment>& model);
+
+/// The values of `paths` in the rig's world under the model (numbers). Throws InputError for an unknown path.
+std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignment>& model,
+                                const std::vector<std::string>& paths);
+
+/// One measured run as a replay job template.
+struct ReplayRun {
+  std::string name;                   ///< the file's stem, unique among the runs
+  std::string source;                 ///< the file
+  const MeasuredRun* run = nullptr;   ///< the data (owned by the caller)
+  std::vector<std::string> channels;  ///< the motors compared (those with a JointAngle column)
+  std::size_t samples = 0;            ///< channels × steps compared
+  nlohmann::json scenario;            ///< the resolved scenario, without "log"
+};
+
+/// The replay of `run` on `rig` under `model` (noise off). Throws InputError naming the file and column when the
+/// run's agent, motors or time step do not fit the rig.
+ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model);
+
+/// A job replaying `replay` with `overrides` applied after the model; with `log`, the result carries the
+/// simulated JointAngle and MotorTorque of every motor.
+v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log);
+
+/// A simulated log (the CSV the worker returns) as columns: path → values per row. Throws InputError when it
+/// has no "# columns:" line.
+std::vector<std::pair<std::string, std::vector<double>>> ParseLogColumns(const std::string& csv,
+                                                                         const std::string& source);
+
+}  // namespace orcs::gap
