@@ -1,0 +1,96 @@
+// The measured side of the gap workflow (docs/gap_measured_data.md): one run of the real (or a synthetic)
+// robot — the inputs it was commanded and the joint angles it reached, one row per control step.
+//
+// The native input is the CSV log orcs-sim writes (docs/formats.md, "CSV logs"): '#' comment lines, one of
+// them "# columns: time,/Sim/<agent>/<motor>/DesiredAngle,...", then numeric rows whose first column is the
+// time in seconds (row 0 = t 0 = the state after reset). Other CSVs are read through a column mapping (JSON)
+// that names the time column and, per motor, the columns of its inputs and angle, with scale and offset.
+//
+// Every problem with the input is an InputError naming the file, the line and/or the column.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "model/control/keyframe_record.h"
+
+namespace orcs::gap {
+
+/// One run of the real (or synthetic) robot: commanded inputs and measured joint angles, per step.
+struct MeasuredRun {
+  std::string source;                  ///< the file it was read from, for messages
+  std::string agent;                   ///< agent name, from the column paths (or the mapping)
+  std::vector<std::string> motors;     ///< motors with a JointAngle column, in column order (e.g. "Right/Knee")
+  std::vector<std::string> commanded;  ///< motors with DesiredAngle AND DesiredTorque columns, in column order
+  double step = 0.0;                   ///< s, the (uniform) time step of the rows: (last − first time) / (rows − 1)
+  std::vector<double> time;            ///< s, per row, starting at 0
+  /// per motor name: values per row (same length as time)
+  std::map<std::string, std::vector<double>> desired_angle;   ///< degrees
+  std::map<std::string, std::vector<double>> desired_torque;  ///< raw −1…1
+  std::map<std::string, std::vector<double>> joint_angle;     ///< degrees
+  std::vector<int> lines;  ///< 1-based line of the source file per row (same length as time), for messages
+};
+
+/// Where one quantity's values come from in a CSV that is not an orcs log: value = raw · scale + offset, where
+/// raw is the number in `column`; or `constant` for every row (then `column` is empty).
+struct ColumnSource {
+  std::string column;               ///< the header name of the column ("" when constant is set)
+  double scale = 1.0;               ///< factor from the file's unit to the quantity's unit (e.g. 0.001 for ms → s)
+  double offset = 0.0;              ///< added after scaling, in the quantity's unit
+  std::optional<double> constant;   ///< the value of every row instead of a column, in the quantity's unit
+};
+
+/// One motor of a mapped CSV: which columns hold its inputs and its measured angle.
+struct ChannelMapping {
+  std::string motor;                           ///< motor name as in the rig ("Right/Knee", "Motor")
+  std::optional<ColumnSource> desired_angle;   ///< degrees; given together with desired_torque or not at all
+  std::optional<ColumnSource> desired_torque;  ///< raw −1…1; given together with desired_angle or not at all
+  std::optional<ColumnSource> joint_angle;     ///< degrees, the measured angle; always a column
+};
+
+/// Column mapping for CSVs that are not orcs logs (docs/gap_measured_data.md, "Column mapping"), read from JSON.
+struct ColumnMapping {
+  std::string agent;                     ///< the agent the runs belong to
+  ColumnSource time;                     ///< time column, seconds after scaling (scale e.g. 0.001 for ms)
+  std::vector<ChannelMapping> channels;  ///< one per motor, in the order they become MeasuredRun::motors
+  char delimiter = ',';                  ///< field separator of the CSV (',', ';', '\t', ...)
+  std::string source;                    ///< the mapping file, for messages
+};
+
+/// Reads and checks a column mapping file (JSON). Throws InputError naming the file and the field.
+ColumnMapping ReadColumnMapping(const std::string& path);
+/// Checks a parsed mapping: unknown keys, missing "agent"/"time"/"channels", wrong types, a channel with only
+/// one of desired_angle/desired_torque, no channel with a joint_angle. Errors read
+/// "source: field 'channels[0].joint_angle.column' expected ..., found ...".
+ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& source);
+
+/// Parses a run from CSV text. Without a mapping the text is an orcs log whose "# columns:" comment names the
+/// columns; with one, the first non-comment line is the header of column names. Throws InputError.
+MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source,
+                             const ColumnMapping* mapping = nullptr);
+/// Reads and parses a run file; an unreadable file is an InputError naming it.
+MeasuredRun ReadMeasuredRun(const std::string& path, const ColumnMapping* mapping = nullptr);
+
+/// Checks that a set of runs can be compared with one rig: same agent, same time step (within 1e-9 s).
+/// `role` is "measured" or "holdout" for messages. Throws InputError naming the two files that disagree.
+void CheckRunsAgree(const std::vector<MeasuredRun>& runs, const std::string& role = "measured");
+/// Throws InputError when a holdout run is also a fit run: the same path (after canonicalisation via
+/// std::filesystem::weakly_canonical) or identical contents — message names both files.
+void CheckDisjoint(const std::vector<std::string>& fit_paths, const std::vector<std::string>& holdout_paths);
+
+/// The commanded inputs as a keyframe record (model/control/keyframe_record.h, raw layout) for motors
+/// `motor_order` (the rig's motors in input order): keyframe i−1 carries row i's inputs (i ≥ 1) and takes
+/// effect at max(0, t(i−1) − step/2) · 1000 ms — half a step early so rounding of the simulation's clock never
+/// delays it. Each keyframe's line is row i's line in the run's file. Throws InputError
+/// "file: no column '/Sim/<agent>/<motor>/DesiredAngle'" when a motor in motor_order lacks commands.
+control::KeyframeRecord CommandsAsRecord(const MeasuredRun& run, const std::vector<std::string>& motor_order);
+
+/// The orcs log column of one motor quantity: MotorColumn("Humanoid", "Right/Knee", "JointAngle") is
+/// "/Sim/Humanoid/Right/Knee/JointAngle".
+std::string MotorColumn(const std::string& agent, const std::string& motor, const std::string& quantity);
+
+}  // namespace orcs::gap

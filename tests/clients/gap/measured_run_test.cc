@@ -1,0 +1,496 @@
+#include "clients/gap/measured_run.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "model/core/text.h"
+#include "tests/support/input_error_of.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs::gap {
+namespace {
+
+using test_support::InputErrorOf;
+using test_support::TempDir;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+using ::testing::IsEmpty;
+
+// The head of a real log: orcs-sim -env scenarios/environments/pendulum.xml -play Pendulum
+// scenarios/motions/pendulum_steps.csv --duration 5 --log '.*Motor/(JointAngle|DesiredAngle|DesiredTorque)'.
+constexpr const char* kPendulumLog =
+    "# orcs-sim log\n"
+    "# environment: scenarios/environments/pendulum.xml\n"
+    "# seed: 0\n"
+    "# columns: time,/Sim/Pendulum/Motor/DesiredAngle,/Sim/Pendulum/Motor/DesiredTorque,"
+    "/Sim/Pendulum/Motor/JointAngle\n"
+    "0,0,0.586810005,0\n"
+    "0.01,0,1,-0.0501782495117635\n"
+    "0.02,30,1,-0.1\n"
+    "0.03,30,0.5,2.25\n";
+
+// An A-Series style log: motor names with a slash, columns the gap does not need (an accelerometer, a
+// MotorTorque), a motor that is measured but not commanded.
+constexpr const char* kHumanoidLog =
+    "# columns: time,/Sim/Humanoid/Right/Knee/JointAngle,/Sim/Humanoid/Accel/Acceleration.x,"
+    "/Sim/Humanoid/Left/Knee/DesiredTorque,/Sim/Humanoid/Right/Knee/DesiredAngle,"
+    "/Sim/Humanoid/Left/Knee/DesiredAngle,/Sim/Humanoid/Right/Knee/MotorTorque,"
+    "/Sim/Humanoid/Right/Knee/DesiredTorque,/Sim/Humanoid/Head/Pan/JointAngle\n"
+    "0,10,0.1,0.5,20,-20,0.01,1,0\n"
+    "0.02,11,0.2,0.6,21,-21,0.02,0.9,1\n";
+
+// A run written by hand: `rows` as given after a native header of one pendulum motor.
+std::string PendulumLog(const std::string& rows) {
+  return "# columns: time,/Sim/Pendulum/Motor/DesiredAngle,/Sim/Pendulum/Motor/DesiredTorque,"
+         "/Sim/Pendulum/Motor/JointAngle\n" +
+         rows;
+}
+
+TEST(MeasuredRunTest, ParsesNativePendulumLog) {
+  const MeasuredRun run = ParseMeasuredRun(kPendulumLog, "p.csv");
+  EXPECT_EQ(run.source, "p.csv");
+  EXPECT_EQ(run.agent, "Pendulum");
+  EXPECT_THAT(run.motors, ElementsAre("Motor"));
+  EXPECT_THAT(run.commanded, ElementsAre("Motor"));
+  EXPECT_THAT(run.time, ElementsAre(0.0, 0.01, 0.02, 0.03));
+  EXPECT_DOUBLE_EQ(run.step, 0.01);
+  EXPECT_THAT(run.desired_angle.at("Motor"), ElementsAre(0.0, 0.0, 30.0, 30.0));
+  EXPECT_THAT(run.desired_torque.at("Motor"), ElementsAre(0.586810005, 1.0, 1.0, 0.5));
+  EXPECT_THAT(run.joint_angle.at("Motor"), ElementsAre(0.0, -0.0501782495117635, -0.1, 2.25));
+  EXPECT_THAT(run.lines, ElementsAre(5, 6, 7, 8));
+}
+
+TEST(MeasuredRunTest, ParsesASeriesMotorNamesWithSlashAndIgnoresOtherColumns) {
+  const MeasuredRun run = ParseMeasuredRun(kHumanoidLog, "h.csv");
+  EXPECT_EQ(run.agent, "Humanoid");
+  EXPECT_THAT(run.motors, ElementsAre("Right/Knee", "Head/Pan"));  // JointAngle columns, in column order
+  EXPECT_THAT(run.commanded, ElementsAre("Left/Knee", "Right/Knee"));  // order of their first input column
+  EXPECT_DOUBLE_EQ(run.step, 0.02);
+  EXPECT_THAT(run.joint_angle.at("Right/Knee"), ElementsAre(10.0, 11.0));
+  EXPECT_THAT(run.joint_angle.at("Head/Pan"), ElementsAre(0.0, 1.0));
+  EXPECT_THAT(run.desired_angle.at("Right/Knee"), ElementsAre(20.0, 21.0));
+  EXPECT_THAT(run.desired_torque.at("Right/Knee"), ElementsAre(1.0, 0.9));
+  EXPECT_THAT(run.desired_angle.at("Left/Knee"), ElementsAre(-20.0, -21.0));
+  EXPECT_THAT(run.desired_torque.at("Left/Knee"), ElementsAre(0.5, 0.6));
+  EXPECT_EQ(run.desired_angle.count("Head/Pan"), 0u);
+  EXPECT_EQ(run.joint_angle.count("Accel"), 0u);
+  EXPECT_EQ(run.joint_angle.size(), 2u);
+}
+
+TEST(MeasuredRunTest, AcceptsCrLfBlankLinesQuotedFieldsAndCommentsAnywhere) {
+  const std::string text =
+      "# columns: time,/Sim/P/M/JointAngle,/Sim/P/Note\r\n"
+      "\r\n"
+      "0, 1 ,\"a, b\"\r\n"
+      "# a comment between rows\r\n"
+      "0.5,2,\"say \"\"hi\"\"\"\r\n";
+  const MeasuredRun run = ParseMeasuredRun(text, "c.csv");
+  EXPECT_THAT(run.joint_angle.at("M"), ElementsAre(1.0, 2.0));
+  EXPECT_THAT(run.commanded, IsEmpty());
+  EXPECT_THAT(run.lines, ElementsAre(3, 5));
+  EXPECT_DOUBLE_EQ(run.step, 0.5);
+}
+
+TEST(MeasuredRunTest, ReadsAFileAndNamesAnUnreadableOne) {
+  const TempDir dir;
+  const std::string path = dir.Write("p.csv", kPendulumLog);
+  EXPECT_EQ(ReadMeasuredRun(path).source, path);
+  EXPECT_THAT(ReadMeasuredRun(path).joint_angle.at("Motor"), ElementsAre(0.0, -0.0501782495117635, -0.1, 2.25));
+  const std::string missing = dir.PathOf("missing.csv");
+  EXPECT_EQ(InputErrorOf([&] { ReadMeasuredRun(missing); }), missing + ": cannot read the file");
+}
+
+TEST(MeasuredRunTest, RejectsEmptyAndRowlessAndOneRowFiles) {
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun("", "run.csv"); }), "run.csv: no data rows");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("\n# nothing\n"), "run.csv"); }),
+            "run.csv: no data rows");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n"), "run.csv"); }),
+            "run.csv: expected at least 2 data rows (a time step needs two times), found 1");
+}
+
+TEST(MeasuredRunTest, RequiresTheColumnsCommentBeforeTheRows) {
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun("# log\n0,1\n0.01,2\n", "run.csv"); }),
+            "run.csv: no '# columns:' comment naming the columns (orcs-sim logs have one; other CSVs need a "
+            "column mapping)");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun("0,1\n# columns: time,/Sim/P/M/JointAngle\n0.01,2\n", "run.csv"); }),
+            "run.csv:2: '# columns:' comes after the first data row (line 1); it must name the columns before them");
+  EXPECT_EQ(InputErrorOf([] {
+              ParseMeasuredRun("# columns: time,/Sim/P/M/JointAngle\n# columns: time\n0,1\n0.01,2\n", "run.csv");
+            }),
+            "run.csv:2: a second '# columns:' comment (the first is on line 1)");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun("# columns: t,/Sim/P/M/JointAngle\n0,1\n0.01,2\n", "run.csv"); }),
+            "run.csv: expected the first column to be 'time', found 't'");
+}
+
+TEST(MeasuredRunTest, RejectsARowWithTheWrongNumberOfFields) {
+  const std::string text = PendulumLog("0,0,1,0\n0.01,0,1,0\n0.02,0,1\n");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(text, "run.csv"); }), "run.csv:4: expected 4 fields, found 3");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,0,1,0,7\n"), "run.csv"); }),
+            "run.csv:3: expected 4 fields, found 5");
+}
+
+TEST(MeasuredRunTest, RejectsCellsThatAreNotFiniteNumbersNamingLineAndColumn) {
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,0,1,nan\n"), "run.csv"); }),
+            "run.csv:3: column '/Sim/Pendulum/Motor/JointAngle': 'nan' is not a finite number");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,inf,1,0\n"), "run.csv"); }),
+            "run.csv:3: column '/Sim/Pendulum/Motor/DesiredAngle': 'inf' is not a finite number");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,,0\n0.01,0,1,0\n"), "run.csv"); }),
+            "run.csv:2: column '/Sim/Pendulum/Motor/DesiredTorque': '' is not a finite number");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\nabc,0,1,0\n"), "run.csv"); }),
+            "run.csv:3: column 'time': 'abc' is not a finite number");
+  // Columns the gap does not need may hold anything.
+  EXPECT_NO_THROW(ParseMeasuredRun("# columns: time,/Sim/P/M/JointAngle,/Sim/P/Name\n0,1,x\n0.1,2,\n", "ok.csv"));
+}
+
+TEST(MeasuredRunTest, TimeMustStartAtZero) {
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0.01,0,1,0\n0.02,0,1,0\n"), "run.csv"); }),
+            "run.csv:2: column 'time': expected the first time to be 0 s, found 0.01 s");
+  EXPECT_EQ(ParseMeasuredRun(PendulumLog("1e-10,0,1,0\n0.01,0,1,0\n"), "run.csv").time.front(), 1e-10);
+}
+
+TEST(MeasuredRunTest, TimeMustIncreaseStrictly) {
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,0,1,0\n0.01,0,1,0\n"), "run.csv"); }),
+            "run.csv:4: column 'time': expected a time after 0.01 s (line 3), found 0.01 s");
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,0,1,0\n\n0.005,0,1,0\n"), "r.csv"); }),
+            "r.csv:5: column 'time': expected a time after 0.01 s (line 3), found 0.005 s");
+}
+
+TEST(MeasuredRunTest, TimeStepMustBeUniformWithinOneMillionth) {
+  EXPECT_EQ(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,0,1,0\n0.03,0,1,0\n"), "run.csv"); }),
+            "run.csv:4: column 'time': expected a uniform step of 0.01 s (that of the first two rows), found "
+            "0.02 s from 0.01 s to 0.03 s");
+  // 1e-6 of the step is the limit: 0.5e-8 s off passes, 2e-8 s off does not.
+  EXPECT_NO_THROW(ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,0,1,0\n0.020000005,0,1,0\n"), "run.csv"));
+  EXPECT_THAT(InputErrorOf([] { ParseMeasuredRun(PendulumLog("0,0,1,0\n0.01,0,1,0\n0.02000002,0,1,0\n"), "r.csv"); }),
+              HasSubstr("r.csv:4: column 'time': expected a uniform step of 0.01 s"));
+}
+
+TEST(MeasuredRunTest, StepIsTheMeanStepOfTheWholeRun) {
+  // Times printed with rounding: the mean over the run is the rig's step.
+  const MeasuredRun run = ParseMeasuredRun(PendulumLog("0,0,1,0\n0.0100000001,0,1,0\n0.02,0,1,0\n"), "run.csv");
+  EXPECT_DOUBLE_EQ(run.step, 0.01);
+}
+
+TEST(MeasuredRunTest, RejectsColumnsOfTwoAgents) {
+  const std::string text =
+      "# columns: time,/Sim/Humanoid/Right/Knee/JointAngle,/Sim/Pendulum/Motor/JointAngle\n0,1,2\n0.01,1,2\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(text, "run.csv"); }),
+            "run.csv: columns of two agents, 'Humanoid' and 'Pendulum'");
+}
+
+TEST(MeasuredRunTest, RejectsALogWithoutJointAngleColumn) {
+  const std::string text =
+      "# columns: time,/Sim/Pendulum/Motor/DesiredAngle,/Sim/Pendulum/Motor/DesiredTorque,"
+      "/Sim/Pendulum/Motor/MotorTorque\n0,1,2,3\n0.01,1,2,3\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(text, "run.csv"); }),
+            "run.csv: no '/Sim/<agent>/<motor>/JointAngle' column");
+}
+
+TEST(MeasuredRunTest, MissingColumnNamesFileAndColumn) {
+  const std::string angle_only =
+      "# columns: time,/Sim/Humanoid/Right/Knee/DesiredAngle,/Sim/Humanoid/Right/Knee/JointAngle\n0,1,2\n0.01,1,2\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(angle_only, "run.csv"); }),
+            "run.csv: no column '/Sim/Humanoid/Right/Knee/DesiredTorque' to go with "
+            "'/Sim/Humanoid/Right/Knee/DesiredAngle' (a commanded motor needs both)");
+  const std::string torque_only =
+      "# columns: time,/Sim/Humanoid/Right/Knee/JointAngle,/Sim/Humanoid/Right/Knee/DesiredTorque\n0,1,2\n0.01,1,2\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(torque_only, "run.csv"); }),
+            "run.csv: no column '/Sim/Humanoid/Right/Knee/DesiredAngle' to go with "
+            "'/Sim/Humanoid/Right/Knee/DesiredTorque' (a commanded motor needs both)");
+}
+
+TEST(MeasuredRunTest, RejectsAMotorColumnTwice) {
+  const std::string text = "# columns: time,/Sim/P/M/JointAngle,x,/Sim/P/M/JointAngle\n0,1,2,3\n0.01,1,2,3\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(text, "run.csv"); }),
+            "run.csv: column '/Sim/P/M/JointAngle' appears twice (fields 2 and 4)");
+}
+
+TEST(MeasuredRunTest, RejectsAnUnterminatedQuote) {
+  const std::string text = "# columns: time,/Sim/P/M/JointAngle,n\n0,1,\"ab\n0.1,1,x\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(text, "q.csv"); }),
+            "q.csv:2: field '\"ab' has no closing quote");
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Column mappings
+
+// A logger's CSV: ';'-separated, time in ms, angles in encoder ticks (0.29296875°/tick, 512 = 0°), torque not
+// logged (always full).
+constexpr const char* kLoggerCsv =
+    "# exported by the robot's logger\n"
+    "\"t_ms\"; cmd_knee ; pos_knee;pos_hip\n"
+    "0;10;512;600\n"
+    "20;20;522;601\n"
+    "40;30;532;602\n";
+
+constexpr const char* kLoggerMapping = R"({
+  "comment": "the robot's logger",
+  "agent": "Humanoid",
+  "delimiter": ";",
+  "time": {"column": "t_ms", "scale": 0.001},
+  "channels": [
+    {"motor": "Right/Knee",
+     "desired_angle": {"column": "cmd_knee"},
+     "desired_torque": {"constant": 1},
+     "joint_angle": {"column": "pos_knee", "scale": 0.29296875, "offset": -150}},
+    {"motor": "Right/Hip", "joint_angle": {"column": "pos_hip"}}
+  ]
+})";
+
+ColumnMapping Mapping(const std::string& json) { return ParseColumnMapping(nlohmann::json::parse(json), "m.json"); }
+
+TEST(MeasuredRunTest, ParsesAColumnMapping) {
+  const ColumnMapping m = Mapping(kLoggerMapping);
+  EXPECT_EQ(m.source, "m.json");
+  EXPECT_EQ(m.agent, "Humanoid");
+  EXPECT_EQ(m.delimiter, ';');
+  EXPECT_EQ(m.time.column, "t_ms");
+  EXPECT_EQ(m.time.scale, 0.001);
+  ASSERT_EQ(m.channels.size(), 2u);
+  EXPECT_EQ(m.channels[0].motor, "Right/Knee");
+  ASSERT_TRUE(m.channels[0].desired_torque && m.channels[0].desired_torque->constant);
+  EXPECT_EQ(*m.channels[0].desired_torque->constant, 1.0);
+  EXPECT_EQ(m.channels[0].joint_angle->offset, -150.0);
+  EXPECT_FALSE(m.channels[1].desired_angle.has_value());
+  EXPECT_FALSE(m.channels[1].desired_torque.has_value());
+  EXPECT_EQ(Mapping(R"({"agent": "P", "time": {"column": "t"}, "channels": [{"motor": "M",
+                        "joint_angle": {"column": "a"}}]})").delimiter, ',');
+}
+
+TEST(MeasuredRunTest, MappedCsvWithMillisecondsScaleOffsetAndConstantTorque) {
+  const ColumnMapping m = Mapping(kLoggerMapping);
+  const MeasuredRun run = ParseMeasuredRun(kLoggerCsv, "log.csv", &m);
+  EXPECT_EQ(run.agent, "Humanoid");
+  EXPECT_THAT(run.motors, ElementsAre("Right/Knee", "Right/Hip"));
+  EXPECT_THAT(run.commanded, ElementsAre("Right/Knee"));
+  EXPECT_THAT(run.time, ElementsAre(0.0, 0.02, 0.04));
+  EXPECT_DOUBLE_EQ(run.step, 0.02);
+  EXPECT_THAT(run.desired_angle.at("Right/Knee"), ElementsAre(10.0, 20.0, 30.0));
+  EXPECT_THAT(run.desired_torque.at("Right/Knee"), ElementsAre(1.0, 1.0, 1.0));
+  EXPECT_THAT(run.joint_angle.at("Right/Knee"), ElementsAre(0.0, 10 * 0.29296875, 20 * 0.29296875));
+  EXPECT_THAT(run.joint_angle.at("Right/Hip"), ElementsAre(600.0, 601.0, 602.0));
+  EXPECT_THAT(run.lines, ElementsAre(3, 4, 5));
+}
+
+TEST(MeasuredRunTest, ReadsAMappingFileAndAMappedRunFile) {
+  const TempDir dir;
+  const ColumnMapping m = ReadColumnMapping(dir.Write("mapping.json", kLoggerMapping));
+  EXPECT_EQ(m.source, dir.PathOf("mapping.json"));
+  const MeasuredRun run = ReadMeasuredRun(dir.Write("log.csv", kLoggerCsv), &m);
+  EXPECT_THAT(run.time, ElementsAre(0.0, 0.02, 0.04));
+  EXPECT_EQ(InputErrorOf([&] { ReadColumnMapping(dir.Write("bad.json", "{\"agent\": \n")); }),
+            dir.PathOf("bad.json") + ":2: malformed JSON: syntax error while parsing value - unexpected end of input; "
+                                     "expected '[', '{', or a literal");
+}
+
+TEST(MeasuredRunTest, MappingErrorsNameTheField) {
+  const std::string ok_channel = R"("channels": [{"motor": "M", "joint_angle": {"column": "a"}}])";
+  const std::string ok_time = R"("time": {"column": "t"})";
+  auto error = [](const std::string& json) { return InputErrorOf([&] { Mapping(json); }); };
+  EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + ", " + ok_channel + R"(, "agnet": 1})"),
+            "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter), found 'agnet'");
+  EXPECT_EQ(error("{" + ok_time + ", " + ok_channel + "}"),
+            "m.json: field 'agent' expected a value, found nothing (the field is missing)");
+  EXPECT_EQ(error(R"({"agent": "P", )" + ok_channel + "}"),
+            "m.json: field 'time' expected a value, found nothing (the field is missing)");
+  EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + "}"),
+            "m.json: field 'channels' expected a value, found nothing (the field is missing)");
+  EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + R"(, "channels": [{"motor": "M", "joint_angle": {"column": 3}}]})"),
+            "m.json: field 'channels[0].joint_angle.column' expected a column name, found the number 3");
+  EXPECT_EQ(error(R"({"agent": "P", )" + ok_time +
+                  R"(, "channels": [{"motor": "M", "joint_angle": {"column": "a", "scal": 2}}]})"),
+            "m.json: field 'channels[0].joint_angle.scal' expected no such field (allowed: column, scale, offset, "
+            "constant), found 'scal'");
+  EXPECT_EQ(error(R"({"agent": "P", )" + ok_time +
+                  R"(, "channels": [{"motor": "M", "joint_angle": {"column": "a", "scale": "2"}}]})"),
+            "m.json: field 'channels[0].joint_angle.scale' expected a finite number, found the string \"2\"");
+  EXPECT_EQ(error(R"({"agent": "P", "time": {"column": "t"}, "channels": {}})"),
+            "m.json: field 'channels' expected an array, found an object");
+  EXPECT_EQ(error("[1]"), "m.json: expected a column mapping (a JSON object), found an array of 1");
+}
+
+TEST(MeasuredRunTest, MappingRulesBeyondTypes) {
+  auto error = [](const std::string& channels, const std::string& extra = "") {
+    return InputErrorOf(
+        [&] { Mapping(R"({"agent": "P", "time": {"column": "t"}, "channels": [)" + channels + "]" + extra + "}"); });
+  };
+  EXPECT_EQ(error(R"({"motor": "M", "desired_angle": {"column": "c"}, "joint_angle": {"column": "a"}})"),
+            "m.json: field 'channels[0].desired_torque' expected a value, since 'desired_angle' is given (a commanded "
+            "motor needs both), found nothing (the field is missing)");
+  EXPECT_EQ(error(R"({"motor": "M", "desired_torque": {"constant": 1}, "joint_angle": {"column": "a"}})"),
+            "m.json: field 'channels[0].desired_angle' expected a value, since 'desired_torque' is given (a commanded "
+            "motor needs both), found nothing (the field is missing)");
+  EXPECT_EQ(error(R"({"motor": "M", "joint_angle": {"constant": 1}})"),
+            "m.json: field 'channels[0].joint_angle' expected a column, found a constant");
+  EXPECT_EQ(error(R"({"motor": "M", "joint_angle": {"column": "a", "constant": 1}})"),
+            "m.json: field 'channels[0].joint_angle' expected either \"column\" or \"constant\", found both");
+  EXPECT_EQ(error(R"({"motor": "M", "joint_angle": {"scale": 2}})"),
+            "m.json: field 'channels[0].joint_angle' expected an object with \"column\" or \"constant\", "
+            "found neither");
+  EXPECT_EQ(error(R"({"motor": "M", "desired_angle": {"constant": 1, "scale": 2}, "desired_torque": {"constant": 1},
+                      "joint_angle": {"column": "a"}})"),
+            "m.json: field 'channels[0].desired_angle.scale' expected nothing beside \"constant\", found the number 2");
+  EXPECT_EQ(error(R"({"motor": "M", "desired_angle": {"column": "c"}, "desired_torque": {"constant": 1}})"),
+            "m.json: field 'channels' expected at least one channel with a 'joint_angle', found none");
+  EXPECT_EQ(error(""), "m.json: field 'channels' expected at least one channel, found none");
+  EXPECT_EQ(error(R"({"motor": "M", "joint_angle": {"column": "a"}}, {"motor": "M", "joint_angle": {"column": "b"}})"),
+            "m.json: field 'channels[1].motor' expected a motor not named before, found 'M'");
+  EXPECT_EQ(error(R"({"motor": "M", "joint_angle": {"column": "a"}})", R"(, "delimiter": ";;")"),
+            "m.json: field 'delimiter' expected a one-character string, found the string \";;\"");
+  EXPECT_EQ(error(R"({"motor": "M", "joint_angle": {"column": "a"}})", R"(, "delimiter": "\"")"),
+            "m.json: field 'delimiter' expected one character other than a quote or a line break, found '\"'");
+  EXPECT_EQ(InputErrorOf([] {
+              Mapping(R"({"agent": "P", "time": {"constant": 0}, "channels": [{"motor": "M", "joint_angle":
+                          {"column": "a"}}]})");
+            }),
+            "m.json: field 'time' expected a column, found a constant");
+  EXPECT_EQ(InputErrorOf([] {
+              Mapping(R"({"agent": "A/B", "time": {"column": "t"}, "channels": [{"motor": "M", "joint_angle":
+                          {"column": "a"}}]})");
+            }),
+            "m.json: field 'agent' expected an agent name without '/', found 'A/B'");
+}
+
+TEST(MeasuredRunTest, MappedColumnMissingFromTheHeaderNamesBothFiles) {
+  const ColumnMapping m = Mapping(kLoggerMapping);
+  const std::string csv = "t_ms;cmd_knee;position_knee;pos_hip\n0;1;2;3\n20;1;2;3\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(csv, "log.csv", &m); }),
+            "log.csv: no column 'pos_knee' (named by m.json, field 'channels[0].joint_angle.column')");
+  const std::string twice = "t_ms;cmd_knee;pos_knee;pos_hip;pos_knee\n0;1;2;3;4\n20;1;2;3;4\n";
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(twice, "log.csv", &m); }),
+            "log.csv: column 'pos_knee' appears twice (fields 3 and 5), so m.json, field "
+            "'channels[0].joint_angle.column' is ambiguous");
+}
+
+TEST(MeasuredRunTest, MappedRowErrorsNameLineAndTheRealColumn) {
+  const ColumnMapping m = Mapping(kLoggerMapping);
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun("t_ms;cmd_knee;pos_knee;pos_hip\n0;1;2;3\n20;1;x;3\n", "l.csv", &m); }),
+            "l.csv:3: column 'pos_knee': 'x' is not a finite number");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun("t_ms;cmd_knee;pos_knee;pos_hip\n0;1;2;3\n20;1;2\n", "l.csv", &m); }),
+            "l.csv:3: expected 4 fields, found 3");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun("t_ms;cmd_knee;pos_knee;pos_hip\n5;1;2;3\n25;1;2;3\n", "l.csv", &m); }),
+            "l.csv:2: column 't_ms': expected the first time to be 0 s, found 0.005 s");
+  EXPECT_EQ(InputErrorOf([&] {
+              ParseMeasuredRun("t_ms;cmd_knee;pos_knee;pos_hip\n0;1;2;3\n20;1;2;3\n30;1;2;3\n", "l.csv", &m);
+            }),
+            "l.csv:4: column 't_ms': expected a uniform step of 0.02 s (that of the first two rows), found 0.01 s "
+            "from 0.02 s to 0.03 s");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun("t_ms;cmd_knee;pos_knee;pos_hip\n", "l.csv", &m); }),
+            "l.csv: no data rows");
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Sets of runs
+
+MeasuredRun RunOf(const std::string& source, const std::string& agent, double step) {
+  MeasuredRun run;
+  run.source = source;
+  run.agent = agent;
+  run.step = step;
+  return run;
+}
+
+TEST(MeasuredRunTest, RunsMustShareAgentAndStep) {
+  EXPECT_NO_THROW(CheckRunsAgree({}));
+  EXPECT_NO_THROW(CheckRunsAgree({RunOf("a.csv", "Humanoid", 0.01), RunOf("b.csv", "Humanoid", 0.01 + 5e-10)}));
+  EXPECT_EQ(InputErrorOf([] {
+              CheckRunsAgree({RunOf("a.csv", "Humanoid", 0.01), RunOf("b.csv", "Pendulum", 0.01)});
+            }),
+            "b.csv: measured run of agent 'Pendulum', but a.csv is of agent 'Humanoid': all measured runs must "
+            "come from one rig");
+  EXPECT_EQ(InputErrorOf([] {
+              CheckRunsAgree({RunOf("a.csv", "P", 0.01), RunOf("b.csv", "P", 0.01), RunOf("c.csv", "P", 0.02)},
+                             "holdout");
+            }),
+            "c.csv: holdout run with a time step of 0.02 s, but a.csv has 0.01 s: all holdout runs must share one "
+            "time step");
+  EXPECT_THAT(InputErrorOf([] { CheckRunsAgree({RunOf("a.csv", "P", 0.01), RunOf("b.csv", "P", 0.01 + 2e-9)}); }),
+              HasSubstr("b.csv: measured run with a time step of"));
+}
+
+TEST(MeasuredRunTest, HoldoutRunsMustNotBeFitRuns) {
+  const TempDir dir;
+  const std::string a = dir.Write("a.csv", PendulumLog("0,0,1,0\n0.01,0,1,1\n"));
+  const std::string b = dir.Write("b.csv", PendulumLog("0,0,1,0\n0.01,0,1,2\n"));
+  const std::string copy_of_a = dir.Write("sub/copy.csv", PendulumLog("0,0,1,0\n0.01,0,1,1\n"));
+  EXPECT_NO_THROW(CheckDisjoint({a}, {b}));
+  EXPECT_NO_THROW(CheckDisjoint({}, {b}));
+  const std::string a_again = (dir.path() / "sub" / ".." / "a.csv").string();
+  EXPECT_EQ(InputErrorOf([&] { CheckDisjoint({b, a}, {a_again}); }),
+            a_again + ": a holdout run is also a fit run: the same file as " + a);
+  EXPECT_EQ(InputErrorOf([&] { CheckDisjoint({b, a}, {copy_of_a}); }),
+            copy_of_a + ": a holdout run is also a fit run: the same contents as " + a);
+  EXPECT_EQ(InputErrorOf([&] { CheckDisjoint({a}, {dir.PathOf("none.csv")}); }),
+            dir.PathOf("none.csv") + ": cannot read the file");
+}
+
+TEST(MeasuredRunTest, HoldoutGivenByARelativePathIsTheSameFile) {
+  const TempDir dir;
+  const std::string a = dir.Write("a.csv", "x");
+  const std::filesystem::path relative = std::filesystem::relative(a);
+  EXPECT_EQ(InputErrorOf([&] { CheckDisjoint({a}, {relative.string()}); }),
+            relative.string() + ": a holdout run is also a fit run: the same file as " + a);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Commands as a keyframe record
+
+TEST(MeasuredRunTest, CommandsAsRecordCarriesRowIsInputsHalfAStepBeforeTheStepThatAppliesThem) {
+  const MeasuredRun run = ParseMeasuredRun(kHumanoidLog + std::string("0.04,12,0.3,0.7,22,-22,0.03,0.8,2\n"), "h.csv");
+  // Rig input order differs from column order.
+  const control::KeyframeRecord record = CommandsAsRecord(run, {"Right/Knee", "Left/Knee"});
+  EXPECT_EQ(record.source, "h.csv");
+  EXPECT_EQ(record.layout, control::KeyframeLayout::kRaw);
+  EXPECT_FALSE(record.layout_detected);
+  EXPECT_EQ(record.motor_count, 2);
+  ASSERT_EQ(record.frames.size(), 2u);  // rows 1 and 2; row 0 is the state after reset
+  EXPECT_EQ(record.frames[0].time_ms, 0.0);  // t0 − step/2 < 0: clamped
+  EXPECT_THAT(record.frames[0].inputs, ElementsAre(21.0, 0.9, -21.0, 0.6));
+  EXPECT_EQ(record.frames[0].line, 3);
+  EXPECT_DOUBLE_EQ(record.frames[1].time_ms, 10.0);  // (0.02 − 0.01) s
+  EXPECT_THAT(record.frames[1].inputs, ElementsAre(22.0, 0.8, -22.0, 0.7));
+  EXPECT_EQ(record.frames[1].line, 4);
+}
+
+TEST(MeasuredRunTest, CommandsAsRecordTakesEffectAtTheStepStartingAtTheRowBefore) {
+  // A step of 1/30 s cannot be written exactly: keyframe i−1 (row i's inputs) must be reached at the start of
+  // the step from t(i−1) to t(i), and not yet at the start of the step before, t(i−2).
+  std::string rows;
+  for (int i = 0; i < 100; ++i) {
+    rows += text::FormatDouble(i / 30.0) + "," + std::to_string(i) + ",1," + std::to_string(-i) + "\n";
+  }
+  const MeasuredRun run = ParseMeasuredRun(PendulumLog(rows), "p.csv");
+  const control::KeyframeRecord record = CommandsAsRecord(run, {"Motor"});
+  ASSERT_EQ(record.frames.size(), 99u);
+  for (size_t i = 1; i < run.time.size(); ++i) {
+    const control::Keyframe& frame = record.frames[i - 1];
+    EXPECT_EQ(frame.inputs.front(), static_cast<double>(i)) << "row " << i;
+    EXPECT_NEAR(frame.time_ms, std::max(0.0, run.time[i - 1] - run.step / 2) * 1000.0, 1e-9) << "row " << i;
+    EXPECT_LE(frame.time_ms, run.time[i - 1] * 1000.0) << "row " << i;
+    if (i >= 2) {
+      EXPECT_GT(frame.time_ms, run.time[i - 2] * 1000.0) << "row " << i;
+    }
+  }
+}
+
+TEST(MeasuredRunTest, CommandsAsRecordNamesTheMissingInputColumn) {
+  const MeasuredRun run = ParseMeasuredRun(kHumanoidLog, "h.csv");
+  EXPECT_EQ(InputErrorOf([&] { CommandsAsRecord(run, {"Right/Knee", "Head/Pan"}); }),
+            "h.csv: no column '/Sim/Humanoid/Head/Pan/DesiredAngle'");
+  MeasuredRun torque_lost = run;
+  torque_lost.desired_torque.erase("Left/Knee");
+  EXPECT_EQ(InputErrorOf([&] { CommandsAsRecord(torque_lost, {"Left/Knee"}); }),
+            "h.csv: no column '/Sim/Humanoid/Left/Knee/DesiredTorque'");
+}
+
+TEST(MeasuredRunTest, MotorColumnJoinsAgentMotorAndQuantity) {
+  EXPECT_EQ(MotorColumn("Humanoid", "Right/Knee", "JointAngle"), "/Sim/Humanoid/Right/Knee/JointAngle");
+}
+
+}  // namespace
+}  // namespace orcs::gap
