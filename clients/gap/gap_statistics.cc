@@ -34,10 +34,23 @@ void CheckLength(const ChannelTrace& trace, const char* what, std::size_t size) 
   }
 }
 
+// Percentiles sort the values, which needs them all to be numbers.
+void CheckFinite(const ChannelTrace& trace, const char* what, const std::vector<double>& values) {
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (!std::isfinite(values[k])) {
+      throw std::invalid_argument("gap statistics: channel " + trace.name + ": " + what + " sample " +
+                                  std::to_string(k) + " is not a finite number");
+    }
+  }
+}
+
 void CheckTrace(const ChannelTrace& trace) {
   CheckLength(trace, "simulated", trace.simulated.size());
   if (!trace.desired.empty()) CheckLength(trace, "desired", trace.desired.size());
   if (!trace.motor_torque.empty()) CheckLength(trace, "motor_torque", trace.motor_torque.size());
+  CheckFinite(trace, "measured", trace.measured);
+  CheckFinite(trace, "simulated", trace.simulated);
+  CheckFinite(trace, "motor_torque", trace.motor_torque);
 }
 
 // The least-squares slope per second of `values` (sampled every `step`) over ±kSlopeHalfWindow samples

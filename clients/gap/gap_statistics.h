@@ -13,8 +13,8 @@
 //                 |v| > 10 deg/s in one direction and the next such stretch in the other direction. When v
 //                 changes sign more than once in between, t_r is the last change, the one after which v keeps
 //                 the new direction, but no earlier than 0.1 s before v last rose through 5 deg/s in the new
-//                 direction: in a pause v's sign is noise (σ_v ≈ 1.8 deg/s at 100 Hz) and may have turned long before the
-//                 joint departs, and the departure is where backlash and sticking show. Crossings are
+//                 direction: in a pause v's sign is noise (σ_v ≈ 1.8 deg/s at 100 Hz) and may have turned long
+//                 before the joint departs, and the departure is where backlash and sticking show. Crossings are
 //                 interpolated linearly between samples. A continuous turn with |a| ≥ 50 deg/s² there (5 deg/s
 //                 within 0.1 s) has t_r at its turning point.
 //   high_load     |τ| ≥ 75th percentile of |τ| and |τ| > 0.05 N·m; no samples when the torque is not known
@@ -57,13 +57,15 @@ struct ChannelStatistics {
   double max_abs = 0.0;              ///< largest |measured − simulated|, degrees
   double bias = 0.0;                 ///< mean of measured − simulated, degrees
   std::vector<RegimeError> regimes;  ///< in the order listed above (kRegimeNames)
-  double best_shift = 0.0;           ///< s; the shift of the simulated trace that minimises the RMS (positive: measured lags)
+  double best_shift = 0.0;           ///< s; the shift of the simulated trace that minimises the RMS
+                                     ///< (positive: measured lags)
   double rms_at_best_shift = 0.0;    ///< RMS over the overlap at best_shift, degrees
 };
 
 /// Per-sample quantities derived from the measured trace, used for regimes and by the residual plots.
 struct SampleQuantities {
-  std::vector<double> velocity;      ///< deg/s, local least-squares slope of `measured` over ±5 samples (clamped at the ends)
+  std::vector<double> velocity;      ///< deg/s, local least-squares slope of `measured` over ±5 samples
+                                     ///< (clamped at the ends)
   std::vector<double> acceleration;  ///< deg/s², slope of `velocity` the same way
 };
 
@@ -78,8 +80,8 @@ inline constexpr std::array<std::string_view, 6> kRegimeNames = {"all",      "at
 SampleQuantities DeriveQuantities(const std::vector<double>& measured, double step);
 
 /// The statistics of one channel sampled every `step` seconds. Throws std::invalid_argument (naming the
-/// channel) when the traces differ in length (desired, unused here, and motor_torque may be empty) or step is
-/// not positive and finite.
+/// channel) when the traces differ in length (desired, unused here, and motor_torque may be empty), when a
+/// measured, simulated or torque sample is not a finite number, or when step is not positive and finite.
 /// An empty channel gives zeros.
 ChannelStatistics AnalyseChannel(const ChannelTrace& trace, double step);
 

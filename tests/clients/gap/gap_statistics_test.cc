@@ -337,6 +337,13 @@ TEST(GapStatisticsTest, RejectsTracesOfDifferentLengthsNamingTheChannel) {
   trace.desired.clear();  // the commands are not needed here
   EXPECT_NO_THROW(AnalyseChannel(trace, kStep));
   EXPECT_THROW(AnalyseChannel(trace, 0.0), std::invalid_argument);
+  trace.measured[1] = std::nan("");
+  try {
+    AnalyseChannel(trace, kStep);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_THAT(error.what(), HasSubstr("Left/Ankle: measured sample 1 is not a finite number"));
+  }
   EXPECT_THROW(GapRms({Trace("Bad", {1.0}, {})}), std::invalid_argument);
 }
 
