@@ -1,0 +1,243 @@
+#!/usr/bin/python3
+"""Plots an orcs-gap report: where simulation and measurement disagree, and whether the named effect fixes it.
+
+    scripts/plot_gap.py REPORT_DIR
+
+Reads REPORT_DIR/report.json and REPORT_DIR/traces/<run>.<motor, / as _>.csv (written by orcs-gap) and writes
+  REPORT_DIR/plots/worst_channels.png      one panel per worst channel (up to 4), its first run's trace (runs
+                                           sorted by name): measured (thin grey) against the initial model
+                                           (before), the base parameters refitted (refit) and the model with
+                                           the winning effect (after); the RMS before and after in the title
+                                           ("after" is the refit when no effect won)
+  REPORT_DIR/plots/residual_vs_<Q>.png     measured − refit and measured − after against the verdict's quantity
+                                           Q, pooled over all runs of the worst channels, with the mean in bins:
+                                           the effect's signature should be in the first and gone from the
+                                           second. Without a winning effect Q is speed.
+Exits 2 with a one-line message naming the file when report.json or a trace is missing or malformed.
+Debian's python3-matplotlib; runs headless.
+"""
+import argparse
+import csv
+import glob
+import json
+import math
+import os
+import sys
+import textwrap
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402 (after choosing the headless backend)
+
+MAX_PANELS = 4
+COLUMNS = ["time", "measured", "before", "refit", "after", "desired", "velocity", "speed", "acceleration", "load",
+           "command_error"]
+REQUIRED = ["time", "measured", "before", "refit"]  # never empty; the other columns may have empty cells
+QUANTITIES = {  # verdict quantity → axis label
+    "velocity": "velocity (deg/s)",
+    "speed": "speed (deg/s)",
+    "load": "load (N·m)",
+    "acceleration": "acceleration (deg/s²)",
+    "command_error": "command error: desired − measured (deg)",
+    "time": "time (s)",
+}
+BINS = 24
+
+
+def fail(message):
+    print(f"plot_gap.py: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def read_report(path):
+    """Returns (rig, effect or None, quantity, verdict text, worst channel names); exits 2 naming the file on
+    bad input."""
+    try:
+        with open(path) as handle:
+            report = json.load(handle)
+    except OSError as error:
+        fail(f"{path}: {error.strerror}")
+    except json.JSONDecodeError as error:
+        fail(f"{path}:{error.lineno}: not valid JSON: {error.msg}")
+    if not isinstance(report, dict):
+        fail(f"{path}: expected a JSON object")
+    verdict = report.get("verdict")
+    if not isinstance(verdict, dict):
+        fail(f"{path}: expected an object \"verdict\"")
+    effect = verdict.get("effect")
+    if effect is not None and not isinstance(effect, str):
+        fail(f"{path}: verdict.effect: expected a string or null")
+    quantity = verdict.get("quantity") if effect is not None else "speed"
+    if quantity not in QUANTITIES:
+        fail(f"{path}: verdict.quantity: expected one of {', '.join(QUANTITIES)}, found {quantity!r}")
+    worst = report.get("worst_channels")
+    if not isinstance(worst, list) or not worst or not all(isinstance(name, str) for name in worst):
+        fail(f"{path}: expected \"worst_channels\", a non-empty list of motor names")
+    rig = report.get("rig", "")
+    text = verdict.get("text") or ""
+    return (rig if isinstance(rig, str) else str(rig)), effect, quantity, str(text), worst
+
+
+def number(text, path, line, column):
+    if text == "":
+        if column in REQUIRED:
+            fail(f"{path}:{line}: column {column} is empty")
+        return math.nan
+    try:
+        value = float(text)
+    except ValueError:
+        fail(f"{path}:{line}: column {column}: expected a number, found {text!r}")
+    return value
+
+
+def read_trace(path):
+    """Returns {column: list of floats} (NaN for an empty cell); exits 2 naming the file and line on bad input."""
+    try:
+        with open(path, newline="") as handle:
+            reader = csv.reader(handle)
+            header = next(reader, None)
+            if header != COLUMNS:
+                fail(f"{path}:1: expected the header {','.join(COLUMNS)}")
+            trace = {column: [] for column in COLUMNS}
+            for line, fields in enumerate(reader, start=2):
+                if len(fields) != len(COLUMNS):
+                    fail(f"{path}:{line}: expected {len(COLUMNS)} fields, found {len(fields)}")
+                for column, text in zip(COLUMNS, fields):
+                    trace[column].append(number(text, path, line, column))
+    except OSError as error:
+        fail(f"{path}: {error.strerror}")
+    if not trace["time"]:
+        fail(f"{path}: no samples")
+    return trace
+
+
+def trace_files(folder, motor):
+    """The trace files of `motor`, sorted by run; exits 2 naming the expected files when there are none."""
+    suffix = f".{motor.replace('/', '_')}.csv"
+    pattern = os.path.join(folder, "traces", "*" + suffix)
+    files = sorted(glob.glob(os.path.join(glob.escape(os.path.join(folder, "traces")), "*" + glob.escape(suffix))))
+    if not files:
+        fail(f"{pattern}: no trace of worst channel {motor}")
+    return files
+
+
+def run_of(path, motor):
+    return os.path.basename(path)[: -len(f".{motor.replace('/', '_')}.csv")]
+
+
+def rms(measured, model):
+    errors = [(m - s) ** 2 for m, s in zip(measured, model) if not math.isnan(s)]
+    return math.sqrt(sum(errors) / len(errors)) if errors else math.nan
+
+
+def has_after(trace):
+    return any(not math.isnan(value) for value in trace["after"])
+
+
+def save(figure, out):
+    """Writes the figure to a temporary name and renames it, so that a half-written PNG never looks finished."""
+    temporary = f"{out}.tmp.{os.getpid()}"
+    figure.savefig(temporary, dpi=110, format="png")
+    plt.close(figure)
+    os.replace(temporary, out)
+
+
+def plot_worst_channels(channels, effect, out):
+    """channels: [(motor, run, trace)], one panel each."""
+    figure, axes = plt.subplots(len(channels), 1, figsize=(9, 2.8 * len(channels)), squeeze=False)
+    for axis, (motor, run, trace) in zip(axes[:, 0], channels):
+        time = trace["time"]
+        final = "after" if has_after(trace) else "refit"
+        axis.plot(time, trace["measured"], color="0.45", linewidth=0.6, label="measured", zorder=3)
+        axis.plot(time, trace["before"], color="C0", linewidth=1.0, linestyle="--", label="before (initial model)")
+        refit_label = "refit (base parameters)" if final == "after" else "refit (base parameters; no effect won)"
+        axis.plot(time, trace["refit"], color="C1", linewidth=1.0, label=refit_label)
+        if final == "after":
+            axis.plot(time, trace["after"], color="C3", linewidth=1.0, label=f"after (with {effect})")
+        axis.set_title(f"{motor}: RMS before {rms(trace['measured'], trace['before']):.2f}°, "
+                       f"after {rms(trace['measured'], trace[final]):.2f}°", fontsize="medium")
+        axis.set_xlabel(f"time (s), run {run}")
+        axis.set_ylabel("joint angle (deg)")
+        axis.grid(True, alpha=0.3)
+    axes[0, 0].legend(fontsize="small", loc="best")
+    figure.tight_layout()
+    save(figure, out)
+
+
+def binned_means(xs, ys):
+    """Mean of ys in BINS equal bins of xs (bins without points left out), for a line through a scatter."""
+    points = [(x, y) for x, y in zip(xs, ys) if not (math.isnan(x) or math.isnan(y))]
+    if len(points) < 2:
+        return [], []
+    low, high = min(x for x, _ in points), max(x for x, _ in points)
+    if high <= low:
+        return [], []
+    sums, counts = [0.0] * BINS, [0] * BINS
+    for x, y in points:
+        b = min(BINS - 1, int((x - low) / (high - low) * BINS))
+        sums[b] += y
+        counts[b] += 1
+    centres = [low + (b + 0.5) * (high - low) / BINS for b in range(BINS) if counts[b]]
+    return centres, [sums[b] / counts[b] for b in range(BINS) if counts[b]]
+
+
+def residuals(traces, model, quantity):
+    xs, ys = [], []
+    for trace in traces:
+        for x, m, s in zip(trace[quantity], trace["measured"], trace[model]):
+            if not (math.isnan(x) or math.isnan(s)):
+                xs.append(x)
+                ys.append(m - s)
+    return xs, ys
+
+
+def plot_residuals(traces, rig, effect, quantity, text, out):
+    figure, axis = plt.subplots(figsize=(8, 4.8))
+    series = [("refit", "C1", "measured − refit (base parameters)")]
+    if effect is not None and any(has_after(trace) for trace in traces):
+        series.append(("after", "C3", f"measured − after (with {effect})"))
+    for model, color, label in series:
+        xs, ys = residuals(traces, model, quantity)
+        axis.scatter(xs, ys, s=3, alpha=0.25, color=color, linewidths=0, rasterized=True)
+        centres, means = binned_means(xs, ys)
+        axis.plot(centres, means, color=color, linewidth=2.0, label=f"{label}, mean in bins")
+    axis.axhline(0.0, color="0.3", linewidth=0.8)
+    axis.set_xlabel(QUANTITIES[quantity])
+    axis.set_ylabel("residual (deg)")
+    axis.grid(True, alpha=0.3)
+    axis.legend(fontsize="small", loc="best")
+    place = f"{rig}: " if rig else ""
+    if effect is None:
+        figure.suptitle(f"{place}no missing effect found; residual against speed")
+    else:
+        figure.suptitle(f"{place}missing effect {effect}; residual against {quantity}")
+    if text:
+        axis.set_title("\n".join(textwrap.wrap(text, 110)), fontsize="small")
+    figure.tight_layout()
+    save(figure, out)
+
+
+def main():
+    parser = argparse.ArgumentParser(description="Plot an orcs-gap report (REPORT_DIR/report.json, traces/).")
+    parser.add_argument("folder", help="the report folder orcs-gap wrote")
+    arguments = parser.parse_args()
+    rig, effect, quantity, text, worst = read_report(os.path.join(arguments.folder, "report.json"))
+    panels, pooled = [], []
+    for motor in worst:
+        files = trace_files(arguments.folder, motor)
+        traces = [read_trace(path) for path in files]
+        if len(panels) < MAX_PANELS:
+            panels.append((motor, run_of(files[0], motor), traces[0]))
+        pooled.extend(traces)
+    plots = os.path.join(arguments.folder, "plots")
+    os.makedirs(plots, exist_ok=True)
+    worst_png = os.path.join(plots, "worst_channels.png")
+    residual_png = os.path.join(plots, f"residual_vs_{quantity}.png")
+    plot_worst_channels(panels, effect, worst_png)
+    plot_residuals(pooled, rig, effect, quantity, text, residual_png)
+    print(f"plot_gap.py: wrote {worst_png} and {residual_png}")
+
+
+if __name__ == "__main__":
+    main()
