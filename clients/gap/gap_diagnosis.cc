@@ -90,8 +90,14 @@ GapSnapshot Snapshot(JobRunner& runner, const std::vector<ReplayRun>& fit, const
   snapshot.fit_rms = Rms(MeanSquaredError(runner, fit, model));
   snapshot.holdout_rms = Rms(MeanSquaredError(runner, holdout, model));
   snapshot.traces = Traces(runner, Concatenate(fit, holdout), model);
-  std::vector<ChannelTrace> all;
-  for (const auto& run : snapshot.traces) all.insert(all.end(), run.begin(), run.end());
+  std::vector<ChannelTrace> all;  // a replay that failed (unstable physics) has no trace to analyse
+  for (const auto& run : snapshot.traces) {
+    for (const ChannelTrace& trace : run) {
+      if (std::all_of(trace.simulated.begin(), trace.simulated.end(), [](double v) { return std::isfinite(v); })) {
+        all.push_back(trace);
+      }
+    }
+  }
   snapshot.channels = AnalyseChannels(all, step);
   return snapshot;
 }

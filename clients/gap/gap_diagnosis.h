@@ -15,7 +15,7 @@
 namespace orcs::gap {
 
 struct DiagnosisOptions {
-  FitOptions fit;                        ///< CMA-ES budget and seed of every fit
+  FitOptions fit;                        ///< optimiser budget and seed of every fit
   std::vector<std::string> candidates;   ///< effect names to try; empty = the whole catalogue
   double penalty_per_parameter = 0.05;   ///< the score grows by this share per parameter an effect adds
   double win_ratio = 0.5;                ///< a winner's score must be below this share of "nothing missing"'s

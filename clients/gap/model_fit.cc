@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <pagmo/algorithm.hpp>
-#include <pagmo/algorithms/cmaes.hpp>
+#include <pagmo/algorithms/compass_search.hpp>
+#include <pagmo/algorithms/pso_gen.hpp>
 #include <pagmo/batch_evaluators/member_bfe.hpp>
 #include <pagmo/bfe.hpp>
 #include <pagmo/population.hpp>
@@ -57,18 +58,10 @@ struct ReplayProblem {
   std::string get_name() const { return "orcs-gap replay fit"; }
 };
 
-std::string Convergence(const pagmo::population& population, bool* converged) {
-  const auto best = population.best_idx();
-  const pagmo::vector_double& champion = population.get_x()[best];
-  double spread = 0.0;
-  for (const pagmo::vector_double& x : population.get_x()) {
-    for (std::size_t i = 0; i < x.size(); ++i) spread = std::max(spread, std::abs(x[i] - champion[i]));
-  }
-  *converged = spread < kConvergedSpread;
-  return std::string(*converged ? "converged" : "did not converge") + ": the final population spans " +
-         text::FormatDouble(std::round(spread * 1000.0) / 10.0) + " % of the search range (converged below " +
-         text::FormatDouble(kConvergedSpread * 100.0) + " %)";
-}
+// The polish stops when its step has shrunk below kPolishStop of the (normalised) range, or after its budget.
+constexpr double kPolishStart = 0.05;
+constexpr double kPolishStop = 0.002;
+constexpr unsigned kPolishBudgetPerDimension = 40;
 
 }  // namespace
 
@@ -114,7 +107,7 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   const auto dimension = static_cast<double>(parameters.size());
   const int size = options.population > 0
                        ? options.population
-                       : std::max(8, 4 + static_cast<int>(std::floor(3.0 * std::log(dimension))));
+                       : std::max(16, 8 + static_cast<int>(std::floor(6.0 * std::log(dimension))));
   pagmo::problem problem{ReplayProblem{&objective, &parameters}};
   const pagmo::bfe batch{pagmo::member_bfe{}};
   pagmo::population population(problem, batch, static_cast<pagmo::population::size_type>(size), options.seed);
@@ -123,17 +116,33 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   for (const FitParameter& p : parameters) start.push_back(ToUnit(p, p.start));
   population.set_x(population.worst_idx(), start);
 
-  pagmo::cmaes cmaes(static_cast<unsigned>(options.generations), -1, -1, -1, -1, 0.3, 1e-10, 1e-4, false, true,
-                     options.seed);
-  cmaes.set_bfe(batch);
-  population = pagmo::algorithm{cmaes}.evolve(population);
+  // 1. Global: pagmo 2.18's CMA-ES evaluates one point at a time; its generational particle swarm takes a batch
+  // evaluator, so a whole generation goes to the broker at once (docs/gap.md, "How a fit works").
+  pagmo::pso_gen swarm(static_cast<unsigned>(options.generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, false,
+                       options.seed);
+  swarm.set_bfe(batch);
+  population = pagmo::algorithm{swarm}.evolve(population);
+  const auto swarm_evaluations = population.get_problem().get_fevals();
+
+  // 2. Local: a compass search from the swarm's best point until its step is small — the convergence test.
+  pagmo::population polish(problem, 0u, options.seed);
+  polish.push_back(population.champion_x(), population.champion_f());
+  const unsigned budget = kPolishBudgetPerDimension * static_cast<unsigned>(parameters.size());
+  polish = pagmo::algorithm{pagmo::compass_search(budget, kPolishStart, kPolishStop, 0.5)}.evolve(polish);
+  const auto polish_evaluations = polish.get_problem().get_fevals();
 
   FitOutcome outcome;
-  outcome.values = Values(parameters, population.champion_x().data());  // the best point ever evaluated
-  outcome.mse = population.champion_f()[0];
-  outcome.evaluations = static_cast<int>(population.get_problem().get_fevals());
+  outcome.values = Values(parameters, polish.champion_x().data());
+  outcome.mse = polish.champion_f()[0];
+  outcome.evaluations = static_cast<int>(swarm_evaluations + polish_evaluations);
   outcome.generations = options.generations;
-  outcome.convergence = Convergence(population, &outcome.converged);
+  outcome.converged = polish_evaluations < budget;
+  outcome.convergence =
+      outcome.converged
+          ? "converged: the local search's step fell below " + text::FormatDouble(kPolishStop * 100.0) +
+                " % of every parameter's range after " + std::to_string(polish_evaluations) + " evaluations"
+          : "did not converge: the local search used its whole budget of " + std::to_string(budget) +
+                " evaluations with its step still above " + text::FormatDouble(kPolishStop * 100.0) + " % of the range";
   return outcome;
 }
 

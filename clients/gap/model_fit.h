@@ -1,5 +1,5 @@
 // Fitting model parameters to measured runs with the simulation in the loop (docs/gap.md, "How a fit works"):
-// pagmo2's CMA-ES searches a box in normalised coordinates (log-scaled where a parameter is a positive scale),
+// pagmo2's generational particle swarm (pso_gen) searches a box in normalised coordinates (log-scaled where a parameter is a positive scale),
 // and every generation's population is one batch of replay jobs through the broker, so a fit scales from two
 // cores to a cluster. The objective is the mean squared joint-angle error over all fit runs and channels.
 #pragma once
@@ -41,9 +41,9 @@ class ReplayObjective {
 };
 
 struct FitOptions {
-  int generations = 40;   ///< CMA-ES generation budget
-  int population = 0;     ///< per generation; ≤ 0 = max(8, 4 + 3·ln(dimension))
-  unsigned seed = 1;      ///< CMA-ES's own generator: the same inputs give the same fit
+  int generations = 40;   ///< generation budget
+  int population = 0;     ///< particles per generation; ≤ 0 = max(16, 8 + 6·ln(dimension))
+  unsigned seed = 1;      ///< the optimiser's own generator: the same inputs give the same fit
 };
 
 struct FitOutcome {

@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
                              ->check(CLI::Range(1, 4096));
   app.add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")->excludes(workers);
   app.add_option("--out", o.out, "output folder (default gap-report)");
-  app.add_option("--generations", o.generations, "CMA-ES generations per fit (default 40)")->check(CLI::Range(1, 10000));
+  app.add_option("--generations", o.generations, "optimiser generations per fit (default 40)")->check(CLI::Range(1, 10000));
   app.add_option("--seed", o.seed, "seed of the fits (default 1)");
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");
