@@ -31,8 +31,8 @@ constexpr const char* kPendulumLog =
     "/Sim/Pendulum/Motor/JointAngle\n"
     "0,0,0.586810005,0\n"
     "0.01,0,1,-0.0501782495117635\n"
-    "0.02,30,1,-0.1\n"
-    "0.03,30,0.5,2.25\n";
+    "0.02,0,1,0.19046842437259234\n"
+    "0.03,0,1,-0.2494817702416845\n";
 
 // An A-Series style log: motor names with a slash, columns the gap does not need (an accelerometer, a
 // MotorTorque), a motor that is measured but not commanded.
@@ -43,6 +43,34 @@ constexpr const char* kHumanoidLog =
     "/Sim/Humanoid/Right/Knee/DesiredTorque,/Sim/Humanoid/Head/Pan/JointAngle\n"
     "0,10,0.1,0.5,20,-20,0.01,1,0\n"
     "0.02,11,0.2,0.6,21,-21,0.02,0.9,1\n";
+
+// The head of a real A-Series log, verbatim: orcs-sim -env scenarios/environments/leg_swing.xml -play Humanoid
+// scenarios/motions/leg_swing.csv --duration 1 --log '.*Knee/(JointAngle|DesiredAngle|DesiredTorque|MotorTorque)'
+// --log '.*Accel.*'. Columns outside /Sim/ and the accelerometers are not motor columns.
+constexpr const char* kLegSwingLog =
+    "# orcs-sim log\n"
+    "# environment: scenarios/environments/leg_swing.xml\n"
+    "# seed: 0\n"
+    "# duration: 1 s\n"
+    "# columns: time,/AccelSensor/Deviation,/AccelSensor/LowPassFilterDelay,/Sim/Humanoid/Right/Knee/DesiredAngle,"
+    "/Sim/Humanoid/Right/Knee/DesiredTorque,/Sim/Humanoid/Right/Knee/JointAngle,/Sim/Humanoid/Left/Knee/DesiredAngle,"
+    "/Sim/Humanoid/Left/Knee/DesiredTorque,/Sim/Humanoid/Left/Knee/JointAngle,/Sim/Humanoid/ABFR/AccelAxis1,"
+    "/Sim/Humanoid/ABFR/AccelAxis2,/Sim/Humanoid/ABHR/AccelAxis1,/Sim/Humanoid/ABHR/AccelAxis2,"
+    "/Sim/Humanoid/ABSR/AccelAxis1,/Sim/Humanoid/ABSR/AccelAxis2,/Sim/Humanoid/ABAR/AccelAxis1,"
+    "/Sim/Humanoid/ABAR/AccelAxis2,/Sim/Humanoid/ABFL/AccelAxis1,/Sim/Humanoid/ABFL/AccelAxis2,"
+    "/Sim/Humanoid/ABHL/AccelAxis1,/Sim/Humanoid/ABHL/AccelAxis2,/Sim/Humanoid/ABML/AccelAxis1,"
+    "/Sim/Humanoid/ABML/AccelAxis2,/Sim/Humanoid/ABAL/AccelAxis1,/Sim/Humanoid/ABAL/AccelAxis2\n"
+    "0,1e-04,1,0,0.586810005,0,0,0.586810005,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\n"
+    "0.01,1e-04,1,0,0.586810005,-0.04234062062728432,0,0.586810005,-0.11111562949530618,5.38851931019267e-05,"
+    "0.00015823772363317826,-0.0001361116077602894,-9.758184564936364,0.00012807564569128997,-0.000294467916690887,"
+    "-9.782136121053881,-0.00012173540305691755,-0.0001826177995112266,-0.00027811498081127995,"
+    "-0.00020262091516643618,9.758222297313974,-5.214766564992624e-05,4.3559242703838026e-05,-9.782175976994342,"
+    "0.00011131378459733817\n"
+    "0.02,1e-04,1,0,0.586810005,0.10842987221484288,0,0.586810005,0.38332307892833933,1.219058910918743e-05,"
+    "-0.00023561656153985044,-9.466534622620511e-05,-9.820106662529899,0.00013383280335860104,"
+    "4.8728143655821334e-05,-9.815495861593057,-0.00015246263828017727,-4.48116332095356e-05,"
+    "-7.121276487632476e-05,-0.00016052736559768363,9.820023924608963,0.00022877648114658913,"
+    "1.3837235577777942e-05,-9.815409456801278,9.193822113407012e-05\n";
 
 // A run written by hand: `rows` as given after a native header of one pendulum motor.
 std::string PendulumLog(const std::string& rows) {
@@ -59,10 +87,23 @@ TEST(MeasuredRunTest, ParsesNativePendulumLog) {
   EXPECT_THAT(run.commanded, ElementsAre("Motor"));
   EXPECT_THAT(run.time, ElementsAre(0.0, 0.01, 0.02, 0.03));
   EXPECT_DOUBLE_EQ(run.step, 0.01);
-  EXPECT_THAT(run.desired_angle.at("Motor"), ElementsAre(0.0, 0.0, 30.0, 30.0));
-  EXPECT_THAT(run.desired_torque.at("Motor"), ElementsAre(0.586810005, 1.0, 1.0, 0.5));
-  EXPECT_THAT(run.joint_angle.at("Motor"), ElementsAre(0.0, -0.0501782495117635, -0.1, 2.25));
+  EXPECT_THAT(run.desired_angle.at("Motor"), ElementsAre(0.0, 0.0, 0.0, 0.0));
+  EXPECT_THAT(run.desired_torque.at("Motor"), ElementsAre(0.586810005, 1.0, 1.0, 1.0));
+  EXPECT_THAT(run.joint_angle.at("Motor"),
+              ElementsAre(0.0, -0.0501782495117635, 0.19046842437259234, -0.2494817702416845));
   EXPECT_THAT(run.lines, ElementsAre(5, 6, 7, 8));
+}
+
+TEST(MeasuredRunTest, ParsesARealASeriesLog) {
+  const MeasuredRun run = ParseMeasuredRun(kLegSwingLog, "leg_swing.csv");
+  EXPECT_EQ(run.agent, "Humanoid");
+  EXPECT_THAT(run.motors, ElementsAre("Right/Knee", "Left/Knee"));
+  EXPECT_THAT(run.commanded, ElementsAre("Right/Knee", "Left/Knee"));
+  EXPECT_EQ(run.joint_angle.size(), 2u);
+  EXPECT_DOUBLE_EQ(run.step, 0.01);
+  EXPECT_THAT(run.joint_angle.at("Left/Knee"), ElementsAre(0.0, -0.11111562949530618, 0.38332307892833933));
+  EXPECT_THAT(run.desired_torque.at("Right/Knee"), ElementsAre(0.586810005, 0.586810005, 0.586810005));
+  EXPECT_THAT(run.lines, ElementsAre(6, 7, 8));
 }
 
 TEST(MeasuredRunTest, ParsesASeriesMotorNamesWithSlashAndIgnoresOtherColumns) {
@@ -100,7 +141,7 @@ TEST(MeasuredRunTest, ReadsAFileAndNamesAnUnreadableOne) {
   const TempDir dir;
   const std::string path = dir.Write("p.csv", kPendulumLog);
   EXPECT_EQ(ReadMeasuredRun(path).source, path);
-  EXPECT_THAT(ReadMeasuredRun(path).joint_angle.at("Motor"), ElementsAre(0.0, -0.0501782495117635, -0.1, 2.25));
+  EXPECT_EQ(ReadMeasuredRun(path).joint_angle.at("Motor").at(3), -0.2494817702416845);
   const std::string missing = dir.PathOf("missing.csv");
   EXPECT_EQ(InputErrorOf([&] { ReadMeasuredRun(missing); }), missing + ": cannot read the file");
 }
@@ -354,6 +395,38 @@ TEST(MeasuredRunTest, MappingRulesBeyondTypes) {
                           {"column": "a"}}]})");
             }),
             "m.json: field 'agent' expected an agent name without '/', found 'A/B'");
+}
+
+TEST(MeasuredRunTest, TheDocsColumnMappingExampleReads) {
+  // docs/gap_measured_data.md, "Column mapping", verbatim.
+  const std::string csv =
+      "# exported by the robot's logger\n"
+      "t_ms;cmd_knee;pos_knee;cmd_hip;pos_hip;battery\n"
+      "0;512;512;512;509;12.1\n"
+      "20;530;514;512;510;12.1\n"
+      "40;548;519;512;510;12.0\n";
+  const ColumnMapping m = Mapping(R"({
+  "comment": "logger v2 export; ticks → degrees",
+  "agent": "Humanoid",
+  "delimiter": ";",
+  "time": {"column": "t_ms", "scale": 0.001},
+  "channels": [
+    {"motor": "Right/Knee",
+     "desired_angle": {"column": "cmd_knee", "scale": 0.29296875, "offset": -150},
+     "desired_torque": {"constant": 1},
+     "joint_angle": {"column": "pos_knee", "scale": 0.29296875, "offset": -150}},
+    {"motor": "Right/Hip",
+     "desired_angle": {"column": "cmd_hip", "scale": 0.29296875, "offset": -150},
+     "desired_torque": {"constant": 1},
+     "joint_angle": {"column": "pos_hip", "scale": 0.29296875, "offset": -150}}
+  ]
+})");
+  const MeasuredRun run = ParseMeasuredRun(csv, "logger.csv", &m);
+  EXPECT_THAT(run.motors, ElementsAre("Right/Knee", "Right/Hip"));
+  EXPECT_THAT(run.commanded, ElementsAre("Right/Knee", "Right/Hip"));
+  EXPECT_DOUBLE_EQ(run.step, 0.02);
+  EXPECT_THAT(run.desired_angle.at("Right/Knee"), ElementsAre(0.0, 18 * 0.29296875, 36 * 0.29296875));
+  EXPECT_THAT(run.joint_angle.at("Right/Hip"), ElementsAre(-3 * 0.29296875, -2 * 0.29296875, -2 * 0.29296875));
 }
 
 TEST(MeasuredRunTest, MappedColumnMissingFromTheHeaderNamesBothFiles) {
