@@ -58,7 +58,8 @@ void ApplyElasticity(const MotorEffects& effects, MotorEffectState& state, const
 }
 
 // The gear side moves at the commanded velocity inside the gap; only when it touches a wall does the motor act
-// on the output (and its friction with it).
+// on the output. The joint's friction brake stays: the output's bearings rub whether or not the gear touches, and
+// without it a pole would rattle freely inside the gap.
 void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const JointReading& joint, double dt,
                    double gear_velocity, EffectCommand& command) {
   const double half = 0.5 * std::max(effects.backlash_width, 0.0);
@@ -67,10 +68,7 @@ void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const J
   const double gear = state.gear_angle + gear_velocity * dt;
   state.engaged = gear >= upper - kWallTolerance || gear <= lower + kWallTolerance;
   state.gear_angle = std::clamp(gear, lower, upper);
-  if (!state.engaged) {
-    command.motor.max_torque = 0.0;
-    command.motor.friction_torque = 0.0;
-  }
+  if (!state.engaged) command.motor.max_torque = 0.0;
 }
 
 }  // namespace

@@ -1,0 +1,95 @@
+// orcs-gap end to end (issue 6, "Done when"): pendulum runs made by `orcs-gap synth` with one hidden effect (and
+// the spec's angle noise, σ 0.189°) are diagnosed by orcs-gap with its embedded broker and two real orcs-worker
+// processes, choosing among the whole catalogue. The test reads report.json: the hidden effect must be named and
+// the held-out gap must fall by at least half. Mistuned base parameters alone must give "no missing effect", and
+// two hidden effects at once must name the stronger one. Each diagnosis fits every candidate (about 6,000 replay
+// jobs, ~20 s on 2 cores). Five effects are named reliably on this rig; Stribeck friction, load-dependent friction
+// and backlash are not yet (docs/gap.md, "What it cannot tell yet"), so they are not claimed here.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "tests/support/process.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs {
+namespace {
+
+using test_support::RunProcess;
+
+const std::string kGap = ORCS_BINARY_DIR "/bin/orcs-gap";
+const std::string kMotions = ORCS_SOURCE_DIR "/scenarios/motions/";
+
+struct HiddenCase {
+  const char* name;                  // test name
+  std::vector<std::string> hidden;   // synth arguments: --effect NAME --set PATH=VALUE ...
+  const char* expected;              // the effect orcs-gap must name; "" = none
+};
+
+class GapDiagnosisTest : public ::testing::TestWithParam<HiddenCase> {
+ protected:
+  // Synthesises the two identification runs, diagnoses A with B held out, and returns report.json.
+  nlohmann::json Diagnose(const std::vector<std::string>& hidden) {
+    const std::string data = dir_.PathOf("data");
+    std::vector<std::string> synth = {kGap, "synth", "--rig", "pendulum", "--motion",
+                                      kMotions + "pendulum_identification_a.csv",
+                                      kMotions + "pendulum_identification_b.csv", "--out", data};
+    synth.insert(synth.end(), hidden.begin(), hidden.end());
+    const auto made = RunProcess(synth);
+    EXPECT_EQ(made.exit_code, 0) << made.err;
+    const std::string report = dir_.PathOf("report");
+    const auto diagnosed = RunProcess({kGap, "--rig", "pendulum", "--measured", data + "/pendulum_identification_a.csv",
+                                       "--holdout", data + "/pendulum_identification_b.csv", "--workers", "2", "--out",
+                                       report});
+    EXPECT_EQ(diagnosed.exit_code, 0) << diagnosed.err;
+    std::ifstream in(report + "/report.json");
+    return nlohmann::json::parse(in);
+  }
+
+  test_support::TempDir dir_;
+};
+
+TEST_P(GapDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
+  const HiddenCase& c = GetParam();
+  const nlohmann::json report = Diagnose(c.hidden);
+  const nlohmann::json& verdict = report.at("verdict");
+  if (std::string(c.expected).empty()) {
+    EXPECT_TRUE(verdict.at("effect").is_null()) << verdict.at("text");
+    // The refit alone closes the gap of a mistuned model to the noise (σ 0.189°).
+    EXPECT_LT(verdict.at("holdout_rms_refit").get<double>(), 0.3) << verdict.at("text");
+    return;
+  }
+  ASSERT_FALSE(verdict.at("effect").is_null()) << verdict.at("text");
+  EXPECT_EQ(verdict.at("effect").get<std::string>(), c.expected) << verdict.at("text");
+  const double before = verdict.at("holdout_rms_before").get<double>();
+  const double after = verdict.at("holdout_rms_after").get<double>();
+  EXPECT_LE(after, 0.5 * before) << verdict.at("text");
+  // The fitted model switches the effect on, and the report lists every candidate with its fitted values.
+  EXPECT_EQ(report.at("model").at("/Effects/" + std::string(c.expected) + "/Enabled"), "T");
+  EXPECT_EQ(report.at("candidates").size(), 8u);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    HiddenEffects, GapDiagnosisTest,
+    ::testing::Values(
+        HiddenCase{"TransportDelay", {"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04"},
+                   "TransportDelay"},
+        HiddenCase{"DeadBand", {"--effect", "DeadBand", "--set", "/Effects/DeadBand/Margin=0.03"}, "DeadBand"},
+        HiddenCase{"BackEmf", {"--effect", "BackEmf", "--set", "/Effects/BackEmf/NoLoadSpeed=5"}, "BackEmf"},
+        HiddenCase{"Elasticity", {"--effect", "Elasticity", "--set", "/Effects/Elasticity/Stiffness=5"}, "Elasticity"},
+        HiddenCase{"RotorInertia", {"--effect", "RotorInertia", "--set", "/Effects/RotorInertia/Inertia=0.01"},
+                   "RotorInertia"},
+        HiddenCase{"MistunedBaseOnly",
+                   {"--set", "/AngularMotor/PID/Proportional=14", "--set", "/AngularMotor/FMaxFactor=0.9"},
+                   ""},
+        HiddenCase{"TwoEffectsNameTheStronger",
+                   {"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04", "--effect", "DeadBand",
+                    "--set", "/Effects/DeadBand/Margin=0.01"},
+                   "TransportDelay"}),
+    [](const ::testing::TestParamInfo<HiddenCase>& param) { return std::string(param.param.name); });
+
+}  // namespace
+}  // namespace orcs
