@@ -44,14 +44,19 @@ double DeadBandTarget(double angle_rad, double desired_deg, double margin) {
 }
 
 // The motor side winds the spring at the controller's velocity, never further than its torque limit can hold;
-// the compliant motor row then makes the spring implicit (PhysicsWorld::SetJointMotorCompliance).
+// the compliant motor row then makes the spring implicit (PhysicsWorld::SetJointMotorCompliance). The limit
+// applies to the wind-up the output has left after the last step (where the motor side stalled if the spring's
+// torque reached the limit); within this step the motor row's torque limit caps the spring. Clamping after this
+// step's wind-up instead, around the output's angle before the step, would let the output gain at most
+// max_torque/(stiffness·dt) rad/s per step: a stiff gear train would freeze the joint rather than become the
+// stiff motor.
 void ApplyElasticity(const MotorEffects& effects, MotorEffectState& state, const JointReading& joint, double dt,
                      EffectCommand& command) {
   const double stiffness = std::max(effects.stiffness, 1e-9);
   const double damping = std::max(effects.damping, 0.0);
   const double velocity = command.motor.velocity;
   const double reach = command.motor.max_torque / stiffness;
-  state.spring_angle = std::clamp(state.spring_angle + velocity * dt, joint.angle - reach, joint.angle + reach);
+  state.spring_angle = std::clamp(state.spring_angle, joint.angle - reach, joint.angle + reach) + velocity * dt;
   const double compliance = 1.0 / (stiffness * dt + damping);
   command.motor.velocity = compliance * (stiffness * (state.spring_angle - joint.angle) + damping * velocity);
   command.compliance = compliance;
