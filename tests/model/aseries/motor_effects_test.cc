@@ -242,7 +242,8 @@ TEST(MotorEffectsTest, TransportDelayShiftsTheStepResponseByTheDelay) {
   // pole does not move at all, then it follows the undelayed response exactly, 5 steps late (the motor sees the
   // same commands in the same state; measured bit-identical).
   const std::vector<double> base = StepResponse({}, 2.0, 40);
-  const std::vector<double> late = StepResponse(Effect("TransportDelay", {{"/Effects/TransportDelay/Delay", "0.05"}}), 2.0, 40);
+  const std::vector<double> late =
+      StepResponse(Effect("TransportDelay", {{"/Effects/TransportDelay/Delay", "0.05"}}), 2.0, 40);
   ASSERT_EQ(late.size(), 40u);
   EXPECT_GT(base[0], 0.1);  // without delay the pole moves in the first step (0.40°)
   for (int i = 0; i < 5; ++i) EXPECT_LT(std::abs(late[i]), 1e-9) << "step " << i;
@@ -462,6 +463,189 @@ TEST(MotorEffectsTest, LoadFrictionHoldsAPoleThatTheWeakenedMotorAloneWouldLetSa
   };
   EXPECT_LT(sag({}), 57.5);
   EXPECT_GT(sag(Effect("LoadFriction", {{"/Effects/LoadFriction/Coefficient", "0.3"}})), 59.9);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Backlash
+
+TEST(MotorEffectsTest, BacklashOpenGapTakesTheMotorOffTheOutputUntilTheGearMeetsAWall) {
+  // Right after a reset the gear stands in the middle of the gap. Commanded at 1 rad/s (pure P control, Kp = 1)
+  // it needs half the width (0.05 rad) = 5 steps to reach the wall: until then the motor applies no torque and
+  // no friction, from then on its full command.
+  DynamixelParameters parameters;
+  parameters.kp = 1.0;
+  MotorEffects effects;
+  effects.backlash = true;
+  effects.backlash_width = 0.1;
+  DynamixelState state{};
+  MotorEffectState memory{};
+  Reset(state, 0.0);
+  ResetEffects(memory, 0.0);
+  const double desired = 1.0 * kDegrees;  // an error of 1 rad: v = 1 rad/s
+  for (int i = 0; i < 8; ++i) {
+    const EffectCommand command =
+        UpdateWithEffects(parameters, effects, state, memory, {0.0, 0.0, 0.0}, desired, 1.0, kDt, nullptr);
+    EXPECT_NEAR(command.motor.velocity, 1.0, 1e-12);
+    if (i < 4) {  // the gear at 0.01 … 0.04 rad: inside the gap
+      EXPECT_EQ(command.motor.max_torque, 0.0) << "step " << i;
+      EXPECT_EQ(command.motor.friction_torque, 0.0) << "step " << i;
+    } else {  // at the wall (0.05 rad, within the rounding of five steps of 0.01 rad): it pushes
+      EXPECT_EQ(command.motor.max_torque, kFullTorque) << "step " << i;
+      EXPECT_GT(command.motor.friction_torque, 0.0) << "step " << i;
+    }
+  }
+}
+
+TEST(MotorEffectsTest, BacklashToothPushesButNeverPulls) {
+  // The gear pushing on the upper wall: as long as what it passed on in the last step (motor torque plus the
+  // friction, which opposes the rate) was positive it stays engaged; had it to pull the output back, the output
+  // runs ahead and the gap opens: no torque, no friction.
+  DynamixelParameters parameters;
+  parameters.dynamic_friction = 0.0;
+  parameters.static_friction = 0.0;
+  MotorEffects effects;
+  effects.backlash = true;
+  effects.backlash_width = 0.1;
+  const auto after = [&](double last_torque) {
+    DynamixelState state{};
+    MotorEffectState memory{};
+    Reset(state, 0.0);
+    ResetEffects(memory, 0.0);
+    memory.wall = 1;  // engaged on the upper wall in the last step, moving forwards with the gear
+    memory.engaged = true;
+    memory.gear_angle = 0.05;
+    return UpdateWithEffects(parameters, effects, state, memory, {0.0, 0.5, last_torque}, 10.0, 1.0, kDt, nullptr);
+  };
+  EXPECT_EQ(after(0.3).motor.max_torque, kFullTorque);
+  EXPECT_EQ(after(0.0).motor.max_torque, kFullTorque);
+  EXPECT_EQ(after(-0.3).motor.max_torque, 0.0);
+  EXPECT_EQ(after(-0.3).motor.friction_torque, 0.0);
+}
+
+TEST(MotorEffectsTest, BacklashHoldsASteadyLoadWithoutChattering) {
+  // Held at 30° against gravity (0.37 N·m) the gear rests on one wall of a 0.06 rad gap and the pole stays put,
+  // at the target (the controller's sensor is on the output). Before the fix of ApplyBacklash the gear was left
+  // where the last step's clamp put it while the output moved on, so the gap opened every other step: the pole
+  // chattered between 29.65° and 29.72° at ±0.12 rad/s for ever.
+  PendulumRig rig(Effect("Backlash", {{"/Effects/Backlash/Width", "0.06"}}));
+  rig.Command(30.0);
+  rig.Run(100);
+  double fastest = 0.0;
+  for (int i = 0; i < 100 && rig.Step(); ++i) fastest = std::max(fastest, std::abs(rig.Rate()));
+  EXPECT_LT(fastest, 1e-3);
+  EXPECT_NEAR(rig.Degrees(), 30.0, 0.01);
+}
+
+TEST(MotorEffectsTest, BacklashLetsThePoleDropAcrossTheGapWhenTheLoadReverses) {
+  // The pole held at 30° by the motor, the gear pushing on the gap's upper wall against gravity. Then the motor
+  // is locked where it is (Kp = 0: it holds the gear still) and gravity is reversed, so the load pushes the pole
+  // the other way. A tooth cannot pull: the pole swings across the gap with gravity's acceleration alone
+  // (m·g·d·sin θ/I, within 1 %: the motor applies nothing) until it has turned by the width, where the gear's
+  // other wall catches it and the motor stops it. Without backlash the locked motor holds it where it was.
+  // dt = 1 ms, so that a step's travel (2e-3 rad at the wall) is small against the width: the free travel
+  // measured 0.973 and 0.981 widths (the motor's wall is foreseen within a step).
+  const auto reverse_load = [](const Values& values) {
+    Values fine = values;
+    fine.push_back({"/Simulation/TimeStepSize", "0.001"});
+    PendulumRig rig(fine);
+    rig.Command(30.0);
+    rig.Run(1000);
+    rig.Set("/AngularMotor/PID/Proportional", "0");
+    rig.Set("/Simulation/Gravitation", "-9.81");
+    const double inertia = rig.Inertia();
+    const double gravity = rig.GravityTorque();
+    const double start = rig.Degrees() / kDegrees;
+    double angle = start;
+    double rate = rig.Rate();
+    double free_travel = -1.0;
+    for (int i = 0; i < 500 && rig.Step(); ++i) {
+      const double now = rig.Degrees() / kDegrees;
+      const double acceleration = (rig.Rate() - rate) / 0.001;
+      const double free = gravity * std::sin(0.5 * (angle + now)) / inertia;  // reversed gravity lifts it
+      // Step 0 still felt the motor (the tooth's contact is judged from the last step's torque).
+      if (i > 0 && free_travel < 0.0) {
+        if (std::abs(acceleration - free) > 0.05 * free) {
+          free_travel = angle - start;
+        } else {
+          EXPECT_NEAR(acceleration, free, 0.01 * free) << "step " << i;
+        }
+      }
+      angle = now;
+      rate = rig.Rate();
+    }
+    return std::pair{free_travel, angle - start};
+  };
+  const auto [free_off, moved_off] = reverse_load({});
+  EXPECT_LT(std::abs(moved_off), 1e-4);
+  for (const double width : {0.06, 0.12}) {
+    const auto [free_travel, moved] =
+        reverse_load(Effect("Backlash", {{"/Effects/Backlash/Width", std::to_string(width)}}));
+    EXPECT_NEAR(free_travel, width, 0.05 * width) << width;
+    // At rest beyond it, held by the locked motor. Energy bounds the stop: the motor brakes at its full torque τ
+    // over moved − free travel what gravity gave over the whole way, at most its torque at the end times moved.
+    EXPECT_GT(moved, width) << width;
+    const double load = PendulumRig().GravityTorque() * std::sin(30.0 / kDegrees + moved);
+    // Measured 0.085 and 0.172 rad against bounds of 0.100 and 0.218.
+    EXPECT_LT(moved, kFullTorque * width / (kFullTorque - load)) << width;
+  }
+}
+
+TEST(MotorEffectsTest, BacklashShiftsTheMotorSideByTheWidthWhereTheLoadChangesSign) {
+  // A slow ±30° sine (period 8 s) swings the pole through the bottom, where gravity's load changes sign. The
+  // motor side's angle is the integral of the commanded velocity (CurrentVelocity). Without backlash it is the
+  // output's angle (to the motor's 1e-5 rad/s per N·m yield). With a 0.06 rad gap the gear rests on the wall
+  // that carries the load: above the bottom half a width ahead of the output, below it half a width behind,
+  // going down and going up alike (the gravity side decides, not the direction: no hysteresis in the angle
+  // away from the bottom). At the bottom the tooth would have to pull, the output swings free for a moment and
+  // the motor side jumps by the width relative to it (measured: 0.0566 rad at each crossing). The output itself
+  // — sensor and controller act on it — lags the effect-off run only for those moments: 0.46 widths at most,
+  // gone 0.25 s later: the residual's blip at a load reversal.
+  constexpr double kWidth = 0.06;
+  struct Run {
+    std::vector<double> output;  // rad
+    std::vector<double> offset;  // motor side − output, rad
+  };
+  const auto sine = [](const Values& values) {
+    PendulumRig rig(values);
+    Run run;
+    double motor_side = 0.0;
+    for (int i = 0; i < 1600; ++i) {
+      rig.Command(30.0 * std::sin(2.0 * kPi * i * kDt / 8.0));
+      if (!rig.Step()) break;
+      motor_side += rig.simulation().repository().Get("/Sim/Pendulum/Motor/CurrentVelocity").as_double() * kDt;
+      run.output.push_back(rig.Degrees() / kDegrees);
+      run.offset.push_back(motor_side - rig.Degrees() / kDegrees);
+    }
+    return run;
+  };
+  const Run off = sine({});
+  const Run on = sine(Effect("Backlash", {{"/Effects/Backlash/Width", "0.06"}}));
+  ASSERT_EQ(off.output.size(), 1600u);
+  ASSERT_EQ(on.output.size(), 1600u);
+  for (double offset : off.offset) ASSERT_LT(std::abs(offset), 1e-3);
+  // Steps (t = 0.01·(i + 1)) where the output passes ±20°: down at t ≈ 2.9 s and 5.1 s, up at 8.9 s and 11.1 s.
+  const auto at = [&on](double seconds) { return on.offset[static_cast<size_t>(std::lround(seconds / kDt)) - 1]; };
+  const double above_down = at(2.9), below_down = at(5.1), below_up = at(6.9), above_up = at(9.1);
+  EXPECT_GT(above_down, 0.0);
+  EXPECT_LT(below_down, 0.0);
+  EXPECT_NEAR(above_down - below_down, kWidth, 0.1 * kWidth);  // the jump going down through the bottom
+  EXPECT_NEAR(above_up - below_up, kWidth, 0.1 * kWidth);      // and going up through it
+  EXPECT_NEAR(above_up, above_down, 0.05 * kWidth);            // the same wall going up as going down
+  EXPECT_NEAR(below_up, below_down, 0.05 * kWidth);
+  // The output: a blip after each bottom crossing (t = 4 s going down, 8 s going up), nothing elsewhere.
+  for (const double crossing : {4.0, 8.0, 12.0}) {
+    double largest = 0.0;
+    for (double t = crossing - 0.5; t < crossing + 0.5; t += kDt) {
+      const size_t i = static_cast<size_t>(std::lround(t / kDt));
+      largest = std::max(largest, std::abs(on.output[i] - off.output[i]));
+    }
+    EXPECT_GT(largest, 0.3 * kWidth) << crossing;
+    EXPECT_LT(largest, 0.6 * kWidth) << crossing;
+    for (double t = crossing + 0.6; t < crossing + 3.4; t += kDt) {
+      const size_t i = static_cast<size_t>(std::lround(t / kDt));
+      ASSERT_LT(std::abs(on.output[i] - off.output[i]), 0.01 * kWidth) << "t = " << t;
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------------------
