@@ -13,10 +13,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <initializer_list>
-#include <memory>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
