@@ -14,6 +14,8 @@ constexpr int kHistory = MotorEffectState::kHistory;
 
 // The gap is closed when the gear side reaches a wall within this much (rad): the step's rounding must not open it.
 constexpr double kWallTolerance = 1e-9;
+// Below this joint rate (rad/s) the friction brake holds rather than slides: its torque may have either sign.
+constexpr double kRestRate = 1e-6;
 
 void PushCommand(MotorEffectState& state, double angle_deg, double torque_raw) {
   if (state.history_count == 0) {  // before the first command the motor has seen this one all along
@@ -44,31 +46,62 @@ double DeadBandTarget(double angle_rad, double desired_deg, double margin) {
 }
 
 // The motor side winds the spring at the controller's velocity, never further than its torque limit can hold;
-// the compliant motor row then makes the spring implicit (PhysicsWorld::SetJointMotorCompliance).
+// the compliant motor row then makes the spring implicit (PhysicsWorld::SetJointMotorCompliance). The limit
+// applies to the wind-up the output has left after the last step (where the motor side stalled if the spring's
+// torque reached the limit); within this step the motor row's torque limit caps the spring. Clamping after this
+// step's wind-up instead, around the output's angle before the step, would let the output gain at most
+// max_torque/(stiffness·dt) rad/s per step: a stiff gear train would freeze the joint rather than become the
+// stiff motor.
 void ApplyElasticity(const MotorEffects& effects, MotorEffectState& state, const JointReading& joint, double dt,
                      EffectCommand& command) {
   const double stiffness = std::max(effects.stiffness, 1e-9);
   const double damping = std::max(effects.damping, 0.0);
   const double velocity = command.motor.velocity;
   const double reach = command.motor.max_torque / stiffness;
-  state.spring_angle = std::clamp(state.spring_angle + velocity * dt, joint.angle - reach, joint.angle + reach);
+  state.spring_angle = std::clamp(state.spring_angle, joint.angle - reach, joint.angle + reach) + velocity * dt;
   const double compliance = 1.0 / (stiffness * dt + damping);
   command.motor.velocity = compliance * (stiffness * (state.spring_angle - joint.angle) + damping * velocity);
   command.compliance = compliance;
 }
 
-// The gear side moves at the commanded velocity inside the gap; only when it touches a wall does the motor act
-// on the output. The joint's friction brake stays: the output's bearings rub whether or not the gear touches, and
-// without it a pole would rattle freely inside the gap.
+// The gear side moves at the commanded velocity inside the gap; only when it pushes on a wall does the motor act
+// on the output, and the friction with it (gearbox friction, on the gear's side). A tooth pushes and never pulls:
+// against the upper wall (gear = output + half the width) it can only turn the output forwards, against the lower
+// one only backwards. While it pushes, the gear turns with the output — also when it slows or turns back and the
+// load keeps the output on it (lowering a weight). Contact ends when what the tooth passed on in the last step,
+// the motor's torque plus the friction's, had the wrong sign for its wall: the load changed sign, or the gear
+// braked or turned back and the output ran on. Then the output crosses the gap freely until gear and output meet
+// again, which the step foresees from their rates (the gear's commanded velocity, the output's present rate).
 void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const JointReading& joint, double dt,
                    double gear_velocity, EffectCommand& command) {
   const double half = 0.5 * std::max(effects.backlash_width, 0.0);
-  const double lower = joint.angle - half;
-  const double upper = joint.angle + half;
-  const double gear = state.gear_angle + gear_velocity * dt;
-  state.engaged = gear >= upper - kWallTolerance || gear <= lower + kWallTolerance;
-  state.gear_angle = std::clamp(gear, lower, upper);
-  if (!state.engaged) command.motor.max_torque = 0.0;
+  if (half == 0.0) {  // no gap: nothing to cross, the stiff gear of the base model
+    state.wall = 0;
+    state.engaged = true;
+    state.gear_angle = joint.angle;
+    return;
+  }
+  int wall = 0;
+  double gear = 0.0;  // where the gear stands at the start of this step
+  if (state.wall != 0) {
+    // The friction opposed the joint's rate; at rest it may have taken either sign, so it may have been the push.
+    const double friction = command.motor.friction_torque;  // this step's: the last step's, up to the speed change
+    const double brake =
+        std::abs(joint.rate) > kRestRate ? -std::copysign(friction, joint.rate) : state.wall * friction;
+    if (state.wall * (joint.motor_torque + brake) >= 0.0) wall = state.wall;  // it pushed: it goes on pushing
+    gear = joint.angle + state.wall * half;
+  } else {
+    gear = std::clamp(state.gear_angle, joint.angle - half, joint.angle + half);  // the output may have swung onto it
+    const double relative = gear - joint.angle + (gear_velocity - joint.rate) * dt;  // at the end of the step
+    wall = relative >= half - kWallTolerance ? 1 : relative <= -half + kWallTolerance ? -1 : 0;
+  }
+  state.wall = wall;
+  state.engaged = wall != 0;
+  state.gear_angle = wall != 0 ? joint.angle + wall * half : gear + gear_velocity * dt;
+  if (!state.engaged) {
+    command.motor.max_torque = 0.0;
+    command.motor.friction_torque = 0.0;
+  }
 }
 
 }  // namespace

@@ -8,7 +8,8 @@
 //   BackEmf         the torque limit falls linearly with speed, to 0 at `NoLoadSpeed`
 //   Stribeck        extra friction `BreakawayTorque`·exp(−(ω/`Velocity`)²) that vanishes once the joint moves
 //   LoadFriction    extra friction `Coefficient`·|motor torque|: a gearbox whose friction grows with its load
-//   Backlash        the output turns freely within a gap of `Width` between the gear and the output
+//   Backlash        the output turns freely within a gap of `Width` between the gear and the output (a tooth pushes,
+//                   never pulls: the gap is crossed when the load changes sign)
 //   Elasticity      the gear train is a torsional spring `Stiffness` with damper `Damping` between motor and output
 //   RotorInertia    the motor's rotor, reflected through the gearbox, adds `Inertia` about the joint axis
 #pragma once
@@ -106,6 +107,7 @@ struct MotorEffectState {
   int history_count = 0;    ///< commands stored so far (≤ kHistory)
   double gear_angle = 0.0;  ///< rad, the motor side of the backlash gap / of the spring
   bool engaged = true;      ///< backlash: the gap was closed in the last step
+  int wall = 0;             ///< backlash: the wall the gear pushed in the last step, +1 upper, −1 lower, 0 none
   double spring_angle = 0.0;  ///< rad, motor-side angle of the elastic gear train
 };
 

@@ -420,6 +420,9 @@ StepStatus OdeWorld::Step(double dt, const PhysicsParameters& parameters) {
     EnsureOdeReady();  // the world may be stepped on another thread than the one that made it
     ApplyParameters(parameters);
     parameters_ = &parameters;
+    // ODE writes feedback only for joints that add rows; a motor with no torque adds none and would keep
+    // reporting the torque of its last active step.
+    for (dJointFeedback& feedback : motor_feedback_) feedback = dJointFeedback{};
     dSpaceCollide(space_, this, &OdeWorld::NearCallback);
     int stepped = 0;
     if (parameters.solver == Solver::kQuickStep) {

@@ -588,6 +588,20 @@ TEST(OdeWorldTest, CombinedMotorRowsKeepAnAddedTorqueWhenTheStepIsRepeated) {
   for (size_t k = 0; k < rates[0].size(); ++k) EXPECT_NEAR(rates[1][k], rates[0][k], 1e-9) << "step " << k;
 }
 
+TEST(OdeWorldTest, MotorWithoutTorqueReportsNoTorque) {
+  // A motor holding the pendulum against gravity carries a torque; once its limit drops to 0 it adds no rows to
+  // the step and must report 0, not the torque of its last active step.
+  auto world = MakeOdeWorld(Compile(Pendulum(false, true)));
+  for (int i = 0; i < 20; ++i) {
+    world->SetJointMotor(0, 0.0, 10.0);
+    ASSERT_EQ(world->Step(kDt, {}), StepStatus::kOk);
+  }
+  ASSERT_GT(std::abs(world->joint_motor_torque(0)), 0.01);
+  world->SetJointMotor(0, 0.0, 0.0);
+  ASSERT_EQ(world->Step(kDt, {}), StepStatus::kOk);
+  EXPECT_EQ(world->joint_motor_torque(0), 0.0);
+}
+
 TEST(OdeWorldTest, ResetTurnsMotorsAndFrictionOff) {
   auto world = MakeOdeWorld(Compile(Pendulum(false, true)));
   world->SetJointMotor(0, 3.0, 10.0);
@@ -596,6 +610,91 @@ TEST(OdeWorldTest, ResetTurnsMotorsAndFrictionOff) {
   world->Reset();
   RunFor(*world, 0.2);  // a free pendulum again: gravity swings it
   EXPECT_LT(world->joint_angle(0), -0.1);
+}
+
+TEST(OdeWorldTest, CompliantMotorYieldsInProportionToItsTorque) {
+  // A compliant motor (SetJointMotorCompliance c) holds against a steady load τ by yielding: once the rate is
+  // steady the motor carries the load, λ = −τ, and the joint turns at u = v − c·λ = v + c·τ instead of v. The
+  // relation u = v − c·λ holds in every step while the motor is inside its limit. A sliding brake f takes its
+  // share first (λ = −(τ − f)), whether the step solves motor and brake as two rows or as one.
+  const auto model = Compile(Pendulum(false, true));
+  const double compliance = 0.5;  // rad/s per N·m
+  const double load = 0.02;       // N·m
+  const double brake = 0.005;     // N·m
+  const double velocity = 0.1;    // rad/s
+  std::vector<double> rates[2];
+  for (int variant = 0; variant < 2; ++variant) {
+    PhysicsParameters parameters = ZeroGravity();
+    parameters.combine_motor_rows = variant == 1;
+    auto world = MakeOdeWorld(model);
+    world->SetJointMotorCompliance(0, compliance);
+    for (int i = 0; i < 100; ++i) {
+      world->SetJointMotor(0, velocity, 1.0);
+      world->SetJointFriction(0, brake);
+      world->AddJointTorque(0, load);
+      ASSERT_EQ(world->Step(kDt, parameters), StepStatus::kOk);
+      ASSERT_NEAR(world->joint_rate(0), velocity - compliance * world->joint_motor_torque(0), 1e-9) << "step " << i;
+      rates[variant].push_back(world->joint_rate(0));
+    }
+    EXPECT_NEAR(world->joint_motor_torque(0), -(load - brake), 1e-6);
+    EXPECT_NEAR(world->joint_rate(0), velocity + compliance * (load - brake), 1e-6);  // 0.1075, not 0.1
+  }
+  for (size_t k = 0; k < rates[0].size(); ++k) EXPECT_NEAR(rates[1][k], rates[0][k], 1e-9) << "step " << k;
+}
+
+TEST(OdeWorldTest, MotorComplianceZeroAndResetRestoreTheStiffMotor) {
+  // The stiff default (CFM 1e-5) yields 1e-5 rad/s per N·m: under the same load the rate stays v to 1e-6.
+  auto world = MakeOdeWorld(Compile(Pendulum(false, true)));
+  const auto run = [&world] {
+    for (int i = 0; i < 100; ++i) {
+      world->SetJointMotor(0, 0.1, 1.0);
+      world->AddJointTorque(0, 0.02);
+      EXPECT_EQ(world->Step(kDt, ZeroGravity()), StepStatus::kOk);
+    }
+    return world->joint_rate(0);
+  };
+  world->SetJointMotorCompliance(0, 0.5);
+  EXPECT_NEAR(run(), 0.11, 1e-6);
+  world->SetJointMotorCompliance(0, 0.0);
+  EXPECT_NEAR(run(), 0.1, 1e-6);
+  world->SetJointMotorCompliance(0, 0.5);
+  world->Reset();
+  EXPECT_NEAR(run(), 0.1, 1e-6);
+}
+
+TEST(OdeWorldTest, AddedBodyInertiaCountsAboutTheHingeAsItsProjection) {
+  // The bob turns about its own centre (I = m (lx² + ly²)/12 about z). A torque τ for one step gives the rate
+  // τ·dt/(I + J·(a·z)²): inertia J added about the hinge axis counts fully, about a perpendicular axis not at
+  // all, about an axis at 45° by half (the hinge removes the coupling of the off-diagonal terms). Reset takes
+  // it away.
+  PhysicsDescription d = Pendulum(false, false);
+  d.bodies[0].position = Eigen::Vector3d::Zero();
+  const auto model = Compile(d);
+  const double inertia = 0.1 * (0.1 * 0.1 + 0.02 * 0.02) / 12;
+  const double added = 2e-4;  // kg·m², about 2.3 I
+  const double torque = 1e-3;
+  const auto rate_after_kick = [&](PhysicsWorld& world) {
+    world.AddJointTorque(0, torque);
+    RunFor(world, kDt, ZeroGravity());
+    return world.joint_rate(0);
+  };
+  const auto rate_for = [&](double effective) { return torque * kDt / effective; };
+  struct Case {
+    Eigen::Vector3d axis;
+    double share;  // (a·z)²
+  };
+  for (const Case& c : {Case{{0, 0, 1}, 1.0}, Case{{0, 0, -2}, 1.0}, Case{{1, 0, 0}, 0.0}, Case{{1, 0, 1}, 0.5}}) {
+    auto world = MakeOdeWorld(model);
+    world->AddBodyInertia(0, c.axis, added);
+    const double expected = rate_for(inertia + c.share * added);
+    EXPECT_NEAR(rate_after_kick(*world), expected, 1e-6 * expected) << c.axis.transpose();
+  }
+  auto world = MakeOdeWorld(model);
+  world->AddBodyInertia(0, Eigen::Vector3d::UnitZ(), added);
+  world->AddBodyInertia(0, Eigen::Vector3d::UnitZ(), added);  // adds up
+  EXPECT_NEAR(rate_after_kick(*world), rate_for(inertia + 2 * added), 1e-6 * rate_for(inertia + 2 * added));
+  world->Reset();
+  EXPECT_NEAR(rate_after_kick(*world), rate_for(inertia), 1e-6 * rate_for(inertia));
 }
 
 TEST(OdeWorldTest, WorldsFromOneModelAreIndependent) {
