@@ -85,10 +85,39 @@ Broker::Broker(BrokerOptions options)
       worker_socket_(context_, zmq::socket_type::router) {
   Configure(client_socket_);
   Configure(worker_socket_);
+  if (!options_.curve_keys.empty()) EnableCurve();
   client_endpoint_ = Bind(client_socket_, options_.bind_address, options_.client_port, "client");
   worker_endpoint_ = Bind(worker_socket_, options_.bind_address, options_.worker_port, "worker");
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) throw std::runtime_error("eventfd failed");
+}
+
+void Broker::EnableCurve() {
+  const proto::CurveBrokerKeys keys = proto::LoadCurveBrokerKeys(options_.curve_keys);
+  // The handler first: a CURVE server socket of a context without one lets every key in.
+  zap_ = std::make_unique<ZapHandler>(
+      context_,
+      std::map<std::string, proto::AllowedCurveKeys>{{proto::kWorkerZapDomain, keys.allowed_workers},
+                                                     {proto::kClientZapDomain, keys.allowed_clients}},
+      [this](const std::string& line) { Log(line); });
+  proto::MakeCurveServer(client_socket_, keys.own, proto::kClientZapDomain);
+  proto::MakeCurveServer(worker_socket_, keys.own, proto::kWorkerZapDomain);
+  client_monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, client_socket_, "client");
+  worker_monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, worker_socket_, "worker");
+  Log("CURVE on (keys in " + options_.curve_keys + "): " + std::to_string(keys.allowed_workers.size()) +
+      " worker keys and " + std::to_string(keys.allowed_clients.size()) + " client keys allowed");
+}
+
+void Broker::ReadHandshakeFailures(proto::HandshakeMonitor& monitor, const std::string& side) {
+  for (const proto::HandshakeFailure& failure : monitor.ReadFailures()) {
+    ++counters_.handshakes_failed;
+    // Refusals are logged by the ZAP handler, with the key; early closes are routine (scans, endpoint checks).
+    if (failure.event == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH || failure.closed_early()) continue;
+    const std::string why = failure.Describe();
+    if (warned_handshakes_.size() < kMaxWarnedPeers && warned_handshakes_.insert(side + why).second) {
+      Log("a " + side + " connection failed its handshake: " + why + " (logged once per kind)");
+    }
+  }
 }
 
 Broker::~Broker() {
@@ -113,15 +142,20 @@ void Broker::Run() {
   ran_ = true;
   now_ = Clock::now();
   Clock::time_point next_tick = now_ + options_.heartbeat_interval;
-  zmq::pollitem_t items[] = {{worker_socket_.handle(), 0, ZMQ_POLLIN, 0},
-                             {client_socket_.handle(), 0, ZMQ_POLLIN, 0},
-                             {nullptr, wake_fd_, ZMQ_POLLIN, 0}};
+  std::vector<zmq::pollitem_t> items = {{worker_socket_.handle(), 0, ZMQ_POLLIN, 0},
+                                       {client_socket_.handle(), 0, ZMQ_POLLIN, 0},
+                                       {nullptr, wake_fd_, ZMQ_POLLIN, 0}};
+  if (zap_) {  // items 3, 4, 5
+    items.push_back({zap_->socket().handle(), 0, ZMQ_POLLIN, 0});
+    items.push_back({client_monitor_->socket().handle(), 0, ZMQ_POLLIN, 0});
+    items.push_back({worker_monitor_->socket().handle(), 0, ZMQ_POLLIN, 0});
+  }
   PublishStats();
   while (!stop_requested_.load()) {
     const auto wait =
         std::chrono::ceil<std::chrono::milliseconds>(std::max(next_tick - Clock::now(), Clock::duration{}));
     try {
-      zmq::poll(items, 3, wait);
+      zmq::poll(items, wait);
     } catch (const zmq::error_t& error) {
       if (error.num() != EINTR) throw;
       continue;  // a signal (orcs-broker's SIGTERM handler calls Stop())
@@ -131,6 +165,11 @@ void Broker::Run() {
       [[maybe_unused]] const ssize_t read = ::read(wake_fd_, &count, sizeof count);
     }
     if (stop_requested_.load()) break;
+    if (zap_) {
+      if (items[3].revents & ZMQ_POLLIN) zap_->AnswerRequests();
+      if (items[4].revents & ZMQ_POLLIN) ReadHandshakeFailures(*client_monitor_, "client");
+      if (items[5].revents & ZMQ_POLLIN) ReadHandshakeFailures(*worker_monitor_, "worker");
+    }
     now_ = Clock::now();
     if (items[0].revents & ZMQ_POLLIN) ReceiveWorkerMessages();
     if (items[1].revents & ZMQ_POLLIN) ReceiveClientMessages();
@@ -716,6 +755,7 @@ void Broker::PublishStats() {
   snapshot.batches = static_cast<int>(batches_.size());
   snapshot.queued = queued_count_;
   snapshot.in_flight = in_flight_count_;
+  if (zap_) snapshot.handshakes_refused = zap_->stats().refused;
   std::lock_guard lock(stats_mutex_);
   stats_ = snapshot;
 }

@@ -14,6 +14,7 @@
 #include <deque>
 #include <functional>
 #include <list>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <string>
@@ -24,7 +25,9 @@
 #include <vector>
 #include <zmq.hpp>
 
+#include "broker/zap_handler.h"
 #include "orcs/v1/broker.pb.h"
+#include "proto/handshake_monitor.h"
 
 namespace orcs::broker {
 
@@ -42,6 +45,9 @@ struct BrokerOptions {
   int max_worker_losses = 3;
   /// Where log lines (one event each, no newline) go; empty = stderr, prefixed "orcs-broker: ".
   std::function<void(std::string_view)> log;
+  /// Folder of CURVE keys (docs/security.md): broker.key, broker.pub, allowed_workers/*.pub, allowed_clients/*.pub.
+  /// Set: both sockets are CURVE servers that accept only the allowed keys of their side. "" = plain TCP.
+  std::string curve_keys;
 };
 
 /// Counters and gauges of a running broker, for tests and monitoring. Counters only grow.
@@ -61,10 +67,15 @@ struct BrokerStats {
   std::uint64_t clients_lost = 0;           ///< clients with pending jobs declared lost (silent or connection closed)
   std::uint64_t submits_rejected = 0;       ///< SUBMITs answered with ERROR
   std::uint64_t messages_dropped = 0;       ///< incoming messages dropped as malformed, foreign or illegal
+  std::uint64_t handshakes_refused = 0;     ///< CURVE peers whose key is not allowed on the socket they knocked on
+  /// Connections on either socket that failed or closed during their handshake (CURVE only): refused keys, peers
+  /// without CURVE, undecryptable ones, and connections closed before the handshake ended.
+  std::uint64_t handshakes_failed = 0;
 };
 
-/// The broker. Construct (binds both sockets, throws std::runtime_error naming the endpoint when it cannot),
-/// call Run() on one thread, Stop() from any thread.
+/// The broker. Construct (binds both sockets, throws std::runtime_error naming the endpoint when it cannot, and
+/// proto::CurveKeyError naming the file when a CURVE key is missing or malformed), call Run() on one thread,
+/// Stop() from any thread.
 class Broker {
  public:
   explicit Broker(BrokerOptions options);
@@ -127,6 +138,10 @@ class Broker {
     std::uint64_t ticket = 0;  ///< stale unless equal to the job's current ticket
   };
 
+  // CURVE.
+  void EnableCurve();
+  void ReadHandshakeFailures(proto::HandshakeMonitor& monitor, const std::string& side);
+
   // Incoming traffic.
   void ReceiveWorkerMessages();
   void ReceiveClientMessages();
@@ -176,6 +191,10 @@ class Broker {
   zmq::context_t context_;
   zmq::socket_t client_socket_;
   zmq::socket_t worker_socket_;
+  std::unique_ptr<ZapHandler> zap_;                          ///< with CURVE: decides who may connect
+  std::unique_ptr<proto::HandshakeMonitor> client_monitor_;  ///< with CURVE: failed handshakes on client_socket_
+  std::unique_ptr<proto::HandshakeMonitor> worker_monitor_;  ///< with CURVE: failed handshakes on worker_socket_
+  std::set<std::string> warned_handshakes_;                  ///< kinds of handshake failure logged already
   std::string client_endpoint_;
   std::string worker_endpoint_;
   int wake_fd_ = -1;  ///< eventfd Stop() writes to, so that a blocked poll returns

@@ -26,9 +26,14 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
   app.add_option("--max-worker-losses", o.max_worker_losses,
                  "workers a job may lose before it fails with WORKER_LOST (default 3)")
       ->check(CLI::Range(1, 1000));
+  app.add_option("--curve-keys", o.curve_keys,
+                 "folder of CURVE keys: encrypt and admit only the allowed keys (docs/security.md); default: off");
   try {
     app.parse(argc, argv);
     if (o.bind_address.empty()) throw CLI::ValidationError("--bind", "needs an address");
+    if (app.count("--curve-keys") > 0 && o.curve_keys.empty()) {
+      throw CLI::ValidationError("--curve-keys", "needs a folder");  // never plain TCP by an empty argument
+    }
     if (o.client_port != 0 && o.client_port == o.worker_port) {
       throw CLI::ValidationError("--worker-port", "must differ from --client-port");
     }

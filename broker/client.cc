@@ -55,6 +55,7 @@ BatchClient::BatchClient(BatchClientOptions options)
       client_id_(NewClientId()),
       batch_id_(options_.batch_id.empty() ? client_id_ : options_.batch_id),
       context_(1) {
+  if (!options_.curve_keys.empty()) curve_ = proto::LoadCurvePeerKeys(options_.curve_keys, "client");
   try {  // a malformed endpoint fails here, at once, rather than at the first Submit()
     zmq::socket_t probe(context_, zmq::socket_type::dealer);
     probe.set(zmq::sockopt::linger, 0);
@@ -191,9 +192,10 @@ void BatchClient::Serve() {
       wait_ms = static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(wait).count());
     }
     zmq::pollitem_t items[] = {{nullptr, wake_fd_, ZMQ_POLLIN, 0},
-                               {socket_ ? socket_->handle() : nullptr, 0, ZMQ_POLLIN, 0}};
+                               {socket_ ? socket_->handle() : nullptr, 0, ZMQ_POLLIN, 0},
+                               {monitor_ ? monitor_->socket().handle() : nullptr, 0, ZMQ_POLLIN, 0}};
     try {
-      zmq::poll(items, socket_ ? 2 : 1, std::chrono::milliseconds(wait_ms));
+      zmq::poll(items, !socket_ ? 1 : monitor_ ? 3 : 2, std::chrono::milliseconds(wait_ms));
     } catch (const zmq::error_t& error) {
       if (error.num() != EINTR) throw;
       continue;
@@ -202,6 +204,7 @@ void BatchClient::Serve() {
       std::uint64_t count = 0;
       [[maybe_unused]] const ssize_t read = ::read(wake_fd_, &count, sizeof count);
     }
+    if (socket_ && monitor_ && (items[2].revents & ZMQ_POLLIN)) ReadHandshakeFailures();
 
     bool stopping = false;
     bool failed = false;
@@ -266,7 +269,8 @@ void BatchClient::Serve() {
     }
     if (!heard_) {
       if (now - active_since_ >= options_.connect_timeout) {
-        Fail("no broker answering at " + options_.endpoint + " after " + Seconds(options_.connect_timeout));
+        Fail("no broker answering at " + options_.endpoint + " after " + Seconds(options_.connect_timeout) +
+             (handshake_failure_.empty() ? "" : " (the CURVE handshake failed: " + handshake_failure_ + ")"));
       }
     } else if (now - last_heard_ >= options_.reconnect_timeout) {
       Fail("lost the broker at " + options_.endpoint + ": no answer for " + Seconds(now - last_heard_) + " (" +
@@ -282,6 +286,14 @@ void BatchClient::Connect() {
   socket_->set(zmq::sockopt::linger, 0);
   socket_->set(zmq::sockopt::sndhwm, 0);  // never block the I/O thread
   socket_->set(zmq::sockopt::rcvhwm, 0);  // never make the broker hold results back
+  // A connection that failed its handshake (the broker refused our key, or it speaks CURVE and we do not) is
+  // closed for good, leaving the socket without a pipe: a send must then fail at once, never block this thread.
+  socket_->set(zmq::sockopt::sndtimeo, 0);
+  if (curve_) {
+    proto::MakeCurveClient(*socket_, *curve_);
+    monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, *socket_,
+                                                         "client-" + std::to_string(++monitors_made_));
+  }
   try {
     socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
   } catch (const zmq::error_t& error) {
@@ -292,6 +304,24 @@ void BatchClient::Connect() {
   unanswered_.clear();
   std::lock_guard lock(mutex_);
   ++stats_.connections;
+}
+
+void BatchClient::ReadHandshakeFailures() {
+  std::vector<proto::HandshakeFailure> failures = monitor_->ReadFailures();
+  // A connection the broker closed early (it was stopping, or it speaks plain TCP and noticed first) is no
+  // refusal to count or log, but it may explain a timeout.
+  for (const proto::HandshakeFailure& failure : failures) handshake_failure_ = failure.Describe();
+  std::erase_if(failures, [](const proto::HandshakeFailure& failure) { return failure.closed_early(); });
+  {
+    std::lock_guard lock(mutex_);
+    stats_.handshake_failures += failures.size();
+  }
+  for (const proto::HandshakeFailure& failure : failures) {
+    const std::string why = failure.Describe();
+    if (!warned_handshakes_.insert(why).second) continue;  // a handful of kinds at most
+    Log("the CURVE handshake with the broker at " + options_.endpoint + " failed: " + why +
+        "; is client.pub in the broker's allowed_clients/ and broker.pub the broker's? (logged once per kind)");
+  }
 }
 
 void BatchClient::Reconnect(const std::string& why) {

@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -25,6 +26,8 @@
 #include <zmq.hpp>
 
 #include "orcs/v1/broker.pb.h"
+#include "proto/curve_keys.h"
+#include "proto/handshake_monitor.h"
 
 namespace orcs::broker {
 
@@ -47,6 +50,9 @@ struct BatchClientOptions {
   std::size_t max_submit_bytes = std::size_t{4} << 20;
   /// Where log lines (connection events, one per line, no newline) go; empty = stderr, prefixed "orcs-batch: ".
   std::function<void(std::string_view)> log;
+  /// Folder of CURVE keys (docs/security.md): the client's client.key and client.pub and the broker's broker.pub.
+  /// Set: the connection is encrypted and the broker must allow client.pub. "" = plain TCP.
+  std::string curve_keys;
 };
 
 /// What a client has done so far. Counters only grow.
@@ -56,6 +62,7 @@ struct BatchClientStats {
   std::uint64_t results = 0;             ///< results handed to the caller's queue
   std::uint64_t duplicates_dropped = 0;  ///< results for jobs already answered (after a resubmission), dropped
   std::uint64_t messages_dropped = 0;    ///< malformed or foreign messages from the broker, dropped
+  std::uint64_t handshake_failures = 0;  ///< CURVE handshakes that failed (the broker refused the key, ...)
 };
 
 /// The broker's error: no broker answering, the broker lost for good, a rejected submission. Once a client has
@@ -69,7 +76,8 @@ class BatchClientError : public std::runtime_error {
 class BatchClient {
  public:
   /// Starts the I/O thread; connects on the first Submit(). Throws std::invalid_argument for an empty endpoint,
-  /// non-positive intervals or timeouts, a liveness below 2, or an endpoint ZeroMQ cannot parse.
+  /// non-positive intervals or timeouts, a liveness below 2, or an endpoint ZeroMQ cannot parse;
+  /// proto::CurveKeyError naming the file for a missing or malformed CURVE key.
   explicit BatchClient(BatchClientOptions options);
   /// Tells the broker the client is leaving (its jobs still queued are dropped) and stops the I/O thread.
   ~BatchClient();
@@ -113,6 +121,7 @@ class BatchClient {
   bool Active() const;
   void Send(const v1::ClientToBroker& message);
   void DropMessage(const std::string& why);
+  void ReadHandshakeFailures();
   void Wake();
   void Log(const std::string& line) const;
 
@@ -121,9 +130,14 @@ class BatchClient {
   const std::string batch_id_;
   zmq::context_t context_;
   int wake_fd_ = -1;  ///< eventfd: Submit() and the destructor wake the I/O thread's poll through it
+  std::optional<proto::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
 
   // Owned by the I/O thread.
   std::unique_ptr<zmq::socket_t> socket_;
+  std::unique_ptr<proto::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
+  int monitors_made_ = 0;                             ///< names each monitor uniquely
+  std::string handshake_failure_;                     ///< why the last handshake failed, for the timeout message
+  std::set<std::string> warned_handshakes_;           ///< kinds of handshake failure logged already
   std::unordered_map<std::string, v1::Job> outstanding_;  ///< submitted, no result yet: what a resubmission sends
   std::deque<std::string> order_;         ///< job ids in submission order (answered ones skipped lazily)
   std::deque<std::uint64_t> unanswered_;  ///< per SUBMIT sent on this socket, the submission it belongs to

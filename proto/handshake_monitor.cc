@@ -23,6 +23,8 @@ std::string Hex(std::int32_t value) {
 
 }  // namespace
 
+bool HandshakeFailure::closed_early() const { return event == ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL; }
+
 std::string HandshakeFailure::Describe() const {
   if (event == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH) {
     return "the key was refused (authentication status " + std::to_string(value) + ")";
@@ -36,7 +38,7 @@ std::string HandshakeFailure::Describe() const {
       default: return "protocol error " + Hex(value);
     }
   }
-  return std::string("handshake failed: ") + std::strerror(value);
+  return std::string("the connection closed during the handshake (") + std::strerror(value) + ")";
 }
 
 HandshakeMonitor::HandshakeMonitor(zmq::context_t& context, zmq::socket_t& watched, const std::string& name)

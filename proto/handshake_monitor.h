@@ -18,8 +18,11 @@ namespace orcs::proto {
 struct HandshakeFailure {
   std::uint16_t event = 0;  ///< ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL, _PROTOCOL or _AUTH
   std::int32_t value = 0;   ///< errno, ZMQ_PROTOCOL_ERROR_* code, or the ZAP status code (e.g. 400)
-  /// Why, in words, e.g. "the peer does not speak CURVE (mechanism mismatch)".
+  /// Why, in words, e.g. "one side speaks CURVE and the other does not (mechanism mismatch)".
   std::string Describe() const;
+  /// The connection closed before the handshake finished, without a reason: a peer without CURVE (as the broker
+  /// sees it, when the peer notices first), but also a port scan or a peer checking an endpoint. Not a refusal.
+  bool closed_early() const;
 };
 
 class HandshakeMonitor {

@@ -57,6 +57,7 @@ WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
     : options_(Checked(std::move(options))),
       worker_id_(options_.worker_id.empty() ? DefaultWorkerId() : options_.worker_id),
       context_(1) {
+  if (!options_.curve_keys.empty()) curve_ = proto::LoadCurvePeerKeys(options_.curve_keys, "worker");
   try {  // a malformed endpoint fails here, at once, rather than in the I/O thread
     zmq::socket_t probe(context_, zmq::socket_type::dealer);
     probe.set(zmq::sockopt::linger, 0);
@@ -161,9 +162,11 @@ void WorkerConnection::Serve() {
   while (true) {
     const Clock::time_point wake_at = std::min(next_heartbeat, broker_deadline);
     const auto wait = std::chrono::ceil<std::chrono::milliseconds>(std::max(wake_at - Clock::now(), Clock::duration{}));
-    zmq::pollitem_t items[] = {{socket_->handle(), 0, ZMQ_POLLIN, 0}, {nullptr, wake_fd_, ZMQ_POLLIN, 0}};
+    zmq::pollitem_t items[] = {{socket_->handle(), 0, ZMQ_POLLIN, 0},
+                               {nullptr, wake_fd_, ZMQ_POLLIN, 0},
+                               {monitor_ ? monitor_->socket().handle() : nullptr, 0, ZMQ_POLLIN, 0}};
     try {
-      zmq::poll(items, 2, wait);
+      zmq::poll(items, monitor_ ? 3 : 2, wait);
     } catch (const zmq::error_t& error) {
       if (error.num() != EINTR) throw;
       continue;
@@ -172,6 +175,7 @@ void WorkerConnection::Serve() {
       std::uint64_t count = 0;
       [[maybe_unused]] const ssize_t read = ::read(wake_fd_, &count, sizeof count);
     }
+    if (monitor_ && (items[2].revents & ZMQ_POLLIN)) ReadHandshakeFailures();
 
     bool stopping = false;
     int wanted_credit = 0;
@@ -245,6 +249,13 @@ void WorkerConnection::Connect() {
   socket_->set(zmq::sockopt::linger, 0);
   socket_->set(zmq::sockopt::sndhwm, 0);  // never block the I/O thread: results and heartbeats queue instead
   socket_->set(zmq::sockopt::rcvhwm, 0);
+  // A connection that failed its handshake (the broker refused our key, or it speaks CURVE and we do not) is
+  // closed for good, leaving the socket without a pipe: a send must then fail at once, never block this thread.
+  socket_->set(zmq::sockopt::sndtimeo, 0);
+  if (curve_) {
+    proto::MakeCurveClient(*socket_, *curve_);
+    monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, *socket_, "worker-" + std::to_string(++monitors_made_));
+  }
   socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
   warned_bad_message_ = false;
   announced_credit_ = options_.credit;  // a new connection starts from the base credit
@@ -273,6 +284,22 @@ void WorkerConnection::AnnounceCredit(int credit) {
   std::lock_guard lock(mutex_);
   stats_.credit = static_cast<std::uint32_t>(credit);
   ++stats_.credit_changes;
+}
+
+void WorkerConnection::ReadHandshakeFailures() {
+  std::vector<proto::HandshakeFailure> failures = monitor_->ReadFailures();
+  // A connection the broker closed early (it was stopping, say) is a reconnection, not a failed handshake.
+  std::erase_if(failures, [](const proto::HandshakeFailure& failure) { return failure.closed_early(); });
+  {
+    std::lock_guard lock(mutex_);
+    stats_.handshake_failures += failures.size();
+  }
+  for (const proto::HandshakeFailure& failure : failures) {
+    const std::string why = failure.Describe();
+    if (!warned_handshakes_.insert(why).second) continue;  // a handful of kinds at most
+    Log("the CURVE handshake with the broker at " + options_.endpoint + " failed: " + why +
+        "; is worker.pub in the broker's allowed_workers/ and broker.pub the broker's? (logged once per kind)");
+  }
 }
 
 void WorkerConnection::Reconnect(const std::string& why) {

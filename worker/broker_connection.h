@@ -21,12 +21,15 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <thread>
 #include <zmq.hpp>
 
 #include "orcs/v1/broker.pb.h"
+#include "proto/curve_keys.h"
+#include "proto/handshake_monitor.h"
 
 namespace orcs::worker {
 
@@ -51,6 +54,9 @@ struct WorkerConnectionOptions {
   int liveness = 5;
   /// Where log lines (connection events, one per line, no newline) go; empty = stderr, prefixed "orcs-worker: ".
   std::function<void(std::string_view)> log;
+  /// Folder of CURVE keys (docs/security.md): the worker's worker.key and worker.pub and the broker's broker.pub.
+  /// Set: the connection is encrypted and the broker must allow worker.pub. "" = plain TCP.
+  std::string curve_keys;
 };
 
 /// What a connection has done so far. Counters only grow.
@@ -63,6 +69,7 @@ struct WorkerConnectionStats {
   bool broker_answering = false;       ///< whether the broker has been heard on the current connection
   std::uint32_t credit = 0;            ///< the credit last announced (READY) on the current connection
   std::uint64_t credit_changes = 0;    ///< READY messages sent on an open connection to change the credit
+  std::uint64_t handshake_failures = 0;  ///< CURVE handshakes that failed (the broker refused the key, ...)
 };
 
 /// A worker's connection to the broker. All public functions are thread-safe.
@@ -73,7 +80,8 @@ class WorkerConnection {
 
   /// Starts the I/O thread, which connects and sends READY. Never blocks on the broker: a worker may start before
   /// its broker. Throws std::invalid_argument for an empty endpoint, a credit outside 1..1024, a non-positive
-  /// interval, a liveness below 2, or an endpoint ZeroMQ cannot parse.
+  /// interval, a liveness below 2, or an endpoint ZeroMQ cannot parse; proto::CurveKeyError naming the file for a
+  /// missing or malformed CURVE key.
   explicit WorkerConnection(WorkerConnectionOptions options);
   /// Says DISCONNECT to the broker (its jobs go back to the queue, not counted as a loss) and stops the I/O thread.
   ~WorkerConnection();
@@ -108,6 +116,7 @@ class WorkerConnection {
   void DropMessage(const std::string& why);
   void Send(const v1::WorkerToBroker& message);
   void AnnounceCredit(int credit);
+  void ReadHandshakeFailures();
   void Wake();
   void Log(const std::string& line) const;
 
@@ -116,8 +125,13 @@ class WorkerConnection {
   zmq::context_t context_;
   int wake_fd_ = -1;  ///< eventfd: SendResult() and the destructor wake the I/O thread's poll through it
 
+  std::optional<proto::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
+
   // Owned by the I/O thread.
   std::unique_ptr<zmq::socket_t> socket_;
+  std::unique_ptr<proto::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
+  int monitors_made_ = 0;                             ///< names each monitor uniquely
+  std::set<std::string> warned_handshakes_;           ///< kinds of handshake failure logged already
   v1::BrokerToWorker in_;
   std::string out_;
   bool warned_bad_message_ = false;  ///< a dropped message was logged on this connection

@@ -19,6 +19,7 @@
 #include "broker/broker.h"
 #include "broker/client.h"
 #include "orcs/v1/broker.pb.h"
+#include "proto/curve_keys.h"
 #include "worker/broker_connection.h"
 
 namespace orcs::test_support {
@@ -103,7 +104,8 @@ class EchoWorker {
 /// A DEALER socket speaking the protocol by hand: for fake workers that go silent, fake clients, and garbage.
 class RawPeer {
  public:
-  explicit RawPeer(const std::string& endpoint);
+  /// Connects to `endpoint`, with CURVE when `curve` is given.
+  explicit RawPeer(const std::string& endpoint, const std::optional<proto::CurvePeerKeys>& curve = std::nullopt);
   /// Sends one message made of `frames`.
   void SendFrames(const std::vector<std::string>& frames);
   /// Sends `message` serialised, as one frame.

@@ -3,6 +3,7 @@
 // the connection's own thread (worker/broker_connection.h). Serves until SIGINT or SIGTERM.
 //
 //   orcs-worker --connect tcp://127.0.0.1:5556 [--credit 2] [--short-job-credit 16] [--id NAME] [--heartbeat SECONDS]
+//               [--curve-keys DIR]
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
   double heartbeat_seconds = 1.0;
   app.add_option("--heartbeat", heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
       ->check(CLI::Range(0.001, 3600.0));
+  app.add_option("--curve-keys", options.curve_keys,
+                 "folder with worker.key, worker.pub and broker.pub: connect with CURVE (docs/security.md)")
+      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
   if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"connect"}); exit_code >= 0) {
     return exit_code;
   }
