@@ -191,7 +191,8 @@ CurveBrokerKeys LoadCurveBrokerKeys(const fs::path& dir) {
   for (const auto& [bytes, file] : keys.allowed_clients) {
     auto worker = keys.allowed_workers.find(bytes);
     if (worker != keys.allowed_workers.end()) {
-      throw CurveKeyError(file + ": the same key as " + worker->second + "; a key is a worker's or a client's, not both");
+      throw CurveKeyError(file + ": the same key as " + worker->second +
+                          "; a key is a worker's or a client's, not both");
     }
   }
   return keys;

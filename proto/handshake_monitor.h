@@ -28,7 +28,8 @@ struct HandshakeFailure {
 class HandshakeMonitor {
  public:
   /// Starts monitoring `watched` (a socket of `context`), publishing on "inproc://orcs-handshakes-<name>"; `name`
-  /// must be unique among the monitors of `context`, over its lifetime (an endpoint is freed only lazily). Throws zmq::error_t when libzmq refuses.
+  /// must be unique among the monitors of `context`, over its lifetime (an endpoint is freed only lazily).
+  /// Throws zmq::error_t when libzmq refuses.
   HandshakeMonitor(zmq::context_t& context, zmq::socket_t& watched, const std::string& name);
   /// Monitoring ends when `watched` closes; a monitor destroyed before that only stops reading the events.
   HandshakeMonitor(const HandshakeMonitor&) = delete;

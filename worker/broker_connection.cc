@@ -254,7 +254,8 @@ void WorkerConnection::Connect() {
   socket_->set(zmq::sockopt::sndtimeo, 0);
   if (curve_) {
     proto::MakeCurveClient(*socket_, *curve_);
-    monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, *socket_, "worker-" + std::to_string(++monitors_made_));
+    monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, *socket_,
+                                                         "worker-" + std::to_string(++monitors_made_));
   }
   socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
   warned_bad_message_ = false;

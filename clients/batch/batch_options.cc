@@ -25,6 +25,8 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
   command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
       ->check(CLI::Range(0.001, 3600.0));
   command.add_flag("--quiet", o.quiet, "no progress display");
+  command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
+      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
 }
 
 void AddWorkersOption(CLI::App& command, BatchOptions& o) {

@@ -1,6 +1,6 @@
 // The command line of orcs-batch (docs/batch.md):
 //   orcs-batch run SCENARIO.json [--genomes FILE.jsonl | --genome JSON] [--jobs N] [--seed S] [--workers N]
-//                                [--out DIR] [--time-limit SECONDS]
+//                                [--out DIR] [--time-limit SECONDS] [--curve-keys DIR]
 //   orcs-batch submit --broker ENDPOINT SCENARIO.json ... (the same job options, no --workers)
 //   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
@@ -28,6 +28,9 @@ struct BatchOptions {
   double heartbeat_seconds = 1.0;    ///< --heartbeat: the client's (and embedded broker's) heartbeat interval
   std::vector<std::string> params;   ///< --param PATH=LOW:HIGH:STEPS (sweep)
   bool quiet = false;                ///< --quiet: no progress display
+  /// --curve-keys DIR: CURVE keys (docs/security.md); client.key/.pub and broker.pub, and for the embedded
+  /// broker and local workers also broker.key, worker.key/.pub and allowed_*/ ("" = plain TCP)
+  std::string curve_keys;
 };
 
 struct ParsedBatchOptions {

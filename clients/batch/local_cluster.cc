@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "proto/curve_keys.h"
+
 namespace orcs::batch {
 namespace {
 
@@ -45,8 +47,11 @@ LocalCluster::LocalCluster(LocalClusterOptions options) : options_(std::move(opt
   log_fd_ = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (log_fd_ < 0) throw std::runtime_error("cannot open the log file " + log_path + ": " + std::strerror(errno));
 
+  // The workers' keys checked here, so that a bad one is this program's error rather than workers that exit.
+  if (!options_.curve_keys.empty()) proto::LoadCurvePeerKeys(options_.curve_keys, "worker");
   broker::BrokerOptions broker_options;  // loopback, ephemeral ports
   broker_options.heartbeat_interval = options_.heartbeat_interval;
+  broker_options.curve_keys = options_.curve_keys;
   broker_options.log = [this](std::string_view line) {
     const std::string text = "orcs-broker: " + std::string(line) + "\n";
     std::lock_guard lock(log_mutex_);
@@ -73,9 +78,13 @@ LocalCluster::~LocalCluster() {
 }
 
 pid_t LocalCluster::StartWorker(int index) const {
-  const std::vector<std::string> arguments = {
+  std::vector<std::string> arguments = {
       options_.worker_program, "--connect", broker_->worker_endpoint(), "--id", "local-" + std::to_string(index),
       "--heartbeat", SecondsText(options_.heartbeat_interval)};
+  if (!options_.curve_keys.empty()) {
+    arguments.push_back("--curve-keys");
+    arguments.push_back(options_.curve_keys);
+  }
   std::vector<char*> argv;
   for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
   argv.push_back(nullptr);

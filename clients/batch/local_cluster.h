@@ -22,12 +22,15 @@ struct LocalClusterOptions {
   std::string worker_program;       ///< path of orcs-worker
   std::string log_path;             ///< file the broker's and workers' log lines are appended to ("" = /dev/null)
   std::chrono::milliseconds heartbeat_interval{1000};  ///< broker's and workers' heartbeat
+  /// CURVE keys for the broker and the workers (docs/security.md): broker.key/.pub, allowed_workers/,
+  /// allowed_clients/, worker.key/.pub ("" = plain TCP)
+  std::string curve_keys;
 };
 
 class LocalCluster {
  public:
   /// Starts the broker and the workers. Throws std::runtime_error when the broker cannot bind, the worker
-  /// program is missing, or a process cannot be started.
+  /// program is missing, or a process cannot be started; proto::CurveKeyError for a missing or malformed key.
   explicit LocalCluster(LocalClusterOptions options);
   /// Stops the workers (SIGTERM; SIGKILL for any still running after a grace period) and the broker.
   ~LocalCluster();

@@ -18,6 +18,7 @@
 #include "clients/batch/local_cluster.h"
 #include "clients/batch/sweep_grid.h"
 #include "clients/batch/sweep_report.h"
+#include "proto/curve_keys.h"
 #include "model/core/error.h"
 #include "worker/cli_style.h"
 
@@ -79,6 +80,7 @@ int LocalWorkerCount(const BatchOptions& options, std::size_t jobs) {
 int RunAgainst(const std::string& endpoint, const BatchOptions& options, const Plan& plan, ResultsWriter& writer) {
   broker::BatchClientOptions client_options;
   client_options.endpoint = endpoint;
+  client_options.curve_keys = options.curve_keys;
   client_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
   broker::BatchClient client(client_options);
   ProgressDisplay progress(std::cerr, plan.jobs.size(), isatty(STDERR_FILENO) != 0,
@@ -111,6 +113,7 @@ int Execute(const BatchOptions& options) {
   cluster_options.worker_program = WorkerProgramBesideSelf();
   cluster_options.log_path = (std::filesystem::path(plan.out) / "workers.log").string();
   cluster_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
+  cluster_options.curve_keys = options.curve_keys;
   LocalCluster cluster(cluster_options);
   if (!options.quiet) {
     std::cerr << "orcs-batch: " << plan.jobs.size() << " jobs on " << cluster_options.workers
@@ -128,6 +131,9 @@ int main(int argc, char** argv) {
   try {
     return orcs::batch::Execute(parsed.options);
   } catch (const orcs::InputError& error) {
+    std::cerr << "orcs-batch: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  } catch (const orcs::proto::CurveKeyError& error) {  // a missing or malformed key file: bad input
     std::cerr << "orcs-batch: " << error.what() << "\n";
     return orcs::cli::kExitBadInput;
   } catch (const orcs::broker::BatchClientError& error) {
