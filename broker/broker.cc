@@ -212,6 +212,9 @@ void Broker::ReceiveClientMessages() {
       DropMessage("client", client, "expected one frame, got " + std::to_string(frames_.size() - 1));
       continue;
     }
+    // With CURVE, the ZAP handler named the sender's key as its User-Id: the key a batch belongs to.
+    const char* key = zap_ ? zmq_msg_gets(frames_[1].handle(), "User-Id") : nullptr;
+    client_key_ = key != nullptr ? key : "";
     OnClientMessage(client, frames_[1]);
   }
 }
@@ -360,6 +363,9 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
   if (problem.empty() && batch_entry != batches_.end() && batch_entry->second.client_id != submit.client_id()) {
     problem = "batch '" + batch_id + "' belongs to another client ('" + batch_entry->second.client_id + "')";
   }
+  if (problem.empty() && batch_entry != batches_.end() && batch_entry->second.client_key != client_key_) {
+    problem = "batch '" + batch_id + "' belongs to another client key";  // a client id is no secret; a key is
+  }
   if (problem.empty() && client_entry != clients_.end() && client_entry->second.client_id != submit.client_id()) {
     problem = "this connection submitted as client '" + client_entry->second.client_id + "' before";
   }
@@ -383,6 +389,7 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
     batch_entry = batches_.try_emplace(batch_id).first;
     batch_entry->second.client = client;
     batch_entry->second.client_id = submit.client_id();
+    batch_entry->second.client_key = client_key_;
     Log("client " + submit.client_id() + " opened batch " + batch_id);
   } else if (batch_entry->second.client != client) {
     // The same client on a new connection (it reconnected): results go to the new one from now on.

@@ -116,8 +116,9 @@ class Broker {
     Clock::time_point dispatched_at;  ///< when it was last sent to a worker
   };
   struct Batch {
-    std::string client;     ///< routing id of the owning client's connection
-    std::string client_id;  ///< the owning client's name (Submit.client_id), stable across its reconnections
+    std::string client;      ///< routing id of the owning client's connection
+    std::string client_id;   ///< the owning client's name (Submit.client_id), stable across its reconnections
+    std::string client_key;  ///< with CURVE, the owning client's public key (Z85); only it may submit to the batch
     std::unordered_map<std::string, JobRecord> jobs;  ///< by job id
   };
   struct Worker {
@@ -195,6 +196,7 @@ class Broker {
   std::unique_ptr<proto::HandshakeMonitor> client_monitor_;  ///< with CURVE: failed handshakes on client_socket_
   std::unique_ptr<proto::HandshakeMonitor> worker_monitor_;  ///< with CURVE: failed handshakes on worker_socket_
   std::set<std::string> warned_handshakes_;                  ///< kinds of handshake failure logged already
+  std::string client_key_;  ///< with CURVE, the public key (Z85) of the client whose message is being handled
   std::string client_endpoint_;
   std::string worker_endpoint_;
   int wake_fd_ = -1;  ///< eventfd Stop() writes to, so that a blocked poll returns

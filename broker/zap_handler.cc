@@ -1,6 +1,5 @@
 #include "broker/zap_handler.h"
 
-#include <filesystem>
 #include <iterator>
 #include <stdexcept>
 #include <vector>
@@ -69,7 +68,7 @@ std::string ZapHandler::Decide(const std::vector<zmq::message_t>& request, std::
     auto entry = keys->second.find(key);
     if (entry != keys->second.end()) {
       ++stats_.accepted;
-      user_id = std::filesystem::path(entry->second).stem().string();  // the key's file name, as the peer's name
+      user_id = proto::CurveKeyText(key);  // the peer's identity on each of its messages (User-Id)
       return "200";
     }
   }

@@ -43,7 +43,8 @@ class ZapHandler {
   const ZapStats& stats() const { return stats_; }
 
  private:
-  /// Decides one request (the frames of the ZAP specification) and returns the reply's status code.
+  /// Decides one request (the frames of the ZAP specification) and returns the reply's status code. An accepted
+  /// key becomes `user_id` (Z85), which libzmq attaches to each of the peer's messages as "User-Id".
   std::string Decide(const std::vector<zmq::message_t>& request, std::string& user_id);
   void LogRefusal(const std::string& key, const std::string& line);
 

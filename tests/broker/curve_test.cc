@@ -54,7 +54,8 @@ std::string SubmitError(BatchClient& client) {
 
 class CurveTest : public ::testing::Test {
  protected:
-  // Three folders: the cluster's (broker, worker and client pairs; the worker's and the client's keys allowed),
+  // Four folders: the cluster's (broker, worker and client pairs; the worker's and the client's keys allowed),
+  // bob's (another allowed client's pair and broker.pub),
   // a stranger's (its own worker and client pairs, the right broker.pub: it knows the broker, the broker does not
   // know it), and a swapped one (the allowed worker's pair as client.*, the allowed client's pair as worker.*).
   void SetUp() override {
@@ -68,6 +69,10 @@ class CurveTest : public ::testing::Test {
     fs::copy_file(cluster() / "worker.pub", cluster() / "allowed_workers/worker.pub");
     fs::copy_file(cluster() / "client.pub", cluster() / "allowed_clients/client.pub");
 
+    WritePair(bob(), "client", proto::GenerateCurveKeyPair());
+    fs::copy_file(cluster() / "broker.pub", bob() / "broker.pub");
+    fs::copy_file(bob() / "client.pub", cluster() / "allowed_clients/bob.pub");
+
     stranger_client_ = proto::GenerateCurveKeyPair();
     WritePair(stranger(), "worker", proto::GenerateCurveKeyPair());
     WritePair(stranger(), "client", stranger_client_);
@@ -80,6 +85,7 @@ class CurveTest : public ::testing::Test {
 
   fs::path cluster() const { return dir_.path() / "cluster"; }
   fs::path stranger() const { return dir_.path() / "stranger"; }
+  fs::path bob() const { return dir_.path() / "bob"; }
   fs::path swapped() const { return dir_.path() / "swapped"; }
 
   broker::BrokerOptions BrokerOptions() {
@@ -127,7 +133,7 @@ TEST_F(CurveTest, AllowedWorkerAndClientCompleteABatch) {
   const broker::BrokerStats stats = broker.stats();
   EXPECT_EQ(stats.handshakes_refused, 0u);  // (handshakes_failed counts the connections' endpoint probes)
   EXPECT_EQ(log_.Count("CURVE on"), 1);
-  EXPECT_EQ(log_.Count("1 worker keys and 1 client keys allowed"), 1);
+  EXPECT_EQ(log_.Count("1 worker keys and 2 client keys allowed"), 1);
 }
 
 TEST_F(CurveTest, ClientWithUnknownKeyCannotSubmit) {
@@ -245,6 +251,29 @@ TEST_F(CurveTest, WorkerKeyOnClientSocketAndClientKeyOnWorkerSocketAreRefused) {
   EXPECT_EQ(broker.stats().workers, 0);
   EXPECT_EQ(broker.stats().jobs_accepted, 0u);
   EXPECT_GE(broker.stats().handshakes_refused, 2u);
+}
+
+// A client id is guessable ("<host>-<pid>-<n>"); with CURVE a batch belongs to the key that opened it, so another
+// allowed client cannot take it over by submitting under the same client id (which would move its results).
+TEST_F(CurveTest, AnotherAllowedClientCannotTakeOverABatch) {
+  BrokerThread broker(BrokerOptions());
+  BatchClient alice(ClientOptions(broker, cluster()));
+  alice.Submit(MakeJobs("job-", 2));  // no worker yet: the jobs wait
+
+  RawPeer bob_peer(broker.client_endpoint(), proto::LoadCurvePeerKeys(bob(), "client"));
+  v1::ClientToBroker takeover;
+  takeover.set_protocol_version(proto::kProtocolVersion);
+  takeover.mutable_submit()->set_batch_id(alice.batch_id());
+  takeover.mutable_submit()->set_client_id(alice.batch_id());  // the default batch id is the client id
+  bob_peer.Send(takeover);
+  std::optional<v1::BrokerToClient> answer = bob_peer.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
+  ASSERT_TRUE(answer.has_value());
+  ASSERT_TRUE(answer->has_error());
+  EXPECT_THAT(answer->error().message(), HasSubstr("belongs to another client key"));
+
+  EchoWorker worker(WorkerOptions(broker, "allowed", cluster()));
+  EXPECT_EQ(Collect(alice, 2).size(), 2u);
+  EXPECT_EQ(broker.stats().submits_rejected, 1u);
 }
 
 TEST_F(CurveTest, MissingKeysAreClearErrorsNamingTheFile) {
