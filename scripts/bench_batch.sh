@@ -140,7 +140,7 @@ foreign=() # "what: N" cores' worth of CPU that other processes took during the 
 echo "bench_batch: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the start" >&2
 
 # --- 1. dispatch rate of empty jobs -------------------------------------------------------------------------
-run_dispatch() { # $1: benchmark argument suffix, e.g. 2/16 → items/s of each repetition, one per line
+run_dispatch() { # $1: benchmark argument suffix, e.g. 2/16/0 (no CURVE) → items/s of each repetition, one per line
   timed "$work/tdisp" "dispatch $1" "$dispatch_bench" --benchmark_filter="BM_BrokerDispatchEmptyJobs/$empty_jobs/$1/" \
     --benchmark_repetitions="$repeat" --benchmark_format=json >"$work/dispatch.json" 2>/dev/null ||
     die "$dispatch_bench failed"
@@ -152,10 +152,10 @@ for b in json.load(sys.stdin)["benchmarks"]:
 }
 echo "bench_batch: dispatch rate, $empty_jobs empty jobs, default settings (x$repeat)" >&2
 l0=$(load)
-run_dispatch 2/16 >"$work/dispatch-default" # not in a subshell: timed records the foreign CPU
+run_dispatch 2/16/0 >"$work/dispatch-default" # not in a subshell: timed records the foreign CPU
 read -r dispatch_default dispatch_default_min dispatch_default_max < <(stats 0 <"$work/dispatch-default")
 echo "bench_batch: dispatch rate, credit fixed at 2 (x$repeat)" >&2
-run_dispatch 2/2 >"$work/dispatch-fixed"
+run_dispatch 2/2/0 >"$work/dispatch-fixed"
 read -r dispatch_fixed dispatch_fixed_min dispatch_fixed_max < <(stats 0 <"$work/dispatch-fixed")
 loads+=("dispatch: $l0→$(load)")
 

@@ -6,6 +6,8 @@
 #include <benchmark/benchmark.h>
 
 #include <atomic>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -14,6 +16,7 @@
 
 #include "broker/broker.h"
 #include "broker/client.h"
+#include "proto/curve_keys.h"
 #include "worker/broker_connection.h"
 
 namespace orcs {
@@ -21,11 +24,36 @@ namespace {
 
 using std::chrono::milliseconds;
 
+// A temporary CURVE key folder for one broker, one worker key and one client key (docs/security.md); removed at
+// the end.
+class CurveKeyFolder {
+ public:
+  CurveKeyFolder() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "orcs-bench-keys-XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+    path_ = pattern;
+    for (const char* name : {"broker", "worker", "client"}) {
+      proto::WriteCurveKeyPair(path_, name, proto::GenerateCurveKeyPair());
+    }
+    std::filesystem::create_directory(path_ / "allowed_workers");
+    std::filesystem::create_directory(path_ / "allowed_clients");
+    std::filesystem::copy_file(path_ / "worker.pub", path_ / "allowed_workers/worker.pub");
+    std::filesystem::copy_file(path_ / "client.pub", path_ / "allowed_clients/client.pub");
+  }
+  ~CurveKeyFolder() { std::filesystem::remove_all(path_); }
+  std::string path() const { return path_.string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
 // A worker answering every job at once with status OK and nothing else.
 class EchoWorker {
  public:
-  EchoWorker(const std::string& endpoint, const std::string& name, int credit, int short_job_credit) {
+  EchoWorker(const std::string& endpoint, const std::string& name, int credit, int short_job_credit,
+             const std::string& curve_keys) {
     worker::WorkerConnectionOptions options;
+    options.curve_keys = curve_keys;
     options.endpoint = endpoint;
     options.worker_id = name;
     options.credit = credit;
@@ -55,20 +83,26 @@ class EchoWorker {
 };
 
 // range(0): jobs per batch; range(1): each worker's credit; range(2): its short-job credit (WorkerConnectionOptions:
-// the credit it asks for once its jobs prove short; ≤ credit keeps the credit fixed).
+// the credit it asks for once its jobs prove short; ≤ credit keeps the credit fixed); range(3): 1 = every
+// connection with CURVE (docs/security.md).
 void BM_BrokerDispatchEmptyJobs(benchmark::State& state) {
   const int jobs_per_batch = static_cast<int>(state.range(0));
   const int credit = static_cast<int>(state.range(1));
   const int short_job_credit = static_cast<int>(state.range(2));
+  std::unique_ptr<CurveKeyFolder> keys;
+  if (state.range(3) != 0) keys = std::make_unique<CurveKeyFolder>();
+  const std::string curve_keys = keys ? keys->path() : "";
   broker::BrokerOptions broker_options;  // 127.0.0.1, ephemeral ports
+  broker_options.curve_keys = curve_keys;
   broker_options.log = [](std::string_view) {};
   broker::Broker broker(broker_options);
   std::thread broker_thread([&] { broker.Run(); });
   {
-    EchoWorker a(broker.worker_endpoint(), "a", credit, short_job_credit);
-    EchoWorker b(broker.worker_endpoint(), "b", credit, short_job_credit);
+    EchoWorker a(broker.worker_endpoint(), "a", credit, short_job_credit, curve_keys);
+    EchoWorker b(broker.worker_endpoint(), "b", credit, short_job_credit, curve_keys);
     broker::BatchClientOptions client_options;
     client_options.endpoint = broker.client_endpoint();
+    client_options.curve_keys = curve_keys;
     broker::BatchClient client(client_options);
 
     int batch = 0;
@@ -93,10 +127,11 @@ void BM_BrokerDispatchEmptyJobs(benchmark::State& state) {
   broker_thread.join();
 }
 BENCHMARK(BM_BrokerDispatchEmptyJobs)
-    ->Args({10000, 2, 16})  // the defaults of WorkerConnectionOptions (and orcs-worker)
-    ->Args({10000, 2, 2})   // credit fixed at 2
-    ->Args({10000, 8, 8})
-    ->Args({10000, 32, 32})
+    ->Args({10000, 2, 16, 0})  // the defaults of WorkerConnectionOptions (and orcs-worker)
+    ->Args({10000, 2, 16, 1})  // the same with CURVE
+    ->Args({10000, 2, 2, 0})   // credit fixed at 2
+    ->Args({10000, 8, 8, 0})
+    ->Args({10000, 32, 32, 0})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()  // the CPU column: every thread's CPU time (broker, client, workers, ZeroMQ's)
     ->UseRealTime();
