@@ -77,20 +77,20 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         HiddenCase{"TransportDelay", {"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04"},
                    "TransportDelay"},
-        HiddenCase{"DeadBand", {"--effect", "DeadBand", "--set", "/Effects/DeadBand/Margin=0.03"}, "DeadBand"},
+        HiddenCase{"DeadBand", {"--effect", "DeadBand", "--set", "/Effects/DeadBand/Margin=1.7"}, "DeadBand"},
         HiddenCase{"BackEmf", {"--effect", "BackEmf", "--set", "/Effects/BackEmf/NoLoadSpeed=5"}, "BackEmf"},
         HiddenCase{"Elasticity", {"--effect", "Elasticity", "--set", "/Effects/Elasticity/Stiffness=5"}, "Elasticity"},
         HiddenCase{"RotorInertia", {"--effect", "RotorInertia", "--set", "/Effects/RotorInertia/Inertia=0.01"},
                    "RotorInertia"},
         HiddenCase{"LoadFriction", {"--effect", "LoadFriction", "--set", "/Effects/LoadFriction/Coefficient=0.1"},
                    "LoadFriction"},
-        HiddenCase{"Backlash", {"--effect", "Backlash", "--set", "/Effects/Backlash/Width=0.06"}, "Backlash"},
+        HiddenCase{"Backlash", {"--effect", "Backlash", "--set", "/Effects/Backlash/Width=3.4"}, "Backlash"},
         HiddenCase{"MistunedBaseOnly",
                    {"--set", "/AngularMotor/PID/Proportional=14", "--set", "/AngularMotor/FMaxFactor=0.9"},
                    ""},
         HiddenCase{"TwoEffectsNameTheStronger",
                    {"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04", "--effect", "DeadBand",
-                    "--set", "/Effects/DeadBand/Margin=0.01"},
+                    "--set", "/Effects/DeadBand/Margin=0.6"},
                    "TransportDelay"}),
     [](const ::testing::TestParamInfo<HiddenCase>& param) { return std::string(param.param.name); });
 
