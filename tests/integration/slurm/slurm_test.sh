@@ -37,14 +37,16 @@ await() {
 }
 
 # --- Slurm and munge installed? (scripts/setup.sh lists them, so CI has them) ------------------------------
-need=(munged mungekey slurmctld slurmd sbatch srun sinfo squeue scancel)
-missing_commands() { for c in "${need[@]}"; do command -v "$c" >/dev/null || return 0; done; return 1; }
-if missing_commands; then
+need=(munged mungekey munge unmunge slurmctld slurmd sbatch srun sinfo squeue scancel)
+missing_commands() { local c; for c in "${need[@]}"; do command -v "$c" >/dev/null || echo "$c"; done; }
+if [ -n "$(missing_commands)" ]; then
   if [ "$(id -u)" -eq 0 ] || sudo -n true 2>/dev/null; then
     say "installing slurm-wlm and munge with scripts/setup.sh"
     "$src/scripts/setup.sh" || skip "scripts/setup.sh could not install slurm-wlm and munge"
+  else
+    skip "slurm-wlm and munge are not installed, and installing them needs root or sudo"
   fi
-  missing_commands && skip "Slurm or munge is not installed and cannot be installed (not root, no sudo)"
+  [ -z "$(missing_commands)" ] || skip "no $(missing_commands | tr '\n' ' ')on PATH after scripts/setup.sh"
 fi
 command -v python3 >/dev/null || fail "python3 is needed to compare results"
 
@@ -174,20 +176,20 @@ timeout 600 "$bin/orcs-batch" run "$scenario" "${batch[@]}" --workers "$workers"
 local_seconds=$(seconds_since "$start")
 say "orcs-batch run, $workers local workers: $jobs jobs in $local_seconds s ($(grep -o '[0-9.]* jobs/s in [0-9.]* s' "$tmp/log/local.log"))"
 
-# Runs scripts/slurm/orcs-batch.sbatch with sbatch --wait, for at most SECONDS; prints sbatch's exit status (the
-# job's). Usage: sbatch_batch NAME SECONDS SCRIPT-ARGUMENTS...
+# Runs scripts/slurm/orcs-batch.sbatch with sbatch --wait, for at most SECONDS, on the allocation ALLOCATION (an
+# sbatch option); prints sbatch's exit status (the job's). Usage: sbatch_batch NAME SECONDS ALLOCATION ARGUMENTS...
 sbatch_batch() {
-  local name=$1 limit=$2
-  shift 2
+  local name=$1 limit=$2 allocation=$3
+  shift 3
   local status=0
-  timeout "$limit" sbatch --wait --quiet --job-name="orcs-$name" --ntasks="$workers" --time=10 \
+  timeout "$limit" sbatch --wait --quiet --job-name="orcs-$name" "$allocation" --time=10 \
     --output="$tmp/log/sbatch-$name.log" --export="ALL,ORCS_BIN=$bin" \
     "$src/scripts/slurm/orcs-batch.sbatch" "$@" >"$tmp/log/sbatch-$name.out" 2>&1 || status=$?
   echo "$status"
 }
 
 start=$(now)
-status=$(sbatch_batch same 600 "$scenario" "$tmp/out/slurm" "${batch[@]}")
+status=$(sbatch_batch same 600 --ntasks="$workers" "$scenario" "$tmp/out/slurm" "${batch[@]}")
 slurm_seconds=$(seconds_since "$start")
 [ "$status" = 0 ] || fail "the batch through Slurm exited $status: $(tail -n 5 "$tmp/log/sbatch-same.log" "$tmp/log/sbatch-same.out")"
 say "orcs-batch.sbatch, $workers Slurm workers: $jobs jobs in $slurm_seconds s from sbatch to its return" \
@@ -240,10 +242,13 @@ await 10 "no orcs-broker or orcs-worker left after the job" no_orcs_left ||
 grep -q 'stopped: told' "$tmp/out/slurm/broker.log" || fail "the broker did not stop cleanly: $(tail -n 3 "$tmp/out/slurm/broker.log")"
 
 # --- The job's exit status is the batch's ---------------------------------------------------------------------
-status=$(sbatch_batch timeout 120 "$scenario" "$tmp/out/timeout" --jobs 2 --time-limit 0.001)
+# One task with $workers CPUs still gets a worker per CPU.
+status=$(sbatch_batch timeout 120 --cpus-per-task="$workers" "$scenario" "$tmp/out/timeout" --jobs 2 --time-limit 0.001)
 [ "$status" = 1 ] || fail "a batch whose jobs time out should exit 1 through Slurm, not $status"
+grep -q " $workers workers on $node" "$tmp/log/sbatch-timeout.log" ||
+  fail "--cpus-per-task=$workers should give $workers workers: $(grep workers "$tmp/log/sbatch-timeout.log")"
 grep -q '0 ok, 2 failed (timeout 2)' "$tmp/log/sbatch-timeout.log" || fail "no timeout summary: $(tail -n 3 "$tmp/log/sbatch-timeout.log")"
-status=$(sbatch_batch bad 120 "$tmp/no-such-scenario.json" "$tmp/out/bad")
+status=$(sbatch_batch bad 120 --ntasks=1 "$tmp/no-such-scenario.json" "$tmp/out/bad")
 [ "$status" = 2 ] || fail "a batch with a missing scenario should exit 2 through Slurm, not $status"
 grep -q 'no-such-scenario.json' "$tmp/log/sbatch-bad.log" || fail "the missing scenario is not named: $(tail -n 3 "$tmp/log/sbatch-bad.log")"
 say "through Slurm, timed-out jobs exit 1 and a missing scenario exits 2, as orcs-batch does"
