@@ -3,8 +3,9 @@
 #
 # Starts a private single-node Slurm on loopback (munged, slurmctld and slurmd with every file under a temporary
 # folder), runs a 200-job A-Series batch with scripts/slurm/orcs-batch.sbatch (`sbatch --wait`) and the same batch
-# with `orcs-batch run --workers 2`, and compares every result bit for bit. Then checks that the script's exit
-# status follows the batch's, and that scripts/slurm/orcs-workers.sbatch adds workers to a broker outside Slurm.
+# with `orcs-batch run --workers 2`, and compares every result bit for bit (compare_results.py). Then checks that
+# the script's exit status follows the batch's, and that scripts/slurm/orcs-workers.sbatch adds workers to a
+# broker outside Slurm. Prints both batches' times (docs/cluster.md records them).
 # Stops everything it started on exit, also on failure.
 #
 # Usage: slurm_test.sh BIN_DIR SOURCE_DIR
@@ -62,7 +63,7 @@ export SLURM_CONF=$tmp/slurm.conf  # every Slurm command and daemon below reads 
 ours() {
   local p
   for p in /proc/[0-9]*; do
-    [ "${p#/proc/}" = "$$" ] && continue
+    case "${p#/proc/}" in "$$" | "$BASHPID") continue ;; esac  # this script, and the subshell running ours
     grep -qzx "SLURM_CONF=$SLURM_CONF" "$p/environ" 2>/dev/null && echo "${p#/proc/}"
   done
   return 0
@@ -78,8 +79,9 @@ cleanup() {
     local deadline=$((SECONDS + 10))
     while [ -n "$(ours)" ] && [ "$SECONDS" -lt "$deadline" ]; do sleep 0.2; done
     local left
-    left=$(ours)
-    [ -n "$left" ] && { say "killing what did not stop: $left"; kill -KILL $left 2>/dev/null; }
+    mapfile -t left < <(ours)
+    if [ ${#left[@]} -gt 0 ]; then say "killing what did not stop: ${left[*]}"; kill -KILL "${left[@]}" 2>/dev/null; fi
+    say "stopped the daemons and everything they started"
   fi
   if [ $status -ne 0 ] && [ $status -ne 77 ]; then
     for log in "$tmp"/log/*.log; do [ -f "$log" ] && { echo "--- $log (last lines)"; tail -n 20 "$log"; }; done
@@ -171,10 +173,11 @@ now() { date +%s.%N; }
 seconds_since() { python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]):.1f}')" "$1" "$(now)"; }
 
 start=$(now)
-timeout 600 "$bin/orcs-batch" run "$scenario" "${batch[@]}" --workers "$workers" --out "$tmp/out/local" >"$tmp/log/local.log" 2>&1 ||
-  fail "orcs-batch run failed: $(tail -n 3 "$tmp/log/local.log")"
+timeout 600 "$bin/orcs-batch" run "$scenario" "${batch[@]}" --workers "$workers" --out "$tmp/out/local" \
+  >"$tmp/log/local.log" 2>&1 || fail "orcs-batch run failed: $(tail -n 3 "$tmp/log/local.log")"
 local_seconds=$(seconds_since "$start")
-say "orcs-batch run, $workers local workers: $jobs jobs in $local_seconds s ($(grep -o '[0-9.]* jobs/s in [0-9.]* s' "$tmp/log/local.log"))"
+rate() { grep -o '[0-9.]* jobs/s in [0-9.]* s' "$1"; }  # orcs-batch's summary: the batch's own time
+say "orcs-batch run, $workers local workers: $jobs jobs in $local_seconds s ($(rate "$tmp/log/local.log"))"
 
 # Runs scripts/slurm/orcs-batch.sbatch with sbatch --wait, for at most SECONDS, on the allocation ALLOCATION (an
 # sbatch option); prints sbatch's exit status (the job's). Usage: sbatch_batch NAME SECONDS ALLOCATION ARGUMENTS...
@@ -191,46 +194,16 @@ sbatch_batch() {
 start=$(now)
 status=$(sbatch_batch same 600 --ntasks="$workers" "$scenario" "$tmp/out/slurm" "${batch[@]}")
 slurm_seconds=$(seconds_since "$start")
-[ "$status" = 0 ] || fail "the batch through Slurm exited $status: $(tail -n 5 "$tmp/log/sbatch-same.log" "$tmp/log/sbatch-same.out")"
+[ "$status" = 0 ] ||
+  fail "the batch through Slurm exited $status: $(tail -n 5 "$tmp/log/sbatch-same.log" "$tmp/log/sbatch-same.out")"
 say "orcs-batch.sbatch, $workers Slurm workers: $jobs jobs in $slurm_seconds s from sbatch to its return" \
-  "($(grep -o '[0-9.]* jobs/s in [0-9.]* s' "$tmp/log/sbatch-same.log"))"
+  "($(rate "$tmp/log/sbatch-same.log"))"
 
 sed 's/^/  job: /' "$tmp/log/sbatch-same.log"
 
 # Every job once, ok, and the same bits as the local run; Slurm's workers ran them.
-python3 - "$tmp/out/local/results.jsonl" "$tmp/out/slurm/results.jsonl" "$jobs" "$workers" <<'PY' || fail "results differ"
-import json, sys
-
-def load(path):
-    by_id = {}
-    with open(path) as lines:
-        for number, line in enumerate(lines, 1):
-            result = json.loads(line)
-            if result["id"] in by_id:
-                sys.exit(f"{path}:{number}: job {result['id']} twice")
-            by_id[result["id"]] = result
-    return by_id
-
-local, slurm = load(sys.argv[1]), load(sys.argv[2])
-jobs, workers = int(sys.argv[3]), int(sys.argv[4])
-if len(local) != jobs or set(local) != set(slurm):
-    sys.exit(f"{len(local)} local and {len(slurm)} Slurm results; expected the same {jobs} job ids")
-if sorted(r["seed"] for r in slurm.values()) != list(range(1, jobs + 1)):
-    sys.exit("the Slurm results' seeds are not 1..%d" % jobs)
-text = lambda value: json.dumps(value)  # floats print as their shortest round-trip form: equal text, equal bits
-for job_id, mine in sorted(slurm.items()):
-    theirs = local[job_id]
-    for result, where in ((mine, "Slurm"), (theirs, "local")):
-        if result["status"] != "ok" or not isinstance(result["fitness"], float):
-            sys.exit(f"{where} {job_id}: status {result['status']}, fitness {result['fitness']}: {result['message']}")
-    for field in ("seed", "fitness", "terms", "sets"):
-        if text(mine[field]) != text(theirs[field]):
-            sys.exit(f"{job_id} {field}: Slurm {text(mine[field])[:200]} != local {text(theirs[field])[:200]}")
-ran_on = {r["worker"] for r in slurm.values()}
-if any(w.startswith("local-") for w in ran_on) or len(ran_on) != workers:
-    sys.exit(f"Slurm's {workers} workers should have run the jobs; they ran on {sorted(ran_on)}")
-print(f"slurm_test: {jobs} results identical to the bit (fitness, terms, every set); workers {sorted(ran_on)}")
-PY
+compare=(python3 "$src/tests/integration/slurm/compare_results.py" "$tmp/out/local/results.jsonl")
+"${compare[@]}" "$tmp/out/slurm/results.jsonl" --seeds "$jobs" --workers "$workers" || fail "results differ"
 
 # The job left nothing running: broker and workers stopped with it.
 no_orcs_left() {
@@ -238,8 +211,9 @@ no_orcs_left() {
   for p in $(ours); do case "$(cat "/proc/$p/comm" 2>/dev/null)" in orcs-*) return 1 ;; esac; done
 }
 await 10 "no orcs-broker or orcs-worker left after the job" no_orcs_left ||
-  fail "orcs processes left after the job: $(for p in $(ours); do cat "/proc/$p/cmdline" | tr '\0' ' '; echo; done)"
-grep -q 'stopped: told' "$tmp/out/slurm/broker.log" || fail "the broker did not stop cleanly: $(tail -n 3 "$tmp/out/slurm/broker.log")"
+  fail "orcs processes left after the job: $(for p in $(ours); do tr '\0' ' ' <"/proc/$p/cmdline"; echo; done)"
+grep -q 'stopped: told' "$tmp/out/slurm/broker.log" ||
+  fail "the broker did not stop cleanly: $(tail -n 3 "$tmp/out/slurm/broker.log")"
 
 # --- The job's exit status is the batch's ---------------------------------------------------------------------
 # One task with $workers CPUs still gets a worker per CPU.
@@ -247,10 +221,12 @@ status=$(sbatch_batch timeout 120 --cpus-per-task="$workers" "$scenario" "$tmp/o
 [ "$status" = 1 ] || fail "a batch whose jobs time out should exit 1 through Slurm, not $status"
 grep -q " $workers workers on $node" "$tmp/log/sbatch-timeout.log" ||
   fail "--cpus-per-task=$workers should give $workers workers: $(grep workers "$tmp/log/sbatch-timeout.log")"
-grep -q '0 ok, 2 failed (timeout 2)' "$tmp/log/sbatch-timeout.log" || fail "no timeout summary: $(tail -n 3 "$tmp/log/sbatch-timeout.log")"
+grep -q '0 ok, 2 failed (timeout 2)' "$tmp/log/sbatch-timeout.log" ||
+  fail "no timeout summary: $(tail -n 3 "$tmp/log/sbatch-timeout.log")"
 status=$(sbatch_batch bad 120 --ntasks=1 "$tmp/no-such-scenario.json" "$tmp/out/bad")
 [ "$status" = 2 ] || fail "a batch with a missing scenario should exit 2 through Slurm, not $status"
-grep -q 'no-such-scenario.json' "$tmp/log/sbatch-bad.log" || fail "the missing scenario is not named: $(tail -n 3 "$tmp/log/sbatch-bad.log")"
+grep -q 'no-such-scenario.json' "$tmp/log/sbatch-bad.log" ||
+  fail "the missing scenario is not named: $(tail -n 3 "$tmp/log/sbatch-bad.log")"
 say "through Slurm, timed-out jobs exit 1 and a missing scenario exits 2, as orcs-batch does"
 
 # --- A broker outside Slurm, workers from a job array ---------------------------------------------------------
@@ -264,19 +240,11 @@ array=$(sbatch --parsable --array=1-"$workers" --time=10 --output="$tmp/log/arra
   fail "sbatch --array refused orcs-workers.sbatch"
 array=${array%%;*}
 timeout 300 "$bin/orcs-batch" submit --broker "${clients#clients=}" "$scenario" --jobs 10 --seed 1 \
-  --out "$tmp/out/array" >"$tmp/log/array-batch.log" 2>&1 || fail "the batch on the array's workers failed: $(tail -n 3 "$tmp/log/array-batch.log")"
-python3 - "$tmp/out/local/results.jsonl" "$tmp/out/array/results.jsonl" <<'PY' || fail "the array's results differ"
-import json, sys
-local = {r["seed"]: r for r in map(json.loads, open(sys.argv[1]))}
-array = [json.loads(line) for line in open(sys.argv[2])]
-if sorted(r["seed"] for r in array) != list(range(1, 11)):
-    sys.exit(f"expected seeds 1..10 once each, found {sorted(r['seed'] for r in array)}")
-for r in array:
-    if r["status"] != "ok" or json.dumps(r["sets"]) != json.dumps(local[r["seed"]]["sets"]) or r["worker"].startswith("local-"):
-        sys.exit(f"seed {r['seed']}: {r['status']} on {r['worker']}, or not the local run's bits")
-print(f"slurm_test: 10 jobs on the array's workers {sorted({r['worker'] for r in array})}, the same bits as locally")
-PY
-grep -c ' joined with credit' "$tmp/log/broker.log" | grep -qx "$workers" ||
+  --out "$tmp/out/array" >"$tmp/log/array-batch.log" 2>&1 ||
+  fail "the batch on the array's workers failed: $(tail -n 3 "$tmp/log/array-batch.log")"
+"${compare[@]}" "$tmp/out/array/results.jsonl" --seeds 10 --workers "$workers" || fail "the array's results differ"
+all_joined() { [ "$(grep -c ' joined with credit' "$tmp/log/broker.log")" = "$workers" ]; }
+await 30 "all $workers array workers joined the broker" all_joined ||
   fail "expected $workers array workers to join the broker: $(grep joined "$tmp/log/broker.log")"
 scancel "$array"
 array_gone() { [ -z "$(squeue -h -j "$array" 2>/dev/null)" ] && no_orcs_worker_left; }
@@ -285,7 +253,8 @@ no_orcs_worker_left() {
   for p in $(ours); do [ "$(cat "/proc/$p/comm" 2>/dev/null)" = orcs-worker ] && return 1; done
   return 0
 }
-await 30 "scancel stopped the array's workers" array_gone || fail "the array's workers did not stop: $(squeue -j "$array")"
+await 30 "scancel stopped the array's workers" array_gone ||
+  fail "the array's workers did not stop: $(squeue -j "$array")"
 # SIGTERM from scancel reached the workers: each told the broker it was leaving.
 [ "$(grep -c 'worker .* left (worker shutting down)' "$tmp/log/broker.log")" = "$workers" ] ||
   fail "the array's workers did not say goodbye to the broker: $(grep worker "$tmp/log/broker.log" | tail -n 3)"
