@@ -21,12 +21,13 @@ readonly jobs=200
 say() { echo "slurm_test: $*"; }
 fail() { echo "slurm_test: FAIL: $*" >&2; exit 1; }
 skip() {
+  [ "${ORCS_REQUIRE_SLURM:-0}" = 1 ] && fail "$* (ORCS_REQUIRE_SLURM=1: no skipping)"
   echo "slurm_test: SKIP: $*" >&2
-  [ "${ORCS_REQUIRE_SLURM:-0}" = 1 ] && exit 1
   exit 77
 }
 
-# Polls COMMAND every 0.2 s until it succeeds; fails after SECONDS. Usage: await SECONDS WHAT COMMAND...
+# Polls COMMAND every 0.2 s until it succeeds, then says WHAT (if any); fails after SECONDS.
+# Usage: await SECONDS WHAT COMMAND...
 await() {
   local deadline=$((SECONDS + $1)) what=$2
   shift 2
@@ -34,7 +35,7 @@ await() {
     [ "$SECONDS" -ge "$deadline" ] && return 1
     sleep 0.2
   done
-  say "$what"
+  [ -z "$what" ] || say "$what"
 }
 
 # --- Slurm and munge installed? (scripts/setup.sh lists them, so CI has them) ------------------------------
@@ -159,11 +160,19 @@ slurmctld -D -i -f "$SLURM_CONF" >"$tmp/log/slurmctld.out" 2>&1 &
 pids+=($!)
 slurmd -D -f "$SLURM_CONF" >"$tmp/log/slurmd.out" 2>&1 &
 pids+=($!)
-node_idle() { [ "$(sinfo -h -N -n "$node" -o %T 2>/dev/null)" = idle ]; }
-await 60 "node $node is idle (slurmctld on 127.0.0.1:$ctld_port, slurmd on :$slurmd_port, $cpus CPUs)" node_idle ||
+last_lines() { tail -q -n 2 "$tmp/log/$1.out" "$tmp/log/$1.log" 2>/dev/null | tr '\n' ' '; }
+# A child that exited stays a zombie until this shell reaps it, and kill -0 still finds it.
+running() { [ "$(sed 's/.*) //' "/proc/$1/stat" 2>/dev/null | cut -c1)" != Z ] && [ -e "/proc/$1" ]; }
+# Idle, or a daemon gone (no point waiting longer); at most 60 s.
+node_idle() {
+  [ "$(sinfo -h -N -n "$node" -o %T 2>/dev/null)" = idle ] || ! running "${pids[1]}" || ! running "${pids[2]}"
+}
+await 60 "" node_idle ||
   skip "Slurm did not bring node $node up within 60 s: $(sinfo -h -N -o '%N %T %E' 2>&1 | head -n 1);" \
-    "slurmctld: $(tail -n 2 "$tmp/log/slurmctld.log" 2>/dev/null | tr '\n' ' ')" \
-    "slurmd: $(tail -n 2 "$tmp/log/slurmd.log" 2>/dev/null | tr '\n' ' ')"
+    "slurmctld: $(last_lines slurmctld) slurmd: $(last_lines slurmd)"
+running "${pids[1]}" || skip "slurmctld could not start: $(last_lines slurmctld)"
+running "${pids[2]}" || skip "slurmd could not start: $(last_lines slurmd)"
+say "node $node is idle (slurmctld on 127.0.0.1:$ctld_port, slurmd on :$slurmd_port, $cpus CPUs)"
 
 # --- The same 200-job batch locally and through Slurm ---------------------------------------------------------
 scenario=$src/tests/integration/slurm/slurm_batch.json
