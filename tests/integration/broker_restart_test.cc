@@ -18,6 +18,7 @@
 #include "broker/client.h"
 #include "model/scene/scenario.h"
 #include "tests/support/background_process.h"
+#include "tests/support/broker_process.h"
 #include "tests/support/temp_dir.h"
 
 namespace orcs {
@@ -25,6 +26,7 @@ namespace {
 
 using std::chrono::milliseconds;
 using test_support::BackgroundProcess;
+using test_support::PortOf;
 
 const std::string kBin = ORCS_BINARY_DIR "/bin/";
 constexpr int kJobs = 200;
@@ -49,21 +51,16 @@ std::vector<v1::Job> Batch() {
   return jobs;
 }
 
-std::string PortOf(const std::string& endpoint) { return endpoint.substr(endpoint.rfind(':') + 1); }
-
 class BrokerRestartIntegrationTest : public ::testing::Test {
  protected:
   void StartBroker(const std::string& client_port, const std::string& worker_port) {
-    broker_ = std::make_unique<BackgroundProcess>(std::vector<std::string>{
-        kBin + "orcs-broker", "--client-port", client_port, "--worker-port", worker_port, "--heartbeat", "0.1",
-        "--journal", dir_.PathOf("journal.db")});
-    const std::optional<std::string> line = broker_->ReadLine(milliseconds(10000));
-    ASSERT_TRUE(line.has_value()) << broker_->err();
-    std::smatch match;
-    static const std::regex kLine("orcs-broker clients=(\\S+) workers=(\\S+)");
-    ASSERT_TRUE(std::regex_match(*line, match, kLine)) << *line;
-    clients_ = match[1];
-    workers_ = match[2];
+    test_support::BrokerProcess started = test_support::StartBrokerProcess(
+        {"--client-port", client_port, "--worker-port", worker_port, "--heartbeat", "0.1", "--journal",
+         dir_.PathOf("journal.db")});
+    ASSERT_EQ(started.error, "");
+    broker_ = std::move(started.process);
+    clients_ = started.clients;
+    workers_ = started.workers;
   }
   // SIGKILL, then a new broker on the same ports and journal; returns the old one's log.
   std::string KillAndRestartBroker() {
