@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iostream>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 #include <zmq_addon.hpp>
@@ -90,6 +91,10 @@ Broker::Broker(BrokerOptions options)
   worker_endpoint_ = Bind(worker_socket_, options_.bind_address, options_.worker_port, "worker");
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) throw std::runtime_error("eventfd failed");
+  if (!options_.journal.empty()) {
+    journal_ = std::make_unique<BrokerJournal>(options_.journal);
+    Restore();
+  }
 }
 
 void Broker::EnableCurve() {
@@ -170,6 +175,7 @@ void Broker::Run() {
       if (items[4].revents & ZMQ_POLLIN) ReadHandshakeFailures(*client_monitor_, "client");
       if (items[5].revents & ZMQ_POLLIN) ReadHandshakeFailures(*worker_monitor_, "worker");
     }
+    if (journal_) journal_->Begin();  // one transaction per turn: what this turn changed lands together
     now_ = Clock::now();
     if (items[0].revents & ZMQ_POLLIN) ReceiveWorkerMessages();
     if (items[1].revents & ZMQ_POLLIN) ReceiveClientMessages();
@@ -179,6 +185,7 @@ void Broker::Run() {
       next_tick = now_ + options_.heartbeat_interval;
     }
     Dispatch();
+    if (journal_) journal_->Commit();
     PublishStats();
   }
   SayGoodbye();
@@ -363,7 +370,8 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
   if (problem.empty() && batch_entry != batches_.end() && batch_entry->second.client_id != submit.client_id()) {
     problem = "batch '" + batch_id + "' belongs to another client ('" + batch_entry->second.client_id + "')";
   }
-  if (problem.empty() && batch_entry != batches_.end() && batch_entry->second.client_key != client_key_) {
+  if (problem.empty() && batch_entry != batches_.end() && !batch_entry->second.client_key.empty() &&
+      batch_entry->second.client_key != client_key_) {
     problem = "batch '" + batch_id + "' belongs to another client key";  // a client id is no secret; a key is
   }
   if (problem.empty() && client_entry != clients_.end() && client_entry->second.client_id != submit.client_id()) {
@@ -390,12 +398,14 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
     batch_entry->second.client = client;
     batch_entry->second.client_id = submit.client_id();
     batch_entry->second.client_key = client_key_;
+    if (journal_) journal_->AddBatch(batch_id, submit.client_id());
     Log("client " + submit.client_id() + " opened batch " + batch_id);
   } else if (batch_entry->second.client != client) {
     // The same client on a new connection (it reconnected): results go to the new one from now on.
     auto previous = clients_.find(batch_entry->second.client);
     if (previous != clients_.end()) previous->second.batches.erase(batch_id);
     batch_entry->second.client = client;
+    if (batch_entry->second.client_key.empty()) batch_entry->second.client_key = client_key_;  // restored: claimed
     Log("batch " + batch_id + " of client " + submit.client_id() + " moved to its new connection");
   }
   client_entry->second.batches.insert(batch_id);
@@ -406,9 +416,11 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
     v1::Job& job = *submit.mutable_jobs(i);
     auto [entry, inserted] = batch.jobs.try_emplace(job.job_id());
     JobRecord& record = entry->second;
-    // A job already pending stays as it is; a finished one submitted again runs again (its client asks because it
-    // never saw the result, e.g. it went to a connection that has since closed).
+    // A job already pending stays as it is. A finished one submitted again (its client never saw the result, e.g.
+    // it went to a connection that has since closed, or the broker restarted) gets its stored result when the
+    // journal has one, and runs again otherwise.
     if (!inserted && record.state != JobState::kFinished) continue;
+    if (!inserted && journal_ && ResendStoredResult(client, batch_id, job.job_id())) continue;
     record.job = std::move(job);
     record.job.set_batch_id(batch_id);
     record.job.set_attempt(0);
@@ -458,6 +470,7 @@ void Broker::OnTick(Clock::time_point now) {
   SendHeartbeats();
   PurgeLostWorkers(now);
   PurgeLostClients(now);
+  PurgeUnclaimedBatches(now);
 }
 
 void Broker::SendHeartbeats() {
@@ -495,6 +508,74 @@ void Broker::PurgeLostClients(Clock::time_point now) {
   for (const std::string& client : silent) DropClient(client, "silent for " + Seconds(liveness_period_), true);
 }
 
+void Broker::PurgeUnclaimedBatches(Clock::time_point now) {
+  std::vector<std::string> unclaimed;
+  for (const auto& [batch_id, batch] : batches_) {
+    if (batch.client.empty() && batch.claim_deadline <= now) unclaimed.push_back(batch_id);
+  }
+  for (const std::string& batch_id : unclaimed) {
+    ++counters_.batches_unclaimed;
+    Log("batch " + batch_id + " of client " + batches_.at(batch_id).client_id +
+        " dropped: restored from the journal, but its client did not come back");
+    DropBatch(batch_id);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The journal
+
+// Reads the journal back after a restart. Unfinished jobs go to the queue — those that were in flight first, as
+// their workers are gone or will reconnect and send late results, which the late-result rule accepts. Finished
+// jobs keep their stored results for the client, which resubmits every job it has no result for when it finds
+// the broker restarted. A batch whose client is not back within two liveness periods is dropped.
+void Broker::Restore() {
+  now_ = Clock::now();
+  journal_->Begin();
+  for (JournalBatch& stored : journal_->Batches()) {
+    Batch& batch = batches_[stored.batch_id];
+    batch.client_id = std::move(stored.client_id);
+    batch.claim_deadline = now_ + 2 * liveness_period_;
+  }
+  std::uint64_t in_flight = 0;
+  journal_->ForEachJob([&](JournalJob&& stored) {
+    auto batch = batches_.find(stored.batch_id);
+    if (batch == batches_.end()) return;  // a job of a batch being dropped when the broker died
+    const std::string job_id = stored.job.job_id();
+    JobRecord& record = batch->second.jobs[job_id];
+    record.job = std::move(stored.job);
+    record.job.set_batch_id(stored.batch_id);
+    record.losses = stored.losses;
+    record.dispatches = stored.dispatches;
+    record.lost_by = std::move(stored.lost_by);
+    record.accepted_at = now_;
+    if (stored.finished) {
+      record.state = JobState::kFinished;
+      ++counters_.results_restored;
+      return;
+    }
+    in_flight += stored.dispatched ? 1 : 0;
+    Enqueue(stored.batch_id, record, false);
+    ++counters_.jobs_restored;
+  });
+  journal_->Commit();
+  Log("journal " + journal_->path() + ": restored " + std::to_string(batches_.size()) + " batches, " +
+      std::to_string(counters_.jobs_restored) + " jobs queued again (" + std::to_string(in_flight) +
+      " of them were in flight), " + std::to_string(counters_.results_restored) + " results kept for their clients");
+}
+
+bool Broker::ResendStoredResult(const std::string& client, const std::string& batch_id, const std::string& job_id) {
+  std::optional<v1::Result> stored = journal_->Result(batch_id, job_id);
+  if (!stored) return false;
+  v1::BrokerToClient message;
+  message.set_protocol_version(kProtocolVersion);
+  message.mutable_result()->Swap(&*stored);
+  if (SendToClient(client, message)) {
+    ++counters_.results_delivered;
+    ++counters_.results_resent;
+  }
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // Moving jobs
 
@@ -527,6 +608,7 @@ void Broker::Dispatch() {
     record.worker = worker_id;
     ++record.dispatches;
     record.dispatched_at = now_;
+    if (journal_) journal_->SaveDispatched(key.first, key.second, record.dispatches);
     if (worker.holding.insert(std::move(key)).second) ++in_flight_count_;
     ++counters_.jobs_dispatched;
     MakeReady(worker_id, worker);  // to the back of the list: the least recently served worker goes first
@@ -553,6 +635,7 @@ void Broker::Enqueue(const std::string& batch_id, JobRecord& record, bool at_fro
   SetState(record, JobState::kQueued);
   record.worker.clear();
   record.ticket = next_ticket_++;
+  if (journal_) journal_->SaveQueued(batch_id, record.job, record.ticket, record.losses, record.lost_by);
   QueueEntry entry{batch_id, record.job.job_id(), record.ticket};
   if (at_front) {
     queue_.push_front(std::move(entry));
@@ -641,6 +724,7 @@ void Broker::DropBatch(const std::string& batch_id) {
   if (batch == batches_.end()) return;
   for (auto& [job_id, record] : batch->second.jobs) SetState(record, JobState::kFinished);
   batches_.erase(batch);
+  if (journal_) journal_->DropBatch(batch_id);
   // The queue entries of the batch are now stale; compact the queue when they dominate it.
   if (queued_count_ == 0) {
     queue_.clear();
@@ -673,6 +757,7 @@ void Broker::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) {
       SecondsBetween(record.accepted_at, record.dispatches > 0 ? record.dispatched_at : now_));
   SetState(record, JobState::kFinished);
   record.worker.clear();
+  if (journal_) journal_->SaveFinished(record.job.batch_id(), record.job.job_id(), result);
   const std::string job_id = record.job.job_id();
   record.job = v1::Job();  // free the scenario; a resubmission brings it back
   record.job.set_job_id(job_id);
@@ -680,7 +765,8 @@ void Broker::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) {
   v1::BrokerToClient message;
   message.set_protocol_version(kProtocolVersion);
   message.mutable_result()->Swap(&result);
-  if (SendToClient(batch.client, message)) ++counters_.results_delivered;
+  // A restored batch whose client is not back yet: the journal keeps the result until the client asks again.
+  if (!batch.client.empty() && SendToClient(batch.client, message)) ++counters_.results_delivered;
 }
 
 void Broker::FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message) {

@@ -25,6 +25,7 @@
 #include <vector>
 #include <zmq.hpp>
 
+#include "broker/broker_journal.h"
 #include "broker/zap_handler.h"
 #include "orcs/v1/broker.pb.h"
 #include "proto/handshake_monitor.h"
@@ -43,6 +44,9 @@ struct BrokerOptions {
   int liveness = 5;
   /// A job whose worker was lost this many times fails with status WORKER_LOST.
   int max_worker_losses = 3;
+  /// SQLite file of the journal (docs/protocol.md, "Journal"): accepted jobs, dispatches and results survive a
+  /// killed broker, and a broker started on the same file resumes. "" = state in memory only.
+  std::string journal;
   /// Where log lines (one event each, no newline) go; empty = stderr, prefixed "orcs-broker: ".
   std::function<void(std::string_view)> log;
   /// Folder of CURVE keys (docs/security.md): broker.key, broker.pub, allowed_workers/*.pub, allowed_clients/*.pub.
@@ -67,6 +71,10 @@ struct BrokerStats {
   std::uint64_t clients_lost = 0;           ///< clients with pending jobs declared lost (silent or connection closed)
   std::uint64_t submits_rejected = 0;       ///< SUBMITs answered with ERROR
   std::uint64_t messages_dropped = 0;       ///< incoming messages dropped as malformed, foreign or illegal
+  std::uint64_t jobs_restored = 0;          ///< unfinished jobs read back from the journal and queued again
+  std::uint64_t results_restored = 0;       ///< finished jobs' results read back from the journal
+  std::uint64_t results_resent = 0;         ///< stored results sent again to a client that resubmitted the job
+  std::uint64_t batches_unclaimed = 0;      ///< restored batches dropped because no client claimed them in time
   std::uint64_t handshakes_refused = 0;     ///< CURVE peers whose key is not allowed on the socket they knocked on
   /// Connections on either socket that failed or closed during their handshake (CURVE only): refused keys, peers
   /// without CURVE, undecryptable ones, and connections closed before the handshake ended.
@@ -116,10 +124,13 @@ class Broker {
     Clock::time_point dispatched_at;  ///< when it was last sent to a worker
   };
   struct Batch {
-    std::string client;      ///< routing id of the owning client's connection
+    std::string client;      ///< routing id of the owning client's connection; "" = restored, not yet claimed
     std::string client_id;   ///< the owning client's name (Submit.client_id), stable across its reconnections
-    std::string client_key;  ///< with CURVE, the owning client's public key (Z85); only it may submit to the batch
+    /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. "" = not yet known
+    /// (a batch restored from the journal, which does not record keys): the first client to claim it sets it.
+    std::string client_key;
     std::unordered_map<std::string, JobRecord> jobs;  ///< by job id
+    Clock::time_point claim_deadline;  ///< restored batches: dropped unless their client is back by then
   };
   struct Worker {
     std::string name;            ///< Ready.worker_id (or the routing id in hex)
@@ -162,6 +173,12 @@ class Broker {
   void SendHeartbeats();
   void PurgeLostWorkers(Clock::time_point now);
   void PurgeLostClients(Clock::time_point now);
+  void PurgeUnclaimedBatches(Clock::time_point now);
+
+  // The journal.
+  void Restore();
+  /// Sends the journal's stored result of a finished job to `client`; false when there is none.
+  bool ResendStoredResult(const std::string& client, const std::string& batch_id, const std::string& job_id);
 
   // Moving jobs.
   void Dispatch();
@@ -200,6 +217,7 @@ class Broker {
   std::string client_endpoint_;
   std::string worker_endpoint_;
   int wake_fd_ = -1;  ///< eventfd Stop() writes to, so that a blocked poll returns
+  std::unique_ptr<BrokerJournal> journal_;  ///< null without BrokerOptions::journal
   std::atomic<bool> stop_requested_{false};
   bool ran_ = false;
 

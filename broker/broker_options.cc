@@ -26,6 +26,9 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
   app.add_option("--max-worker-losses", o.max_worker_losses,
                  "workers a job may lose before it fails with WORKER_LOST (default 3)")
       ->check(CLI::Range(1, 1000));
+  app.add_option("--journal", o.journal,
+                 "SQLite file recording jobs, dispatches and results; a broker started again on it resumes "
+                 "(default: none, state in memory only)");
   app.add_option("--curve-keys", o.curve_keys,
                  "folder of CURVE keys: encrypt and admit only the allowed keys (docs/security.md); default: off");
   try {

@@ -16,6 +16,8 @@ packages=(
   python3
   python3-matplotlib    # scripts/plot_*.py (orcs-batch sweep plots, orcs-gap plots)
   libpagmo-dev          # pagmo2: CMA-ES for orcs-gap's simulation-in-the-loop fits
+  libsqlite3-dev        # the broker's journal (orcs-broker --journal)
+  slurm-wlm munge       # tests/integration/slurm: a private single-node Slurm runs scripts/slurm/*.sbatch
 )
 
 missing=()

@@ -27,13 +27,7 @@ std::string PendulumXml(const RigOptions& options, const std::string& agent) {
 }
 
 scene::EnvironmentDescription EnvironmentOf(const Rig& rig) {
-  if (rig.environment_xml.empty()) {
-    scene::EnvironmentDescription environment;
-    environment.source = rig.environment_name;
-    environment.agents.push_back(scene::AgentDescription{});
-    return environment;
-  }
-  return scene::EnvironmentReader::ReadString(rig.environment_xml, rig.environment_name);
+  return scene::EnvironmentReader::ReadStringOrDefault(rig.environment_xml, rig.environment_name);
 }
 
 nlohmann::json ValuesObject(const std::vector<ValueAssignment>& model) {

@@ -39,9 +39,9 @@ double Delayed(const std::array<double, kHistory>& history, const MotorEffectSta
 
 // The desired angle that gives the controller the dead-banded error: errors within ±margin count as none, larger
 // ones lose the margin.
-double DeadBandTarget(double angle_rad, double desired_deg, double margin) {
+double DeadBandTarget(double angle_rad, double desired_deg, double margin_deg) {
   const double error = DegreesToRadians(kDesiredAngleRange.ClampRaw(desired_deg)) - angle_rad;
-  const double reduced = std::copysign(std::max(0.0, std::abs(error) - margin), error);
+  const double reduced = std::copysign(std::max(0.0, std::abs(error) - DegreesToRadians(margin_deg)), error);
   return RadiansToDegrees(angle_rad + reduced);
 }
 
@@ -74,7 +74,7 @@ void ApplyElasticity(const MotorEffects& effects, MotorEffectState& state, const
 // again, which the step foresees from their rates (the gear's commanded velocity, the output's present rate).
 void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const JointReading& joint, double dt,
                    double gear_velocity, EffectCommand& command) {
-  const double half = 0.5 * std::max(effects.backlash_width, 0.0);
+  const double half = 0.5 * DegreesToRadians(std::max(effects.backlash_width, 0.0));
   if (half == 0.0) {  // no gap: nothing to cross, the stiff gear of the base model
     state.wall = 0;
     state.engaged = true;
@@ -116,7 +116,7 @@ const std::vector<EffectDescription>& EffectCatalogue() {
       {"TransportDelay", "the command reaches the motor late", "velocity",
        {{"/Effects/TransportDelay/Delay", "s", 0.005, 0.15, true}}},
       {"DeadBand", "position errors within a margin are ignored", "command_error",
-       {{"/Effects/DeadBand/Margin", "rad", 0.002, 0.1, true}}},
+       {{"/Effects/DeadBand/Margin", "deg", 0.1, 6.0, true}}},
       {"BackEmf", "available torque falls with speed", "speed",
        {{"/Effects/BackEmf/NoLoadSpeed", "rad/s", 1.0, 50.0, true}}},
       {"Stribeck", "extra friction at low speed", "speed",
@@ -125,7 +125,7 @@ const std::vector<EffectDescription>& EffectCatalogue() {
       {"LoadFriction", "gearbox friction grows with the transmitted torque", "load",
        {{"/Effects/LoadFriction/Coefficient", "1", 0.01, 1.0, true}}},
       {"Backlash", "the output turns freely within a gap", "load",
-       {{"/Effects/Backlash/Width", "rad", 0.002, 0.15, true}}},
+       {{"/Effects/Backlash/Width", "deg", 0.1, 8.0, true}}},
       {"Elasticity", "the gear train is a torsional spring", "acceleration",
        {{"/Effects/Elasticity/Stiffness", "N·m/rad", 0.5, 200.0, true}}},
       {"RotorInertia", "the reflected rotor inertia adds to the joint's", "acceleration",

@@ -28,7 +28,7 @@ struct MotorEffects {
   bool transport_delay = false;  ///< /Effects/TransportDelay/Enabled
   double delay = 0.0;            ///< s, command to motor, /Effects/TransportDelay/Delay
   bool dead_band = false;        ///< /Effects/DeadBand/Enabled
-  double margin = 0.0;           ///< rad, half-width of the ignored error band, /Effects/DeadBand/Margin
+  double margin = 0.0;           ///< degrees, half-width of the ignored error band, /Effects/DeadBand/Margin
   bool back_emf = false;         ///< /Effects/BackEmf/Enabled
   double no_load_speed = 1e9;    ///< rad/s where the available torque reaches 0, /Effects/BackEmf/NoLoadSpeed
   bool stribeck = false;         ///< /Effects/Stribeck/Enabled
@@ -37,7 +37,7 @@ struct MotorEffects {
   bool load_friction = false;    ///< /Effects/LoadFriction/Enabled
   double load_coefficient = 0.0;  ///< N·m of friction per N·m of motor torque, /Effects/LoadFriction/Coefficient
   bool backlash = false;         ///< /Effects/Backlash/Enabled
-  double backlash_width = 0.0;   ///< rad, full width of the gap, /Effects/Backlash/Width
+  double backlash_width = 0.0;   ///< degrees, full width of the gap, /Effects/Backlash/Width
   bool elasticity = false;       ///< /Effects/Elasticity/Enabled
   double stiffness = 1e9;        ///< N·m/rad of the gear train, /Effects/Elasticity/Stiffness
   double damping = 0.02;         ///< N·m·s/rad across the spring, /Effects/Elasticity/Damping

@@ -231,6 +231,14 @@ void CheckUniqueNames(const EnvironmentDescription& environment) {
 
 }  // namespace
 
+EnvironmentDescription EnvironmentReader::ReadStringOrDefault(const std::string& xml, const std::string& source) {
+  if (!xml.empty()) return ReadString(xml, source);
+  EnvironmentDescription environment;
+  environment.source = source;
+  environment.agents.push_back(AgentDescription{});
+  return environment;
+}
+
 EnvironmentDescription EnvironmentReader::ReadString(const std::string& xml, const std::string& source) {
   tinyxml2::XMLDocument document;
   if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {

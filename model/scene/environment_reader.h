@@ -25,6 +25,9 @@ class EnvironmentReader {
   static EnvironmentDescription ReadFile(const std::string& file);
   /// Reads and checks environment XML held in memory; `source` names it in messages.
   static EnvironmentDescription ReadString(const std::string& xml, const std::string& source);
+  /// As ReadString, except that empty XML means the default environment: one A-Series on the floor (what
+  /// orcs-sim runs without -env, and what a scenario or job without an environment gets).
+  static EnvironmentDescription ReadStringOrDefault(const std::string& xml, const std::string& source);
 };
 
 }  // namespace orcs::scene

@@ -276,6 +276,49 @@ TEST_F(CurveTest, AnotherAllowedClientCannotTakeOverABatch) {
   EXPECT_EQ(broker.stats().submits_rejected, 1u);
 }
 
+// The journal does not record keys: a batch restored from it belongs to the first allowed client that claims it
+// under its client id, and from then on to that key alone.
+TEST_F(CurveTest, ABatchRestoredFromTheJournalIsClaimedAndThenKeptByOneKey) {
+  broker::BrokerOptions options = BrokerOptions();
+  options.journal = (dir_.path() / "journal.db").string();
+  auto broker = std::make_unique<BrokerThread>(options);
+  v1::ClientToBroker submit;
+  submit.set_protocol_version(proto::kProtocolVersion);
+  submit.mutable_submit()->set_batch_id("b");
+  submit.mutable_submit()->set_client_id("c");
+  *submit.mutable_submit()->add_jobs() = MakeJob("j0", 3);
+  {
+    RawPeer alice(broker->client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
+    alice.Send(submit);
+    ASSERT_TRUE(WaitFor([&] { return broker->stats().jobs_accepted == 1; }));
+    options.client_port = std::stoi(broker->client_endpoint().substr(broker->client_endpoint().rfind(':') + 1));
+    options.worker_port = std::stoi(broker->worker_endpoint().substr(broker->worker_endpoint().rfind(':') + 1));
+    broker->Stop();
+  }
+  broker = std::make_unique<BrokerThread>(options);
+  ASSERT_TRUE(WaitFor([&] { return broker->stats().jobs_restored == 1; }));
+
+  RawPeer alice(broker->client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
+  alice.Send(submit);
+  ASSERT_TRUE(WaitFor([&] { return broker->stats().clients == 1; }));
+  RawPeer bob_peer(broker->client_endpoint(), proto::LoadCurvePeerKeys(bob(), "client"));
+  bob_peer.Send(submit);
+  std::optional<v1::BrokerToClient> answer = bob_peer.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
+  ASSERT_TRUE(answer.has_value());
+  ASSERT_TRUE(answer->has_error());
+  EXPECT_THAT(answer->error().message(), HasSubstr("belongs to another client key"));
+
+  EchoWorker worker(WorkerOptions(*broker, "allowed", cluster()));
+  std::optional<v1::Result> result;
+  ASSERT_TRUE(WaitFor([&] {
+    std::optional<v1::BrokerToClient> message = alice.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(50));
+    if (message && message->has_result()) result = message->result();
+    return result.has_value();
+  }));
+  EXPECT_EQ(result->job_id(), "j0");
+  EXPECT_EQ(result->fitness(), EchoFitness(MakeJob("j0", 3)));
+}
+
 TEST_F(CurveTest, MissingKeysAreClearErrorsNamingTheFile) {
   broker::BrokerOptions options = BrokerOptions();
   options.curve_keys = stranger().string();  // no broker.key there

@@ -11,6 +11,7 @@
 #include "broker/client.h"
 #include "model/scene/scenario.h"
 #include "tests/support/background_process.h"
+#include "tests/support/broker_process.h"
 
 namespace orcs {
 namespace {
@@ -46,15 +47,12 @@ v1::Job Job(int i, const std::string& scenario) {
 class BatchTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    broker_ = std::make_unique<BackgroundProcess>(std::vector<std::string>{
-        kBin + "orcs-broker", "--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
-    const std::optional<std::string> line = broker_->ReadLine(milliseconds(10000));
-    ASSERT_TRUE(line.has_value()) << broker_->err();
-    std::smatch match;
-    static const std::regex kLine("orcs-broker clients=(\\S+) workers=(\\S+)");
-    ASSERT_TRUE(std::regex_match(*line, match, kLine)) << *line;
-    clients_ = match[1];
-    workers_ = match[2];
+    test_support::BrokerProcess started =
+        test_support::StartBrokerProcess({"--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
+    ASSERT_EQ(started.error, "");
+    broker_ = std::move(started.process);
+    clients_ = started.clients;
+    workers_ = started.workers;
   }
   void StartWorkers(int count) {
     for (int i = 0; i < count; ++i) {

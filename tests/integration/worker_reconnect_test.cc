@@ -21,12 +21,14 @@
 #include "broker/client.h"
 #include "model/scene/scenario.h"
 #include "tests/support/background_process.h"
+#include "tests/support/broker_process.h"
 
 namespace orcs {
 namespace {
 
 using std::chrono::milliseconds;
 using test_support::BackgroundProcess;
+using test_support::PortOf;
 using ::testing::HasSubstr;
 
 const std::string kBin = ORCS_BINARY_DIR "/bin/";
@@ -58,23 +60,16 @@ std::vector<v1::Job> Batch(const std::string& name) {
   return jobs;
 }
 
-// The port of "tcp://127.0.0.1:5556".
-std::string PortOf(const std::string& endpoint) { return endpoint.substr(endpoint.rfind(':') + 1); }
-
 class WorkerReconnectTest : public ::testing::Test {
  protected:
   // Starts a broker on the given ports ("0" = any free one) with 0.1 s heartbeats and reads its endpoints.
   void StartBroker(const std::string& client_port, const std::string& worker_port) {
-    broker_ = std::make_unique<BackgroundProcess>(
-        std::vector<std::string>{kBin + "orcs-broker", "--client-port", client_port, "--worker-port", worker_port,
-                                 "--heartbeat", "0.1"});
-    const std::optional<std::string> line = broker_->ReadLine(milliseconds(10000));
-    ASSERT_TRUE(line.has_value()) << broker_->err();
-    std::smatch match;
-    static const std::regex kLine("orcs-broker clients=(\\S+) workers=(\\S+)");
-    ASSERT_TRUE(std::regex_match(*line, match, kLine)) << *line;
-    clients_ = match[1];
-    workers_ = match[2];
+    test_support::BrokerProcess started = test_support::StartBrokerProcess(
+        {"--client-port", client_port, "--worker-port", worker_port, "--heartbeat", "0.1"});
+    ASSERT_EQ(started.error, "");
+    broker_ = std::move(started.process);
+    clients_ = started.clients;
+    workers_ = started.workers;
   }
   // Kills the broker with SIGKILL and reaps it.
   void KillBroker() {

@@ -23,13 +23,7 @@ using Clock = std::chrono::steady_clock;
 constexpr int kStepsPerClockCheck = 64;
 
 scene::EnvironmentDescription EnvironmentOf(const scene::Scenario& scenario) {
-  if (scenario.environment_xml.empty()) {
-    scene::EnvironmentDescription environment;
-    environment.source = scenario.environment_name;
-    environment.agents.push_back(scene::AgentDescription{});
-    return environment;
-  }
-  return scene::EnvironmentReader::ReadString(scenario.environment_xml, scenario.environment_name);
+  return scene::EnvironmentReader::ReadStringOrDefault(scenario.environment_xml, scenario.environment_name);
 }
 
 int FindScenarioAgent(const scene::Simulation& simulation, const scene::Scenario& scenario) {

@@ -23,6 +23,7 @@
 #include "model/control/keyframe_player.h"
 #include "model/control/keyframe_record.h"
 #include "model/core/random_stream.h"
+#include "model/core/text.h"
 #include "model/physics/ode/ode_world.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
@@ -33,6 +34,9 @@ namespace {
 constexpr double kDt = 0.01;  // s, the simulation's default step
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegrees = 180.0 / kPi;
+
+// An angle in radians as the repository's text, in degrees (/Effects/DeadBand/Margin, /Effects/Backlash/Width).
+std::string DegreesText(double radians) { return text::FormatDouble(radians * kDegrees); }
 constexpr double kG = 9.81;
 constexpr double kFullTorque = 1.04803939;  // N·m: DesiredTorque 1 × FMaxFactor
 constexpr double kDefaultTorque = kFullTorque * kDefaultDesiredTorqueRaw;  // 0.615 N·m
@@ -272,7 +276,7 @@ TEST(MotorEffectsTest, TransportDelayInterpolatesFractionalDelays) {
 
 TEST(MotorEffectsTest, DeadBandIgnoresCommandsWithinTheMargin) {
   // Margin 0.03 rad (1.72°): a command of 1° does not move the pole at all; without the effect it goes there.
-  const Values dead_band = Effect("DeadBand", {{"/Effects/DeadBand/Margin", "0.03"}});
+  const Values dead_band = Effect("DeadBand", {{"/Effects/DeadBand/Margin", DegreesText(0.03)}});
   for (const double target : {1.0, -1.0}) {
     const std::vector<double> with = StepResponse(dead_band, target, 200);
     const std::vector<double> without = StepResponse({}, target, 200);
@@ -288,7 +292,7 @@ TEST(MotorEffectsTest, DeadBandStopsShortOfTheTargetByTheMargin) {
   // target, on the side it came from, with or without a gravity load (5°: nearly none; 30°: 0.37 N·m).
   // Measured: an error of 0.030000 rad in all three cases; without the effect 0.
   constexpr double kMargin = 0.03;
-  const Values dead_band = Effect("DeadBand", {{"/Effects/DeadBand/Margin", "0.03"}});
+  const Values dead_band = Effect("DeadBand", {{"/Effects/DeadBand/Margin", DegreesText(0.03)}});
   for (const double target : {5.0, -5.0, 30.0}) {
     const double error = (target - StepResponse(dead_band, target, 200).back()) / kDegrees;
     EXPECT_NEAR(error, std::copysign(kMargin, target), 1e-4) << target;
@@ -475,7 +479,7 @@ TEST(MotorEffectsTest, BacklashOpenGapTakesTheMotorOffTheOutputUntilTheGearMeets
   parameters.kp = 1.0;
   MotorEffects effects;
   effects.backlash = true;
-  effects.backlash_width = 0.1;
+  effects.backlash_width = 0.1 * kDegrees;
   DynamixelState state{};
   MotorEffectState memory{};
   Reset(state, 0.0);
@@ -504,7 +508,7 @@ TEST(MotorEffectsTest, BacklashToothPushesButNeverPulls) {
   parameters.static_friction = 0.0;
   MotorEffects effects;
   effects.backlash = true;
-  effects.backlash_width = 0.1;
+  effects.backlash_width = 0.1 * kDegrees;
   const auto after = [&](double last_torque) {
     DynamixelState state{};
     MotorEffectState memory{};
@@ -526,7 +530,7 @@ TEST(MotorEffectsTest, BacklashHoldsASteadyLoadWithoutChattering) {
   // at the target (the controller's sensor is on the output). Before the fix of ApplyBacklash the gear was left
   // where the last step's clamp put it while the output moved on, so the gap opened every other step: the pole
   // chattered between 29.65° and 29.72° at ±0.12 rad/s for ever.
-  PendulumRig rig(Effect("Backlash", {{"/Effects/Backlash/Width", "0.06"}}));
+  PendulumRig rig(Effect("Backlash", {{"/Effects/Backlash/Width", DegreesText(0.06)}}));
   rig.Command(30.0);
   rig.Run(100);
   double fastest = 0.0;
@@ -578,7 +582,7 @@ TEST(MotorEffectsTest, BacklashLetsThePoleDropAcrossTheGapWhenTheLoadReverses) {
   EXPECT_LT(std::abs(moved_off), 1e-4);
   for (const double width : {0.06, 0.12}) {
     const auto [free_travel, moved] =
-        reverse_load(Effect("Backlash", {{"/Effects/Backlash/Width", std::to_string(width)}}));
+        reverse_load(Effect("Backlash", {{"/Effects/Backlash/Width", DegreesText(width)}}));
     EXPECT_NEAR(free_travel, width, 0.05 * width) << width;
     // At rest beyond it, held by the locked motor. Energy bounds the stop: the motor brakes at its full torque τ
     // over moved − free travel what gravity gave over the whole way, at most its torque at the end times moved.
@@ -618,7 +622,7 @@ TEST(MotorEffectsTest, BacklashShiftsTheMotorSideByTheWidthWhereTheLoadChangesSi
     return run;
   };
   const Run off = sine({});
-  const Run on = sine(Effect("Backlash", {{"/Effects/Backlash/Width", "0.06"}}));
+  const Run on = sine(Effect("Backlash", {{"/Effects/Backlash/Width", DegreesText(0.06)}}));
   ASSERT_EQ(off.output.size(), 1600u);
   ASSERT_EQ(on.output.size(), 1600u);
   for (double offset : off.offset) ASSERT_LT(std::abs(offset), 1e-3);

@@ -115,6 +115,19 @@ TEST(EnvironmentReaderTest, EmptyFileHasNoObjectsOrAgents) {
   EXPECT_TRUE(env.agents.empty());
 }
 
+TEST(EnvironmentReaderTest, NoXmlMeansOneASeriesAndXmlIsReadAsGiven) {
+  const EnvironmentDescription fallback = EnvironmentReader::ReadStringOrDefault("", "job 7");
+  EXPECT_EQ(fallback.source, "job 7");
+  EXPECT_TRUE(fallback.objects.empty());
+  ASSERT_EQ(fallback.agents.size(), 1u);
+  EXPECT_EQ(fallback.agents[0].name, AgentDescription{}.name);
+  const EnvironmentDescription given = EnvironmentReader::ReadStringOrDefault(
+      "<ORCS version=\"1.0\"><Agent><ASeries name=\"Other\"/></Agent></ORCS>", "job 8");
+  ASSERT_EQ(given.agents.size(), 1u);
+  EXPECT_EQ(given.agents[0].name, "Other");
+  EXPECT_THROW(EnvironmentReader::ReadStringOrDefault("<ORCS", "job 9"), InputError);
+}
+
 TEST(EnvironmentReaderTest, OptionalAttributesTakeTheirDefaults) {
   const EnvironmentDescription env = EnvironmentReader::ReadString(
       Lines({R"x(<ORCS version="1.0">)x", "<Environment>",
