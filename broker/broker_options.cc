@@ -26,6 +26,9 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
   app.add_option("--max-worker-losses", o.max_worker_losses,
                  "workers a job may lose before it fails with WORKER_LOST (default 3)")
       ->check(CLI::Range(1, 1000));
+  app.add_option("--max-crashes", o.max_crashes,
+                 "workers' simulation processes a job may crash before it fails as poisonous with CRASHED (default 3)")
+      ->check(CLI::Range(1, 1000));
   try {
     app.parse(argc, argv);
     if (o.bind_address.empty()) throw CLI::ValidationError("--bind", "needs an address");
