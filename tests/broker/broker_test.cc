@@ -299,7 +299,8 @@ TEST(Broker, AJobThatCrashesThreeWorkersIsPoisonousAndNeverRetried) {
   EXPECT_EQ(stats.queued, 0u) << "never retried";
   EXPECT_EQ(stats.in_flight, 0u);
   EXPECT_EQ(stats.jobs_dispatched, 3u);
-  EXPECT_EQ(log.Count("job " + client.batch_id() + "/poison poisonous: crashed 3 workers (c0, c1, c2); not retried"), 1);
+  EXPECT_EQ(log.Count("job " + client.batch_id() + "/poison poisonous: crashed 3 workers (c0, c1, c2); not retried"),
+            1);
   EXPECT_EQ(client.outstanding(), 0u);
 }
 

@@ -61,8 +61,8 @@ std::vector<v1::Job> Jobs(int count) {
 class WorkerFaultsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    broker_ = std::make_unique<BackgroundProcess>(std::vector<std::string>{
-        kBin + "orcs-broker", "--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
+    broker_ = std::make_unique<BackgroundProcess>(std::vector<std::string>{kBin + "orcs-broker", "--client-port", "0",
+                                                                           "--worker-port", "0", "--heartbeat", "0.1"});
     const std::optional<std::string> line = broker_->ReadLine(milliseconds(10000));
     ASSERT_TRUE(line.has_value()) << broker_->err();
     std::smatch match;
@@ -135,8 +135,8 @@ TEST_F(WorkerFaultsTest, WorkersKilledThreeTimesInA200JobBatchLoseNothingAndDupl
   EXPECT_GE(retried, 3) << "each kill hit at least the job its worker was running";
   for (int i = 3; i < 6; ++i) EXPECT_TRUE(Running(*workers_[i])) << "replacement w" << i;
   std::cout << "[ figures  ] jobs " << kJobs << ", workers SIGKILLed 3, results " << results.size() << ", lost "
-            << kJobs - static_cast<int>(results.size()) << ", duplicates " << duplicates << ", jobs re-run "
-            << retried << "\n";
+            << kJobs - static_cast<int>(results.size()) << ", duplicates " << duplicates << ", jobs re-run " << retried
+            << "\n";
 }
 
 TEST_F(WorkerFaultsTest, ASegfaultingJobIsPoisonousAndTheOthersAndTheWorkersCarryOn) {
@@ -164,14 +164,15 @@ TEST_F(WorkerFaultsTest, ASegfaultingJobIsPoisonousAndTheOthersAndTheWorkersCarr
   for (const std::unique_ptr<BackgroundProcess>& worker : workers_) {
     EXPECT_TRUE(Running(*worker)) << "a worker survived the crashes of its simulation process";
     const std::string& err = worker->err();
-    for (std::size_t at = err.find("died of SIGSEGV"); at != std::string::npos; at = err.find("died of SIGSEGV", at + 1)) {
+    for (std::size_t at = err.find("died of SIGSEGV"); at != std::string::npos;
+         at = err.find("died of SIGSEGV", at + 1)) {
       ++crashes_logged;
     }
   }
   EXPECT_EQ(crashes_logged, 3) << "each crash in the log of the worker it happened to";
   EXPECT_THAT(broker_->err(), HasSubstr("poisonous: crashed 3 workers"));
-  std::cout << "[ figures  ] jobs " << kJobs << ", segfaulting jobs 1, simulation crashes " << crashes_logged
-            << ", ok " << ok << ", crashed " << (poison.status() == v1::Result::CRASHED ? 1 : 0) << ", lost "
+  std::cout << "[ figures  ] jobs " << kJobs << ", segfaulting jobs 1, simulation crashes " << crashes_logged << ", ok "
+            << ok << ", crashed " << (poison.status() == v1::Result::CRASHED ? 1 : 0) << ", lost "
             << kJobs - static_cast<int>(results.size()) << ", duplicates " << duplicates << ", workers still running "
             << workers_.size() << "\n[ figures  ] " << poison.job_id() << ": " << poison.message() << "\n";
 }

@@ -40,7 +40,8 @@ FrameChannel::ReadStatus FrameChannel::Read(std::string& message, Clock::time_po
   unsigned char header[4];
   const ReadStatus status = ReadExactly(reinterpret_cast<char*>(header), sizeof header, deadline);
   if (status != ReadStatus::kOk) return status;
-  const std::uint32_t size = header[0] | (header[1] << 8) | (header[2] << 16) | (static_cast<std::uint32_t>(header[3]) << 24);
+  const std::uint32_t size =
+      header[0] | (header[1] << 8) | (header[2] << 16) | (static_cast<std::uint32_t>(header[3]) << 24);
   if (size > kMaxMessageBytes) return ReadStatus::kBroken;
   message.resize(size);
   const ReadStatus body = ReadExactly(message.data(), size, deadline);

@@ -1,6 +1,7 @@
 #include "worker/job/sandbox_child.h"
 
 #include <sys/prctl.h>
+#include <sys/stat.h>
 
 #include <csignal>
 #include <iostream>
@@ -14,6 +15,12 @@
 namespace orcs::worker {
 
 int RunSandboxChild(int fd) {
+  struct stat descriptor = {};
+  if (::fstat(fd, &descriptor) != 0 || !S_ISSOCK(descriptor.st_mode)) {  // typed by hand: no worker at the other end
+    std::cerr << "orcs-worker: --sandbox-child is started by orcs-worker itself, with its job channel on descriptor "
+              << fd << ", which is not a socket here\n";
+    return 3;
+  }
   // A worker killed with SIGKILL cannot close the channel while a job runs: take the simulation down with it.
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   // Ctrl-C and a scheduler's SIGTERM are the worker's to handle (it finishes the job in hand); dying of them here

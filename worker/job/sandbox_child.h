@@ -10,8 +10,9 @@ namespace orcs::worker {
 inline constexpr int kSandboxChannelFd = 3;
 
 /// Serves jobs on `fd` (a FrameChannel) until the other end closes; returns the process's exit code: 0 when the
-/// worker closed the channel, 3 when a message was not a job (after one line on stderr). The process dies with
-/// SIGKILL when the thread that started it ends, and ignores SIGINT and SIGTERM: the worker decides when it stops.
+/// worker closed the channel, 3 when `fd` is not a socket or a message was not a job (after one line on stderr). The
+/// process dies with SIGKILL when the thread that started it ends, and ignores SIGINT and SIGTERM: the worker decides
+/// when it stops.
 int RunSandboxChild(int fd);
 
 }  // namespace orcs::worker

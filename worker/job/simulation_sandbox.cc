@@ -25,10 +25,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Time limits beyond this many seconds (115 days) get no watchdog: their deadline would overflow the clock.
+constexpr double kLongestWatchedLimit = 1e7;
 // A process that closed its channel is dying; if it has not ended after this long, it is killed.
 constexpr std::chrono::milliseconds kReapPatience{2000};
 // Signals the simulation process starts with at their default action whatever the worker did with them.
 constexpr int kDefaultSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE, SIGCHLD, SIGHUP};
+
+Clock::duration ToDuration(double seconds) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
 
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -104,17 +110,19 @@ SimulationSandbox::~SimulationSandbox() {
 }
 
 Clock::duration SimulationSandbox::Grace(double time_limit_seconds) {
-  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 + 0.25 * time_limit_seconds));
+  return ToDuration(1.0 + 0.25 * time_limit_seconds);
 }
 
 v1::Result SimulationSandbox::Run(const v1::Job& job) {
   const Clock::time_point start = Clock::now();
   out_.clear();
   job.SerializeToString(&out_);
-  // A process that died while idle (killed from outside) is not this job's doing: one fresh start, then fail.
+  // A process that died while idle (killed from outside) is not this job's doing: up to two fresh starts.
   for (int tries = 0; !Idle() || !FrameChannel(fd_).Write(out_); ++tries) {
     if (pid_ > 0) Stop();
-    if (tries == 2) return Failed(job, v1::Result::INTERNAL_ERROR, "cannot hand the job to a simulation process", start);
+    if (tries == 2) {
+      return Failed(job, v1::Result::INTERNAL_ERROR, "cannot hand the job to a simulation process", start);
+    }
     try {
       Start();
     } catch (const std::exception& error) {
@@ -122,9 +130,9 @@ v1::Result SimulationSandbox::Run(const v1::Job& job) {
     }
   }
   const double limit = job.time_limit_seconds();
-  const Clock::time_point deadline =
-      limit > 0 ? start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limit)) + Grace(limit)
-                : Clock::time_point::max();
+  const Clock::time_point deadline = limit > 0 && limit <= kLongestWatchedLimit
+                                         ? start + ToDuration(limit) + SimulationSandbox::Grace(limit)
+                                         : Clock::time_point::max();
   v1::Result result;
   switch (FrameChannel(fd_).Read(in_, deadline)) {
     case FrameChannel::ReadStatus::kOk:
@@ -134,12 +142,14 @@ v1::Result SimulationSandbox::Run(const v1::Job& job) {
     case FrameChannel::ReadStatus::kTimedOut:
       Stop();
       return Failed(job, v1::Result::TIMEOUT,
-                    "time limit of " + text::FormatDouble(limit) + " s exceeded: the simulation process did not answer " +
-                        "within " + text::FormatDouble(std::chrono::duration<double>(deadline - start).count()) +
+                    "time limit of " + text::FormatDouble(limit) +
+                        " s exceeded: the simulation process did not answer within " +
+                        text::FormatDouble(std::chrono::duration<double>(deadline - start).count()) +
                         " s and was killed",
                     start);
     case FrameChannel::ReadStatus::kClosed:
-    case FrameChannel::ReadStatus::kBroken: break;
+    case FrameChannel::ReadStatus::kBroken:
+      break;
   }
   return Failed(job, v1::Result::CRASHED, DescribeDeath(Reap()), start);
 }

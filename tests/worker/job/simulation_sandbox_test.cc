@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "tests/support/process.h"
 #include "worker/job/job_translation.h"
 
 namespace orcs::worker {
@@ -166,6 +167,22 @@ TEST(SimulationSandbox, TheProcessEndsWithTheSandbox) {
     ASSERT_TRUE(Running(pid));
   }
   EXPECT_FALSE(Running(pid)) << "killed and reaped, no zombie left";
+}
+
+TEST(SimulationSandbox, AnExitWhileRunningAJobIsCrashedWithItsCode) {
+  // A stand-in simulation process that reads the start of the job, then exits with code 4.
+  SimulationSandbox sandbox({"/bin/sh", "-c", "head -c 4 <&3 >/dev/null; exit 4"});
+  const v1::Result result = sandbox.Run(Job("quitter", 0.1));
+  EXPECT_EQ(result.status(), v1::Result::CRASHED);
+  EXPECT_EQ(result.message(), "the simulation process exited with code 4 while running the job");
+}
+
+TEST(SimulationSandbox, TheHiddenModeTypedByHandSaysWhatItIsFor) {
+  const test_support::ProcessResult run = test_support::RunProcess({kWorker, "--sandbox-child"});
+  EXPECT_EQ(run.exit_code, 3);
+  EXPECT_EQ(run.err,
+            "orcs-worker: --sandbox-child is started by orcs-worker itself, with its job channel on descriptor 3, "
+            "which is not a socket here\n");
 }
 
 TEST(SimulationSandbox, AProgramThatCannotStartIsNamed) {
