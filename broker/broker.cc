@@ -74,6 +74,7 @@ void Validate(const BrokerOptions& options) {
   if (options.heartbeat_interval.count() <= 0) throw std::invalid_argument("heartbeat interval must be positive");
   if (options.liveness < 2) throw std::invalid_argument("liveness must be at least 2 heartbeat intervals");
   if (options.max_worker_losses < 1) throw std::invalid_argument("max_worker_losses must be at least 1");
+  if (options.max_crashes < 1) throw std::invalid_argument("max_crashes must be at least 1");
 }
 
 }  // namespace
@@ -290,13 +291,42 @@ void Broker::OnWorkerResult(const std::string& worker, v1::Result& result) {
     // The holder's own result, or a late one from a worker declared lost while the job is still pending.
     if (record->state != JobState::kDispatched || record->worker != worker) ++counters_.late_results_accepted;
     if (result.worker_id().empty() && holder != workers_.end()) result.set_worker_id(holder->second.name);
-    FinishJob(batch->second, *record, result);
+    if (result.status() == v1::Result::CRASHED) {
+      OnJobCrashed(worker, key.first, batch->second, *record, result);
+    } else {
+      FinishJob(batch->second, *record, result);
+    }
   }
   if (holder == workers_.end()) {
     v1::BrokerToWorker reply;
     reply.set_protocol_version(kProtocolVersion);
     reply.mutable_disconnect()->set_reason("unknown worker: connect again and send READY");
     SendToWorker(worker, reply);
+  }
+}
+
+void Broker::OnJobCrashed(const std::string& worker, const std::string& batch_id, Batch& batch, JobRecord& record,
+                          v1::Result& result) {
+  ++counters_.crashes;
+  ++record.crashes;
+  const std::string name = result.worker_id().empty() ? WorkerName(worker) : result.worker_id();
+  record.crashed_by += (record.crashed_by.empty() ? "" : ", ") + name;
+  const std::string job = batch_id + "/" + record.job.job_id();
+  if (record.crashes >= options_.max_crashes) {
+    ++counters_.jobs_poisoned;
+    const std::string poisonous =
+        "poisonous: crashed " + std::to_string(record.crashes) + " workers (" + record.crashed_by + ")";
+    Log("job " + job + " " + poisonous + "; not retried");
+    result.set_message(poisonous + "; the last: " + result.message());
+    FinishJob(batch, record, result);
+    return;
+  }
+  Log("job " + job + " crashed worker " + name + " (" + result.message() + "); back to the front of the queue, crash " +
+      std::to_string(record.crashes) + " of " + std::to_string(options_.max_crashes));
+  // A late report from a worker that no longer holds the job leaves it where it is (queued, or running elsewhere).
+  if (record.state == JobState::kDispatched && record.worker == worker) {
+    Enqueue(batch_id, record, true);
+    ++counters_.jobs_requeued;
   }
 }
 
@@ -427,6 +457,8 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
     record.losses = 0;
     record.dispatches = 0;
     record.lost_by.clear();
+    record.crashes = 0;
+    record.crashed_by.clear();
     record.accepted_at = now_;
     Enqueue(batch_id, record, false);
     ++counters_.jobs_accepted;

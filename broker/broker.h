@@ -47,6 +47,8 @@ struct BrokerOptions {
   /// SQLite file of the journal (docs/protocol.md, "Journal"): accepted jobs, dispatches and results survive a
   /// killed broker, and a broker started on the same file resumes. "" = state in memory only.
   std::string journal;
+  /// A job whose simulation crashed this many workers (CRASHED results) is poisonous: it fails with CRASHED.
+  int max_crashes = 3;
   /// Where log lines (one event each, no newline) go; empty = stderr, prefixed "orcs-broker: ".
   std::function<void(std::string_view)> log;
   /// Folder of CURVE keys (docs/security.md): broker.key, broker.pub, allowed_workers/*.pub, allowed_clients/*.pub.
@@ -79,6 +81,8 @@ struct BrokerStats {
   /// Connections on either socket that failed or closed during their handshake (CURVE only): refused keys, peers
   /// without CURVE, undecryptable ones, and connections closed before the handshake ended.
   std::uint64_t handshakes_failed = 0;
+  std::uint64_t crashes = 0;                ///< CRASHED results from workers (each is retried or ends a poisonous job)
+  std::uint64_t jobs_poisoned = 0;          ///< jobs finished as CRASHED after max_crashes crashes
 };
 
 /// The broker. Construct (binds both sockets, throws std::runtime_error naming the endpoint when it cannot, and
@@ -120,6 +124,8 @@ class Broker {
     int losses = 0;                   ///< workers lost while holding it since it was accepted
     int dispatches = 0;               ///< JOB messages sent for it since it was accepted
     std::string lost_by;              ///< names of the workers lost while holding it, ", "-separated
+    int crashes = 0;                  ///< CRASHED results for it since it was accepted
+    std::string crashed_by;           ///< names of the workers whose simulation it crashed, ", "-separated
     Clock::time_point accepted_at;    ///< when the SUBMIT holding it was accepted
     Clock::time_point dispatched_at;  ///< when it was last sent to a worker
   };
@@ -160,6 +166,9 @@ class Broker {
   void OnWorkerMessage(const std::string& worker, zmq::message_t& payload);
   void OnWorkerReady(const std::string& worker, const v1::Ready& ready);
   void OnWorkerResult(const std::string& worker, v1::Result& result);
+  /// A CRASHED result for a pending job: retried at the front of the queue, or finished as poisonous.
+  void OnJobCrashed(const std::string& worker, const std::string& batch_id, Batch& batch, JobRecord& record,
+                    v1::Result& result);
   void OnWorkerHeartbeat(const std::string& worker);
   void OnWorkerDisconnect(const std::string& worker, const v1::Disconnect& disconnect);
   void OnClientMessage(const std::string& client, zmq::message_t& payload);

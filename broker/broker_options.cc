@@ -31,6 +31,9 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
                  "(default: none, state in memory only)");
   app.add_option("--curve-keys", o.curve_keys,
                  "folder of CURVE keys: encrypt and admit only the allowed keys (docs/security.md); default: off");
+  app.add_option("--max-crashes", o.max_crashes,
+                 "workers' simulation processes a job may crash before it fails as poisonous with CRASHED (default 3)")
+      ->check(CLI::Range(1, 1000));
   try {
     app.parse(argc, argv);
     if (o.bind_address.empty()) throw CLI::ValidationError("--bind", "needs an address");

@@ -226,12 +226,31 @@ void ReadFitnessAggregate(const JsonNode& fitness, Scenario& scenario) {
   }
 }
 
+// "fault": {"kind": "segfault" | "abort" | "hang", "at_step": N}.
+FaultInjection ReadFault(const JsonNode& node) {
+  node.ExpectOnly({"kind", "at_step"});
+  FaultInjection fault;
+  const JsonNode kind = node.At("kind");
+  const std::string name = kind.String("\"segfault\", \"abort\" or \"hang\"");
+  if (name == "segfault") {
+    fault.kind = FaultInjection::Kind::kSegfault;
+  } else if (name == "abort") {
+    fault.kind = FaultInjection::Kind::kAbort;
+  } else if (name == "hang") {
+    fault.kind = FaultInjection::Kind::kHang;
+  } else {
+    kind.Fail("\"segfault\", \"abort\" or \"hang\"");
+  }
+  if (node.Has("at_step")) fault.at_step = node.At("at_step").Unsigned("a step index ≥ 0");
+  return fault;
+}
+
 }  // namespace
 
 Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode root(resolved, "", source);
   root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
-                   "randomisation", "log", "genome"});
+                   "randomisation", "log", "genome", "fault"});
   Scenario scenario;
   scenario.source = source;
   scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
@@ -266,6 +285,7 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
     if (!genome.value().is_array() && !genome.value().is_object()) genome.Fail("an array of numbers or a network object");
     scenario.genome = genome.value();
   }
+  if (root.Has("fault")) scenario.fault = ReadFault(root.At("fault"));
   return scenario;
 }
 

@@ -56,6 +56,14 @@ struct Randomisation {
   StartPoseRandomisation start_pose;             ///< start-pose offsets
 };
 
+/// A reliability-test hook (docs/scenarios.md "Fault injection"): the job crashes or hangs the process that
+/// simulates it. Honoured only inside orcs-worker's sandboxed simulation process; everywhere else it is ignored.
+struct FaultInjection {
+  enum class Kind { kNone, kSegfault, kAbort, kHang };
+  Kind kind = Kind::kNone;   ///< what happens: raise(SIGSEGV), abort(), or a sleep that ignores the time limit
+  std::uint64_t at_step = 0;  ///< before which simulation step of each parameter set it happens (0-based)
+};
+
 struct Scenario {
   std::string source;            ///< where it was read from, for messages
   std::string name;              ///< a label for reports
@@ -71,6 +79,7 @@ struct Scenario {
   Randomisation randomisation;
   std::vector<std::string> log;  ///< regular expressions of values logged every step ([] = no log)
   nlohmann::json genome;         ///< "genome": the genome of a job that brings none (flat array or network); null = none
+  FaultInjection fault;          ///< "fault": a test hook for crash isolation; kind kNone = none
 };
 
 /// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found

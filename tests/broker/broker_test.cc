@@ -225,6 +225,105 @@ TEST(Broker, JobThatLosesThreeWorkersFailsWithWorkerLost) {
   EXPECT_EQ(client.outstanding(), 0u);
 }
 
+// What a sandboxed worker sends when the job's simulation process died.
+v1::WorkerToBroker CrashedMessage(const v1::Job& job, const std::string& name) {
+  v1::WorkerToBroker message = ResultMessage(job, name);
+  message.mutable_result()->set_status(v1::Result::CRASHED);
+  message.mutable_result()->set_fitness(0.0);
+  message.mutable_result()->set_message("the simulation process died of SIGSEGV (Segmentation fault)");
+  return message;
+}
+
+TEST(Broker, ACrashedJobGoesBackToTheFrontOfTheQueueInsteadOfToTheClient) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  RawPeer worker(broker.worker_endpoint());
+  worker.Send(ReadyMessage("crashy", 1));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit({MakeJob("fragile", 3), MakeJob("other", 4)});
+
+  std::optional<v1::Job> first = AwaitJob(worker);
+  ASSERT_TRUE(first.has_value());
+  ASSERT_EQ(first->job_id(), "fragile");
+  worker.Send(CrashedMessage(*first, "crashy"));
+  std::optional<v1::Job> again = AwaitJob(worker);  // before "other": a crashed job is requeued at the front
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->job_id(), "fragile");
+  EXPECT_FALSE(client.Next(milliseconds(0)).has_value()) << "the crash itself never reaches the client";
+  worker.Send(ResultMessage(*again, "crashy"));
+
+  std::optional<v1::Result> result = client.Next(milliseconds(10000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->job_id(), "fragile");
+  EXPECT_EQ(result->status(), v1::Result::OK);
+  EXPECT_EQ(result->attempts(), 2u);
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().crashes == 1; }));
+  EXPECT_EQ(broker.stats().jobs_requeued, 1u);
+  EXPECT_EQ(broker.stats().jobs_poisoned, 0u);
+  EXPECT_EQ(log.Count("job " + client.batch_id() + "/fragile crashed worker crashy (the simulation process died of "
+                      "SIGSEGV (Segmentation fault)); back to the front of the queue, crash 1 of 3"),
+            1);
+}
+
+TEST(Broker, AJobThatCrashesThreeWorkersIsPoisonousAndNeverRetried) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  std::vector<std::unique_ptr<RawPeer>> workers;
+  for (int i = 0; i < 3; ++i) {
+    workers.push_back(std::make_unique<RawPeer>(broker.worker_endpoint()));
+    workers.back()->Send(ReadyMessage("c" + std::to_string(i), 1));
+    ASSERT_TRUE(WorkersRegistered(broker, i + 1));
+  }
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit({MakeJob("poison", 9)});
+  // The least recently served worker goes first: c0, then c1, then c2.
+  for (int i = 0; i < 3; ++i) {
+    std::optional<v1::Job> job = AwaitJob(*workers[i]);
+    ASSERT_TRUE(job.has_value()) << "c" << i;
+    EXPECT_EQ(job->job_id(), "poison");
+    workers[i]->Send(CrashedMessage(*job, "c" + std::to_string(i)));
+  }
+  std::optional<v1::Result> result = client.Next(milliseconds(10000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->job_id(), "poison");
+  EXPECT_EQ(result->status(), v1::Result::CRASHED);
+  EXPECT_EQ(result->message(),
+            "poisonous: crashed 3 workers (c0, c1, c2); the last: the simulation process died of SIGSEGV "
+            "(Segmentation fault)");
+  EXPECT_EQ(result->worker_id(), "c2");
+  EXPECT_EQ(result->attempts(), 3u);
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().jobs_poisoned == 1; }));
+  const BrokerStats stats = broker.stats();
+  EXPECT_EQ(stats.crashes, 3u);
+  EXPECT_EQ(stats.queued, 0u) << "never retried";
+  EXPECT_EQ(stats.in_flight, 0u);
+  EXPECT_EQ(stats.jobs_dispatched, 3u);
+  EXPECT_EQ(log.Count("job " + client.batch_id() + "/poison poisonous: crashed 3 workers (c0, c1, c2); not retried"),
+            1);
+  EXPECT_EQ(client.outstanding(), 0u);
+}
+
+TEST(Broker, MaxCrashesOfOneFinishesAJobAtItsFirstCrash) {
+  broker::BrokerOptions options = TestBrokerOptions();
+  options.max_crashes = 1;
+  BrokerThread broker(options);
+  RawPeer worker(broker.worker_endpoint());
+  worker.Send(ReadyMessage("only", 1));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  client.Submit({MakeJob("once", 1)});
+  std::optional<v1::Job> job = AwaitJob(worker);
+  ASSERT_TRUE(job.has_value());
+  worker.Send(CrashedMessage(*job, "only"));
+  std::optional<v1::Result> result = client.Next(milliseconds(10000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->status(), v1::Result::CRASHED);
+  EXPECT_THAT(result->message(), HasSubstr("poisonous: crashed 1 workers (only)"));
+  options.max_crashes = 0;
+  EXPECT_THROW(broker::Broker{options}, std::invalid_argument);
+}
+
 TEST(Broker, LateResultFromALostWorkerIsAcceptedWhileTheJobIsStillPending) {
   BrokerThread broker(TestBrokerOptions());
   RawPeer slow(broker.worker_endpoint());

@@ -2,7 +2,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <memory>
+#include <thread>
 
 #include "model/control/controller_factory.h"
 #include "model/core/error.h"
@@ -99,6 +102,19 @@ void StartPose(const scene::ParameterSet& set, SetRun& run, SetOutcome& outcome)
   }
 }
 
+// A hang lasts this long, far beyond any time limit a test sets, and then stops by itself.
+constexpr std::chrono::minutes kHangDuration{10};
+
+// The scenario's "fault", carried out (docs/scenarios.md "Fault injection"): the process dies or stops answering.
+void InjectFault(const scene::FaultInjection& fault) {
+  switch (fault.kind) {
+    case scene::FaultInjection::Kind::kNone: return;
+    case scene::FaultInjection::Kind::kSegfault: std::raise(SIGSEGV); return;
+    case scene::FaultInjection::Kind::kAbort: std::abort();
+    case scene::FaultInjection::Kind::kHang: std::this_thread::sleep_for(kHangDuration); return;
+  }
+}
+
 void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet* set, SetRun& run,
               SetOutcome& outcome, Clock::time_point deadline) {
   scene::Simulation& simulation = run.simulation;
@@ -113,7 +129,9 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
   }
   const double dt = simulation.StepDuration();
   const auto steps = static_cast<std::int64_t>(std::llround(request.scenario.duration / dt));
+  const bool fault = request.inject_faults && request.scenario.fault.kind != scene::FaultInjection::Kind::kNone;
   for (std::int64_t i = 0; i < steps; ++i) {
+    if (fault && static_cast<std::uint64_t>(i) == request.scenario.fault.at_step) InjectFault(request.scenario.fault);
     run.controller->Update(simulation.time());
     if (simulation.Step() != scene::SimulationStatus::kOk) {
       outcome.status = EvaluationStatus::kUnstablePhysics;

@@ -26,6 +26,9 @@ struct EvaluationRequest {
   std::uint64_t seed = 0;                   ///< the job's seed
   std::vector<ValueAssignment> overrides;   ///< applied after the scenario's values
   double time_limit_seconds = 0.0;          ///< wall-clock limit for the whole job, s; 0 = none
+  /// Whether the scenario's "fault" test hook is carried out. Only orcs-worker's sandboxed simulation process sets
+  /// it (worker/job/sandbox_child.h): a fault anywhere else would take a user's program down with it.
+  bool inject_faults = false;
 };
 
 enum class EvaluationStatus { kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError };

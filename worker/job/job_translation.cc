@@ -20,7 +20,7 @@ v1::Result::Status StatusOf(evaluation::EvaluationStatus status) {
   return v1::Result::INTERNAL_ERROR;
 }
 
-evaluation::EvaluationRequest RequestOf(const v1::Job& job) {
+evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults) {
   const std::string source = "job " + job.job_id();
   evaluation::EvaluationRequest request;
   request.scenario = scene::ParseScenario(ParseJson(job.scenario_json(), source + " scenario"), source + " scenario");
@@ -30,6 +30,7 @@ evaluation::EvaluationRequest RequestOf(const v1::Job& job) {
     request.overrides.push_back({override.path(), override.value(), source + " override", 0});
   }
   request.time_limit_seconds = job.time_limit_seconds();
+  request.inject_faults = inject_faults;
   return request;
 }
 
@@ -72,10 +73,10 @@ v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& out
   return result;
 }
 
-v1::Result RunJob(const v1::Job& job) {
+v1::Result RunJob(const v1::Job& job, bool inject_faults) {
   const auto start = std::chrono::steady_clock::now();
   try {
-    return ToResult(job, evaluation::Evaluate(RequestOf(job)));
+    return ToResult(job, evaluation::Evaluate(RequestOf(job, inject_faults)));
   } catch (const InputError& error) {
     evaluation::EvaluationOutcome outcome;
     outcome.status = evaluation::EvaluationStatus::kInvalidInput;

@@ -9,8 +9,9 @@
 namespace orcs::worker {
 
 /// Runs a job: parses its scenario and genome (bad JSON or fields → INVALID_INPUT with the message), evaluates
-/// it and returns the result. Never throws.
-v1::Result RunJob(const v1::Job& job);
+/// it and returns the result. Never throws. `inject_faults`: carry out the scenario's "fault" test hook (only the
+/// sandboxed simulation process passes true; see EvaluationRequest::inject_faults).
+v1::Result RunJob(const v1::Job& job, bool inject_faults = false);
 
 /// The wire result of an evaluation outcome for `job`.
 v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& outcome);

@@ -2,18 +2,29 @@
 // at a time (worker/job/job_translation.h) and returns their results; heartbeats and reconnection happen in
 // the connection's own thread (worker/broker_connection.h). Serves until SIGINT or SIGTERM.
 //
+// Each job runs in a sandboxed simulation process (worker/job/simulation_sandbox.h): the same program started
+// again as `orcs-worker --sandbox-child`, a hidden mode nobody types, so that a crash in the physics engine costs
+// one job (status CRASHED), not the worker. `--no-sandbox` runs jobs in this process, as before issue 7.
+//
 //   orcs-worker --connect tcp://127.0.0.1:5556 [--credit 2] [--short-job-credit 16] [--id NAME] [--heartbeat SECONDS]
 //               [--curve-keys DIR]
+//               [--no-sandbox]
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <iostream>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "worker/broker_connection.h"
 #include "worker/cli_style.h"
 #include "worker/job/job_translation.h"
+#include "worker/job/sandbox_child.h"
+#include "worker/job/simulation_sandbox.h"
 
 namespace {
 
@@ -24,9 +35,15 @@ extern "C" void OnSignal(int) { stop_requested.store(true); }
 // How long NextJob waits before looking at the stop flag again.
 constexpr std::chrono::milliseconds kPollInterval{200};
 
+// /proc/self/exe: this very binary, even if a rebuild has replaced the file since the worker started.
+std::vector<std::string> SandboxArguments() { return {"/proc/self/exe", "--sandbox-child"}; }
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string_view(argv[1]) == "--sandbox-child") {
+    return orcs::worker::RunSandboxChild(orcs::worker::kSandboxChannelFd);
+  }
   orcs::worker::WorkerConnectionOptions options;
   CLI::App app{"orcs-worker: runs simulation jobs from a broker", "orcs-worker"};
   app.add_option("--connect", options.endpoint, "the broker's worker endpoint, e.g. tcp://127.0.0.1:5556")->required();
@@ -41,6 +58,8 @@ int main(int argc, char** argv) {
   app.add_option("--curve-keys", options.curve_keys,
                  "folder with worker.key, worker.pub and broker.pub: connect with CURVE (docs/security.md)")
       ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+  bool no_sandbox = false;
+  app.add_flag("--no-sandbox", no_sandbox, "run jobs in this process: a crash in the physics ends the worker");
   if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"connect"}); exit_code >= 0) {
     return exit_code;
   }
@@ -53,8 +72,10 @@ int main(int argc, char** argv) {
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
 
+  std::unique_ptr<orcs::worker::SimulationSandbox> sandbox;
   std::unique_ptr<orcs::worker::WorkerConnection> connection;
   try {
+    if (!no_sandbox) sandbox = std::make_unique<orcs::worker::SimulationSandbox>(SandboxArguments());
     connection = std::make_unique<orcs::worker::WorkerConnection>(options);
   } catch (const std::exception& error) {
     std::cerr << "orcs-worker: " << error.what() << "\n";
@@ -63,7 +84,10 @@ int main(int argc, char** argv) {
   while (!stop_requested.load()) {
     std::optional<orcs::v1::Job> job = connection->NextJob(kPollInterval);
     if (!job) continue;
-    orcs::v1::Result result = orcs::worker::RunJob(*job);
+    orcs::v1::Result result = sandbox ? sandbox->Run(*job) : orcs::worker::RunJob(*job);
+    if (result.status() == orcs::v1::Result::CRASHED) {
+      options.log("job " + job->job_id() + ": " + result.message() + "; the next job gets a new one");
+    }
     connection->SendResult(std::move(result));
   }
   return orcs::cli::kExitOk;

@@ -36,6 +36,29 @@ TEST(ScenarioTest, ADefaultGenomeIsKeptAsGiven) {
   EXPECT_EQ(ParseScenario(scenario, "s.json").genome, nlohmann::json({1.5, -2}));
 }
 
+TEST(ScenarioTest, AFaultIsReadForTheSandboxAndCheckedLikeEveryField) {
+  nlohmann::json scenario = Minimal();
+  EXPECT_EQ(ParseScenario(scenario, "s.json").fault.kind, FaultInjection::Kind::kNone);
+  scenario["fault"] = {{"kind", "segfault"}, {"at_step", 40}};
+  const FaultInjection segfault = ParseScenario(scenario, "s.json").fault;
+  EXPECT_EQ(segfault.kind, FaultInjection::Kind::kSegfault);
+  EXPECT_EQ(segfault.at_step, 40u);
+  scenario["fault"] = {{"kind", "abort"}};
+  EXPECT_EQ(ParseScenario(scenario, "s.json").fault.kind, FaultInjection::Kind::kAbort);
+  EXPECT_EQ(ParseScenario(scenario, "s.json").fault.at_step, 0u);
+  scenario["fault"] = {{"kind", "hang"}, {"at_step", 1}};
+  EXPECT_EQ(ParseScenario(scenario, "s.json").fault.kind, FaultInjection::Kind::kHang);
+
+  scenario["fault"] = {{"kind", "explode"}};
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(scenario, "s.json"); }),
+            "s.json: field 'fault.kind' expected \"segfault\", \"abort\" or \"hang\", found the string \"explode\"");
+  scenario["fault"] = {{"kind", "abort"}, {"at_step", -3}};
+  EXPECT_THAT(InputErrorOf([&] { ParseScenario(scenario, "s.json"); }),
+              HasSubstr("field 'fault.at_step' expected a step index ≥ 0"));
+  scenario["fault"] = {{"kind", "abort"}, {"step", 3}};
+  EXPECT_THAT(InputErrorOf([&] { ParseScenario(scenario, "s.json"); }), HasSubstr("field 'fault.step' expected no such field"));
+}
+
 TEST(ScenarioTest, BadInputNamesFileAndField) {
   auto with = [](const char* key, nlohmann::json value) {
     nlohmann::json scenario = Minimal();
@@ -44,7 +67,7 @@ TEST(ScenarioTest, BadInputNamesFileAndField) {
   };
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duratoin", 3), "s.json"); }),
             "s.json: field 'duratoin' expected no such field (allowed: name, environment, value_files, values, "
-            "duration, agent, controller, fitness, randomisation, log, genome), found 'duratoin'");
+            "duration, agent, controller, fitness, randomisation, log, genome, fault), found 'duratoin'");
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("genome", 5), "s.json"); }),
             "s.json: field 'genome' expected an array of numbers or a network object, found the number 5");
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duration", "long"), "s.json"); }),

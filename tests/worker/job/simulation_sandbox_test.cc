@@ -1,0 +1,204 @@
+// SimulationSandbox with the real simulation process (orcs-worker --sandbox-child): a job gives the same bits as
+// in-process, a crash costs one job and the next job runs in a fresh process, time limits hold — the simulation's
+// own and, for a hang inside the engine, the sandbox's.
+#include "worker/job/simulation_sandbox.h"
+
+#include <gmock/gmock.h>
+#include <google/protobuf/util/message_differencer.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "tests/support/process.h"
+#include "worker/job/job_translation.h"
+
+namespace orcs::worker {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+const std::string kWorker = ORCS_BINARY_DIR "/bin/orcs-worker";
+
+// One A-Series swinging its hips for `duration` simulated seconds under two parameter sets; `fault` when not null.
+v1::Job Job(const std::string& id, double duration, const nlohmann::json& fault = nullptr) {
+  nlohmann::json scenario = nlohmann::json::parse(R"({
+    "controller": {"type": "oscillator", "joints": ["Right/HipYaw", "Left/HipYaw"]},
+    "fitness": {"terms": [{"type": "distance", "body": "Middle/UpperBody", "axis": "z"}, {"type": "energy"}]},
+    "randomisation": {"sets": 2, "default_motor_model": true}})");
+  scenario["duration"] = duration;
+  if (!fault.is_null()) scenario["fault"] = fault;
+  v1::Job job;
+  job.set_job_id(id);
+  job.set_batch_id("sandbox-test");
+  job.set_scenario_json(scenario.dump());
+  job.set_genome_json("[20, 1.5, 0, 0, 20, 1.5, 3, 0]");
+  job.set_seed(77);
+  job.set_time_limit_seconds(60);
+  return job;
+}
+
+std::vector<std::string> ChildArguments() { return {kWorker, "--sandbox-child"}; }
+
+// Equal as results, bit for bit, apart from the wall-clock time each took.
+void ExpectSameBits(v1::Result a, v1::Result b) {
+  a.mutable_timings()->clear_run_seconds();
+  b.mutable_timings()->clear_run_seconds();
+  EXPECT_TRUE(google::protobuf::util::MessageDifferencer::Equals(a, b))  // doubles compared exactly
+      << a.DebugString() << "\nvs\n"
+      << b.DebugString();
+}
+
+bool Running(pid_t pid) { return pid > 0 && ::kill(pid, 0) == 0; }
+
+// Whether `pid` has died and waits to be reaped (state Z in /proc/PID/stat), without reaping it.
+bool Zombie(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  const std::size_t name_end = text.rfind(')');
+  return name_end != std::string::npos && name_end + 2 < text.size() && text[name_end + 2] == 'Z';
+}
+
+// Waits (bounded: 10 s) for `condition`.
+bool AwaitTrue(const std::function<bool()>& condition) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (!condition()) {
+    if (std::chrono::steady_clock::now() > give_up) return false;
+    std::this_thread::yield();
+  }
+  return true;
+}
+
+TEST(SimulationSandbox, AJobGivesTheSameBitsAsInProcess) {
+  SimulationSandbox sandbox(ChildArguments());
+  const v1::Job job = Job("same", 0.3);
+  const v1::Result in_process = RunJob(job);
+  ASSERT_EQ(in_process.status(), v1::Result::OK) << in_process.message();
+  const v1::Result sandboxed = sandbox.Run(job);
+  ASSERT_EQ(sandboxed.status(), v1::Result::OK) << sandboxed.message();
+  ExpectSameBits(sandboxed, in_process);
+  ExpectSameBits(sandbox.Run(job), in_process);  // and again in the same process: nothing carries over
+  EXPECT_EQ(sandbox.processes_started(), 1);
+}
+
+TEST(SimulationSandbox, ASegfaultCostsOneJobAndTheNextRunsInAFreshProcess) {
+  SimulationSandbox sandbox(ChildArguments());
+  const pid_t first = sandbox.child_pid();
+  ASSERT_TRUE(Running(first));
+  const v1::Result crashed = sandbox.Run(Job("segv", 0.3, {{"kind", "segfault"}, {"at_step", 10}}));
+  EXPECT_EQ(crashed.status(), v1::Result::CRASHED);
+  EXPECT_EQ(crashed.message(), "the simulation process died of SIGSEGV (Segmentation fault)");
+  EXPECT_EQ(crashed.job_id(), "segv");
+  EXPECT_EQ(crashed.batch_id(), "sandbox-test");
+  EXPECT_EQ(crashed.attempts(), 1u);
+  EXPECT_EQ(sandbox.child_pid(), -1) << "the dead process was reaped";
+
+  const v1::Job next = Job("next", 0.3);
+  const v1::Result result = sandbox.Run(next);
+  EXPECT_EQ(result.status(), v1::Result::OK) << result.message();
+  ExpectSameBits(result, RunJob(next));
+  EXPECT_EQ(sandbox.processes_started(), 2);
+  EXPECT_NE(sandbox.child_pid(), first);
+}
+
+TEST(SimulationSandbox, AnAbortIsReportedWithItsSignal) {
+  SimulationSandbox sandbox(ChildArguments());
+  const v1::Result crashed = sandbox.Run(Job("abort", 0.3, {{"kind", "abort"}, {"at_step", 0}}));
+  EXPECT_EQ(crashed.status(), v1::Result::CRASHED);
+  EXPECT_EQ(crashed.message(), "the simulation process died of SIGABRT (Aborted)");
+  EXPECT_EQ(sandbox.Run(Job("after", 0.1)).status(), v1::Result::OK);
+}
+
+TEST(SimulationSandbox, AFaultIsIgnoredOutsideTheSandbox) {
+  const v1::Result result = RunJob(Job("in-process", 0.1, {{"kind", "segfault"}, {"at_step", 3}}));
+  EXPECT_EQ(result.status(), v1::Result::OK) << "this test process is still alive";
+}
+
+TEST(SimulationSandbox, TheSimulationsOwnTimeLimitStillGivesTimeout) {
+  SimulationSandbox sandbox(ChildArguments());
+  v1::Job job = Job("long", 1000.0);  // far more than a 0.3 s limit allows
+  job.set_time_limit_seconds(0.3);
+  const v1::Result result = sandbox.Run(job);
+  EXPECT_EQ(result.status(), v1::Result::TIMEOUT);
+  EXPECT_THAT(result.message(), StartsWith("time limit of 0.3 s exceeded in parameter set 0"));
+  EXPECT_EQ(sandbox.processes_started(), 1) << "a timeout is a result, not a death";
+  EXPECT_TRUE(Running(sandbox.child_pid()));
+}
+
+TEST(SimulationSandbox, AHangInsideTheEngineIsKilledAfterTheLimitAndItsGrace) {
+  SimulationSandbox sandbox(ChildArguments());
+  v1::Job job = Job("hang", 1.0, {{"kind", "hang"}, {"at_step", 5}});
+  job.set_time_limit_seconds(0.2);
+  const pid_t hung = sandbox.child_pid();
+  const auto start = std::chrono::steady_clock::now();
+  const v1::Result result = sandbox.Run(job);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(result.status(), v1::Result::TIMEOUT);
+  EXPECT_EQ(result.message(),
+            "time limit of 0.2 s exceeded: the simulation process did not answer within 1.25 s and was killed");
+  EXPECT_GE(waited, 1.25);  // the grace: 1 s + 25 % of the limit
+  EXPECT_FALSE(Running(hung)) << "killed and reaped";
+  EXPECT_EQ(sandbox.Run(Job("after", 0.1)).status(), v1::Result::OK);
+  EXPECT_EQ(sandbox.processes_started(), 2);
+}
+
+TEST(SimulationSandbox, AProcessKilledWhileIdleCostsNoJob) {
+  SimulationSandbox sandbox(ChildArguments());
+  const pid_t idle = sandbox.child_pid();
+  ASSERT_EQ(::kill(idle, SIGKILL), 0);
+  ASSERT_TRUE(AwaitTrue([&] { return Zombie(idle); }));  // dead before the job is handed over
+  const v1::Result result = sandbox.Run(Job("unlucky", 0.1));
+  EXPECT_EQ(result.status(), v1::Result::OK) << result.message();
+  EXPECT_EQ(sandbox.processes_started(), 2);
+}
+
+TEST(SimulationSandbox, TheProcessEndsWithTheSandbox) {
+  pid_t pid = -1;
+  {
+    SimulationSandbox sandbox(ChildArguments());
+    pid = sandbox.child_pid();
+    ASSERT_TRUE(Running(pid));
+  }
+  EXPECT_FALSE(Running(pid)) << "killed and reaped, no zombie left";
+}
+
+TEST(SimulationSandbox, AnExitWhileRunningAJobIsCrashedWithItsCode) {
+  // A stand-in simulation process that reads the start of the job, then exits with code 4.
+  SimulationSandbox sandbox({"/bin/sh", "-c", "head -c 4 <&3 >/dev/null; exit 4"});
+  const v1::Result result = sandbox.Run(Job("quitter", 0.1));
+  EXPECT_EQ(result.status(), v1::Result::CRASHED);
+  EXPECT_EQ(result.message(), "the simulation process exited with code 4 while running the job");
+}
+
+TEST(SimulationSandbox, TheHiddenModeTypedByHandSaysWhatItIsFor) {
+  const test_support::ProcessResult run = test_support::RunProcess({kWorker, "--sandbox-child"});
+  EXPECT_EQ(run.exit_code, 3);
+  EXPECT_EQ(run.err,
+            "orcs-worker: --sandbox-child is started by orcs-worker itself, with its job channel on descriptor 3, "
+            "which is not a socket here\n");
+}
+
+TEST(SimulationSandbox, AProgramThatCannotStartIsNamed) {
+  try {
+    SimulationSandbox sandbox({"/nonexistent/orcs-worker", "--sandbox-child"});
+    FAIL() << "expected a failure to start";
+  } catch (const std::runtime_error& error) {
+    EXPECT_THAT(error.what(), HasSubstr("cannot start the simulation process '/nonexistent/orcs-worker'"));
+  }
+}
+
+TEST(SimulationSandbox, GraceGrowsWithTheLimit) {
+  using std::chrono::duration;
+  EXPECT_DOUBLE_EQ(duration<double>(SimulationSandbox::Grace(0.0)).count(), 1.0);
+  EXPECT_DOUBLE_EQ(duration<double>(SimulationSandbox::Grace(60.0)).count(), 16.0);
+}
+
+}  // namespace
+}  // namespace orcs::worker

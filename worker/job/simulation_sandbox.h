@@ -1,0 +1,71 @@
+// Crash isolation for orcs-worker (issue 7, part 3): every job runs in a separate, long-lived simulation process,
+// so that a segfault or an abort inside the physics engine kills that process and not the worker with its broker
+// connection. The process is the worker's own binary in a hidden mode (`orcs-worker --sandbox-child`,
+// worker/job/sandbox_child.h), started with posix_spawn — not fork(), which is unsafe in a process with ZeroMQ's
+// threads — and connected by a socket pair on its descriptor 3. A job goes down as one message and its result
+// comes back as one (FrameChannel), so results are the same bits as when run in-process.
+//
+// When the process dies while running a job, the job's result is CRASHED with a message naming the signal or exit
+// code, and the next job starts a fresh process. When a job has a time limit and its process does not answer
+// within the limit plus a grace (the simulation's own clock check failed: a hang inside the engine), the process
+// is killed and the result is TIMEOUT.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "orcs/v1/job.pb.h"
+#include "orcs/v1/result.pb.h"
+
+namespace orcs::worker {
+
+/// The parent's side: runs jobs in the simulation process, one at a time. Not thread-safe; the thread that
+/// constructs it must outlive the simulation process (which dies with that thread, PR_SET_PDEATHSIG).
+class SimulationSandbox {
+ public:
+  /// `child_argv`: the simulation process's program and arguments, e.g. {"/proc/self/exe", "--sandbox-child"}.
+  /// Starts it; throws std::runtime_error naming the program when it cannot be started.
+  explicit SimulationSandbox(std::vector<std::string> child_argv);
+  /// Kills the simulation process (it holds no state worth keeping) and reaps it.
+  ~SimulationSandbox();
+  SimulationSandbox(const SimulationSandbox&) = delete;
+  SimulationSandbox& operator=(const SimulationSandbox&) = delete;
+
+  /// Runs `job` in the simulation process (starting a new one when the last one died) and returns its result;
+  /// CRASHED, TIMEOUT (see the top of this file) or INTERNAL_ERROR (no process could be started) otherwise.
+  /// Never throws.
+  v1::Result Run(const v1::Job& job);
+
+  /// The simulation process's pid; -1 when none is running (it died and the next Run starts one).
+  pid_t child_pid() const { return pid_; }
+  /// Simulation processes started so far: 1 + those started after a death.
+  int processes_started() const { return processes_started_; }
+
+  /// How long past a job's time limit its process may stay silent before it is killed: 1 s + 25 % of the limit.
+  static std::chrono::steady_clock::duration Grace(double time_limit_seconds);
+
+ private:
+  void Start();
+  // Whether a process is running and waiting for a job (its end of the channel is open and silent).
+  bool Idle() const;
+  // Kills the process (if still running) and reaps it; returns its wait status.
+  int Stop();
+  // Reaps a process that closed its channel: waits for it to end, killing it if it lingers; the wait status.
+  int Reap();
+  void CloseChannel();
+
+  const std::vector<std::string> child_argv_;
+  pid_t pid_ = -1;
+  int fd_ = -1;  ///< the parent's end of the socket pair
+  int processes_started_ = 0;
+  std::string out_;  ///< reused: the serialised job
+  std::string in_;   ///< reused: the serialised result
+};
+
+/// "SIGSEGV (Segmentation fault)" for a signal number; "signal N" for one without a name.
+std::string SignalName(int signal);
+
+}  // namespace orcs::worker
