@@ -614,21 +614,27 @@ bool Broker::ResendStoredResult(const std::string& client, const std::string& ba
 void Broker::Dispatch() {
   v1::BrokerToWorker message;
   message.set_protocol_version(kProtocolVersion);
+  std::vector<JobKey> deferred;  // crashed jobs waiting for a worker they have not crashed yet
   while (true) {
     while (!ready_workers_.empty()) {  // skip workers lost since they were listed
       auto worker = workers_.find(ready_workers_.front());
       if (worker != workers_.end() && worker->second.in_ready_list) break;
       ready_workers_.pop_front();
     }
-    if (ready_workers_.empty()) return;
+    if (ready_workers_.empty()) break;
     JobKey key;
-    if (!PopQueued(key)) return;
-    const std::string worker_id = std::move(ready_workers_.front());
-    ready_workers_.pop_front();
-    Worker& worker = workers_.at(worker_id);
-    worker.in_ready_list = false;
+    if (!PopQueued(key)) break;
     Batch& batch = batches_.at(key.first);
     JobRecord& record = batch.jobs.at(key.second);
+    const auto chosen = ReadyWorkerFor(record);
+    if (chosen == ready_workers_.end()) {
+      deferred.push_back(std::move(key));
+      continue;
+    }
+    const std::string worker_id = std::move(*chosen);
+    ready_workers_.erase(chosen);
+    Worker& worker = workers_.at(worker_id);
+    worker.in_ready_list = false;
     record.job.set_attempt(static_cast<std::uint32_t>(record.losses));
     *message.mutable_job() = record.job;
     if (!SendToWorker(worker_id, message)) {
@@ -645,6 +651,30 @@ void Broker::Dispatch() {
     ++counters_.jobs_dispatched;
     MakeReady(worker_id, worker);  // to the back of the list: the least recently served worker goes first
   }
+  // Back to the front of the queue, in their order.
+  for (auto key = deferred.rbegin(); key != deferred.rend(); ++key) {
+    Enqueue(key->first, batches_.at(key->first).jobs.at(key->second), true);
+  }
+}
+
+// Where a job goes: the least recently served ready worker — but a job that crashed workers before goes to the
+// first ready one it has not crashed yet, and waits (end()) while only workers it crashed are ready and another
+// one is busy: "crashed three workers" should mean three, not one worker three times. When it has crashed every
+// worker there is, any will do.
+std::list<std::string>::iterator Broker::ReadyWorkerFor(const JobRecord& record) {
+  if (record.crashed_by.empty()) return ready_workers_.begin();
+  const std::string crashed = ", " + record.crashed_by + ", ";
+  const auto spared = [&](const Worker& worker) {
+    return crashed.find(", " + worker.name + ", ") == std::string::npos;
+  };
+  for (auto candidate = ready_workers_.begin(); candidate != ready_workers_.end(); ++candidate) {
+    auto worker = workers_.find(*candidate);
+    if (worker != workers_.end() && worker->second.in_ready_list && spared(worker->second)) return candidate;
+  }
+  for (const auto& [id, worker] : workers_) {
+    if (spared(worker)) return ready_workers_.end();
+  }
+  return ready_workers_.begin();
 }
 
 bool Broker::PopQueued(JobKey& key) {

@@ -192,6 +192,7 @@ class Broker {
   // Moving jobs.
   void Dispatch();
   bool PopQueued(JobKey& key);
+  std::list<std::string>::iterator ReadyWorkerFor(const JobRecord& record);
   void Enqueue(const std::string& batch_id, JobRecord& record, bool at_front);
   void SetState(JobRecord& record, JobState state);  // keeps queued_count_ right
   void LoseWorker(const std::string& worker, const std::string& reason, bool counts_as_loss);

@@ -295,6 +295,7 @@ TEST_F(CurveTest, ABatchRestoredFromTheJournalIsClaimedAndThenKeptByOneKey) {
     options.worker_port = std::stoi(broker->worker_endpoint().substr(broker->worker_endpoint().rfind(':') + 1));
     broker->Stop();
   }
+  broker.reset();  // frees the ports: Stop() alone leaves them to the context's teardown
   broker = std::make_unique<BrokerThread>(options);
   ASSERT_TRUE(WaitFor([&] { return broker->stats().jobs_restored == 1; }));
 
