@@ -16,6 +16,7 @@ packages=(
   python3
   python3-matplotlib    # scripts/plot_*.py (orcs-batch sweep plots, orcs-gap plots)
   libpagmo-dev          # pagmo2: CMA-ES for orcs-gap's simulation-in-the-loop fits
+  clang-14 libclang-rt-14-dev  # libFuzzer and the sanitizers for scripts/fuzz.sh (tests/fuzz/)
 )
 
 missing=()

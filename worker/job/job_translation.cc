@@ -20,6 +20,8 @@ v1::Result::Status StatusOf(evaluation::EvaluationStatus status) {
   return v1::Result::INTERNAL_ERROR;
 }
 
+}  // namespace
+
 evaluation::EvaluationRequest RequestOf(const v1::Job& job) {
   const std::string source = "job " + job.job_id();
   evaluation::EvaluationRequest request;
@@ -32,8 +34,6 @@ evaluation::EvaluationRequest RequestOf(const v1::Job& job) {
   request.time_limit_seconds = job.time_limit_seconds();
   return request;
 }
-
-}  // namespace
 
 v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& outcome) {
   v1::Result result;

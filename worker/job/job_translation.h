@@ -12,6 +12,10 @@ namespace orcs::worker {
 /// it and returns the result. Never throws.
 v1::Result RunJob(const v1::Job& job);
 
+/// The evaluation request of a job: its scenario and genome parsed, its overrides and limits taken over. Throws
+/// InputError naming the job and the field for bad JSON or fields. RunJob uses it; the fuzzer feeds it.
+evaluation::EvaluationRequest RequestOf(const v1::Job& job);
+
 /// The wire result of an evaluation outcome for `job`.
 v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& outcome);
 

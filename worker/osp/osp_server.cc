@@ -88,6 +88,12 @@ void OspServer::Run() {
   }
 }
 
+void OspServer::Deliver(int session, const Datagram& datagram) {
+  if (session == 0) return OnServerDatagram(datagram);
+  const auto it = sessions_.find(session);
+  if (it != sessions_.end()) OnSessionDatagram(*it->second, datagram);
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // The server port: only INIT.
 

@@ -78,6 +78,11 @@ class OspServer {
   /// Serves `service` in this thread too (before Run()).
   void AddService(DatagramService* service) { services_.push_back(service); }
 
+  /// Handles one datagram as Run() does with what it receives: on the server port when `session` is 0, else on
+  /// client `session`'s handler socket (clients are numbered from 1 as they connect; an unknown one is ignored).
+  /// For tests and the fuzzer, which drive the server without polling. Not while Run() runs.
+  void Deliver(int session, const Datagram& datagram);
+
  private:
   using Clock = std::chrono::steady_clock;
 
