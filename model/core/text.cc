@@ -97,9 +97,16 @@ std::vector<std::string_view> Split(std::string_view text, char separator) {
   }
 }
 
+std::string_view Prefix(std::string_view text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  std::size_t cut = max_bytes;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // text[cut] continues a character
+  return text.substr(0, cut);
+}
+
 std::string Quote(std::string_view text) {
   constexpr size_t kMax = 40;
-  if (text.size() > kMax) return "'" + std::string(text.substr(0, kMax)) + "...'";
+  if (text.size() > kMax) return "'" + std::string(Prefix(text, kMax)) + "...'";
   return "'" + std::string(text) + "'";
 }
 

@@ -35,6 +35,10 @@ std::optional<std::vector<double>> ParseNumberTuple(std::string_view text);
 std::vector<std::string_view> Split(std::string_view text, char separator);
 
 /// Text quoted for an error message: 'text', shortened to 40 characters.
+/// The first `max_bytes` bytes of `text`, fewer when that would cut a UTF-8 character in two (messages with a
+/// broken character do not survive protobuf's UTF-8 check on the way back to a client).
+std::string_view Prefix(std::string_view text, std::size_t max_bytes);
+
 std::string Quote(std::string_view text);
 
 }  // namespace orcs::text

@@ -113,7 +113,32 @@ void PlayMotion(std::string_view text, int motor_count) {
   player.Apply(player.duration());
 }
 
-void CheckJob(const v1::Job& job) { evaluation::CheckRequest(worker::RequestOf(job)); }
+// What orcs-worker does with a job it cannot run: a result with the error, which must reach the broker, so it must
+// parse there (a message that does not is dropped, and the job would never finish).
+void RequireDeliverable(const v1::Job& job, const InputError& error) {
+  evaluation::EvaluationOutcome outcome;
+  outcome.status = evaluation::EvaluationStatus::kInvalidInput;
+  outcome.message = error.what();
+  v1::WorkerToBroker answer;
+  answer.set_protocol_version(proto::kProtocolVersion);
+  *answer.mutable_result() = worker::ToResult(job, outcome);
+  answer.mutable_result()->set_protocol_version(proto::kProtocolVersion);
+  const std::string bytes = answer.SerializeAsString();
+  v1::WorkerToBroker received;
+  if (proto::ParseEnvelope(bytes.data(), bytes.size(), received) != proto::EnvelopeCheck::kOk) {
+    std::fprintf(stderr, "undeliverable result message: %s\n", error.what());
+    Require(false, "the result of a rejected job does not parse at the broker");
+  }
+}
+
+void CheckJob(const v1::Job& job) {
+  try {
+    evaluation::CheckRequest(worker::RequestOf(job));
+  } catch (const InputError& error) {
+    RequireDeliverable(job, error);
+    throw;
+  }
+}
 
 // The results.jsonl line of a result, as the client writes it.
 void WriteResult(const v1::Result& result) { [[maybe_unused]] const std::string line = worker::ResultToJson(result).dump(); }

@@ -145,6 +145,17 @@ TEST(TextTest, SplitKeepsEmptyFieldsUntrimmed) {
   EXPECT_EQ(Split(" a , b", ','), (std::vector<std::string_view>{" a ", " b"}));
 }
 
+// Found by reading what the fuzzer's job target checks: cutting at 40 bytes could split a UTF-8 character, and a
+// message holding half of one made the whole result unparsable at the broker.
+TEST(TextTest, PrefixAndQuoteNeverCutACharacter) {
+  const std::string thirty_nine(39, 'a');
+  EXPECT_EQ(Prefix(thirty_nine + "\xc3\xa9z", 40), thirty_nine);  // "é" would be cut in two: left out
+  EXPECT_EQ(Prefix(thirty_nine + "\xc3\xa9z", 41), thirty_nine + "\xc3\xa9");
+  EXPECT_EQ(Prefix("\xe2\x82\xac", 2), "");  // "€" (three bytes)
+  EXPECT_EQ(Prefix("abc", 40), "abc");
+  EXPECT_EQ(Quote(thirty_nine + "\xc3\xa9xyz"), "'" + thirty_nine + "...'");
+}
+
 TEST(TextTest, QuoteShortensLongText) {
   EXPECT_EQ(Quote("abc"), "'abc'");
   EXPECT_EQ(Quote(""), "''");
