@@ -36,6 +36,9 @@ struct OspServerOptions {
   /// A controlling client the others wait for, silent this long (no datagram at all, counted from when the
   /// waiting began at the earliest), is dropped and loses its agents.
   std::chrono::milliseconds client_timeout{10000};
+  /// Clients served at once. An INIT beyond them is ignored, so that a flood of INITs cannot use up the process's
+  /// sockets (each client has its own) and end the server.
+  int max_clients = 64;
   /// Where log lines go (one event each, no newline); empty = stderr, prefixed "orcs-osp: ".
   std::function<void(std::string_view)> log;
 };
