@@ -156,6 +156,18 @@ TEST(TextTest, PrefixAndQuoteNeverCutACharacter) {
   EXPECT_EQ(Quote(thirty_nine + "\xc3\xa9xyz"), "'" + thirty_nine + "...'");
 }
 
+TEST(TextTest, ValidUtf8KeepsCharactersAndReplacesBrokenBytes) {
+  const std::string replacement = "\xEF\xBF\xBD";
+  EXPECT_EQ(ValidUtf8("plain, \xC3\xA9, \xE2\x82\xAC, \xF0\x9F\x98\x80"), "plain, \xC3\xA9, \xE2\x82\xAC, \xF0\x9F\x98\x80");
+  EXPECT_EQ(ValidUtf8(std::string("a\0b", 3)), std::string("a\0b", 3));
+  EXPECT_EQ(ValidUtf8("'\xC6'"), "'" + replacement + "'");            // a lead byte cut off (nlohmann's "last read")
+  EXPECT_EQ(ValidUtf8("\xE2\x82"), replacement + replacement);        // truncated at the end
+  EXPECT_EQ(ValidUtf8("\xC0\xAF"), replacement + replacement);        // overlong '/'
+  EXPECT_EQ(ValidUtf8("\xED\xA0\x80"), replacement + replacement + replacement);  // a surrogate
+  EXPECT_EQ(ValidUtf8("\xF4\x90\x80\x80"), replacement + replacement + replacement + replacement);  // > U+10FFFF
+  EXPECT_EQ(ValidUtf8("\xFF"), replacement);
+}
+
 TEST(TextTest, QuoteShortensLongText) {
   EXPECT_EQ(Quote("abc"), "'abc'");
   EXPECT_EQ(Quote(""), "''");
