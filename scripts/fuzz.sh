@@ -24,6 +24,8 @@ work=$(mktemp -d /tmp/orcs-fuzz.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 "$build/bin/orcs-fuzz-seeds" "$work/seeds"
 
+# The usual per-process file limit, so that running out of sockets or files is a finding here as on users' machines.
+ulimit -n 1024
 failed=()
 printf '%-16s %8s %12s %8s %s\n' target seconds executions corpus result
 for target in "${targets[@]}"; do
