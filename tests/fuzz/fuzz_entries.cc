@@ -82,15 +82,27 @@ void Require(bool condition, const char* what) {
   std::abort();
 }
 
-// A private temporary file per process, rewritten for every input (value files are read by name).
-const std::filesystem::path& ScratchFile() {
-  static const std::filesystem::path file = [] {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                      ("orcs-fuzz-" + std::to_string(static_cast<long>(getpid())));
-    std::filesystem::create_directories(dir);
-    return dir / "input.val";
-  }();
-  return file;
+// A private temporary folder per process, removed at exit; value files are read by name, so each input is written
+// to a file in it.
+class ScratchFolder {
+ public:
+  ScratchFolder()
+      : dir_(std::filesystem::temp_directory_path() / ("orcs-fuzz-" + std::to_string(static_cast<long>(getpid())))) {
+    std::filesystem::create_directories(dir_);
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  std::filesystem::path file() const { return dir_ / "input.val"; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+std::filesystem::path ScratchFile() {
+  static const ScratchFolder folder;
+  return folder.file();
 }
 
 void RequireSameRows(const control::KeyframeRecord& a, const control::KeyframeRecord& b) {
