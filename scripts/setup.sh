@@ -18,6 +18,7 @@ packages=(
   libpagmo-dev          # pagmo2: CMA-ES for orcs-gap's simulation-in-the-loop fits
   libsqlite3-dev        # the broker's journal (orcs-broker --journal)
   slurm-wlm munge       # tests/integration/slurm: a private single-node Slurm runs scripts/slurm/*.sbatch
+  clang-14 libclang-rt-14-dev  # libFuzzer and the sanitizers for scripts/fuzz.sh (tests/fuzz/)
 )
 
 missing=()

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "model/core/error.h"
+#include "model/core/text.h"
 
 namespace orcs {
 namespace {
@@ -28,6 +29,17 @@ Json ParseJson(const std::string& text, const std::string& source) {
     const std::size_t colon = what.find(": ");
     if (colon != std::string::npos) what = what.substr(colon + 2);
     throw InputError(source, LineOf(text, error.byte), "malformed JSON: " + what);
+  } catch (const Json::out_of_range& error) {
+    // A number beyond double's range: "[json.exception.out_of_range.406] number overflow parsing '1E400'", no
+    // position; the line is where the number first appears.
+    std::string what = error.what();
+    const std::size_t bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    const std::size_t open = what.find('\'');
+    const std::size_t close = what.rfind('\'');
+    const std::string number = open < close ? what.substr(open + 1, close - open - 1) : "";
+    const std::size_t at = number.empty() ? std::string::npos : text.find(number);
+    throw InputError(source, at == std::string::npos ? 0 : LineOf(text, at), "malformed JSON: " + what);
   }
 }
 
@@ -35,7 +47,7 @@ std::string DescribeJson(const Json& value) {
   switch (value.type()) {
     case Json::value_t::string: {
       std::string text = value.get<std::string>();
-      if (text.size() > 40) text = text.substr(0, 40) + "...";
+      if (text.size() > 40) text = std::string(text::Prefix(text, 40)) + "...";
       return "the string \"" + text + "\"";
     }
     case Json::value_t::number_integer:

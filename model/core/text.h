@@ -34,7 +34,16 @@ std::optional<std::vector<double>> ParseNumberTuple(std::string_view text);
 /// Splits at `separator`, keeping empty fields; fields are not trimmed.
 std::vector<std::string_view> Split(std::string_view text, char separator);
 
+/// `text` with every byte that does not begin a well-formed UTF-8 character (truncated, overlong, a surrogate, beyond
+/// U+10FFFF) replaced by U+FFFD: what a message must be to travel in a protobuf string, which the receiver refuses
+/// to parse otherwise.
+std::string ValidUtf8(std::string_view text);
+
 /// Text quoted for an error message: 'text', shortened to 40 characters.
+/// The first `max_bytes` bytes of `text`, fewer when that would cut a UTF-8 character in two (messages with a
+/// broken character do not survive protobuf's UTF-8 check on the way back to a client).
+std::string_view Prefix(std::string_view text, std::size_t max_bytes);
+
 std::string Quote(std::string_view text);
 
 }  // namespace orcs::text

@@ -4,6 +4,7 @@
 
 #include "model/core/error.h"
 #include "model/core/json_node.h"
+#include "model/core/text.h"
 #include "model/scene/scenario.h"
 
 namespace orcs::worker {
@@ -20,6 +21,8 @@ v1::Result::Status StatusOf(evaluation::EvaluationStatus status) {
   return v1::Result::INTERNAL_ERROR;
 }
 
+}  // namespace
+
 evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults) {
   const std::string source = "job " + job.job_id();
   evaluation::EvaluationRequest request;
@@ -34,14 +37,12 @@ evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults) 
   return request;
 }
 
-}  // namespace
-
 v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& outcome) {
   v1::Result result;
   result.set_job_id(job.job_id());
   result.set_batch_id(job.batch_id());
   result.set_status(StatusOf(outcome.status));
-  result.set_message(outcome.message);
+  result.set_message(text::ValidUtf8(outcome.message));  // may quote input bytes; must parse at the broker
   result.set_fitness(outcome.fitness);
   double simulated = 0.0;
   for (const evaluation::SetOutcome& set : outcome.sets) {
@@ -59,7 +60,7 @@ v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& out
     }
     out->set_fitness(set.fitness);
     out->set_status(StatusOf(set.status));
-    out->set_message(set.message);
+    out->set_message(text::ValidUtf8(set.message));
     simulated += set.simulated_seconds;
     if (!set.log_csv.empty()) {
       v1::LogFile* log = result.add_logs();

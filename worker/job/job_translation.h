@@ -13,6 +13,11 @@ namespace orcs::worker {
 /// sandboxed simulation process passes true; see EvaluationRequest::inject_faults).
 v1::Result RunJob(const v1::Job& job, bool inject_faults = false);
 
+/// The evaluation request of a job: its scenario and genome parsed, its overrides and limits taken over. Throws
+/// InputError naming the job and the field for bad JSON or fields. RunJob uses it; the fuzzer feeds it.
+/// `inject_faults` as for RunJob.
+evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults = false);
+
 /// The wire result of an evaluation outcome for `job`.
 v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& outcome);
 

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "model/core/error.h"
 #include "worker/osp/osp_protocol.h"
@@ -88,6 +89,12 @@ void OspServer::Run() {
   }
 }
 
+void OspServer::Deliver(int session, const Datagram& datagram) {
+  if (session == 0) return OnServerDatagram(datagram);
+  const auto it = sessions_.find(session);
+  if (it != sessions_.end()) OnSessionDatagram(*it->second, datagram);
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // The server port: only INIT.
 
@@ -100,8 +107,17 @@ void OspServer::OnServerDatagram(const Datagram& datagram) {
   } catch (const MalformedDatagram& error) {
     return Ignore(nullptr, std::string(error.what()) + ", from " + datagram.from.ToString());
   }
-  auto session =
-      std::make_unique<Session>(next_session_id_++, UdpSocket(options_.bind_address, 0), datagram.from, Clock::now());
+  if (static_cast<int>(sessions_.size()) >= options_.max_clients) {
+    return Ignore(nullptr, "an INIT from " + datagram.from.ToString() + ": " + std::to_string(sessions_.size()) +
+                               " clients already, the most served at once");
+  }
+  std::optional<UdpSocket> handler;
+  try {
+    handler.emplace(options_.bind_address, 0);
+  } catch (const std::runtime_error& error) {  // out of sockets: refuse this client, keep serving the others
+    return Ignore(nullptr, "an INIT from " + datagram.from.ToString() + ": " + error.what());
+  }
+  auto session = std::make_unique<Session>(next_session_id_++, std::move(*handler), datagram.from, Clock::now());
   session->socket.Connect(datagram.from);
   Send(*session, Reply(kInitAck).Byte(kMajorVersion).Byte(kMinorVersion));
   Log("client " + std::to_string(session->id) + " at " + datagram.from.ToString() + " connected (handler port " +

@@ -36,6 +36,9 @@ struct OspServerOptions {
   /// A controlling client the others wait for, silent this long (no datagram at all, counted from when the
   /// waiting began at the earliest), is dropped and loses its agents.
   std::chrono::milliseconds client_timeout{10000};
+  /// Clients served at once. An INIT beyond them is ignored, so that a flood of INITs cannot use up the process's
+  /// sockets (each client has its own) and end the server.
+  int max_clients = 64;
   /// Where log lines go (one event each, no newline); empty = stderr, prefixed "orcs-osp: ".
   std::function<void(std::string_view)> log;
 };
@@ -77,6 +80,11 @@ class OspServer {
   OspServerStats stats() const;
   /// Serves `service` in this thread too (before Run()).
   void AddService(DatagramService* service) { services_.push_back(service); }
+
+  /// Handles one datagram as Run() does with what it receives: on the server port when `session` is 0, else on
+  /// client `session`'s handler socket (clients are numbered from 1 as they connect; an unknown one is ignored).
+  /// For tests and the fuzzer, which drive the server without polling. Not while Run() runs.
+  void Deliver(int session, const Datagram& datagram);
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -145,6 +145,29 @@ TEST(TextTest, SplitKeepsEmptyFieldsUntrimmed) {
   EXPECT_EQ(Split(" a , b", ','), (std::vector<std::string_view>{" a ", " b"}));
 }
 
+// Found by reading what the fuzzer's job target checks: cutting at 40 bytes could split a UTF-8 character, and a
+// message holding half of one made the whole result unparsable at the broker.
+TEST(TextTest, PrefixAndQuoteNeverCutACharacter) {
+  const std::string thirty_nine(39, 'a');
+  EXPECT_EQ(Prefix(thirty_nine + "\xc3\xa9z", 40), thirty_nine);  // "é" would be cut in two: left out
+  EXPECT_EQ(Prefix(thirty_nine + "\xc3\xa9z", 41), thirty_nine + "\xc3\xa9");
+  EXPECT_EQ(Prefix("\xe2\x82\xac", 2), "");  // "€" (three bytes)
+  EXPECT_EQ(Prefix("abc", 40), "abc");
+  EXPECT_EQ(Quote(thirty_nine + "\xc3\xa9xyz"), "'" + thirty_nine + "...'");
+}
+
+TEST(TextTest, ValidUtf8KeepsCharactersAndReplacesBrokenBytes) {
+  const std::string replacement = "\xEF\xBF\xBD";
+  EXPECT_EQ(ValidUtf8("plain, \xC3\xA9, \xE2\x82\xAC, \xF0\x9F\x98\x80"), "plain, \xC3\xA9, \xE2\x82\xAC, \xF0\x9F\x98\x80");
+  EXPECT_EQ(ValidUtf8(std::string("a\0b", 3)), std::string("a\0b", 3));
+  EXPECT_EQ(ValidUtf8("'\xC6'"), "'" + replacement + "'");            // a lead byte cut off (nlohmann's "last read")
+  EXPECT_EQ(ValidUtf8("\xE2\x82"), replacement + replacement);        // truncated at the end
+  EXPECT_EQ(ValidUtf8("\xC0\xAF"), replacement + replacement);        // overlong '/'
+  EXPECT_EQ(ValidUtf8("\xED\xA0\x80"), replacement + replacement + replacement);  // a surrogate
+  EXPECT_EQ(ValidUtf8("\xF4\x90\x80\x80"), replacement + replacement + replacement + replacement);  // > U+10FFFF
+  EXPECT_EQ(ValidUtf8("\xFF"), replacement);
+}
+
 TEST(TextTest, QuoteShortensLongText) {
   EXPECT_EQ(Quote("abc"), "'abc'");
   EXPECT_EQ(Quote(""), "''");
