@@ -8,11 +8,13 @@
 #include <vector>
 
 #include "clients/gap/gap_statistics.h"
-#include "clients/gap/job_runner.h"
+#include "clients/batch/job_runner.h"
 #include "clients/gap/model_fit.h"
 #include "clients/gap/replay.h"
 
 namespace orcs::gap {
+
+using batch::JobRunner;  // the broker back end the fits evaluate through
 
 struct DiagnosisOptions {
   FitOptions fit;                        ///< optimiser budget and seed of every fit

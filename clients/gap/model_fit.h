@@ -7,10 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "clients/gap/job_runner.h"
+#include "clients/batch/job_runner.h"
 #include "clients/gap/replay.h"
 
 namespace orcs::gap {
+
+using batch::JobRunner;  // the broker back end the fits evaluate through
 
 /// One fitted repository value.
 struct FitParameter {

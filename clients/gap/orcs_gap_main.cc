@@ -108,7 +108,7 @@ int Diagnose(const GapOptions& o) {
   options.fit.seed = o.seed;
   options.candidates = o.effects;
   std::filesystem::create_directories(o.out);
-  RunnerOptions runner_options;
+  batch::RunnerOptions runner_options;
   runner_options.broker = o.broker;
   runner_options.workers = o.workers;
   runner_options.log_path = (std::filesystem::path(o.out) / "workers.log").string();

@@ -1,25 +1,29 @@
-#include "clients/gap/job_runner.h"
+#include "clients/batch/job_runner.h"
 
 #include <algorithm>
 #include <thread>
 
-namespace orcs::gap {
+namespace orcs::batch {
 
 JobRunner::JobRunner(const RunnerOptions& options) {
   std::string endpoint = options.broker;
   if (endpoint.empty()) {
-    batch::LocalClusterOptions cluster;
+    LocalClusterOptions cluster;
     cluster.workers = options.workers > 0 ? options.workers
                                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     cluster.worker_program =
-        options.worker_program.empty() ? batch::WorkerProgramBesideSelf() : options.worker_program;
+        options.worker_program.empty() ? WorkerProgramBesideSelf() : options.worker_program;
     cluster.log_path = options.log_path;
-    cluster_ = std::make_unique<batch::LocalCluster>(cluster);
+    cluster.curve_keys = options.curve_keys;
+    cluster.heartbeat_interval = options.heartbeat_interval;
+    cluster_ = std::make_unique<LocalCluster>(cluster);
     local_workers_ = cluster.workers;
     endpoint = cluster_->client_endpoint();
   }
   broker::BatchClientOptions client;
   client.endpoint = endpoint;
+  client.curve_keys = options.curve_keys;
+  client.heartbeat_interval = options.heartbeat_interval;
   client.log = [](std::string_view) {};  // reconnections are retried by the client; the report says what failed
   client_ = std::make_unique<broker::BatchClient>(client);
 }
@@ -88,4 +92,4 @@ std::uint64_t JobRunner::jobs_run() const {
   return jobs_run_;
 }
 
-}  // namespace orcs::gap
+}  // namespace orcs::batch

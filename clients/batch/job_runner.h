@@ -1,7 +1,8 @@
-// Runs batches of jobs through the broker and hands each caller its own results: the evaluation back end of
-// orcs-gap's fits. Several fits run at once, each on its own thread, each calling Run() with one generation of
-// jobs; they share one BatchClient, so every generation of every fit is in the broker's queue together and the
-// workers (one machine or a cluster) stay busy. Whoever waits reads the broker's results for everyone.
+// Runs batches of jobs through the broker and hands each caller its own results, in order: the evaluation back
+// end of optimisers (orcs-gap's fits, orcs-batch evolve). Several fits may run at once, each on its own thread,
+// each calling Run() with one generation of jobs; they share one BatchClient, so every generation of every fit is
+// in the broker's queue together and the workers (one machine or a cluster) stay busy. Whoever waits reads the
+// broker's results for everyone.
 #pragma once
 
 #include <chrono>
@@ -16,7 +17,7 @@
 #include "broker/client.h"
 #include "clients/batch/local_cluster.h"
 
-namespace orcs::gap {
+namespace orcs::batch {
 
 /// Where the jobs go: a running broker, or a local one with N worker processes.
 struct RunnerOptions {
@@ -24,6 +25,8 @@ struct RunnerOptions {
   int workers = 0;             ///< local worker processes; ≤ 0 = one per core
   std::string worker_program;  ///< orcs-worker for the local cluster ("" = beside this program)
   std::string log_path;        ///< the local cluster's log file ("" = /dev/null)
+  std::string curve_keys;      ///< CURVE key folder for the client and the local cluster (docs/security.md; "" = none)
+  std::chrono::milliseconds heartbeat_interval{1000};  ///< the client's and the local cluster's heartbeat
 };
 
 class JobRunner {
@@ -49,7 +52,7 @@ class JobRunner {
   void ReadOneResult(std::unique_lock<std::mutex>& lock);
 
   int local_workers_ = 0;
-  std::unique_ptr<batch::LocalCluster> cluster_;
+  std::unique_ptr<LocalCluster> cluster_;
   std::unique_ptr<broker::BatchClient> client_;
   mutable std::mutex mutex_;
   std::condition_variable arrived_;
@@ -59,4 +62,4 @@ class JobRunner {
   std::uint64_t jobs_run_ = 0;
 };
 
-}  // namespace orcs::gap
+}  // namespace orcs::batch
