@@ -34,6 +34,36 @@ void AddWorkersOption(CLI::App& command, BatchOptions& o) {
       ->check(CLI::Range(1, 4096));
 }
 
+// evolve's own options; its job options are run's (one genome per job, no --jobs or --genome: evolution makes them).
+CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
+  CLI::App* evolve = app.add_subcommand("evolve", "evolve the scenario's genome, every generation one batch");
+  evolve->add_option("scenario", o.scenario, "the scenario file, with an \"evolution\" section (docs/evolution.md)")
+      ->required();
+  evolve->add_option("--generations", o.generations, "generations after the first (default: the scenario's)")
+      ->check(CLI::Range(0, 1000000));
+  evolve->add_option("--population", o.population, "genomes per generation (default: the scenario's)")
+      ->check(CLI::Range(1, 100000));
+  evolve->add_option("--algorithm", o.algorithm, "cmaes, xnes, sga, de or pso_gen (default: the scenario's, else cmaes)");
+  evolve->add_option("--seed", o.seed, "seed of the jobs' parameter sets and of the algorithm (default: the scenario's)");
+  evolve->add_option("--validate", o.validate, "fresh seeds the winner is run on at the end (default 8)")
+      ->check(CLI::Range(0, 100000));
+  CLI::Option* out = evolve->add_option("--out", o.out, "output folder (default runs/<scenario name>-evolve)");
+  evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")->excludes(out);
+  evolve->add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
+      ->check(CLI::Range(0.0, 1e7));
+  evolve->add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
+      ->check(CLI::Range(0.001, 3600.0));
+  evolve->add_flag("--quiet", o.quiet, "no line per generation");
+  evolve->add_flag("--no-plot", o.no_plot, "do not draw fitness.png");
+  evolve->add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
+      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+  CLI::Option* workers = evolve->add_option("--workers", o.workers, "local worker processes (default: one per core)")
+                             ->check(CLI::Range(1, 4096));
+  evolve->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->excludes(workers);
+  return evolve;
+}
+
 }  // namespace
 
 ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
@@ -57,10 +87,15 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
                                    ->check(CLI::Range(1, 4096));
   sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
       ->excludes(sweep_workers);
+  CLI::App* evolve = AddEvolveCommand(app, o);
   try {
     app.parse(argc, argv);
     if (!o.genome.empty() && !o.genomes.empty()) throw CLI::ValidationError("--genome", "excludes --genomes");
-    o.command = submit->parsed() ? Command::kSubmit : sweep->parsed() ? Command::kSweep : Command::kRun;
+    o.command = submit->parsed()   ? Command::kSubmit
+                : sweep->parsed()  ? Command::kSweep
+                : evolve->parsed() ? Command::kEvolve
+                                   : Command::kRun;
+    o.seed_given = evolve->parsed() && evolve->count("--seed") > 0;
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     parsed.exit_code = cli::kExitOk;

@@ -4,6 +4,8 @@
 //   orcs-batch submit --broker ENDPOINT SCENARIO.json ... (the same job options, no --workers)
 //   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
+//   orcs-batch evolve SCENARIO.json [--generations G] [--population P] [--algorithm NAME] [--seed S]
+//                                   [--validate N] [--out DIR | --resume DIR] [--workers N | --broker ENDPOINT]
 #pragma once
 
 #include <cstdint>
@@ -12,7 +14,7 @@
 
 namespace orcs::batch {
 
-enum class Command { kRun, kSubmit, kSweep };
+enum class Command { kRun, kSubmit, kSweep, kEvolve };
 
 struct BatchOptions {
   Command command = Command::kRun;
@@ -21,6 +23,7 @@ struct BatchOptions {
   std::string genome;                ///< --genome JSON or @FILE ("" = none)
   int jobs = 1;                      ///< --jobs N: jobs (seeds) per genome or sweep point, ≥ 1
   std::uint64_t seed = 1;            ///< --seed S: seed of the first job of each genome or point
+  bool seed_given = false;           ///< --seed was on the command line (evolve: else the scenario's)
   int workers = 0;                   ///< --workers N: local workers (0 = one per core, at most one per job)
   std::string broker;                ///< --broker ENDPOINT: a running broker's client endpoint ("" = embedded)
   std::string out;                   ///< --out DIR ("" = runs/<scenario name>)
@@ -31,6 +34,13 @@ struct BatchOptions {
   /// --curve-keys DIR: CURVE keys (docs/security.md); client.key/.pub and broker.pub, and for the embedded
   /// broker and local workers also broker.key, worker.key/.pub and allowed_*/ ("" = plain TCP)
   std::string curve_keys;
+  // evolve (clients/evolve, docs/evolution.md): unset values keep the scenario's "evolution" section
+  std::string algorithm;             ///< --algorithm NAME ("" = unset)
+  int population = 0;                ///< --population P (0 = unset)
+  int generations = -1;              ///< --generations G (< 0 = unset)
+  int validate = -1;                 ///< --validate N: fresh seeds the winner is re-run on (< 0 = unset)
+  std::string resume;                ///< --resume DIR: continue the run whose checkpoint is in DIR
+  bool no_plot = false;              ///< --no-plot: skip fitness.png
 };
 
 struct ParsedBatchOptions {

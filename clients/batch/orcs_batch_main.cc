@@ -1,4 +1,5 @@
-// orcs-batch: evaluates batches of genome-and-scenario jobs (docs/batch.md). `run` and `sweep` start an embedded
+// orcs-batch: evaluates batches of genome-and-scenario jobs (docs/batch.md), and evolves genomes with them
+// (`evolve`, docs/evolution.md). `run`, `sweep` and `evolve` start an embedded
 // broker and local orcs-worker processes — the one-machine default with no set-up; `submit` and `sweep --broker`
 // use a running broker. Every input is checked before anything is submitted. Exit 0 when every job ran ok, 1
 // when some failed (or the batch was interrupted), 2 on bad input or when no broker answers.
@@ -18,6 +19,7 @@
 #include "clients/batch/local_cluster.h"
 #include "clients/batch/sweep_grid.h"
 #include "clients/batch/sweep_report.h"
+#include "clients/evolve/evolve_command.h"
 #include "proto/curve_keys.h"
 #include "model/core/error.h"
 #include "worker/cli_style.h"
@@ -104,6 +106,10 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
 }
 
 int Execute(const BatchOptions& options) {
+  if (options.command == Command::kEvolve) {
+    CatchStopSignals();
+    return evolve::RunEvolve(options, &stop_requested);
+  }
   const Plan plan = MakePlan(options);
   ResultsWriter writer(plan.out);
   CatchStopSignals();

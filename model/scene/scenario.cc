@@ -250,7 +250,7 @@ FaultInjection ReadFault(const JsonNode& node) {
 Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode root(resolved, "", source);
   root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
-                   "randomisation", "log", "genome", "fault"});
+                   "randomisation", "log", "genome", "fault", "evolution"});
   Scenario scenario;
   scenario.source = source;
   scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
@@ -286,6 +286,11 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
     scenario.genome = genome.value();
   }
   if (root.Has("fault")) scenario.fault = ReadFault(root.At("fault"));
+  if (root.Has("evolution")) {
+    const JsonNode evolution = root.At("evolution");
+    if (!evolution.value().is_object()) evolution.Fail("an object (orcs-batch evolve's settings)");
+    scenario.evolution = evolution.value();
+  }
   return scenario;
 }
 

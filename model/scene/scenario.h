@@ -80,6 +80,9 @@ struct Scenario {
   std::vector<std::string> log;  ///< regular expressions of values logged every step ([] = no log)
   nlohmann::json genome;         ///< "genome": the genome of a job that brings none (flat array or network); null = none
   FaultInjection fault;          ///< "fault": a test hook for crash isolation; kind kNone = none
+  /// "evolution": how orcs-batch evolve searches the genome (bounds, algorithm, ...; docs/evolution.md). Read and
+  /// checked by the client (clients/evolve); a job carries it but the model never reads it. null = none
+  nlohmann::json evolution;
 };
 
 /// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found

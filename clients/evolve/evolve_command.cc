@@ -1,0 +1,229 @@
+#include "clients/evolve/evolve_command.h"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include "clients/batch/batch_input.h"
+#include "clients/batch/job_runner.h"
+#include "clients/batch/local_cluster.h"
+#include "clients/batch/results_writer.h"
+#include "clients/evolve/evolution.h"
+#include "clients/evolve/evolution_checkpoint.h"
+#include "clients/evolve/evolution_report.h"
+#include "clients/evolve/evolution_settings.h"
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+extern char** environ;
+
+namespace orcs::evolve {
+namespace {
+
+namespace fs = std::filesystem;
+
+EvolutionOverrides OverridesOf(const batch::BatchOptions& options) {
+  EvolutionOverrides overrides;
+  overrides.algorithm = options.algorithm;
+  overrides.population = options.population;
+  overrides.generations = options.generations;
+  if (options.seed_given) overrides.seed = static_cast<std::int64_t>(options.seed);
+  overrides.validate = options.validate;
+  return overrides;
+}
+
+// --resume DIR continues in DIR; otherwise --out DIR, by default runs/<scenario name>-evolve.
+std::string OutputFolder(const batch::BatchOptions& options, const batch::ScenarioInput& input) {
+  if (!options.resume.empty()) {
+    if (!options.out.empty() && fs::path(options.out).lexically_normal() != fs::path(options.resume).lexically_normal()) {
+      throw InputError("--out " + options.out + " and --resume " + options.resume +
+                       ": a resumed run continues in its own folder; give only --resume");
+    }
+    return options.resume;
+  }
+  const std::string folder = options.out.empty() ? (fs::path("runs") / (input.scenario.name + "-evolve")).string()
+                                                 : options.out;
+  if (fs::exists(fs::path(folder) / "checkpoint.json")) {
+    throw InputError(folder + " holds an evolution run already (checkpoint.json): continue it with --resume " + folder +
+                     ", or give another --out");
+  }
+  return folder;
+}
+
+batch::Genome GenomeJson(const std::vector<double>& genes, const std::string& source) {
+  return {nlohmann::json(genes), source, 0};
+}
+
+// One job per genome, all with the run's seed: every genome meets the same parameter sets (a fair comparison).
+std::vector<v1::Job> JobsOf(const batch::ScenarioInput& input, const std::vector<std::vector<double>>& genomes,
+                            std::uint64_t seed, double time_limit_seconds) {
+  std::vector<batch::Genome> list;
+  for (const std::vector<double>& genes : genomes) list.push_back(GenomeJson(genes, "evolve"));
+  std::vector<v1::Job> jobs;
+  for (batch::PlannedJob& planned : batch::PlanRunJobs(input, list, {seed, 1, time_limit_seconds})) {
+    jobs.push_back(std::move(planned.job));
+  }
+  return jobs;
+}
+
+// Checks the scenario's jobs as a worker would (world, parameter sets, controller, fitness) before any is sent.
+void CheckBeforeSubmitting(const batch::ScenarioInput& input, const EvolutionSettings& settings,
+                           double time_limit_seconds) {
+  std::vector<double> genes = settings.start;
+  if (genes.empty()) {
+    for (const GeneBounds& b : settings.bounds) genes.push_back(0.5 * (b.low + b.high));
+  }
+  const std::vector<batch::Genome> genomes = {GenomeJson(genes, "evolution.bounds")};
+  batch::CheckJobs(input, genomes, batch::PlanRunJobs(input, genomes, {settings.seed, 1, time_limit_seconds}));
+}
+
+GenomeEvaluator BrokerEvaluator(batch::JobRunner& runner, const batch::ScenarioInput& input,
+                                const EvolutionSettings& settings, double time_limit_seconds) {
+  return [&runner, &input, seed = settings.seed, time_limit_seconds](const std::vector<std::vector<double>>& genomes) {
+    const std::vector<v1::Result> results = runner.Run(JobsOf(input, genomes, seed, time_limit_seconds));
+    std::vector<Evaluation> evaluations;
+    for (const v1::Result& result : results) {
+      evaluations.push_back({result.fitness(), result.status() == v1::Result::OK});
+    }
+    return evaluations;
+  };
+}
+
+batch::RunnerOptions RunnerOptionsOf(const batch::BatchOptions& options, const std::string& folder) {
+  batch::RunnerOptions runner;
+  runner.broker = options.broker;
+  runner.workers = options.workers;
+  runner.log_path = (fs::path(folder) / "workers.log").string();
+  runner.curve_keys = options.curve_keys;
+  runner.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
+  return runner;
+}
+
+void SaveGeneration(const std::string& folder, const Evolution& evolution, const nlohmann::ordered_json& fingerprint) {
+  WriteCheckpoint(folder, CheckpointOf(evolution, fingerprint));
+  WriteFitnessCsv(folder, evolution.history());
+  WriteBestGenome(folder, evolution.champion());
+}
+
+// DIR/best/: the winner once more with the run's seed (its logs; it must give the same fitness, bit for bit) and on
+// `validate` fresh seeds (how it fares on parameter sets it never met). Returns false when the replay differs.
+bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, const EvolutionSettings& settings,
+                 const Champion& champion, double time_limit_seconds, const std::string& folder) {
+  std::vector<v1::Job> jobs = JobsOf(input, {champion.genome}, settings.seed, time_limit_seconds);
+  for (int v = 1; v <= settings.validate; ++v) {
+    std::vector<v1::Job> more = JobsOf(input, {champion.genome}, settings.seed + static_cast<std::uint64_t>(v),
+                                       time_limit_seconds);
+    jobs.push_back(std::move(more.front()));
+  }
+  std::vector<v1::Result> results = runner.Run(std::move(jobs));
+  batch::ResultsWriter writer((fs::path(folder) / "best").string());
+  std::vector<double> validation;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    results[i].set_job_id(i == 0 ? "winner" : "validate-" + std::to_string(i));
+    writer.Write(results[i], {{"seed", settings.seed + i}, {"role", i == 0 ? "winner" : "validation"}});
+    if (i > 0 && results[i].status() == v1::Result::OK) validation.push_back(results[i].fitness());
+  }
+  writer.Finish();
+  const v1::Result& replay = results.front();
+  const bool same = replay.status() == v1::Result::OK && replay.fitness() == champion.fitness;
+  std::cout << "orcs-batch: winner (generation " << champion.generation << ") fitness "
+            << text::FormatDouble(champion.fitness) << "; replayed: " << text::FormatDouble(replay.fitness())
+            << (same ? " (the same bits)" : " — DIFFERENT: the evaluation is not reproducible") << "\n";
+  if (!validation.empty()) {
+    double sum = 0.0, lowest = validation.front();
+    for (double f : validation) {
+      sum += f;
+      lowest = std::min(lowest, f);
+    }
+    std::cout << "orcs-batch: on " << validation.size() << " fresh seeds (" << settings.seed + 1 << "…"
+              << settings.seed + settings.validate << "): mean fitness " << text::FormatDouble(sum / static_cast<double>(validation.size()))
+              << ", lowest " << text::FormatDouble(lowest) << "\n";
+  }
+  return same;
+}
+
+// fitness.png from fitness.csv with scripts/plot_evolution.py (Debian's python3 with matplotlib); a missing
+// Python only costs the picture.
+void Plot(const std::string& folder) {
+  const std::string script = std::string(ORCS_SCRIPTS_DIR) + "/plot_evolution.py";
+  if (!fs::exists(script) || !fs::exists("/usr/bin/python3")) {
+    std::cout << "orcs-batch: no plot (needs /usr/bin/python3 and " << script << ")\n";
+    return;
+  }
+  std::vector<std::string> arguments = {"/usr/bin/python3", script, folder};
+  std::vector<char*> argv;
+  for (std::string& a : arguments) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = -1;
+  int status = -1;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0 || waitpid(pid, &status, 0) != pid ||
+      !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::cout << "orcs-batch: the plot failed; run " << script << " " << folder << "\n";
+  }
+}
+
+}  // namespace
+
+int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop) {
+  const batch::ScenarioInput input = batch::LoadScenario(options.scenario);
+  const EvolutionSettings settings = ReadEvolutionSettings(input, OverridesOf(options));
+  const std::string folder = OutputFolder(options, input);
+  const nlohmann::ordered_json fingerprint = Fingerprint(input, settings);
+  std::optional<EvolutionCheckpoint> checkpoint;
+  if (!options.resume.empty()) checkpoint = ReadCheckpoint(folder, fingerprint);
+  CheckBeforeSubmitting(input, settings, options.time_limit_seconds);
+  fs::create_directories(folder);
+
+  batch::JobRunner runner(RunnerOptionsOf(options, folder));
+  Evolution evolution(settings, BrokerEvaluator(runner, input, settings, options.time_limit_seconds));
+  if (!options.quiet) {
+    std::cerr << "orcs-batch: evolving '" << input.scenario.name << "' (" << settings.bounds.size() << " genes) with "
+              << AlgorithmName(settings.algorithm) << ", " << settings.population << " genomes per generation, on "
+              << (options.broker.empty() ? std::to_string(runner.local_workers()) + " local workers"
+                                         : "broker " + options.broker)
+              << "; output in " << folder << "\n";
+  }
+  if (checkpoint) {
+    evolution.Restore(checkpoint->pagmo_state, checkpoint->history, checkpoint->champion,
+                      (fs::path(folder) / "checkpoint.json").string());
+    if (!options.quiet) std::cerr << "orcs-batch: resuming after generation " << evolution.generation() << "\n";
+  } else {
+    evolution.Initialise();
+    SaveGeneration(folder, evolution, fingerprint);
+    if (!options.quiet) std::cerr << GenerationLine(evolution.history().back(), settings.generations) << "\n";
+  }
+  while (evolution.generation() < settings.generations && !(stop != nullptr && stop->load())) {
+    evolution.Step();
+    SaveGeneration(folder, evolution, fingerprint);
+    if (!options.quiet) std::cerr << GenerationLine(evolution.history().back(), settings.generations) << "\n";
+  }
+  if (evolution.generation() < settings.generations) {
+    std::cout << "orcs-batch: interrupted after generation " << evolution.generation() << "; continue with "
+              << "--resume " << folder << "\n";
+    return 1;
+  }
+  if (evolution.champion().genome.empty()) {
+    std::cout << "orcs-batch: no genome ran ok in " << evolution.generation() + 1 << " generations (see "
+              << (fs::path(folder) / "workers.log").string() << ")\n";
+    return 1;
+  }
+  const bool reproducible =
+      WriteWinner(runner, input, settings, evolution.champion(), options.time_limit_seconds, folder);
+  if (!options.no_plot) Plot(folder);
+  std::cout << "orcs-batch: best genome in " << (fs::path(folder) / "best_genome.json").string()
+            << "; replay it with: orcs-sim --scenario " << options.scenario << " --genome @"
+            << (fs::path(folder) / "best_genome.json").string() << " --seed " << settings.seed << "\n";
+  if (evolution.cache_misses() > 0) {
+    std::cout << "orcs-batch: " << evolution.cache_misses() << " genomes were evaluated outside their generation's "
+              << "batch (the algorithm looked at answers mid-generation)\n";
+  }
+  return reproducible ? 0 : 1;
+}
+
+}  // namespace orcs::evolve

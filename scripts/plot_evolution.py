@@ -1,0 +1,92 @@
+#!/usr/bin/python3
+"""Plots an orcs-batch evolve run: fitness per generation (docs/evolution.md).
+
+    scripts/plot_evolution.py DIR [--out FILE.png] [--title TEXT]
+
+Reads DIR/fitness.csv (written by `orcs-batch evolve` after every generation) and writes DIR/fitness.png (or
+--out): the best fitness found so far, each generation's best, and the band between its median and its worst
+and best, against the generation. orcs-batch evolve calls it at the end of a run. Debian's python3-matplotlib;
+runs headless.
+"""
+import argparse
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402 (after choosing the headless backend)
+
+COLUMNS = ["generation", "evaluations", "failed", "best", "mean", "median", "worst", "best_so_far", "seconds"]
+
+
+def fail(message):
+    print(f"plot_evolution.py: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+def number(text, path, line, column):
+    """A float, or None for an empty field (a generation without ok jobs)."""
+    if text == "":
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        fail(f"{path}:{line}: column '{column}' is not a number: {text!r}")
+
+
+def read_history(path):
+    """Rows of fitness.csv as dicts; exits 2 naming the line on bad input."""
+    try:
+        with open(path, newline="") as handle:
+            reader = csv.reader(handle)
+            if next(reader, None) != COLUMNS:
+                fail(f"{path}:1: expected the header {','.join(COLUMNS)}")
+            rows = []
+            for line, fields in enumerate(reader, start=2):
+                if len(fields) != len(COLUMNS):
+                    fail(f"{path}:{line}: expected {len(COLUMNS)} fields, found {len(fields)}")
+                rows.append({c: number(f, path, line, c) for c, f in zip(COLUMNS, fields)})
+    except OSError as error:
+        fail(f"{path}: {error.strerror}")
+    if not rows:
+        fail(f"{path}: no generation yet")
+    return rows
+
+
+def plot(rows, out, title):
+    figure, axes = plt.subplots(figsize=(7, 4.2))
+    generations = [r["generation"] for r in rows]
+    band = [r for r in rows if r["worst"] is not None]
+    axes.fill_between([r["generation"] for r in band], [r["worst"] for r in band], [r["best"] for r in band],
+                      color="tab:blue", alpha=0.15, label="generation: worst … best")
+    axes.plot([r["generation"] for r in band], [r["median"] for r in band], color="tab:blue", lw=1,
+              label="generation median")
+    axes.plot([r["generation"] for r in band], [r["best"] for r in band], "o", color="tab:blue", ms=3,
+              label="generation best")
+    axes.step(generations, [r["best_so_far"] for r in rows], where="post", color="tab:red", lw=2,
+              label="best so far")
+    axes.set_xlabel("generation")
+    axes.set_ylabel("fitness")
+    axes.set_title(title)
+    axes.grid(alpha=0.3)
+    axes.legend(loc="lower right", fontsize=8)
+    figure.tight_layout()
+    figure.savefig(out, dpi=110)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("folder", help="an orcs-batch evolve output folder (with fitness.csv)")
+    parser.add_argument("--out", help="the picture (default FOLDER/fitness.png)")
+    parser.add_argument("--title", help="the plot's title (default: the folder's name)")
+    args = parser.parse_args()
+    rows = read_history(os.path.join(args.folder, "fitness.csv"))
+    out = args.out or os.path.join(args.folder, "fitness.png")
+    plot(rows, out, args.title or os.path.basename(os.path.normpath(args.folder)))
+    print(f"plot_evolution.py: {out}")
+
+
+if __name__ == "__main__":
+    main()
