@@ -31,6 +31,25 @@ class Distance : public FitnessTerm {
   double start_ = 0.0, now_ = 0.0;
 };
 
+class PathLength : public FitnessTerm {
+ public:
+  PathLength(int body, int axis) : body_(body), axis_(axis) {}
+  void Start(const scene::Simulation& s) override {
+    last_ = s.physics().body_state(body_).position[axis_];
+    length_ = 0.0;
+  }
+  void Sample(const scene::Simulation& s, double) override {
+    const double now = s.physics().body_state(body_).position[axis_];
+    length_ += std::abs(now - last_);
+    last_ = now;
+  }
+  double value() const override { return length_; }
+
+ private:
+  int body_, axis_;
+  double last_ = 0.0, length_ = 0.0;
+};
+
 class UprightTime : public FitnessTerm {
  public:
   UprightTime(int body, double min_height) : body_(body), min_height_(min_height) {}
@@ -207,6 +226,10 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
   if (type == "distance") {
     entry.ExpectOnly({"type", "name", "weight", "body", "axis"});
     return std::make_unique<Distance>(AgentBody(entry, simulation, agent_index), AxisOf(entry.At("axis")));
+  }
+  if (type == "path_length") {
+    entry.ExpectOnly({"type", "name", "weight", "body", "axis"});
+    return std::make_unique<PathLength>(AgentBody(entry, simulation, agent_index), AxisOf(entry.At("axis")));
   }
   if (type == "upright_time") {
     entry.ExpectOnly({"type", "name", "weight", "body", "min_height"});

@@ -3,6 +3,8 @@
 // the fitness by FitnessFunction.
 //
 //   distance        {"body": "Middle/UpperBody", "axis": "z"}   final − start position along the axis, m
+//   path_length     {"body": "Middle/UpperBody", "axis": "x"}   Σ over steps of |Δ position along the axis|, m: how
+//                   far the body travelled to and fro (rocking from foot to foot sways it sideways)
 //   upright_time    {"body": "Middle/Head", "min_height": 0.3}  simulated seconds with the body at least that high, s
 //   final_height    {"body": "Middle/Head"}                     height of the body at the end, m
 //   energy          {}                                          Σ over steps and motors of |τ·ω|·dt, J
@@ -39,7 +41,7 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
 
 /// The type names MakeFitnessTerm knows.
 inline constexpr const char* kFitnessTermTypes =
-    "\"distance\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\", \"falls\" or "
+    "\"distance\", \"path_length\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\", \"falls\" or "
     "\"measured_error\"";
 
 }  // namespace orcs::fitness

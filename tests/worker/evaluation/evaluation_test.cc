@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -122,6 +123,33 @@ TEST(EvaluationTest, KeyframeTrackingErrorIsSmallForTheRecordItPlays) {
   EXPECT_GT(rms, 5.0);
   EXPECT_LT(rms, 40.0);
   EXPECT_EQ(outcome.fitness, -rms);
+}
+
+// path_length adds up the body's travel along an axis, to and fro: at least the net distance, far more than it
+// when the legs swing back and forth, and nothing worth mentioning when they stand still.
+TEST(EvaluationTest, PathLengthAddsUpTravelToAndFro) {
+  const auto terms_of = [](const nlohmann::json& genome) {
+    const std::string path = std::string(ORCS_SOURCE_DIR) + "/scenarios/examples/swing_oscillator.json";
+    nlohmann::json scenario = scene::ResolveScenarioFile(path);
+    scenario["randomisation"] = {{"sets", 1}};
+    scenario["fitness"] = {{"terms",
+                            {{{"type", "path_length"}, {"body", "Middle/UpperBody"}, {"axis", "z"}},
+                             {{"type", "distance"}, {"body", "Middle/UpperBody"}, {"axis", "z"}}}}};
+    EvaluationRequest request;
+    request.scenario = scene::ParseScenario(scenario, path);
+    request.genome = genome;
+    request.seed = 1;
+    const EvaluationOutcome outcome = Evaluate(request);
+    EXPECT_EQ(outcome.status, EvaluationStatus::kOk) << outcome.message;
+    return outcome.sets.at(0).terms;
+  };
+  const auto swinging = terms_of(kSwingGenome);
+  ASSERT_EQ(swinging.size(), 2u);
+  EXPECT_EQ(swinging[0].first, "path_length");
+  EXPECT_GE(swinging[0].second, std::abs(swinging[1].second));
+  EXPECT_GT(swinging[0].second, 5 * std::abs(swinging[1].second));
+  const auto standing = terms_of({0, 0.5, 0, 0, 0, 0.5, 0, 0});
+  EXPECT_LT(standing[0].second, 0.1 * swinging[0].second);
 }
 
 TEST(EvaluationTest, TimeLimitEndsTheJobAsTimeout) {
