@@ -4,6 +4,7 @@
 //   orcs-batch submit --broker ENDPOINT SCENARIO.json ... (the same job options, no --workers)
 //   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
+//   orcs-batch resolve SCENARIO.json: prints the scenario with every referenced file inlined (what a job carries)
 #pragma once
 
 #include <cstdint>
@@ -12,7 +13,7 @@
 
 namespace orcs::batch {
 
-enum class Command { kRun, kSubmit, kSweep };
+enum class Command { kRun, kSubmit, kSweep, kResolve };
 
 struct BatchOptions {
   Command command = Command::kRun;
