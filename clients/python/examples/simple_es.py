@@ -9,7 +9,7 @@ comes from random.Random(--seed): the same options give the same run.
 
     build/bin/orcs-broker &                                                 # clients :5555, workers :5556
     build/bin/orcs-worker --connect tcp://127.0.0.1:5556 &                  # one or more
-    /usr/bin/python3 clients/python/examples/simple_es.py --generations 5 --population 8
+    /usr/bin/python3 clients/python/examples/simple_es.py --generations 10 --population 8
 
 Prints one line per generation (best and mean fitness of the generation's batch, the best so far) and the best
 genome at the end. Exit 0; 1 when a generation had no ok job; 2 on bad input or when no broker answers.
@@ -37,8 +37,8 @@ def parse_arguments(argv):
     parser.add_argument("--generations", type=int, default=10, help="generations, one batch each (default 10)")
     parser.add_argument("--population", type=int, default=8, help="offspring per generation, lambda (default 8)")
     parser.add_argument("--parents", type=int, default=2, help="parents kept, mu (default 2)")
-    parser.add_argument("--sigma", type=float, default=0.2,
-                        help="mutation step as a fraction of each gene's initial size, at least 1 (default 0.2)")
+    parser.add_argument("--sigma", type=float, default=0.05,
+                        help="mutation step as a fraction of each gene's initial size, at least 1 (default 0.05)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the strategy's random numbers (default 1)")
     parser.add_argument("--eval-seed", type=int, default=1, help="job seed every genome is evaluated with")
     parser.add_argument("--heartbeat", type=float, default=1.0, help="seconds; the broker's value (default 1)")
