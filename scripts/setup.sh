@@ -19,6 +19,7 @@ packages=(
   libsqlite3-dev        # the broker's journal (orcs-broker --journal)
   slurm-wlm munge       # tests/integration/slurm: a private single-node Slurm runs scripts/slurm/*.sbatch
   clang-14 libclang-rt-14-dev  # libFuzzer and the sanitizers for scripts/fuzz.sh (tests/fuzz/)
+  python3-zmq python3-protobuf  # clients/python: the Python BatchClient (pyzmq, protobuf 3.21 like protoc)
 )
 
 missing=()

@@ -88,13 +88,17 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
       ->excludes(sweep_workers);
   CLI::App* evolve = AddEvolveCommand(app, o);
+  CLI::App* resolve =
+      app.add_subcommand("resolve", "print the scenario with every referenced file inlined, as jobs carry it");
+  resolve->add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md)")->required();
   try {
     app.parse(argc, argv);
     if (!o.genome.empty() && !o.genomes.empty()) throw CLI::ValidationError("--genome", "excludes --genomes");
-    o.command = submit->parsed()   ? Command::kSubmit
-                : sweep->parsed()  ? Command::kSweep
-                : evolve->parsed() ? Command::kEvolve
-                                   : Command::kRun;
+    o.command = submit->parsed()    ? Command::kSubmit
+                : sweep->parsed()   ? Command::kSweep
+                : evolve->parsed()  ? Command::kEvolve
+                : resolve->parsed() ? Command::kResolve
+                                    : Command::kRun;
     o.seed_given = evolve->parsed() && evolve->count("--seed") > 0;
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();

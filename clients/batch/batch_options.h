@@ -6,6 +6,7 @@
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
 //   orcs-batch evolve SCENARIO.json [--generations G] [--population P] [--algorithm NAME] [--seed S]
 //                                   [--validate N] [--out DIR | --resume DIR] [--workers N | --broker ENDPOINT]
+//   orcs-batch resolve SCENARIO.json: prints the scenario with every referenced file inlined (what a job carries)
 #pragma once
 
 #include <cstdint>
@@ -14,7 +15,7 @@
 
 namespace orcs::batch {
 
-enum class Command { kRun, kSubmit, kSweep, kEvolve };
+enum class Command { kRun, kSubmit, kSweep, kEvolve, kResolve };
 
 struct BatchOptions {
   Command command = Command::kRun;

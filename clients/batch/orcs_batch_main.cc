@@ -1,8 +1,9 @@
 // orcs-batch: evaluates batches of genome-and-scenario jobs (docs/batch.md), and evolves genomes with them
 // (`evolve`, docs/evolution.md). `run`, `sweep` and `evolve` start an embedded
 // broker and local orcs-worker processes — the one-machine default with no set-up; `submit` and `sweep --broker`
-// use a running broker. Every input is checked before anything is submitted. Exit 0 when every job ran ok, 1
-// when some failed (or the batch was interrupted), 2 on bad input or when no broker answers.
+// use a running broker; `resolve` prints a scenario with its files inlined. Every input is checked before anything
+// is submitted. Exit 0 when every job ran ok, 1 when some failed (or the batch was interrupted), 2 on bad input or
+// when no broker answers.
 #include <unistd.h>
 
 #include <atomic>
@@ -105,11 +106,19 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   return summary.exit_code();
 }
 
+// `resolve`: the self-contained scenario text every job of the file carries (Job.scenario_json), for clients in
+// other languages (clients/python) that should not repeat the resolution rules.
+int PrintResolved(const BatchOptions& options) {
+  std::cout << LoadScenario(options.scenario).resolved_json << "\n" << std::flush;
+  return cli::kExitOk;
+}
+
 int Execute(const BatchOptions& options) {
   if (options.command == Command::kEvolve) {
     CatchStopSignals();
     return evolve::RunEvolve(options, &stop_requested);
   }
+  if (options.command == Command::kResolve) return PrintResolved(options);
   const Plan plan = MakePlan(options);
   ResultsWriter writer(plan.out);
   CatchStopSignals();

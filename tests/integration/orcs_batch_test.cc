@@ -166,6 +166,37 @@ TEST_F(OrcsBatchTest, BadInputStopsBeforeAnythingRunsWithTheFileNamed) {
   EXPECT_FALSE(fs::exists(Out("bad")));
 }
 
+TEST_F(OrcsBatchTest, ResolvePrintsTheScenarioWithEveryFileInlined) {
+  const std::string examples = ORCS_SOURCE_DIR "/scenarios/examples/";
+  ProcessResult result = Batch({"resolve", examples + "pendulum_keyframes.json"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.err, "");
+  const nlohmann::json resolved = nlohmann::json::parse(result.out);  // one JSON document and nothing else
+  EXPECT_EQ(resolved["name"], "pendulum-keyframes");
+  EXPECT_EQ(resolved["environment"]["file"], "../environments/pendulum.xml");
+  EXPECT_EQ(resolved["environment"]["xml"], dir_.Read(ORCS_SOURCE_DIR "/scenarios/environments/pendulum.xml"));
+  const std::string record = dir_.Read(examples + "pendulum_quarter.csv");
+  ASSERT_FALSE(record.empty());
+  EXPECT_EQ(resolved["controller"]["record"]["text"], record);
+  EXPECT_EQ(resolved["fitness"]["terms"][0]["record"]["text"], record);
+
+  // A value file the scenario names is inlined too; one it cannot read is bad input naming it.
+  dir_.Write("motor.val", "/AngularMotor/PID/Proportional=18\n");
+  nlohmann::json with_values = nlohmann::json::parse(kScenario);
+  with_values["value_files"] = {"motor.val"};
+  result = Batch({"resolve", dir_.Write("values.json", with_values.dump())});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json assignment = nlohmann::json::parse(result.out)["value_files"][0]["assignments"][0];
+  EXPECT_EQ(assignment[0], "/AngularMotor/PID/Proportional");
+  EXPECT_EQ(assignment[1], "18");
+  with_values["value_files"] = {"missing.val"};
+  result = Batch({"resolve", dir_.Write("missing.json", with_values.dump())});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_EQ(result.out, "");
+  EXPECT_THAT(result.err, HasSubstr("missing.val"));
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
 TEST_F(OrcsBatchTest, FailedJobsGiveExitCodeOneAndTheirStatus) {
   nlohmann::json slow = nlohmann::json::parse(kScenario);
   slow["duration"] = 1000;
