@@ -79,6 +79,8 @@ class Evolution {
   const EvolutionSettings& settings() const { return settings_; }
   /// Vectors the algorithm asked for that the recording pass had not seen (evaluated alone).
   std::size_t cache_misses() const { return cache_->misses; }
+  /// The algorithm's population: decision vectors in the unit box, objectives −fitness (read-only, for tests).
+  const pagmo::population& population() const { return population_; }
 
   /// The genome a unit-box decision vector stands for, and back.
   std::vector<double> GenomeOf(const pagmo::vector_double& x) const;
