@@ -37,7 +37,11 @@ pagmo::algorithm MakeAlgorithm(const EvolutionSettings& settings) {
   const unsigned seed = PagmoSeed(settings.seed);
   switch (settings.algorithm) {
     case Algorithm::kCmaes:
-      return pagmo::algorithm{pagmo::cmaes(1, -1, -1, -1, -1, settings.sigma, 1e-6, 1e-6, true, true, seed)};
+      // ftol = xtol = 0: pagmo's CMA-ES tests them *before* evaluating a generation and returns without evaluating
+      // anything when the last population's objectives lie within ftol (or its step within xtol). A generation whose
+      // jobs all failed (all kFailedObjective) or a fitness plateau would stall the run: every later generation
+      // empty. The run does the generations it was asked for.
+      return pagmo::algorithm{pagmo::cmaes(1, -1, -1, -1, -1, settings.sigma, 0.0, 0.0, true, true, seed)};
     case Algorithm::kXnes:
       return pagmo::algorithm{pagmo::xnes(1, -1, -1, -1, settings.sigma, 1e-6, 1e-6, true, true, seed)};
     case Algorithm::kSga:

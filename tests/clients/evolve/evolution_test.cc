@@ -258,6 +258,39 @@ TEST(EvolutionTest, FailedJobsAreCountedAndNeverBecomeChampion) {
   EXPECT_EQ(evolution.history().back().best_so_far, best_ok);
 }
 
+// A generation in which every job fails (a time limit too short, physics unstable everywhere): NaN statistics, no
+// champion, and the search goes on: the next generation evaluates genomes again. (pagmo's CMA-ES and xNES stop
+// before sampling when the population's objectives all lie within ftol: every failed job has the same objective.)
+TEST_P(EveryAlgorithmTest, AGenerationWithoutOkJobsHasNaNStatisticsAndTheSearchGoesOn) {
+  BatchLog log;
+  // Everything fails in the first batch; from then on everything runs.
+  Evolution evolution(SettingsFor(GetParam()), Logging(log, [&log](const Genome& genome) {
+                        return log.genomes.empty() ? Evaluation{5.0, false} : SphereOk(genome);
+                      }));
+  evolution.Initialise();
+  const GenerationRecord first = evolution.history().at(0);
+  EXPECT_EQ(first.evaluations, 8u);
+  EXPECT_EQ(first.failed, 8u);
+  EXPECT_TRUE(std::isnan(first.best));
+  EXPECT_TRUE(std::isnan(first.mean));
+  EXPECT_TRUE(std::isnan(first.median));
+  EXPECT_TRUE(std::isnan(first.worst));
+  EXPECT_TRUE(std::isnan(first.best_so_far));
+  EXPECT_TRUE(evolution.champion().genome.empty());
+  EXPECT_EQ(evolution.champion().generation, -1);
+
+  for (int generation = 1; generation <= 3; ++generation) evolution.Step();
+  for (int g = 1; g <= 3; ++g) {
+    SCOPED_TRACE("generation " + std::to_string(g));
+    const GenerationRecord& record = evolution.history().at(g);
+    EXPECT_GT(record.evaluations, 0u);
+    EXPECT_EQ(record.failed, 0u);
+    EXPECT_FALSE(std::isnan(record.best));
+  }
+  EXPECT_GT(evolution.champion().generation, 0);
+  EXPECT_EQ(evolution.champion().fitness, evolution.history().back().best_so_far);
+}
+
 INSTANTIATE_TEST_SUITE_P(Algorithms, EveryAlgorithmTest,
                          ::testing::Values(Algorithm::kCmaes, Algorithm::kXnes, Algorithm::kSga, Algorithm::kDe,
                                            Algorithm::kPsoGen),
