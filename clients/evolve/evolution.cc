@@ -54,6 +54,13 @@ pagmo::algorithm MakeAlgorithm(const EvolutionSettings& settings) {
   throw std::logic_error("MakeAlgorithm: unknown algorithm");
 }
 
+void CheckResumable(Algorithm algorithm, const std::string& source) {
+  if (algorithm != Algorithm::kPsoGen) return;
+  throw InputError(source + ": a pso_gen run cannot be resumed: pagmo 2.18 does not save the particles' velocities, "
+                   "so the continued search would differ from an uninterrupted run; start it afresh (or evolve with "
+                   "cmaes, xnes, sga or de)");
+}
+
 Evolution::Evolution(EvolutionSettings settings, GenomeEvaluator evaluate)
     : settings_(std::move(settings)),
       evaluate_(std::move(evaluate)),
@@ -158,6 +165,7 @@ std::string Evolution::SaveState() const {
 
 void Evolution::Restore(const std::string& state, std::vector<GenerationRecord> history, Champion champion,
                         const std::string& source) {
+  CheckResumable(settings_.algorithm, source);
   try {
     std::istringstream text(state);
     boost::archive::text_iarchive archive(text);

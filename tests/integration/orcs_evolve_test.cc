@@ -242,6 +242,11 @@ TEST_F(OrcsEvolveTest, BadInputExitsTwoWithOneLineBeforeAnythingRuns) {
   EXPECT_THAT(other.err,
               AllOf(HasSubstr("written for scenario 'tiny-walk'"), HasSubstr("digest"), HasSubstr("longer/walk.json")));
 
+  // pso_gen runs are not resumed (pagmo 2.18 does not save the particles' velocities).
+  const ProcessResult swarm = Evolve(scenario, {"--resume", Out("done"), "--algorithm", "pso_gen"});
+  ExpectOneLineBadInput(swarm);
+  EXPECT_THAT(swarm.err, AllOf(HasSubstr("--resume " + Out("done")), HasSubstr("pso_gen run cannot be resumed")));
+
   // Nothing ran: the folder is as the finished run left it.
   EXPECT_EQ(dir_.Read(Out("done") + "/checkpoint.json"), checkpoint);
   EXPECT_EQ(dir_.Read(Out("done") + "/workers.log"), workers_log);
