@@ -37,7 +37,11 @@ pagmo::algorithm MakeAlgorithm(const EvolutionSettings& settings) {
   const unsigned seed = PagmoSeed(settings.seed);
   switch (settings.algorithm) {
     case Algorithm::kCmaes:
-      return pagmo::algorithm{pagmo::cmaes(1, -1, -1, -1, -1, settings.sigma, 1e-6, 1e-6, true, true, seed)};
+      // ftol = xtol = 0: pagmo's CMA-ES tests them *before* evaluating a generation and returns without evaluating
+      // anything when the last population's objectives lie within ftol (or its step within xtol). A generation whose
+      // jobs all failed (all kFailedObjective) or a fitness plateau would stall the run: every later generation
+      // empty. The run does the generations it was asked for.
+      return pagmo::algorithm{pagmo::cmaes(1, -1, -1, -1, -1, settings.sigma, 0.0, 0.0, true, true, seed)};
     case Algorithm::kXnes:
       return pagmo::algorithm{pagmo::xnes(1, -1, -1, -1, settings.sigma, 1e-6, 1e-6, true, true, seed)};
     case Algorithm::kSga:
@@ -48,6 +52,13 @@ pagmo::algorithm MakeAlgorithm(const EvolutionSettings& settings) {
       return pagmo::algorithm{pagmo::pso_gen(1, .7298, 2.05, 2.05, .5, 5u, 2u, 4u, true, seed)};
   }
   throw std::logic_error("MakeAlgorithm: unknown algorithm");
+}
+
+void CheckResumable(Algorithm algorithm, const std::string& source) {
+  if (algorithm != Algorithm::kPsoGen) return;
+  throw InputError(source + ": a pso_gen run cannot be resumed: pagmo 2.18 does not save the particles' velocities, "
+                   "so the continued search would differ from an uninterrupted run; start it afresh (or evolve with "
+                   "cmaes, xnes, sga or de)");
 }
 
 Evolution::Evolution(EvolutionSettings settings, GenomeEvaluator evaluate)
@@ -154,6 +165,7 @@ std::string Evolution::SaveState() const {
 
 void Evolution::Restore(const std::string& state, std::vector<GenerationRecord> history, Champion champion,
                         const std::string& source) {
+  CheckResumable(settings_.algorithm, source);
   try {
     std::istringstream text(state);
     boost::archive::text_iarchive archive(text);

@@ -68,7 +68,7 @@ class Evolution {
   /// The algorithm and population as text (boost archive; exact doubles), for the checkpoint.
   std::string SaveState() const;
   /// Continues a run from a checkpoint's state, history and champion. Throws InputError when the state does not
-  /// read back (a damaged checkpoint), naming `source`.
+  /// read back (a damaged checkpoint) or the algorithm cannot be resumed exactly (CheckResumable), naming `source`.
   void Restore(const std::string& state, std::vector<GenerationRecord> history, Champion champion,
                const std::string& source);
 
@@ -79,6 +79,8 @@ class Evolution {
   const EvolutionSettings& settings() const { return settings_; }
   /// Vectors the algorithm asked for that the recording pass had not seen (evaluated alone).
   std::size_t cache_misses() const { return cache_->misses; }
+  /// The algorithm's population: decision vectors in the unit box, objectives −fitness (read-only, for tests).
+  const pagmo::population& population() const { return population_; }
 
   /// The genome a unit-box decision vector stands for, and back.
   std::vector<double> GenomeOf(const pagmo::vector_double& x) const;
@@ -101,5 +103,10 @@ class Evolution {
 /// The pagmo2 algorithm the settings name, running one generation per evolve() call and keeping its adapted
 /// state between calls (CMA-ES, xNES, pso_gen: memory on), seeded from settings.seed.
 pagmo::algorithm MakeAlgorithm(const EvolutionSettings& settings);
+
+/// Throws InputError naming `source` when a run of `algorithm` cannot continue exactly from SaveState(): pso_gen,
+/// whose particles' velocities (its memory between generations) pagmo 2.18 leaves out of the saved state, so a
+/// resumed run would search differently from an uninterrupted one.
+void CheckResumable(Algorithm algorithm, const std::string& source);
 
 }  // namespace orcs::evolve

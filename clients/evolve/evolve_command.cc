@@ -176,7 +176,10 @@ int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop)
   const std::string folder = OutputFolder(options, input);
   const nlohmann::ordered_json fingerprint = Fingerprint(input, settings);
   std::optional<EvolutionCheckpoint> checkpoint;
-  if (!options.resume.empty()) checkpoint = ReadCheckpoint(folder, fingerprint);
+  if (!options.resume.empty()) {
+    CheckResumable(settings.algorithm, "--resume " + folder);
+    checkpoint = ReadCheckpoint(folder, fingerprint);
+  }
   CheckBeforeSubmitting(input, settings, options.time_limit_seconds);
   fs::create_directories(folder);
 

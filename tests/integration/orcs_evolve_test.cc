@@ -1,0 +1,281 @@
+// `orcs-batch evolve` as users run it: the real program with its embedded broker and two local orcs-worker
+// processes on 127.0.0.1, evolving a tiny walking oscillator (half a second, two parameter sets, five genomes, two
+// generations). Checks the output folder, that the winner replays with orcs-sim to the same bits, that an
+// interrupted and resumed run equals an uninterrupted one, that bad input stops with exit 2 before anything runs,
+// and the plot script.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "tests/support/process.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::ProcessResult;
+using test_support::RunProcess;
+using test_support::TempDir;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+const std::string kBin = ORCS_BINARY_DIR "/bin/";
+
+// A two-neuron oscillator rocking and swinging the legs (the controller of scenarios/evolution/walk_oscillator.json),
+// 10 genes; `duration` seconds under two randomised parameter sets; five genomes, two generations, the winner
+// validated on two fresh seeds.
+std::string WalkScenario(double duration) {
+  return R"({
+  "name": "tiny-walk",
+  "genome": [0.01, 1.0978, 0.0698, -0.0698, 1.0978, 0.05, -0.05, 0.05, 0.0, 0.0],
+  "duration": )" +
+         std::to_string(duration) + R"(,
+  "controller": {
+    "type": "network",
+    "transfer": "tanh",
+    "inputs": [],
+    "neurons": [
+      {"name": "osc1", "bias": null},
+      {"name": "osc2", "bias": 0},
+      {"name": "hip_rock", "bias": 0, "transfer": "linear"},
+      {"name": "ankle_rock", "bias": 0, "transfer": "linear"},
+      {"name": "hip_swing", "bias": 0, "transfer": "linear"},
+      {"name": "ankle_swing", "bias": 0, "transfer": "linear"},
+      {"name": "knee_bend", "bias": 0, "transfer": "linear"}
+    ],
+    "synapses": [
+      {"from": "osc1", "to": "osc1", "weight": null},
+      {"from": "osc2", "to": "osc1", "weight": null},
+      {"from": "osc1", "to": "osc2", "weight": null},
+      {"from": "osc2", "to": "osc2", "weight": null},
+      {"from": "osc1", "to": "hip_rock", "weight": null},
+      {"from": "osc1", "to": "ankle_rock", "weight": null},
+      {"from": "osc2", "to": "hip_swing", "weight": null},
+      {"from": "osc2", "to": "ankle_swing", "weight": null},
+      {"from": "osc1", "to": "knee_bend", "weight": null}
+    ],
+    "outputs": [
+      {"neuron": "hip_rock", "value": "Right/HipPitch/DesiredAngle"},
+      {"neuron": "hip_rock", "value": "Left/HipPitch/DesiredAngle"},
+      {"neuron": "ankle_rock", "value": "Right/AnklePitch/DesiredAngle"},
+      {"neuron": "ankle_rock", "value": "Left/AnklePitch/DesiredAngle"},
+      {"neuron": "hip_swing", "value": "Right/HipYaw/DesiredAngle"},
+      {"neuron": "hip_swing", "value": "Left/HipYaw/DesiredAngle"},
+      {"neuron": "ankle_swing", "value": "Right/AnkleYaw/DesiredAngle"},
+      {"neuron": "ankle_swing", "value": "Left/AnkleYaw/DesiredAngle"},
+      {"neuron": "knee_bend", "value": "Right/Knee/DesiredAngle"},
+      {"neuron": "knee_bend", "value": "Left/Knee/DesiredAngle"}
+    ]
+  },
+  "fitness": {
+    "terms": [
+      {"type": "distance", "name": "forward", "body": "Middle/UpperBody", "axis": "z", "weight": 10},
+      {"type": "upright_time", "body": "Middle/Head", "min_height": 0.25, "weight": 0.1}
+    ],
+    "aggregate": "mean"
+  },
+  "randomisation": {"sets": 2, "default_motor_model": true},
+  "evolution": {
+    "bounds": [[-0.05, 0.05], [0.8, 1.5], [-0.5, 0.5], [-0.5, 0.5], [0.8, 1.5],
+               [-0.15, 0.15], [-0.15, 0.15], [-0.15, 0.15], [-0.15, 0.15], [-0.15, 0.15]],
+    "algorithm": "cmaes",
+    "population": 5,
+    "generations": 2,
+    "seed": 1,
+    "validate": 2
+  },
+  "log": ["/Sim/Humanoid/Middle/UpperBody/Position"]
+})";
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) lines.push_back(line);
+  return lines;
+}
+
+// fitness.csv without its last column (seconds: wall clock, not part of the search).
+std::vector<std::string> WithoutSeconds(const std::string& csv) {
+  std::vector<std::string> lines = Lines(csv);
+  for (std::string& line : lines) line = line.substr(0, line.rfind(','));
+  return lines;
+}
+
+// Exit 2 and exactly one line on stderr, "orcs-batch: ...".
+void ExpectOneLineBadInput(const ProcessResult& result) {
+  EXPECT_EQ(result.exit_code, 2) << result.out << result.err;
+  EXPECT_THAT(result.err, StartsWith("orcs-batch: "));
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+class OrcsEvolveTest : public ::testing::Test {
+ protected:
+  // orcs-batch evolve SCENARIO ARGUMENTS... on two local workers, no plot.
+  ProcessResult Evolve(const std::string& scenario, std::vector<std::string> arguments) {
+    arguments.insert(arguments.begin(), {kBin + "orcs-batch", "evolve", scenario, "--workers", "2", "--no-plot"});
+    return RunProcess(arguments);
+  }
+  std::string Scenario(double duration = 0.5) { return dir_.Write("walk.json", WalkScenario(duration)); }
+  std::string Out(const std::string& name) const { return dir_.PathOf(name); }
+  nlohmann::json Checkpoint(const std::string& folder) const {
+    return nlohmann::json::parse(dir_.Read(folder + "/checkpoint.json"));
+  }
+  TempDir dir_;
+};
+
+TEST_F(OrcsEvolveTest, RunWritesItsFolderAndTheWinnerReplaysWithOrcsSimToTheSameBits) {
+  const std::string scenario = Scenario();
+  const std::string out = Out("run");
+  const ProcessResult run = Evolve(scenario, {"--out", out});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_THAT(run.out, HasSubstr("(the same bits)"));
+  EXPECT_THAT(run.err, HasSubstr("generation 2/2"));
+
+  // fitness.csv: generations 0, 1, 2 of five genomes each.
+  const std::vector<std::string> csv = Lines(dir_.Read(out + "/fitness.csv"));
+  ASSERT_EQ(csv.size(), 4u);
+  EXPECT_EQ(csv[0], "generation,evaluations,failed,best,mean,median,worst,best_so_far,seconds");
+  for (int g = 0; g <= 2; ++g) EXPECT_THAT(csv[g + 1], StartsWith(std::to_string(g) + ",5,")) << csv[g + 1];
+
+  // checkpoint.json and best_genome.json agree on the champion.
+  const nlohmann::json checkpoint = Checkpoint(out);
+  EXPECT_EQ(checkpoint["history"].size(), 3u);
+  const nlohmann::json champion = checkpoint["champion"];
+  ASSERT_EQ(champion["genome"].size(), 10u);
+  EXPECT_EQ(nlohmann::json::parse(dir_.Read(out + "/best_genome.json")), champion["genome"]);
+
+  // best/: the winner on the run's seed, then the two validation seeds, with logs.
+  const std::vector<std::string> results = Lines(dir_.Read(out + "/best/results.jsonl"));
+  ASSERT_EQ(results.size(), 3u);
+  const nlohmann::json winner = nlohmann::json::parse(results[0]);
+  EXPECT_EQ(winner["id"], "winner");
+  EXPECT_EQ(winner["role"], "winner");
+  EXPECT_EQ(winner["seed"], 1);
+  EXPECT_EQ(winner["status"], "ok");
+  EXPECT_EQ(winner["fitness"].get<double>(), champion["fitness"].get<double>());
+  for (int v = 1; v <= 2; ++v) {
+    const nlohmann::json line = nlohmann::json::parse(results[v]);
+    EXPECT_EQ(line["id"], "validate-" + std::to_string(v));
+    EXPECT_EQ(line["role"], "validation");
+    EXPECT_EQ(line["seed"], 1 + v);
+  }
+  ASSERT_TRUE(fs::is_directory(out + "/best/logs"));
+  EXPECT_FALSE(fs::is_empty(out + "/best/logs"));
+
+  // orcs-sim replays best_genome.json on the run's seed to the champion's fitness, bit for bit.
+  const ProcessResult sim = RunProcess(
+      {kBin + "orcs-sim", "--scenario", scenario, "--genome", "@" + out + "/best_genome.json", "--seed", "1"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_EQ(nlohmann::json::parse(sim.out)["fitness"].get<double>(), champion["fitness"].get<double>());
+}
+
+TEST_F(OrcsEvolveTest, AnInterruptedAndResumedRunEqualsAnUninterruptedOne) {
+  const std::string scenario = Scenario();
+  const ProcessResult first = Evolve(scenario, {"--generations", "1", "--out", Out("a")});
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  ASSERT_EQ(Lines(dir_.Read(Out("a") + "/fitness.csv")).size(), 3u) << "generations 0 and 1";
+  const ProcessResult resumed = Evolve(scenario, {"--resume", Out("a"), "--generations", "2"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_THAT(resumed.err, HasSubstr("resuming after generation 1"));
+
+  const ProcessResult whole = Evolve(scenario, {"--generations", "2", "--out", Out("b")});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+
+  const std::vector<std::string> resumed_csv = WithoutSeconds(dir_.Read(Out("a") + "/fitness.csv"));
+  EXPECT_EQ(resumed_csv.size(), 4u);
+  EXPECT_EQ(resumed_csv, WithoutSeconds(dir_.Read(Out("b") + "/fitness.csv")));
+  EXPECT_EQ(dir_.Read(Out("a") + "/best_genome.json"), dir_.Read(Out("b") + "/best_genome.json"));
+  EXPECT_EQ(Checkpoint(Out("a"))["champion"], Checkpoint(Out("b"))["champion"]);
+  // (Not pagmo_state as text: pagmo 2.18's CMA-ES saves a vector it never initialises or uses, whose bytes vary.)
+}
+
+TEST_F(OrcsEvolveTest, BadInputExitsTwoWithOneLineBeforeAnythingRuns) {
+  const std::string scenario = Scenario();
+
+  const ProcessResult small = Evolve(scenario, {"--population", "3", "--out", Out("small")});
+  ExpectOneLineBadInput(small);
+  EXPECT_THAT(small.err, AllOf(HasSubstr("walk.json"), HasSubstr("population 3"), HasSubstr("cmaes needs at least 5")));
+  EXPECT_FALSE(fs::exists(Out("small")));
+
+  const ProcessResult unknown = Evolve(scenario, {"--algorithm", "nonsense", "--out", Out("unknown")});
+  ExpectOneLineBadInput(unknown);
+  EXPECT_THAT(unknown.err, HasSubstr("--algorithm 'nonsense'"));
+  EXPECT_FALSE(fs::exists(Out("unknown")));
+
+  fs::create_directories(Out("empty"));
+  const ProcessResult no_checkpoint = Evolve(scenario, {"--resume", Out("empty")});
+  ExpectOneLineBadInput(no_checkpoint);
+  EXPECT_THAT(no_checkpoint.err, AllOf(HasSubstr(Out("empty")), HasSubstr("no checkpoint.json")));
+  EXPECT_TRUE(fs::is_empty(Out("empty")));
+
+  const ProcessResult both = Evolve(scenario, {"--resume", Out("x"), "--out", Out("y")});
+  ExpectOneLineBadInput(both);
+  EXPECT_THAT(both.err, AllOf(HasSubstr("--resume"), HasSubstr("--out")));
+  EXPECT_FALSE(fs::exists(Out("x")));
+  EXPECT_FALSE(fs::exists(Out("y")));
+
+  // A finished run (generation 0 only, no validation) to refuse.
+  const ProcessResult done =
+      Evolve(scenario, {"--out", Out("done"), "--generations", "0", "--validate", "0", "--quiet"});
+  ASSERT_EQ(done.exit_code, 0) << done.err;
+  const std::string checkpoint = dir_.Read(Out("done") + "/checkpoint.json");
+  const std::string workers_log = dir_.Read(Out("done") + "/workers.log");
+  ASSERT_FALSE(checkpoint.empty());
+
+  const ProcessResult again = Evolve(scenario, {"--out", Out("done")});
+  ExpectOneLineBadInput(again);
+  EXPECT_THAT(again.err, AllOf(HasSubstr("holds an evolution run already"), HasSubstr("--resume " + Out("done"))));
+
+  // The same scenario name with another duration: its digest differs.
+  const std::string longer = dir_.Write("longer/walk.json", WalkScenario(0.6));
+  const ProcessResult other = Evolve(longer, {"--resume", Out("done")});
+  ExpectOneLineBadInput(other);
+  EXPECT_THAT(other.err,
+              AllOf(HasSubstr("written for scenario 'tiny-walk'"), HasSubstr("digest"), HasSubstr("longer/walk.json")));
+
+  // pso_gen runs are not resumed (pagmo 2.18 does not save the particles' velocities).
+  const ProcessResult swarm = Evolve(scenario, {"--resume", Out("done"), "--algorithm", "pso_gen"});
+  ExpectOneLineBadInput(swarm);
+  EXPECT_THAT(swarm.err, AllOf(HasSubstr("--resume " + Out("done")), HasSubstr("pso_gen run cannot be resumed")));
+
+  // Nothing ran: the folder is as the finished run left it.
+  EXPECT_EQ(dir_.Read(Out("done") + "/checkpoint.json"), checkpoint);
+  EXPECT_EQ(dir_.Read(Out("done") + "/workers.log"), workers_log);
+}
+
+TEST_F(OrcsEvolveTest, PlotScriptDrawsAPngAndNamesTheLineOfADamagedCsv) {
+  if (RunProcess({"/usr/bin/python3", "-c", "import matplotlib"}).exit_code != 0) {
+    GTEST_SKIP() << "/usr/bin/python3 has no matplotlib (scripts/setup.sh installs python3-matplotlib)";
+  }
+  const std::string script = ORCS_SOURCE_DIR "/scripts/plot_evolution.py";
+  // As orcs-batch evolve writes it; generation 0 without ok jobs (empty fields).
+  dir_.Write("run/fitness.csv",
+             "generation,evaluations,failed,best,mean,median,worst,best_so_far,seconds\n"
+             "0,5,5,,,,,,0.5\n"
+             "1,5,1,2.5,1.25,1,0.5,2.5,0.25\n"
+             "2,5,0,3.75,2,2.25,-1,3.75,0.125\n");
+  const ProcessResult plot = RunProcess({"/usr/bin/python3", script, Out("run")});
+  ASSERT_EQ(plot.exit_code, 0) << plot.err;
+  EXPECT_THAT(dir_.Read(Out("run") + "/fitness.png"), StartsWith("\x89PNG"));
+
+  dir_.Write("bad/fitness.csv",
+             "generation,evaluations,failed,best,mean,median,worst,best_so_far,seconds\n"
+             "0,5,0,1,1,1,1,1,0.5\n"
+             "1,5,0,abc,1,1,1,1,0.5\n");
+  const ProcessResult bad = RunProcess({"/usr/bin/python3", script, Out("bad")});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.err, AllOf(HasSubstr("fitness.csv:3"), HasSubstr("column 'best'")));
+  EXPECT_FALSE(fs::exists(Out("bad") + "/fitness.png"));
+}
+
+}  // namespace
+}  // namespace orcs
