@@ -38,13 +38,10 @@ EvolutionOverrides OverridesOf(const batch::BatchOptions& options) {
   return overrides;
 }
 
-// --resume DIR continues in DIR; otherwise --out DIR, by default runs/<scenario name>-evolve.
+// --resume DIR continues in DIR (the command line refuses --out with it); otherwise --out DIR, by default
+// runs/<scenario name>-evolve.
 std::string OutputFolder(const batch::BatchOptions& options, const batch::ScenarioInput& input) {
   if (!options.resume.empty()) {
-    if (!options.out.empty() && fs::path(options.out).lexically_normal() != fs::path(options.resume).lexically_normal()) {
-      throw InputError("--out " + options.out + " and --resume " + options.resume +
-                       ": a resumed run continues in its own folder; give only --resume");
-    }
     return options.resume;
   }
   const std::string folder = options.out.empty() ? (fs::path("runs") / (input.scenario.name + "-evolve")).string()
