@@ -8,6 +8,16 @@
 namespace orcs::batch {
 namespace {
 
+// What every command that runs a batch shares: where results go, the connection, the progress display.
+void AddSessionOptions(CLI::App& command, BatchOptions& o, const std::string& out_help) {
+  command.add_option("--out", o.out, out_help);
+  command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
+      ->check(CLI::Range(0.001, 3600.0));
+  command.add_flag("--quiet", o.quiet, "no progress display");
+  command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
+      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+}
+
 // The options every subcommand shares: what the jobs are and where the results go.
 void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
   command.add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md)")->required();
@@ -19,19 +29,31 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
                                                     : "jobs per grid point, seeds S, S+1, ... (default 1)")
       ->check(CLI::Range(1, 1000000));
   command.add_option("--seed", o.seed, "seed of the first job (default 1)");
-  command.add_option("--out", o.out, "output folder (default runs/<scenario name>)");
   command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
       ->check(CLI::Range(0.0, 1e7));
-  command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
-      ->check(CLI::Range(0.001, 3600.0));
-  command.add_flag("--quiet", o.quiet, "no progress display");
-  command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
-      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+  AddSessionOptions(command, o, "output folder (default runs/<scenario name>)");
 }
 
 void AddWorkersOption(CLI::App& command, BatchOptions& o) {
   command.add_option("--workers", o.workers, "local worker processes (default: one per core)")
       ->check(CLI::Range(1, 4096));
+}
+
+// `regress`: a suite against its baseline (docs/regress.md).
+CLI::App* AddRegressCommand(CLI::App& app, BatchOptions& o) {
+  CLI::App* regress = app.add_subcommand("regress", "run a regression suite and compare it with its baseline");
+  regress->add_option("suite", o.suite, "the suite file (docs/regress.md)")->required();
+  regress->add_option("--baseline", o.baseline, "the baseline file (default: SUITE.baseline.json beside the suite)");
+  regress->add_flag("--update-baseline", o.update_baseline, "record the baseline from this run instead of comparing");
+  regress->add_option("--junit", o.junit, "write a JUnit XML report here");
+  regress->add_option("--set", o.sets, "PATH=VALUE: override a value in every case, like a model change (repeatable)")
+      ->allow_extra_args(false);
+  CLI::Option* workers = regress->add_option("--workers", o.workers, "local worker processes (default: one per core)")
+                             ->check(CLI::Range(1, 4096));
+  regress->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->excludes(workers);
+  AddSessionOptions(*regress, o, "output folder (default runs/<suite name>)");
+  return regress;
 }
 
 }  // namespace
@@ -57,10 +79,12 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
                                    ->check(CLI::Range(1, 4096));
   sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
       ->excludes(sweep_workers);
+  CLI::App* regress = AddRegressCommand(app, o);
   try {
     app.parse(argc, argv);
     if (!o.genome.empty() && !o.genomes.empty()) throw CLI::ValidationError("--genome", "excludes --genomes");
     o.command = submit->parsed() ? Command::kSubmit : sweep->parsed() ? Command::kSweep : Command::kRun;
+    if (regress->parsed()) o.command = Command::kRegress;
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     parsed.exit_code = cli::kExitOk;

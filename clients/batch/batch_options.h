@@ -4,6 +4,8 @@
 //   orcs-batch submit --broker ENDPOINT SCENARIO.json ... (the same job options, no --workers)
 //   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
+//   orcs-batch regress SUITE.json [--baseline FILE] [--update-baseline] [--junit FILE.xml] [--set PATH=VALUE]...
+//                                 [--workers N | --broker ENDPOINT] [--out DIR]   (docs/regress.md)
 #pragma once
 
 #include <cstdint>
@@ -12,7 +14,7 @@
 
 namespace orcs::batch {
 
-enum class Command { kRun, kSubmit, kSweep };
+enum class Command { kRun, kSubmit, kSweep, kRegress };
 
 struct BatchOptions {
   Command command = Command::kRun;
@@ -31,6 +33,11 @@ struct BatchOptions {
   /// --curve-keys DIR: CURVE keys (docs/security.md); client.key/.pub and broker.pub, and for the embedded
   /// broker and local workers also broker.key, worker.key/.pub and allowed_*/ ("" = plain TCP)
   std::string curve_keys;
+  std::string suite;                 ///< regress: SUITE.json
+  std::string baseline;              ///< regress --baseline FILE ("" = SUITE.baseline.json beside the suite)
+  bool update_baseline = false;      ///< regress --update-baseline: record the baseline from this run
+  std::string junit;                 ///< regress --junit FILE.xml ("" = no JUnit report)
+  std::vector<std::string> sets;     ///< regress --set PATH=VALUE: an override of every case, outside the fingerprint
 };
 
 struct ParsedBatchOptions {
