@@ -74,6 +74,11 @@ std::string Short(double value, const char* format = "%.10g") {
   return text;
 }
 
+// "; baseline fitness B" for a case that has no fitness to compare, so the message still says what was expected.
+std::string BaselineNote(const CaseComparison& comparison) {
+  return std::isnan(comparison.baseline) ? "" : "; baseline fitness " + Number(comparison.baseline);
+}
+
 std::string VerdictName(const CaseComparison& comparison) {
   switch (comparison.verdict) {
     case Verdict::kPass:
@@ -123,10 +128,10 @@ std::string FailureMessage(const CaseComparison& comparison) {
     case Verdict::kRecorded:
       return "";
     case Verdict::kNoResult:
-      return "case '" + comparison.name + "': " + comparison.message;
+      return "case '" + comparison.name + "': " + comparison.message + BaselineNote(comparison);
     case Verdict::kJobFailed:
       return "case '" + comparison.name + "': the job did not run ok: " + comparison.status +
-             (comparison.message.empty() ? "" : ": " + comparison.message);
+             (comparison.message.empty() ? "" : ": " + comparison.message) + BaselineNote(comparison);
     case Verdict::kRegressed:
       break;
   }

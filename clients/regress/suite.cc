@@ -7,7 +7,6 @@
 
 #include "model/core/error.h"
 #include "model/core/json_node.h"
-#include "model/core/text.h"
 #include "model/core/text_file.h"
 
 namespace orcs::regress {
@@ -56,20 +55,14 @@ batch::Genome ReadGenome(const JsonNode& node, const std::string& suite_path) {
   return batch::Genome{node.value(), suite_path + " field '" + node.path() + "'", 0};
 }
 
-// "values": {"/path": 1.5, "/flag": true, "/name": "PVC"}, written as a scenario's "values" are.
+// "values": written as a scenario's "values" are, keyed by repository paths.
 std::vector<std::pair<std::string, std::string>> ReadValues(const JsonNode& node) {
   std::vector<std::pair<std::string, std::string>> values;
   for (const auto& [path, value] : node.Members()) {
     if (!path.starts_with("/")) value.Fail("a repository path starting with '/' as the key", "'" + path + "'");
-    std::string text;
-    if (value.value().is_boolean()) {
-      text = value.value().get<bool>() ? "T" : "F";
-    } else if (value.value().is_number()) {
-      text = text::FormatDouble(value.Number("a number"));
-    } else {
-      text = value.String("a number, a boolean or a string");
-    }
-    values.emplace_back(path, text);
+  }
+  for (const ValueAssignment& assignment : scene::ParseInlineValues(node)) {
+    values.emplace_back(assignment.path, assignment.value);
   }
   return values;
 }

@@ -99,7 +99,10 @@ TEST(ComparisonTest, AFailedJobOrAMissingResultFailsTheCase) {
   const CaseComparison failed = CompareCase(ACase(1, 1), kBaseline, &timeout);
   EXPECT_EQ(failed.verdict, Verdict::kJobFailed);
   EXPECT_EQ(failed.status, "timeout");
-  EXPECT_EQ(FailureMessage(failed), "case 'walk': the job did not run ok: timeout: exceeded 5 s");
+  EXPECT_EQ(FailureMessage(failed), "case 'walk': the job did not run ok: timeout: exceeded 5 s; baseline fitness 2");
+  EXPECT_EQ(FailureMessage(RecordCase(ACase(1, 1), &timeout)),
+            "case 'walk': the job did not run ok: timeout: exceeded 5 s")
+      << "no baseline while one is recorded";
   const CaseComparison missing = CompareCase(ACase(1, 1), kBaseline, nullptr);
   EXPECT_EQ(missing.verdict, Verdict::kNoResult);
   EXPECT_THAT(FailureMessage(missing), HasSubstr("no result"));

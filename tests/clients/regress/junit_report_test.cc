@@ -89,7 +89,8 @@ TEST(JUnitReportTest, OneTestcasePerCaseAndAFailureForEachThatDidNotPass) {
   ASSERT_NE(job_failed, nullptr);
   EXPECT_STREQ(job_failed->Attribute("type"), "job_failed");
   EXPECT_STREQ(job_failed->Attribute("message"),
-               "case 'stand-up': the job did not run ok: invalid_input: field 'x' expected <a number> & found \"y\"")
+               "case 'stand-up': the job did not run ok: invalid_input: field 'x' expected <a number> & found \"y\"; "
+               "baseline fitness 1.5")
       << "special characters survive the XML";
 }
 
