@@ -8,6 +8,16 @@
 namespace orcs::batch {
 namespace {
 
+// What every command that runs a batch shares: where results go, the connection, the progress display.
+void AddSessionOptions(CLI::App& command, BatchOptions& o, const std::string& out_help) {
+  command.add_option("--out", o.out, out_help);
+  command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
+      ->check(CLI::Range(0.001, 3600.0));
+  command.add_flag("--quiet", o.quiet, "no progress display");
+  command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
+      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+}
+
 // The options every subcommand shares: what the jobs are and where the results go.
 void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
   command.add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md)")->required();
@@ -19,14 +29,9 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
                                                     : "jobs per grid point, seeds S, S+1, ... (default 1)")
       ->check(CLI::Range(1, 1000000));
   command.add_option("--seed", o.seed, "seed of the first job (default 1)");
-  command.add_option("--out", o.out, "output folder (default runs/<scenario name>)");
   command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
       ->check(CLI::Range(0.0, 1e7));
-  command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
-      ->check(CLI::Range(0.001, 3600.0));
-  command.add_flag("--quiet", o.quiet, "no progress display");
-  command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
-      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+  AddSessionOptions(command, o, "output folder (default runs/<scenario name>)");
 }
 
 void AddWorkersOption(CLI::App& command, BatchOptions& o) {
@@ -47,21 +52,34 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
   evolve->add_option("--seed", o.seed, "seed of the jobs' parameter sets and of the algorithm (default: the scenario's)");
   evolve->add_option("--validate", o.validate, "fresh seeds the winner is run on at the end (default 8)")
       ->check(CLI::Range(0, 100000));
-  CLI::Option* out = evolve->add_option("--out", o.out, "output folder (default runs/<scenario name>-evolve)");
-  evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")->excludes(out);
+  AddSessionOptions(*evolve, o, "output folder (default runs/<scenario name>-evolve)");
+  evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")
+      ->excludes(evolve->get_option("--out"));
   evolve->add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
       ->check(CLI::Range(0.0, 1e7));
-  evolve->add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
-      ->check(CLI::Range(0.001, 3600.0));
-  evolve->add_flag("--quiet", o.quiet, "no line per generation");
   evolve->add_flag("--no-plot", o.no_plot, "do not draw fitness.png");
-  evolve->add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
-      ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
   CLI::Option* workers = evolve->add_option("--workers", o.workers, "local worker processes (default: one per core)")
                              ->check(CLI::Range(1, 4096));
   evolve->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
       ->excludes(workers);
   return evolve;
+}
+
+// `regress`: a suite against its baseline (docs/regress.md).
+CLI::App* AddRegressCommand(CLI::App& app, BatchOptions& o) {
+  CLI::App* regress = app.add_subcommand("regress", "run a regression suite and compare it with its baseline");
+  regress->add_option("suite", o.suite, "the suite file (docs/regress.md)")->required();
+  regress->add_option("--baseline", o.baseline, "the baseline file (default: SUITE.baseline.json beside the suite)");
+  regress->add_flag("--update-baseline", o.update_baseline, "record the baseline from this run instead of comparing");
+  regress->add_option("--junit", o.junit, "write a JUnit XML report here");
+  regress->add_option("--set", o.sets, "PATH=VALUE: override a value in every case, like a model change (repeatable)")
+      ->allow_extra_args(false);
+  CLI::Option* workers = regress->add_option("--workers", o.workers, "local worker processes (default: one per core)")
+                             ->check(CLI::Range(1, 4096));
+  regress->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->excludes(workers);
+  AddSessionOptions(*regress, o, "output folder (default runs/<suite name>)");
+  return regress;
 }
 
 }  // namespace
@@ -88,6 +106,7 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
       ->excludes(sweep_workers);
   CLI::App* evolve = AddEvolveCommand(app, o);
+  CLI::App* regress = AddRegressCommand(app, o);
   CLI::App* resolve =
       app.add_subcommand("resolve", "print the scenario with every referenced file inlined, as jobs carry it");
   resolve->add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md)")->required();
@@ -98,6 +117,7 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
                 : sweep->parsed()   ? Command::kSweep
                 : evolve->parsed()  ? Command::kEvolve
                 : resolve->parsed() ? Command::kResolve
+                : regress->parsed() ? Command::kRegress
                                     : Command::kRun;
     o.seed_given = evolve->parsed() && evolve->count("--seed") > 0;
   } catch (const CLI::CallForHelp&) {

@@ -7,6 +7,8 @@
 //   orcs-batch evolve SCENARIO.json [--generations G] [--population P] [--algorithm NAME] [--seed S]
 //                                   [--validate N] [--out DIR | --resume DIR] [--workers N | --broker ENDPOINT]
 //   orcs-batch resolve SCENARIO.json: prints the scenario with every referenced file inlined (what a job carries)
+//   orcs-batch regress SUITE.json [--baseline FILE] [--update-baseline] [--junit FILE.xml] [--set PATH=VALUE]...
+//                                 [--workers N | --broker ENDPOINT] [--out DIR]   (docs/regress.md)
 #pragma once
 
 #include <cstdint>
@@ -15,7 +17,7 @@
 
 namespace orcs::batch {
 
-enum class Command { kRun, kSubmit, kSweep, kEvolve, kResolve };
+enum class Command { kRun, kSubmit, kSweep, kEvolve, kResolve, kRegress };
 
 struct BatchOptions {
   Command command = Command::kRun;
@@ -42,6 +44,11 @@ struct BatchOptions {
   int validate = -1;                 ///< --validate N: fresh seeds the winner is re-run on (< 0 = unset)
   std::string resume;                ///< --resume DIR: continue the run whose checkpoint is in DIR
   bool no_plot = false;              ///< --no-plot: skip fitness.png
+  std::string suite;                 ///< regress: SUITE.json
+  std::string baseline;              ///< regress --baseline FILE ("" = SUITE.baseline.json beside the suite)
+  bool update_baseline = false;      ///< regress --update-baseline: record the baseline from this run
+  std::string junit;                 ///< regress --junit FILE.xml ("" = no JUnit report)
+  std::vector<std::string> sets;     ///< regress --set PATH=VALUE: an override of every case, outside the fingerprint
 };
 
 struct ParsedBatchOptions {

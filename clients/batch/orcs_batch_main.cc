@@ -1,9 +1,10 @@
 // orcs-batch: evaluates batches of genome-and-scenario jobs (docs/batch.md), and evolves genomes with them
 // (`evolve`, docs/evolution.md). `run`, `sweep` and `evolve` start an embedded
 // broker and local orcs-worker processes — the one-machine default with no set-up; `submit` and `sweep --broker`
-// use a running broker; `resolve` prints a scenario with its files inlined. Every input is checked before anything
-// is submitted. Exit 0 when every job ran ok, 1 when some failed (or the batch was interrupted), 2 on bad input or
-// when no broker answers.
+// use a running broker; `resolve` prints a scenario with its files inlined; `regress` runs a suite against its
+// baseline (docs/regress.md). Every input is checked before anything is submitted. Exit 0 when every job ran ok
+// (regress: every case passed), 1 when some failed (or the batch was interrupted), 2 on bad input or when no
+// broker answers.
 #include <unistd.h>
 
 #include <atomic>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "broker/client.h"
@@ -21,6 +23,7 @@
 #include "clients/batch/sweep_grid.h"
 #include "clients/batch/sweep_report.h"
 #include "clients/evolve/evolve_command.h"
+#include "clients/regress/regress_plan.h"
 #include "proto/curve_keys.h"
 #include "model/core/error.h"
 #include "worker/cli_style.h"
@@ -48,6 +51,7 @@ struct Plan {
   std::vector<SweepPoint> points;     // sweep only
   std::vector<PlannedJob> jobs;
   std::string out;
+  std::optional<regress::RegressPlan> regress;  // regress only
 };
 
 std::vector<Genome> GenomesOf(const BatchOptions& options, const ScenarioInput& input) {
@@ -56,7 +60,16 @@ std::vector<Genome> GenomesOf(const BatchOptions& options, const ScenarioInput& 
   return {DefaultGenome(input)};
 }
 
+Plan MakeRegressPlan(const BatchOptions& options) {
+  Plan plan;
+  plan.regress = regress::PlanRegression(options, std::cerr);
+  plan.jobs = std::move(plan.regress->jobs);
+  plan.out = options.out.empty() ? (std::filesystem::path("runs") / plan.regress->suite.name).string() : options.out;
+  return plan;
+}
+
 Plan MakePlan(const BatchOptions& options) {
+  if (options.command == Command::kRegress) return MakeRegressPlan(options);
   Plan plan;
   plan.input = LoadScenario(options.scenario);
   plan.genomes = GenomesOf(options, plan.input);
@@ -92,9 +105,10 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   ProgressDisplay quiet(discard, plan.jobs.size(), false, ProgressDisplay::Clock::now());
   SessionOptions session;
   session.stop = &stop_requested;
-  session.keep_results = options.command == Command::kSweep;
+  session.keep_results = options.command == Command::kSweep || plan.regress.has_value();
   const BatchSummary summary = RunSession(client, plan.jobs, writer, options.quiet ? quiet : progress, session);
   if (!summary.interrupted) writer.Finish();
+  if (plan.regress) return regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);
   if (options.command == Command::kSweep) {
     const std::vector<SweepRow> rows = SweepRows(plan.points, plan.jobs, summary.results);
     std::cout << SweepTable(plan.axes, rows);

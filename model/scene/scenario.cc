@@ -87,8 +87,9 @@ std::vector<ValueAssignment> AssignmentsOf(const JsonNode& node) {
   return assignments;
 }
 
-// "values": {"/path": 1.5, "/flag": true, "/name": "PVC"} → assignments named after the scenario field.
-std::vector<ValueAssignment> InlineValues(const JsonNode& node) {
+}  // namespace
+
+std::vector<ValueAssignment> ParseInlineValues(const JsonNode& node) {
   std::vector<ValueAssignment> assignments;
   for (const auto& [path, value] : node.Members()) {
     std::string text;
@@ -103,6 +104,8 @@ std::vector<ValueAssignment> InlineValues(const JsonNode& node) {
   }
   return assignments;
 }
+
+namespace {
 
 void ReadEnvironment(const JsonNode& root, Scenario& scenario) {
   scenario.environment_name = "(default: one A-Series named Humanoid)";
@@ -264,7 +267,7 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
     }
   }
   if (root.Has("values")) {
-    const std::vector<ValueAssignment> inline_values = InlineValues(root.At("values"));
+    const std::vector<ValueAssignment> inline_values = ParseInlineValues(root.At("values"));
     scenario.values.insert(scenario.values.end(), inline_values.begin(), inline_values.end());
   }
   scenario.duration = root.NumberOr("duration", scenario.duration, "seconds > 0");

@@ -18,6 +18,10 @@
 
 #include "model/core/value_file.h"
 
+namespace orcs {
+class JsonNode;
+}  // namespace orcs
+
 namespace orcs::scene {
 
 /// How one repository value varies between parameter sets.
@@ -88,6 +92,11 @@ struct Scenario {
 /// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found
 /// ..." for unknown keys, wrong types, min above max, a non-positive duration or set count, ...
 Scenario ParseScenario(const nlohmann::json& resolved, const std::string& source);
+
+/// The assignments of a "values" object, {"/path": 1.5, "/flag": true, "/name": "PVC"}: numbers printed so that
+/// they read back to the same double, booleans T/F, strings as they are; each named after its field for messages.
+/// Throws InputError for a value of another type. A scenario's "values", and a regression case's (docs/regress.md).
+std::vector<ValueAssignment> ParseInlineValues(const JsonNode& node);
 
 /// Reads a scenario file and inlines every file it references (relative to the file's folder):
 /// "environment": "x.xml" → {"file": "x.xml", "xml": text}; "value_files" and
