@@ -154,9 +154,15 @@ def plot_bins(axis, entry, categories):
 
 def plot_lhs(params, rows, out, report):
     sensitivity = {s["path"]: s for s in report["sensitivity"]}
-    figure, axes = plt.subplots(1, len(params) + 1, figsize=(4.3 * (len(params) + 1), 3.8), squeeze=False)
+    panels = len(params) + 1
+    columns = panels if panels <= 3 else math.ceil(panels / 2)  # four panels and more: two rows
+    lines = math.ceil(panels / columns)
+    figure, grid = plt.subplots(lines, columns, figsize=(4.6 * columns, 3.7 * lines + 0.4), squeeze=False)
+    axes = [axis for line in grid for axis in line]
+    for unused in axes[panels:]:
+        unused.set_visible(False)
     ok_rows = [r for r in rows if r["fitness"] is not None and math.isfinite(r["fitness"])]
-    for axis, param in zip(axes[0], params):
+    for axis, param in zip(axes, params):
         categories = categories_of(param, rows, report)
         axis.plot(x_positions(param, ok_rows, categories, jitter=0.5), [r["fitness"] for r in ok_rows], "o",
                   markersize=3.5, alpha=0.5, label="sample")
@@ -168,8 +174,8 @@ def plot_lhs(params, rows, out, report):
         axis.set_xlabel(param)
         axis.set_ylabel("fitness")
         axis.grid(True, alpha=0.3)
-    axes[0][0].legend(fontsize="small")
-    bars = axes[0][-1]
+    axes[0].legend(fontsize="small")
+    bars = axes[len(params)]
     ranked = [sensitivity[p] for p in report["ranking"]]
     names = [s["path"].rsplit("/", 2)[-2] + "/" + s["path"].rsplit("/", 1)[-1] for s in ranked]
     bars.bar(range(len(ranked)), [s["index"] or 0.0 for s in ranked], color="C0", label="S")
