@@ -64,7 +64,9 @@ def read_sweep(path):
                     results = [float(f) if f != "" else None for f in fields[-5:]]
                 except ValueError as error:
                     fail(f"{path}:{number}: {error}")
-                rows.append(dict(zip(header, [number_or_text(f) for f in fields[:-5]] + results)))
+                row = dict(zip(header, [number_or_text(f) for f in fields[:-5]] + results))
+                row.update({("text", p): f for p, f in zip(params, fields)})  # a category's name as written
+                rows.append(row)
     except OSError as error:
         fail(f"{path}: {error.strerror}")
     return params, rows
@@ -87,13 +89,13 @@ def categories_of(param, rows, report):
     entry = next((s for s in (report or {}).get("sensitivity", []) if s["path"] == param), None)
     if entry is not None and entry["kind"] == "categorical":
         return [b["label"] for b in entry["bins"]] + sorted(
-            {str(r[param]) for r in rows} - {b["label"] for b in entry["bins"]})
+            {r[("text", param)] for r in rows} - {b["label"] for b in entry["bins"]})
     if all(isinstance(r[param], float) for r in rows):
         return None
     seen = []
     for r in rows:
-        if str(r[param]) not in seen:
-            seen.append(str(r[param]))
+        if r[("text", param)] not in seen:
+            seen.append(r[("text", param)])
     return seen
 
 
@@ -103,7 +105,7 @@ def x_positions(param, rows, categories, jitter=0.0):
     if categories is None:
         return [r[param] for r in rows]
     index = {c: i for i, c in enumerate(categories)}
-    return [index[str(r[param])] + jitter * (((i * 0.6180339887) % 1.0) - 0.5) for i, r in enumerate(rows)]
+    return [index[r[("text", param)]] + jitter * (((i * 0.6180339887) % 1.0) - 0.5) for i, r in enumerate(rows)]
 
 
 def label_categories(axis, categories):
