@@ -48,7 +48,8 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   CLI::App* submit = app.add_subcommand("submit", "run a batch on a running broker");
   AddJobOptions(*submit, o, true);
   submit->add_option("--broker", o.broker, "the broker's client endpoint, e.g. tcp://127.0.0.1:5555")->required();
-  CLI::App* sweep = app.add_subcommand("sweep", "evaluate one genome over a grid of repository values");
+  CLI::App* sweep = app.add_subcommand(
+      "sweep", "evaluate one genome over a grid or a Latin hypercube sample of repository values: a robustness report");
   AddJobOptions(*sweep, o, false);
   sweep->add_option("--param", o.params,
                     "PATH=LOW:HIGH:STEPS (grid), PATH=LOW:HIGH (lhs) or PATH=V1,V2,... (categories): one axis "

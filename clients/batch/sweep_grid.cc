@@ -60,7 +60,9 @@ void ParseCategories(const std::string& text, const std::string& list, SweepAxis
 }
 
 void ParseGridRange(const std::string& text, const std::vector<std::string>& fields, SweepAxis& axis) {
-  if (fields.size() != 3) Fail(text, "expected LOW:HIGH:STEPS after '=', found " + std::to_string(fields.size()) + " fields");
+  if (fields.size() != 3) {
+    Fail(text, "expected LOW:HIGH:STEPS after '=', found " + std::to_string(fields.size()) + " fields");
+  }
   axis.low = FiniteNumber(text, fields[0], "LOW");
   axis.high = FiniteNumber(text, fields[1], "HIGH");
   const std::optional<long long> steps = text::ParseInt(fields[2]);

@@ -71,7 +71,9 @@ std::string SweepTable(const std::vector<SweepAxis>& axes, const std::vector<Swe
   std::vector<std::vector<std::string>> cells;
   for (const SweepRow& row : rows) {
     std::vector<std::string> line;
-    for (const auto& [path, value] : row.point) line.push_back(value.categorical() ? value.text : Cell(value.number, 6));
+    for (const auto& [path, value] : row.point) {
+      line.push_back(value.categorical() ? value.text : Cell(value.number, 6));
+    }
     line.push_back(Cell(row.fitness, 6));
     line.push_back(Cell(row.min_fitness, 6));
     line.push_back(Cell(row.max_fitness, 6));

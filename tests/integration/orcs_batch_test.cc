@@ -247,9 +247,9 @@ std::vector<std::vector<std::string>> CsvRows(const std::string& text) {
 
 TEST_F(OrcsBatchTest, ALatinHypercubeSweepWithAFloorMaterialWritesTheRobustnessReportAndAPlot) {
   const ProcessResult result =
-      Batch({"sweep", Scenario(), "--sample", "lhs", "--samples", "6", "--param", "/AngularMotor/PID/Proportional=10:22",
-             "--param", "/Sim/Floor/Material=PVC,Light,Carpet", "--sample-seed", "9", "--workers", "2", "--out",
-             Out("lhs")});
+      Batch({"sweep", Scenario(), "--sample", "lhs", "--samples", "6", "--param",
+             "/AngularMotor/PID/Proportional=10:22", "--param", "/Sim/Floor/Material=PVC,Light,Carpet", "--sample-seed",
+             "9", "--workers", "2", "--out", Out("lhs")});
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_THAT(result.out, HasSubstr("6 of 6 jobs ran: 6 ok"));
   EXPECT_THAT(result.out, HasSubstr("orcs-batch: fitness over 6 of 6 points: mean "));
@@ -321,8 +321,8 @@ TEST_F(OrcsBatchTest, BadSamplingInputStopsBeforeAnythingRuns) {
                   "/AngularMotor/PID/Proportional=10:20:3", "--out", Out("bad")});
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_THAT(result.err, HasSubstr("--param '/AngularMotor/PID/Proportional=10:20:3': expected LOW:HIGH"));
-  result = Batch({"sweep", scenario, "--sample", "lhs", "--samples", "2", "--param", "/Sim/Floor/Material=PVC,Wood,Carpet",
-                  "--out", Out("bad")});
+  result = Batch({"sweep", scenario, "--sample", "lhs", "--samples", "2", "--param",
+                  "/Sim/Floor/Material=PVC,Wood,Carpet", "--out", Out("bad")});
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_THAT(result.err, HasSubstr("every value needs at least one sample"));
   EXPECT_FALSE(fs::exists(Out("bad"))) << "nothing written, nothing submitted";

@@ -53,7 +53,9 @@ void SetDrawn(VariableRepository& values, const std::string& path, double value)
 void ApplyStructureValues(const std::vector<ValueAssignment>& assignments, VariableRepository& values) {
   std::vector<ValueAssignment> structure;
   for (const ValueAssignment& assignment : assignments) {
-    if (assignment.path.starts_with("/Sim/") && values.Find(assignment.path) != nullptr) structure.push_back(assignment);
+    if (assignment.path.starts_with("/Sim/") && values.Find(assignment.path) != nullptr) {
+      structure.push_back(assignment);
+    }
   }
   ValueFile::ApplyAssignments(structure, values);
 }

@@ -99,7 +99,8 @@ TEST_F(BatchInputTest, ACategoryTravelsAsItsNameAndPassesTheChecks) {
   EXPECT_NO_THROW(CheckJobs(input, {DefaultGenome(input)}, jobs));
   // A value the repository cannot read for its path is caught before submission, as for numbers.
   const std::vector<SweepPoint> bad = {{{"/AngularMotor/PID/Proportional", SweepValue("fast", 0)}}};
-  EXPECT_THAT(InputErrorOf([&] { CheckJobs(input, {DefaultGenome(input)}, PlanSweepJobs(input, DefaultGenome(input), bad, {})); }),
+  const std::vector<PlannedJob> bad_jobs = PlanSweepJobs(input, DefaultGenome(input), bad, {});
+  EXPECT_THAT(InputErrorOf([&] { CheckJobs(input, {DefaultGenome(input)}, bad_jobs); }),
               HasSubstr("/AngularMotor/PID/Proportional"));
 }
 

@@ -85,8 +85,8 @@ TEST(SweepGridTest, AGridOverNumbersAndCategoriesCarriesTheCategoryNames) {
 
 TEST(SweepGridTest, RejectsBadCategoriesNamingTheOption) {
   EXPECT_THAT(InputErrorOf([] { ParseSweepAxis("/Sim/Floor/Material=PVC,Wod"); }),
-              HasSubstr("--param '/Sim/Floor/Material=PVC,Wod': 'Wod' is not a material; expected one of "
-                        "PlasticsWhite, PlasticsGray, ABS, Latex, PVC, Wood, Carpet, Default, Light, Custom1, Custom2"));
+              HasSubstr("--param '/Sim/Floor/Material=PVC,Wod': 'Wod' is not a material; expected one of PlasticsWhite, "
+                        "PlasticsGray, ABS, Latex, PVC, Wood, Carpet, Default, Light, Custom1, Custom2"));
   EXPECT_NO_THROW(ParseSweepAxis("/Sim/Box/Material=wood")) << "material names are case-insensitive, as in the table";
   EXPECT_THAT(InputErrorOf([] { ParseSweepAxis("/M=a,,b"); }), HasSubstr("--param '/M=a,,b': expected a list"));
   EXPECT_THAT(InputErrorOf([] { ParseSweepAxis("/M="); }), HasSubstr("without empty ones"));
