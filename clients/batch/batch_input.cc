@@ -87,6 +87,8 @@ void CheckSweptPathsAreNotRedrawn(const ScenarioInput& input, const SweepPoint& 
 
 }  // namespace
 
+std::string SweepValue::OverrideText() const { return categorical() ? text : text::FormatDouble(number); }
+
 ScenarioInput LoadScenario(const std::string& path) {
   ScenarioInput input;
   input.path = path;
@@ -146,7 +148,9 @@ std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& 
   std::vector<PlannedJob> jobs;
   for (std::size_t p = 0; p < points.size(); ++p) {
     nlohmann::ordered_json point = nlohmann::ordered_json::object();
-    for (const auto& [path, value] : points[p]) point[path] = value;
+    for (const auto& [path, value] : points[p]) {
+      point[path] = value.categorical() ? nlohmann::ordered_json(value.text) : nlohmann::ordered_json(value.number);
+    }
     for (int r = 0; r < settings.repeats; ++r) {
       PlannedJob planned;
       const std::uint64_t seed = settings.seed + static_cast<std::uint64_t>(r);
@@ -155,7 +159,7 @@ std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& 
       for (const auto& [path, value] : points[p]) {
         v1::Override* override = planned.job.add_overrides();
         override->set_path(path);
-        override->set_value(text::FormatDouble(value));
+        override->set_value(value.OverrideText());
       }
       planned.extra["seed"] = seed;
       planned.extra["point"] = p;

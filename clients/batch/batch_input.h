@@ -57,8 +57,20 @@ struct JobSettings {
 std::vector<PlannedJob> PlanRunJobs(const ScenarioInput& input, const std::vector<Genome>& genomes,
                                     const JobSettings& settings);
 
+/// One swept value: a number, or one category of a categorical axis (e.g. a floor material).
+struct SweepValue {
+  double number = 0.0;  ///< the value in the path's unit; for a category, its index on the axis (from 0)
+  std::string text;     ///< the category as the repository reads it, e.g. "Wood"; "" for a number
+  SweepValue(double value = 0.0) : number(value) {}  // NOLINT(google-explicit-constructor): grid points are numbers
+  SweepValue(std::string category, int index) : number(index), text(std::move(category)) {}
+  bool categorical() const { return !text.empty(); }
+  /// What a job's override carries: the category, or the number in its shortest exact form.
+  std::string OverrideText() const;
+  bool operator==(const SweepValue&) const = default;
+};
+
 /// One point of a sweep: repository path → value, in axis order.
-using SweepPoint = std::vector<std::pair<std::string, double>>;
+using SweepPoint = std::vector<std::pair<std::string, SweepValue>>;
 
 /// The jobs of `orcs-batch sweep`: every point × every repeat, one genome, the point's values as overrides; ids
 /// "point-0000-r0", ...; every point uses the same seeds (settings.seed + r). Throws InputError when the scenario's

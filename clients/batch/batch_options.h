@@ -4,6 +4,7 @@
 //   orcs-batch submit --broker ENDPOINT SCENARIO.json ... (the same job options, no --workers)
 //   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
+//   orcs-batch sweep SCENARIO.json --sample lhs --samples N --param PATH=LOW:HIGH... [--sample-seed S] ...
 //   orcs-batch evolve SCENARIO.json [--generations G] [--population P] [--algorithm NAME] [--seed S]
 //                                   [--validate N] [--out DIR | --resume DIR] [--workers N | --broker ENDPOINT]
 //   orcs-batch resolve SCENARIO.json: prints the scenario with every referenced file inlined (what a job carries)
@@ -32,7 +33,11 @@ struct BatchOptions {
   std::string out;                   ///< --out DIR ("" = runs/<scenario name>)
   double time_limit_seconds = 0.0;   ///< --time-limit: wall-clock seconds per job (0 = none)
   double heartbeat_seconds = 1.0;    ///< --heartbeat: the client's (and embedded broker's) heartbeat interval
-  std::vector<std::string> params;   ///< --param PATH=LOW:HIGH:STEPS (sweep)
+  std::vector<std::string> params;   ///< --param PATH=LOW:HIGH:STEPS, PATH=LOW:HIGH (lhs) or PATH=V1,V2,... (sweep)
+  std::string sample = "grid";       ///< --sample grid|lhs (sweep): every combination, or a Latin hypercube sample
+  int samples = 0;                   ///< --samples N (sweep --sample lhs): points of the Latin hypercube, ≥ 1
+  std::uint64_t sample_seed = 0;     ///< --sample-seed S: the Latin hypercube's seed (when not given: --seed)
+  bool sample_seed_given = false;    ///< whether --sample-seed was given
   bool quiet = false;                ///< --quiet: no progress display
   /// --curve-keys DIR: CURVE keys (docs/security.md); client.key/.pub and broker.pub, and for the embedded
   /// broker and local workers also broker.key, worker.key/.pub and allowed_*/ ("" = plain TCP)

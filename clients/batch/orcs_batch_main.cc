@@ -19,7 +19,9 @@
 #include "clients/batch/batch_input.h"
 #include "clients/batch/batch_options.h"
 #include "clients/batch/batch_session.h"
+#include "clients/batch/latin_hypercube.h"
 #include "clients/batch/local_cluster.h"
+#include "clients/batch/robustness_report.h"
 #include "clients/batch/sweep_grid.h"
 #include "clients/batch/sweep_report.h"
 #include "clients/evolve/evolve_command.h"
@@ -49,6 +51,7 @@ struct Plan {
   std::vector<Genome> genomes;
   std::vector<SweepAxis> axes;        // sweep only
   std::vector<SweepPoint> points;     // sweep only
+  SweepSampling sampling = SweepSampling::kGrid;  // sweep only
   std::vector<PlannedJob> jobs;
   std::string out;
   std::optional<regress::RegressPlan> regress;  // regress only
@@ -75,8 +78,12 @@ Plan MakePlan(const BatchOptions& options) {
   plan.genomes = GenomesOf(options, plan.input);
   const JobSettings settings{options.seed, options.jobs, options.time_limit_seconds};
   if (options.command == Command::kSweep) {
-    for (const std::string& param : options.params) plan.axes.push_back(ParseSweepAxis(param));
-    plan.points = SweepGrid(plan.axes);
+    if (options.sample == "lhs") plan.sampling = SweepSampling::kLatinHypercube;
+    for (const std::string& param : options.params) plan.axes.push_back(ParseSweepAxis(param, plan.sampling));
+    plan.points = plan.sampling == SweepSampling::kGrid
+                      ? SweepGrid(plan.axes)
+                      : LatinHypercube(plan.axes, options.samples,
+                                       options.sample_seed_given ? options.sample_seed : options.seed);
     plan.jobs = PlanSweepJobs(plan.input, plan.genomes.front(), plan.points, settings);
   } else {
     plan.jobs = PlanRunJobs(plan.input, plan.genomes, settings);
@@ -111,9 +118,13 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   if (plan.regress) return regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);
   if (options.command == Command::kSweep) {
     const std::vector<SweepRow> rows = SweepRows(plan.points, plan.jobs, summary.results);
-    std::cout << SweepTable(plan.axes, rows);
+    if (plan.sampling == SweepSampling::kGrid) std::cout << SweepTable(plan.axes, rows);  // lhs: in sweep.csv
     WriteSweepCsv(plan.out, plan.axes, rows);
+    const RobustnessReport report = MakeRobustnessReport(plan.input.scenario.name, plan.sampling, plan.axes, rows);
+    WriteRobustnessReport(plan.out, report, rows);
+    std::cout << RobustnessSummary(report, rows);
     std::cout << "orcs-batch: sweep table in " << (std::filesystem::path(plan.out) / "sweep.csv").string()
+              << ", robustness report in " << (std::filesystem::path(plan.out) / "robustness.md").string()
               << "; plot it with scripts/plot_sweep.py " << plan.out << "\n";
   }
   std::cout << SummaryText(summary, writer.results_path()) << std::flush;

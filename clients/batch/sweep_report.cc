@@ -71,7 +71,9 @@ std::string SweepTable(const std::vector<SweepAxis>& axes, const std::vector<Swe
   std::vector<std::vector<std::string>> cells;
   for (const SweepRow& row : rows) {
     std::vector<std::string> line;
-    for (const auto& [path, value] : row.point) line.push_back(Cell(value, 6));
+    for (const auto& [path, value] : row.point) {
+      line.push_back(value.categorical() ? value.text : Cell(value.number, 6));
+    }
     line.push_back(Cell(row.fitness, 6));
     line.push_back(Cell(row.min_fitness, 6));
     line.push_back(Cell(row.max_fitness, 6));
@@ -101,7 +103,7 @@ void WriteSweepCsv(const std::string& folder, const std::vector<SweepAxis>& axes
   for (const SweepAxis& axis : axes) out << axis.path << ',';
   out << "fitness,min_fitness,max_fitness,ok,jobs\n";
   for (const SweepRow& row : rows) {
-    for (const auto& [path, value] : row.point) out << text::FormatDouble(value) << ',';
+    for (const auto& [path, value] : row.point) out << value.OverrideText() << ',';
     out << CsvNumber(row.fitness) << ',' << CsvNumber(row.min_fitness) << ',' << CsvNumber(row.max_fitness) << ','
         << row.ok << ',' << row.jobs << '\n';
   }

@@ -29,7 +29,8 @@ std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const std
 std::string SweepTable(const std::vector<SweepAxis>& axes, const std::vector<SweepRow>& rows);
 
 /// Writes FOLDER/sweep.csv: a header "PATH1,PATH2,...,fitness,min_fitness,max_fitness,ok,jobs", then one line
-/// per point; numbers round-trip; an empty field where a point has no ok repeat. Throws InputError.
+/// per point; numbers round-trip, categories are written as they are; an empty field where a point has no ok
+/// repeat. Throws InputError.
 void WriteSweepCsv(const std::string& folder, const std::vector<SweepAxis>& axes, const std::vector<SweepRow>& rows);
 
 }  // namespace orcs::batch

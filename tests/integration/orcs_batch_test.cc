@@ -264,6 +264,101 @@ TEST_F(OrcsBatchTest, SweepWritesATableACsvAndAPlot) {
   EXPECT_EQ(dir_.Read(Out("sweep") + "/sweep.png").substr(1, 3), "PNG");
 }
 
+std::vector<std::vector<std::string>> CsvRows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    std::vector<std::string> fields;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    rows.push_back(std::move(fields));
+  }
+  return rows;
+}
+
+TEST_F(OrcsBatchTest, ALatinHypercubeSweepWithAFloorMaterialWritesTheRobustnessReportAndAPlot) {
+  const ProcessResult result =
+      Batch({"sweep", Scenario(), "--sample", "lhs", "--samples", "6", "--param",
+             "/AngularMotor/PID/Proportional=10:22", "--param", "/Sim/Floor/Material=PVC,Light,Carpet", "--sample-seed",
+             "9", "--workers", "2", "--out", Out("lhs")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("6 of 6 jobs ran: 6 ok"));
+  EXPECT_THAT(result.out, HasSubstr("orcs-batch: fitness over 6 of 6 points: mean "));
+  EXPECT_THAT(result.out, HasSubstr("orcs-batch: fitness most sensitive to /"));
+
+  // sweep.csv: one row per sample; the gain once in each of the 6 strata of width 2, each floor twice.
+  const std::vector<std::vector<std::string>> csv = CsvRows(dir_.Read(Out("lhs") + "/sweep.csv"));
+  ASSERT_EQ(csv.size(), 7u);
+  EXPECT_EQ(csv[0], (std::vector<std::string>{"/AngularMotor/PID/Proportional", "/Sim/Floor/Material", "fitness",
+                                              "min_fitness", "max_fitness", "ok", "jobs"}));
+  std::set<int> strata;
+  std::map<std::string, int> floors;
+  for (std::size_t r = 1; r < csv.size(); ++r) {
+    const double gain = std::stod(csv[r][0]);
+    strata.insert(static_cast<int>((gain - 10.0) / 2.0));
+    ++floors[csv[r][1]];
+    EXPECT_EQ(csv[r][5], "1");
+  }
+  EXPECT_EQ(strata, (std::set<int>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(floors, (std::map<std::string, int>{{"Carpet", 2}, {"Light", 2}, {"PVC", 2}}));
+  for (const nlohmann::json& line : ReadLines(Out("lhs") + "/results.jsonl")) {
+    EXPECT_TRUE(line["params"]["/Sim/Floor/Material"].is_string());
+  }
+
+  const nlohmann::json report = nlohmann::json::parse(dir_.Read(Out("lhs") + "/robustness.json"));
+  EXPECT_EQ(report["sampling"], "lhs");
+  EXPECT_EQ(report["points"], 6);
+  EXPECT_EQ(report["ok_points"], 6);
+  EXPECT_LE(report["fitness"]["min"].get<double>(), report["fitness"]["median"].get<double>());
+  EXPECT_EQ(report["worst"]["fitness"], report["fitness"]["min"]);
+  ASSERT_EQ(report["sensitivity"].size(), 2u);
+  EXPECT_EQ(report["sensitivity"][1]["kind"], "categorical");
+  EXPECT_EQ(report["sensitivity"][1]["bins"].size(), 3u);
+  EXPECT_EQ(report["ranking"].size(), 2u);
+  EXPECT_THAT(dir_.Read(Out("lhs") + "/robustness.md"), HasSubstr("most sensitive to"));
+
+  const ProcessResult plot = RunProcess({"/usr/bin/python3", ORCS_SOURCE_DIR "/scripts/plot_sweep.py", Out("lhs")});
+  ASSERT_EQ(plot.exit_code, 0) << plot.err;
+  EXPECT_EQ(dir_.Read(Out("lhs") + "/sweep.png").substr(1, 3), "PNG");
+}
+
+TEST_F(OrcsBatchTest, AGridOverFloorMaterialsReachesTheFloor) {
+  nlohmann::json one_set = nlohmann::json::parse(kScenario);
+  one_set["randomisation"] = {{"sets", 1}};
+  const ProcessResult result = Batch({"sweep", dir_.Write("one.json", one_set.dump()), "--param",
+                                      "/Sim/Floor/Material=PVC,Light", "--workers", "1", "--out", Out("floors")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("Light"));
+  std::map<std::string, std::string> terms;
+  for (const nlohmann::json& line : ReadLines(Out("floors") + "/results.jsonl")) {
+    terms[line["params"]["/Sim/Floor/Material"]] = line["terms"].dump();
+  }
+  ASSERT_EQ(terms.size(), 2u);
+  EXPECT_NE(terms["PVC"], terms["Light"]) << "a frictionless floor moves the robot differently";
+}
+
+TEST_F(OrcsBatchTest, BadSamplingInputStopsBeforeAnythingRuns) {
+  const std::string scenario = Scenario();
+  ProcessResult result = Batch({"sweep", scenario, "--param", "/Sim/Floor/Material=PVC,Wod", "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("--param '/Sim/Floor/Material=PVC,Wod': 'Wod' is not a material"));
+  result = Batch({"sweep", scenario, "--sample", "lhs", "--param", "/X=1:2", "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("--samples"));
+  result = Batch({"sweep", scenario, "--samples", "5", "--param", "/X=1:2:2", "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("needs --sample lhs"));
+  result = Batch({"sweep", scenario, "--sample", "lhs", "--samples", "5", "--param",
+                  "/AngularMotor/PID/Proportional=10:20:3", "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("--param '/AngularMotor/PID/Proportional=10:20:3': expected LOW:HIGH"));
+  result = Batch({"sweep", scenario, "--sample", "lhs", "--samples", "2", "--param",
+                  "/Sim/Floor/Material=PVC,Wood,Carpet", "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("every value needs at least one sample"));
+  EXPECT_FALSE(fs::exists(Out("bad"))) << "nothing written, nothing submitted";
+}
+
 TEST_F(OrcsBatchTest, ThePlotScriptNamesABadSweepFileLine) {
   dir_.Write("bad/sweep.csv", "/A,fitness,min_fitness,max_fitness,ok,jobs\n1,2,3\n");
   const ProcessResult plot = RunProcess({"/usr/bin/python3", ORCS_SOURCE_DIR "/scripts/plot_sweep.py", Out("bad")});

@@ -46,6 +46,30 @@ void SetDrawn(VariableRepository& values, const std::string& path, double value)
   }
 }
 
+// The environment's structure values — /Sim/Floor/Material, an object's /Sim/<name>/Material, Mass, size, ... —
+// are read once, when the world is built. The scenario's values and the job's overrides that set them are
+// therefore applied before the build as well as after it: else an override of the floor's material would change
+// the repository but not the floor (a sweep over floor materials would sweep nothing).
+void ApplyStructureValues(const std::vector<ValueAssignment>& assignments, VariableRepository& values) {
+  std::vector<ValueAssignment> structure;
+  for (const ValueAssignment& assignment : assignments) {
+    if (assignment.path.starts_with("/Sim/") && values.Find(assignment.path) != nullptr) {
+      structure.push_back(assignment);
+    }
+  }
+  ValueFile::ApplyAssignments(structure, values);
+}
+
+// A fresh world from the scenario's environment with the scenario's values and the job's overrides applied.
+void BuildWorld(const EvaluationRequest& request, scene::Simulation& simulation) {
+  simulation.LoadEnvironment(EnvironmentOf(request.scenario));
+  ApplyStructureValues(request.scenario.values, simulation.repository());
+  ApplyStructureValues(request.overrides, simulation.repository());
+  simulation.Build();
+  ValueFile::ApplyAssignments(request.scenario.values, simulation.repository());
+  ValueFile::ApplyAssignments(request.overrides, simulation.repository());
+}
+
 // Everything a set's run needs, built and configured; throws InputError for bad input.
 struct SetRun {
   scene::Simulation simulation;
@@ -58,10 +82,7 @@ struct SetRun {
 void Configure(const EvaluationRequest& request, const scene::ParameterSet* set, SetRun& run, SetOutcome& outcome) {
   const scene::Scenario& scenario = request.scenario;
   scene::Simulation& simulation = run.simulation;
-  simulation.LoadEnvironment(EnvironmentOf(scenario));
-  simulation.Build();
-  ValueFile::ApplyAssignments(scenario.values, simulation.repository());
-  ValueFile::ApplyAssignments(request.overrides, simulation.repository());
+  BuildWorld(request, simulation);
   if (set != nullptr) {
     if (set->parameter_file >= 0) {
       const scene::NamedParameterFile& file = scenario.randomisation.parameter_files[set->parameter_file];
@@ -164,10 +185,7 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
 // The sets to run: drawn against the nominal world (scenario values and overrides applied).
 std::vector<scene::ParameterSet> DrawSets(const EvaluationRequest& request) {
   scene::Simulation nominal;
-  nominal.LoadEnvironment(EnvironmentOf(request.scenario));
-  nominal.Build();
-  ValueFile::ApplyAssignments(request.scenario.values, nominal.repository());
-  ValueFile::ApplyAssignments(request.overrides, nominal.repository());
+  BuildWorld(request, nominal);
   // A missing agent draws no motor angles here and fails in Configure, with the scenario's field named.
   const int agent = nominal.FindAgent(request.scenario.agent);
   const std::vector<aseries::MorphologyMotor> no_motors;

@@ -89,6 +89,31 @@ TEST_F(BatchInputTest, SweepJobsCarryThePointAsOverridesThatReadBackExactly) {
   EXPECT_EQ(jobs[2].extra["point"], 1);
 }
 
+TEST_F(BatchInputTest, ACategoryTravelsAsItsNameAndPassesTheChecks) {
+  const ScenarioInput input = Scenario();
+  const std::vector<SweepPoint> points = {{{"/Sim/Floor/Material", SweepValue("Carpet", 1)}}};
+  const std::vector<PlannedJob> jobs = PlanSweepJobs(input, DefaultGenome(input), points, {});
+  ASSERT_EQ(jobs.size(), 1u);
+  EXPECT_EQ(jobs[0].job.overrides(0).value(), "Carpet");
+  EXPECT_EQ(jobs[0].extra["params"]["/Sim/Floor/Material"], "Carpet");
+  EXPECT_NO_THROW(CheckJobs(input, {DefaultGenome(input)}, jobs));
+  // A value the repository cannot read for its path is caught before submission, as for numbers.
+  const std::vector<SweepPoint> bad = {{{"/AngularMotor/PID/Proportional", SweepValue("fast", 0)}}};
+  const std::vector<PlannedJob> bad_jobs = PlanSweepJobs(input, DefaultGenome(input), bad, {});
+  EXPECT_THAT(InputErrorOf([&] { CheckJobs(input, {DefaultGenome(input)}, bad_jobs); }),
+              HasSubstr("/AngularMotor/PID/Proportional"));
+}
+
+// The documented robustness example (docs/batch.md) sweeps the gain, the floor friction and the floor's material.
+TEST_F(BatchInputTest, TheRobustnessExampleAcceptsItsSweep) {
+  const ScenarioInput input = LoadScenario(ORCS_SOURCE_DIR "/scenarios/examples/swing_robustness.json");
+  const std::vector<SweepPoint> points = {{{"/AngularMotor/PID/Proportional", 10.0},
+                                           {"/Simulation/ODE/FrictionScaling", 1.5},
+                                           {"/Sim/Floor/Material", SweepValue("Carpet", 2)}}};
+  const std::vector<Genome> genomes = {DefaultGenome(input)};
+  EXPECT_NO_THROW(CheckJobs(input, genomes, PlanSweepJobs(input, genomes[0], points, {})));
+}
+
 TEST_F(BatchInputTest, ASweptPathTheRandomisationDrawsAbsolutelyIsRejected) {
   const ScenarioInput input = Scenario(R"({
     "controller": {"type": "oscillator", "joints": []}, "fitness": {"terms": [{"type": "energy"}]},

@@ -61,5 +61,52 @@ TEST(SweepGridTest, RejectsAPathSweptTwiceAndGridsTooLarge) {
               HasSubstr("more than 5000 points"));
 }
 
+TEST(SweepGridTest, ParsesAListOfCategories) {
+  const SweepAxis axis = ParseSweepAxis("/Sim/Floor/Material=PVC,Wood,Carpet");
+  EXPECT_TRUE(axis.categorical());
+  EXPECT_EQ(axis.categories, (std::vector<std::string>{"PVC", "Wood", "Carpet"}));
+  EXPECT_EQ(axis.steps, 3);
+  EXPECT_EQ(axis.GridValue(1), SweepValue("Wood", 1));
+  EXPECT_EQ(axis.GridValue(1).OverrideText(), "Wood");
+  EXPECT_EQ(ParseSweepAxis("/Flag=true,false").categories.size(), 2u);  // any values the repository reads
+  EXPECT_FALSE(ParseSweepAxis("/X=1:2:3").categorical());
+  EXPECT_EQ(ParseSweepAxis("/X=1:2:3").GridValue(2).OverrideText(), "2");
+}
+
+TEST(SweepGridTest, AGridOverNumbersAndCategoriesCarriesTheCategoryNames) {
+  const std::vector<SweepPoint> points =
+      SweepGrid({ParseSweepAxis("/A=0:1:2"), ParseSweepAxis("/Sim/Floor/Material=Wood,Carpet")});
+  ASSERT_EQ(points.size(), 4u);
+  EXPECT_EQ(points[1][1].second.text, "Carpet");
+  EXPECT_EQ(points[1][1].second.number, 1);
+  EXPECT_EQ(points[2][0].second.number, 1);
+  EXPECT_EQ(points[2][1].second.text, "Wood");
+}
+
+TEST(SweepGridTest, RejectsBadCategoriesNamingTheOption) {
+  EXPECT_THAT(InputErrorOf([] { ParseSweepAxis("/Sim/Floor/Material=PVC,Wod"); }),
+              HasSubstr("--param '/Sim/Floor/Material=PVC,Wod': 'Wod' is not a material; expected one of PlasticsWhite, "
+                        "PlasticsGray, ABS, Latex, PVC, Wood, Carpet, Default, Light, Custom1, Custom2"));
+  EXPECT_NO_THROW(ParseSweepAxis("/Sim/Box/Material=wood")) << "material names are case-insensitive, as in the table";
+  EXPECT_THAT(InputErrorOf([] { ParseSweepAxis("/M=a,,b"); }), HasSubstr("--param '/M=a,,b': expected a list"));
+  EXPECT_THAT(InputErrorOf([] { ParseSweepAxis("/M="); }), HasSubstr("without empty ones"));
+  EXPECT_THAT(InputErrorOf([] { ParseSweepAxis("/M=a,b,a"); }), HasSubstr("the value 'a' is listed twice"));
+}
+
+TEST(SweepGridTest, LatinHypercubeAxesAreIntervalsOrCategories) {
+  const SweepAxis axis = ParseSweepAxis("/AngularMotor/PID/Proportional=10:30", SweepSampling::kLatinHypercube);
+  EXPECT_EQ(axis.low, 10);
+  EXPECT_EQ(axis.high, 30);
+  EXPECT_EQ(axis.steps, 0);
+  EXPECT_TRUE(ParseSweepAxis("/Sim/Floor/Material=PVC,Wood", SweepSampling::kLatinHypercube).categorical());
+  const auto lhs_error = [](const std::string& text) {
+    return InputErrorOf([&] { ParseSweepAxis(text, SweepSampling::kLatinHypercube); });
+  };
+  EXPECT_THAT(lhs_error("/X=1:2:3"), HasSubstr("--param '/X=1:2:3': expected LOW:HIGH after '=' for --sample lhs"));
+  EXPECT_THAT(lhs_error("/X=2:1"), HasSubstr("--param '/X=2:1': LOW 2 is above HIGH 1"));
+  EXPECT_THAT(lhs_error("/X=1:inf"), HasSubstr("HIGH expected a finite number"));
+  EXPECT_THAT(lhs_error("/X"), HasSubstr("--param '/X': expected PATH=LOW:HIGH or PATH=V1,V2,..."));
+}
+
 }  // namespace
 }  // namespace orcs::batch

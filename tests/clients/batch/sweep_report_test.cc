@@ -73,5 +73,18 @@ TEST_F(SweepReportTest, WritesACsvThatReadsBack) {
             "20,,,,0,2\n");
 }
 
+TEST(SweepReportCategoriesTest, CategoriesAppearByNameInTheTableAndTheCsv) {
+  test_support::TempDir dir;
+  const std::vector<SweepAxis> axes = {ParseSweepAxis("/Sim/Floor/Material=Wood,Carpet")};
+  const std::vector<SweepRow> rows =
+      SweepRows(SweepGrid(axes), {Planned("p0", 0), Planned("p1", 1)}, {Result("p0", 0.5), Result("p1", -1.0)});
+  EXPECT_THAT(SweepTable(axes, rows), HasSubstr("Carpet"));
+  WriteSweepCsv(dir.path().string(), axes, rows);
+  EXPECT_EQ(dir.Read("sweep.csv"),
+            "/Sim/Floor/Material,fitness,min_fitness,max_fitness,ok,jobs\n"
+            "Wood,0.5,0.5,0.5,1,1\n"
+            "Carpet,-1,-1,-1,1,1\n");
+}
+
 }  // namespace
 }  // namespace orcs::batch

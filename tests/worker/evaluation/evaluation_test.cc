@@ -168,5 +168,27 @@ TEST(EvaluationTest, UnknownOverridePathIsInvalidInput) {
   EXPECT_THAT(outcome.message, HasSubstr("/AngularMotor/Nope"));
 }
 
+// The floor's material is read when the world is built; an override of it must reach the floor, not only the
+// repository (a sweep over floor materials depends on it).
+TEST(EvaluationTest, AFloorMaterialOverrideChangesTheFloor) {
+  const auto run = [](const std::string& material, bool as_scenario_value) {
+    EvaluationRequest request = Request("swing_oscillator.json", kSwingGenome, 5);
+    request.scenario.randomisation.sets = 1;
+    const ValueAssignment assignment{"/Sim/Floor/Material", material, "test", 0};
+    if (material.empty()) return Evaluate(request);
+    (as_scenario_value ? request.scenario.values : request.overrides).push_back(assignment);
+    return Evaluate(request);
+  };
+  const EvaluationOutcome nominal = run("", false);
+  const EvaluationOutcome pvc = run("PVC", false);  // the default floor
+  const EvaluationOutcome ice = run("Light", false);  // no friction against anything
+  const EvaluationOutcome ice_by_scenario = run("Light", true);
+  ASSERT_EQ(nominal.status, EvaluationStatus::kOk) << nominal.message;
+  ASSERT_EQ(ice.status, EvaluationStatus::kOk) << ice.message;
+  EXPECT_EQ(pvc.sets[0].terms, nominal.sets[0].terms);
+  EXPECT_NE(ice.sets[0].terms, nominal.sets[0].terms);
+  EXPECT_EQ(ice_by_scenario.sets[0].terms, ice.sets[0].terms);
+}
+
 }  // namespace
 }  // namespace orcs::evaluation
