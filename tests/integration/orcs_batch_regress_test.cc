@@ -67,6 +67,10 @@ class OrcsBatchRegressTest : public ::testing::Test {
         continue;
       }
       entry["scenario"] = (fs::path(kShipped) / entry["scenario"].get<std::string>()).lexically_normal().string();
+      const nlohmann::json genome = entry.value("genome", nlohmann::json());
+      if (genome.is_string() && genome.get<std::string>().starts_with("@")) {  // "@FILE", relative to the suite
+        entry["genome"] = "@" + (fs::path(kShipped) / genome.get<std::string>().substr(1)).lexically_normal().string();
+      }
       cases.push_back(entry);
     }
     suite["cases"] = cases;
