@@ -15,13 +15,12 @@
 #include <functional>
 #include <map>
 #include <memory>
-#include <string>
-#include <utility>
-#include <vector>
-
 #include <pagmo/problem.hpp>
 #include <pagmo/s11n.hpp>
 #include <pagmo/types.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace orcs::evolve {
 
@@ -34,11 +33,11 @@ struct GenerationCache {
   /// Evaluates decision vectors as one batch; returns one objective (to minimise) per vector, in order.
   using Evaluator = std::function<std::vector<double>(const std::vector<pagmo::vector_double>&)>;
 
-  Mode mode = Mode::kLookup;                        ///< current pass
-  std::vector<pagmo::vector_double> recorded;      ///< asked for in record mode, in order, without repeats
-  std::map<pagmo::vector_double, double> known;    ///< evaluated vectors → objective
-  Evaluator evaluate;                              ///< the batch back end (the broker)
-  std::size_t misses = 0;                          ///< lookups evaluated alone because they were not recorded
+  Mode mode = Mode::kLookup;                     ///< current pass
+  std::vector<pagmo::vector_double> recorded;    ///< asked for in record mode, in order, without repeats
+  std::map<pagmo::vector_double, double> known;  ///< evaluated vectors → objective
+  Evaluator evaluate;                            ///< the batch back end (the broker)
+  std::size_t misses = 0;                        ///< lookups evaluated alone because they were not recorded
 
   /// Evaluates the recorded vectors as one batch, files them in `known` and clears `recorded`.
   void EvaluateRecorded();
@@ -61,13 +60,13 @@ class BatchProblem {
 
   template <typename Archive>
   void serialize(Archive& archive, unsigned /*version*/) {
-    archive & dimension_;  // the cache is this run's, re-attached after loading
+    archive& dimension_;  // the cache is this run's, re-attached after loading
   }
 
  private:
   std::vector<double> Answer(const std::vector<pagmo::vector_double>& xs) const;
 
-  std::size_t dimension_ = 1;              ///< genes
+  std::size_t dimension_ = 1;               ///< genes
   std::shared_ptr<GenerationCache> cache_;  ///< shared with Evolution
 };
 

@@ -56,7 +56,8 @@ pagmo::algorithm MakeAlgorithm(const EvolutionSettings& settings) {
 
 void CheckResumable(Algorithm algorithm, const std::string& source) {
   if (algorithm != Algorithm::kPsoGen) return;
-  throw InputError(source + ": a pso_gen run cannot be resumed: pagmo 2.18 does not save the particles' velocities, "
+  throw InputError(source +
+                   ": a pso_gen run cannot be resumed: pagmo 2.18 does not save the particles' velocities, "
                    "so the continued search would differ from an uninterrupted run; start it afresh (or evolve with "
                    "cmaes, xnes, sga or de)");
 }

@@ -9,11 +9,10 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
-#include <string>
-#include <vector>
-
 #include <pagmo/algorithm.hpp>
 #include <pagmo/population.hpp>
+#include <string>
+#include <vector>
 
 #include "clients/evolve/batch_problem.h"
 #include "clients/evolve/evolution_settings.h"
@@ -31,7 +30,7 @@ using GenomeEvaluator = std::function<std::vector<Evaluation>(const std::vector<
 
 /// One generation, as fitness.csv lists it.
 struct GenerationRecord {
-  int generation = 0;          ///< 0 = the initial population
+  int generation = 0;           ///< 0 = the initial population
   std::size_t evaluations = 0;  ///< genomes evaluated in this generation
   std::size_t failed = 0;       ///< of them, jobs that did not run ok (scored as the worst possible)
   double best = 0.0;            ///< highest fitness of this generation's ok evaluations (NaN when none)

@@ -39,9 +39,15 @@ double NumberOrNaN(const JsonNode& node, const std::string& key) {
 }
 
 nlohmann::ordered_json RecordJson(const GenerationRecord& r) {
-  return {{"generation", r.generation}, {"evaluations", r.evaluations}, {"failed", r.failed},
-          {"best", NumberOrNull(r.best)}, {"mean", NumberOrNull(r.mean)},   {"median", NumberOrNull(r.median)},
-          {"worst", NumberOrNull(r.worst)}, {"best_so_far", NumberOrNull(r.best_so_far)}, {"seconds", r.seconds}};
+  return {{"generation", r.generation},
+          {"evaluations", r.evaluations},
+          {"failed", r.failed},
+          {"best", NumberOrNull(r.best)},
+          {"mean", NumberOrNull(r.mean)},
+          {"median", NumberOrNull(r.median)},
+          {"worst", NumberOrNull(r.worst)},
+          {"best_so_far", NumberOrNull(r.best_so_far)},
+          {"seconds", r.seconds}};
 }
 
 GenerationRecord ReadRecord(const JsonNode& node) {
@@ -104,15 +110,14 @@ EvolutionCheckpoint CheckpointOf(const Evolution& evolution, nlohmann::ordered_j
 void WriteCheckpoint(const std::string& folder, const EvolutionCheckpoint& checkpoint) {
   nlohmann::ordered_json history = nlohmann::ordered_json::array();
   for (const GenerationRecord& record : checkpoint.history) history.push_back(RecordJson(record));
-  const nlohmann::ordered_json document = {
-      {"format", kFormat},
-      {"fingerprint", checkpoint.fingerprint},
-      {"champion",
-       {{"genome", checkpoint.champion.genome},
-        {"fitness", checkpoint.champion.fitness},
-        {"generation", checkpoint.champion.generation}}},
-      {"history", history},
-      {"pagmo_state", checkpoint.pagmo_state}};
+  const nlohmann::ordered_json document = {{"format", kFormat},
+                                           {"fingerprint", checkpoint.fingerprint},
+                                           {"champion",
+                                            {{"genome", checkpoint.champion.genome},
+                                             {"fitness", checkpoint.champion.fitness},
+                                             {"generation", checkpoint.champion.generation}}},
+                                           {"history", history},
+                                           {"pagmo_state", checkpoint.pagmo_state}};
   AtomicFile file((std::filesystem::path(folder) / "checkpoint.json").string());
   file.stream() << document.dump(1) << "\n";
   file.Commit();

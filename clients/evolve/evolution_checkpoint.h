@@ -4,10 +4,9 @@
 // refuses one made for another scenario or other settings, before anything is submitted.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "clients/batch/batch_input.h"
 #include "clients/evolve/evolution.h"

@@ -29,8 +29,8 @@ void WriteFitnessCsv(const std::string& folder, const std::vector<GenerationReco
   out << "generation,evaluations,failed,best,mean,median,worst,best_so_far,seconds\n";
   for (const GenerationRecord& r : history) {
     out << r.generation << ',' << r.evaluations << ',' << r.failed << ',' << Field(r.best) << ',' << Field(r.mean)
-        << ',' << Field(r.median) << ',' << Field(r.worst) << ',' << Field(r.best_so_far) << ','
-        << Field(r.seconds) << '\n';
+        << ',' << Field(r.median) << ',' << Field(r.worst) << ',' << Field(r.best_so_far) << ',' << Field(r.seconds)
+        << '\n';
   }
   file.Commit();
 }
@@ -45,8 +45,8 @@ void WriteBestGenome(const std::string& folder, const Champion& champion) {
 std::string GenerationLine(const GenerationRecord& record, int generations) {
   std::ostringstream line;
   line << "generation " << record.generation << "/" << generations << ": best " << Short(record.best) << ", mean "
-       << Short(record.mean) << " (" << record.evaluations << " jobs, " << record.failed << " failed, "
-       << std::fixed << std::setprecision(1) << record.seconds << " s); best so far " << Short(record.best_so_far);
+       << Short(record.mean) << " (" << record.evaluations << " jobs, " << record.failed << " failed, " << std::fixed
+       << std::setprecision(1) << record.seconds << " s); best so far " << Short(record.best_so_far);
   return line.str();
 }
 

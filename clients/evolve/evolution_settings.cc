@@ -52,7 +52,8 @@ std::size_t GenomeLength(const batch::ScenarioInput& input) {
   const control::ControlTarget target = evaluation::ControlTargetOf(input.scenario);
   const int length = control::CheckController(input.scenario.controller, target, input.path);
   if (length <= 0) {
-    throw InputError(input.path + ": field 'controller' has no free genes to evolve (a keyframe player, or a "
+    throw InputError(input.path +
+                     ": field 'controller' has no free genes to evolve (a keyframe player, or a "
                      "network without null weights or biases)");
   }
   return static_cast<std::size_t>(length);
@@ -74,7 +75,8 @@ void ReadSection(const JsonNode& section, EvolutionSettings& settings) {
   if (section.Has("sigma")) {
     const JsonNode node = section.At("sigma");
     settings.sigma = node.Number("a step > 0 and ≤ 1, in units of each gene's range");
-    if (!(settings.sigma > 0.0 && settings.sigma <= 1.0)) node.Fail("a step > 0 and ≤ 1, in units of each gene's range");
+    if (!(settings.sigma > 0.0 && settings.sigma <= 1.0))
+      node.Fail("a step > 0 and ≤ 1, in units of each gene's range");
   }
   if (section.Has("validate")) {
     const JsonNode node = section.At("validate");
@@ -146,7 +148,8 @@ int MinimumPopulation(Algorithm algorithm) {
 EvolutionSettings ReadEvolutionSettings(const batch::ScenarioInput& input, const EvolutionOverrides& overrides) {
   const nlohmann::json& section = input.scenario.evolution;
   if (section.is_null()) {
-    throw InputError(input.path + ": no field 'evolution': orcs-batch evolve needs at least its \"bounds\" "
+    throw InputError(input.path +
+                     ": no field 'evolution': orcs-batch evolve needs at least its \"bounds\" "
                      "(docs/evolution.md)");
   }
   const JsonNode node(section, "evolution", input.path);

@@ -24,7 +24,7 @@ enum class Algorithm { kCmaes, kXnes, kSga, kDe, kPsoGen };
 /// Everything that decides the search; the checkpoint's fingerprint holds all of it.
 struct EvolutionSettings {
   Algorithm algorithm = Algorithm::kCmaes;  ///< "algorithm" / --algorithm
-  int population = 16;                     ///< "population" / --population: genomes per generation
+  int population = 16;                      ///< "population" / --population: genomes per generation
   int generations = 30;                     ///< "generations" / --generations: generations after the first
   std::uint64_t seed = 1;                   ///< "seed" / --seed: the jobs' seed (parameter sets) and the optimiser's
   double sigma = 0.3;                       ///< "sigma": CMA-ES/xNES initial step, in units of each gene's range
@@ -35,11 +35,11 @@ struct EvolutionSettings {
 
 /// Command-line values that replace the scenario's ("unset" ones keep it).
 struct EvolutionOverrides {
-  std::string algorithm;     ///< "" = unset
-  int population = 0;        ///< 0 = unset
-  int generations = -1;      ///< < 0 = unset
-  std::int64_t seed = -1;    ///< < 0 = unset
-  int validate = -1;         ///< < 0 = unset
+  std::string algorithm;   ///< "" = unset
+  int population = 0;      ///< 0 = unset
+  int generations = -1;    ///< < 0 = unset
+  std::int64_t seed = -1;  ///< < 0 = unset
+  int validate = -1;       ///< < 0 = unset
 };
 
 /// "cmaes", "xnes", "sga", "de", "pso_gen" (the names docs/evolution.md uses).

@@ -44,8 +44,8 @@ std::string OutputFolder(const batch::BatchOptions& options, const batch::Scenar
   if (!options.resume.empty()) {
     return options.resume;
   }
-  const std::string folder = options.out.empty() ? (fs::path("runs") / (input.scenario.name + "-evolve")).string()
-                                                 : options.out;
+  const std::string folder =
+      options.out.empty() ? (fs::path("runs") / (input.scenario.name + "-evolve")).string() : options.out;
   if (fs::exists(fs::path(folder) / "checkpoint.json")) {
     throw InputError(folder + " holds an evolution run already (checkpoint.json): continue it with --resume " + folder +
                      ", or give another --out");
@@ -114,8 +114,8 @@ bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, co
                  const Champion& champion, double time_limit_seconds, const std::string& folder) {
   std::vector<v1::Job> jobs = JobsOf(input, {champion.genome}, settings.seed, time_limit_seconds);
   for (int v = 1; v <= settings.validate; ++v) {
-    std::vector<v1::Job> more = JobsOf(input, {champion.genome}, settings.seed + static_cast<std::uint64_t>(v),
-                                       time_limit_seconds);
+    std::vector<v1::Job> more =
+        JobsOf(input, {champion.genome}, settings.seed + static_cast<std::uint64_t>(v), time_limit_seconds);
     jobs.push_back(std::move(more.front()));
   }
   std::vector<v1::Result> results = runner.Run(std::move(jobs));
@@ -139,8 +139,9 @@ bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, co
       lowest = std::min(lowest, f);
     }
     std::cout << "orcs-batch: on " << validation.size() << " fresh seeds (" << settings.seed + 1 << "…"
-              << settings.seed + settings.validate << "): mean fitness " << text::FormatDouble(sum / static_cast<double>(validation.size()))
-              << ", lowest " << text::FormatDouble(lowest) << "\n";
+              << settings.seed + settings.validate << "): mean fitness "
+              << text::FormatDouble(sum / static_cast<double>(validation.size())) << ", lowest "
+              << text::FormatDouble(lowest) << "\n";
   }
   return same;
 }
