@@ -248,13 +248,15 @@ array=$(sbatch --parsable --array=1-"$workers" --time=10 --output="$tmp/log/arra
   --export="ALL,ORCS_BIN=$bin" "$src/scripts/slurm/orcs-workers.sbatch" "${worker_endpoint#workers=}") ||
   fail "sbatch --array refused orcs-workers.sbatch"
 array=${array%%;*}
+# Every array worker joins before the batch goes in, so that each gets jobs (a 10-job batch can end before a late
+# worker arrives).
+all_joined() { [ "$(grep -c ' joined with credit' "$tmp/log/broker.log")" = "$workers" ]; }
+await 30 "all $workers array workers joined the broker" all_joined ||
+  fail "expected $workers array workers to join the broker: $(grep joined "$tmp/log/broker.log")"
 timeout 300 "$bin/orcs-batch" submit --broker "${clients#clients=}" "$scenario" --jobs 10 --seed 1 \
   --out "$tmp/out/array" >"$tmp/log/array-batch.log" 2>&1 ||
   fail "the batch on the array's workers failed: $(tail -n 3 "$tmp/log/array-batch.log")"
 "${compare[@]}" "$tmp/out/array/results.jsonl" --seeds 10 --workers "$workers" || fail "the array's results differ"
-all_joined() { [ "$(grep -c ' joined with credit' "$tmp/log/broker.log")" = "$workers" ]; }
-await 30 "all $workers array workers joined the broker" all_joined ||
-  fail "expected $workers array workers to join the broker: $(grep joined "$tmp/log/broker.log")"
 scancel "$array"
 array_gone() { [ -z "$(squeue -h -j "$array" 2>/dev/null)" ] && no_orcs_worker_left; }
 no_orcs_worker_left() {
