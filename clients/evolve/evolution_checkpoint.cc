@@ -8,6 +8,7 @@
 
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
+#include "model/core/fnv1a64.h"
 #include "model/core/json_node.h"
 #include "model/core/text_file.h"
 
@@ -16,16 +17,11 @@ namespace {
 
 constexpr const char* kFormat = "orcs evolve checkpoint 1";
 
-// FNV-1a, 64 bits: a stable digest of the resolved scenario (what the jobs carry).
+// A stable digest of the resolved scenario (what the jobs carry).
 std::string Digest(const std::string& text) {
-  std::uint64_t hash = 14695981039346656037ull;
-  for (const unsigned char c : text) {
-    hash ^= c;
-    hash *= 1099511628211ull;
-  }
-  std::ostringstream hex;
-  hex << std::hex << hash;
-  return hex.str();
+  Fnv1a64 fnv;
+  fnv.AddBytes(text);
+  return fnv.Hex();
 }
 
 // NaN (a generation without ok jobs) is stored as null.
