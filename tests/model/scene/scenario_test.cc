@@ -67,7 +67,10 @@ TEST(ScenarioTest, BadInputNamesFileAndField) {
   };
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duratoin", 3), "s.json"); }),
             "s.json: field 'duratoin' expected no such field (allowed: name, environment, value_files, values, "
-            "duration, agent, controller, fitness, randomisation, log, genome, fault), found 'duratoin'");
+            "duration, agent, controller, fitness, randomisation, log, genome, fault, evolution), found 'duratoin'");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("evolution", {1, 2}), "s.json"); }),
+            "s.json: field 'evolution' expected an object (orcs-batch evolve's settings), found an array of 2");
+  EXPECT_EQ(ParseScenario(with("evolution", {{"bounds", {-1, 1}}}), "s.json").evolution["bounds"][1], 1);
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("genome", 5), "s.json"); }),
             "s.json: field 'genome' expected an array of numbers or a network object, found the number 5");
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duration", "long"), "s.json"); }),
