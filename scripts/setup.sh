@@ -20,13 +20,22 @@ packages=(
   slurm-wlm munge       # tests/integration/slurm: a private single-node Slurm runs scripts/slurm/*.sbatch
   clang-14 libclang-rt-14-dev  # libFuzzer and the sanitizers for scripts/fuzz.sh (tests/fuzz/)
   python3-zmq python3-protobuf  # clients/python: the Python BatchClient (pyzmq, protobuf 3.21 like protoc)
+  zlib1g-dev            # recordings (*.orcsrec): one zlib stream of frames (docs/recording.md)
+  libcpp-httplib-dev    # orcs-view's HTTP server (viewer/)
+  libre2-dev            # linear-time regular expressions for user-supplied patterns (the viewer's search)
+  chromium              # orcs-view --render (headless, WebGL through SwiftShader) and tests/browser/
+  ffmpeg                # orcs-view --render: PNG frames into a GIF or MP4 clip
 )
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
+# The viewer page's scripts (three.js, uPlot) and the browser tests' driver come from pinned npm packages.
+command -v npm >/dev/null || missing+=(nodejs npm)
+if [ ${#missing[@]} -eq 0 ]; then
+  exec "$(dirname "$0")/setup_web.sh"
+fi
 
 echo "setup: installing ${missing[*]}"
 sudo_cmd=()
@@ -34,3 +43,4 @@ sudo_cmd=()
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+"$(dirname "$0")/setup_web.sh"
