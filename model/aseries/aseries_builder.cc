@@ -14,7 +14,8 @@ namespace {
 constexpr char kSource[] = "A-Series placement";
 
 physics::GeomDescription BoxGeom(std::string name, const Eigen::Vector3d& size, const Eigen::Vector3d& offset,
-                                 const Eigen::Quaterniond& rotation, std::string material, double mass) {
+                                 const Eigen::Quaterniond& rotation, std::string material, double mass,
+                                 const Rgba& color) {
   physics::GeomDescription geom;
   geom.name = std::move(name);
   geom.shape = physics::Shape::kBox;
@@ -23,6 +24,7 @@ physics::GeomDescription BoxGeom(std::string name, const Eigen::Vector3d& size, 
   geom.rotation = rotation;
   geom.material = std::move(material);
   geom.mass = mass;
+  geom.rgba = color;
   return geom;
 }
 
@@ -73,7 +75,7 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
     out.position = place.Point(body.centre);
     out.orientation = place.rotation;
     physics::GeomDescription main_box = BoxGeom("", body.size, Eigen::Vector3d::Zero(),
-                                                Eigen::Quaterniond::Identity(), body.material, 0.0);
+                                                Eigen::Quaterniond::Identity(), body.material, 0.0, body.color);
     main_box.collides = !body.penetrable;  // the pelvis box (quirk 3)
     out.geoms.push_back(std::move(main_box));
     const int index = static_cast<int>(description.bodies.size());
@@ -98,7 +100,8 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
   for (const MorphologyGeom& geom : morphology.geoms) {
     physics::BodyDescription& host = description.bodies[find_host(geom.host, "geom '" + geom.name + "'")];
     host.geoms.push_back(
-        BoxGeom(geom.name, geom.size, geom.offset, Eigen::Quaterniond::Identity(), geom.material, geom.mass));
+        BoxGeom(geom.name, geom.size, geom.offset, Eigen::Quaterniond::Identity(), geom.material, geom.mass,
+                geom.color));
   }
 
   for (const MorphologyBoard& board : morphology.boards) {
@@ -114,7 +117,8 @@ ASeriesLayout AddASeries(const ASeriesMorphology& morphology, const ASeriesPlace
     out.axis1 = rotation * board.axis1;
     out.axis2 = rotation * board.axis2;
     layout.boards.push_back(std::move(out));
-    host.geoms.push_back(BoxGeom(board.name, board.size, board.position, rotation, board.material, board.mass));
+    host.geoms.push_back(BoxGeom(board.name, board.size, board.position, rotation, board.material, board.mass,
+                                   board.color));
   }
 
   // Motorised hinges. The anchors are lifted with the bodies (quirk 1), so every axis sits where NERD's

@@ -1,7 +1,7 @@
 #include "model/core/variable_repository.h"
 
 #include <cassert>
-#include <regex>
+#include <re2/re2.h>
 
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -53,15 +53,21 @@ void VariableRepository::Set(std::string_view path, std::string_view text) {
 }
 
 std::vector<int> VariableRepository::Match(std::string_view regular_expression) const {
-  std::regex pattern;
-  try {
-    pattern = std::regex(std::string(regular_expression), std::regex::ECMAScript | std::regex::optimize);
-  } catch (const std::regex_error& error) {
-    throw InputError("invalid regular expression '" + std::string(regular_expression) + "': " + error.what());
+  // RE2 runs in time linear in the path's length whatever the pattern, so that no user's expression can hang a
+  // simulator, a gateway or a viewer ((.*)*(.*)*X takes std::regex minutes).
+  if (regular_expression.size() > kMaxPatternLength) {
+    throw InputError("regular expression of " + std::to_string(regular_expression.size()) +
+                     " characters: at most " + std::to_string(kMaxPatternLength) + " are accepted");
+  }
+  RE2::Options options;
+  options.set_log_errors(false);
+  const RE2 pattern(re2::StringPiece(regular_expression.data(), regular_expression.size()), options);
+  if (!pattern.ok()) {
+    throw InputError("invalid regular expression '" + std::string(regular_expression) + "': " + pattern.error());
   }
   std::vector<int> ids;
   for (int id = 0; id < size(); ++id) {
-    if (std::regex_match(entries_[id].path, pattern)) ids.push_back(id);
+    if (RE2::FullMatch(entries_[id].path, pattern)) ids.push_back(id);
   }
   return ids;
 }

@@ -41,9 +41,13 @@ class VariableRepository {
   /// Parses `text` into the value at `path`. Throws InputError naming the path and what was expected.
   void Set(std::string_view path, std::string_view text);
 
-  /// Ids of the values whose whole path matches the ECMAScript regular expression, in registration order.
-  /// Throws InputError for an invalid expression.
+  /// Ids of the values whose whole path matches the regular expression (RE2 syntax: the ECMAScript of the
+  /// original without backreferences and lookaround), in registration order. Throws InputError for an invalid
+  /// expression or one longer than kMaxPatternLength.
   std::vector<int> Match(std::string_view regular_expression) const;
+
+  /// The longest regular expression Match() takes, characters.
+  static constexpr std::size_t kMaxPatternLength = 1000;
 
   int size() const { return static_cast<int>(entries_.size()); }
   /// Id of a path, or -1.

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,9 @@ struct GeomDescription {
   std::string material = "Default";                            ///< material name (MaterialTable); unknown names use the fallback rule
   double mass = 0.0;  ///< kg this extra geom adds to its body (ignored for geoms[0], whose mass is the body's)
   bool collides = true;  ///< false: penetrable, never collides (the A-Series pelvis box)
+  /// Display colour red, green, blue, alpha, each 0…255 (MuJoCo's geom_rgba). Visual only: no engine reads it;
+  /// recordings carry it to the viewer.
+  std::array<int, 4> rgba = {255, 255, 255, 255};
 };
 
 /// A rigid body. Dynamic bodies move; static ones are fixed in the world (their geoms have no ODE body).

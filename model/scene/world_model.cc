@@ -35,6 +35,8 @@ physics::BodyDescription MakeBody(const ObjectDescription& object, const Variabl
   body.elasticity = values.Get(ObjectPath(name, "Elasticity")).as_double();
   physics::GeomDescription geom;
   geom.material = values.Get(ObjectPath(name, "Material")).as_string();
+  const Color color = values.Get(ObjectPath(name, "Color")).as_color();
+  geom.rgba = {color.r, color.g, color.b, color.a};
   if (object.type == ObjectType::kBox) {
     geom.shape = physics::Shape::kBox;
     geom.size = {PositiveValue(values, name, "Width", false), PositiveValue(values, name, "Height", false),

@@ -21,7 +21,7 @@
 #include "worker/osp/osp_protocol.h"
 #include "worker/osp/osp_server.h"
 #include "worker/osp/udp_socket.h"
-#include "worker/sim/world_setup.h"
+#include "model/scene/world_setup.h"
 
 namespace orcs::osp {
 namespace {
@@ -47,7 +47,7 @@ void Send(UdpSocket& socket, const DatagramWriter& writer, const Endpoint& to) {
 class ClientOfServerThread {
  public:
   ClientOfServerThread() : client_("127.0.0.1", 0) {
-    sim::SetUpWorld(simulation_, "", {}, {});
+    scene::SetUpWorld(simulation_, "", {}, {});
     simulation_.Reset(0);
     OspServerOptions options;
     options.port = 0;
@@ -107,7 +107,7 @@ BENCHMARK(BM_OspStepRoundTrip)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 void BM_SimulationStep(benchmark::State& state) {
   scene::Simulation simulation;
-  sim::SetUpWorld(simulation, "", {}, {});
+  scene::SetUpWorld(simulation, "", {}, {});
   simulation.Reset(0);
   int steps = 0;
   for (auto _ : state) {

@@ -12,6 +12,7 @@
 #include "model/core/random_stream.h"
 #include "model/core/text.h"
 #include "model/core/value_logger.h"
+#include "model/evaluation/recorder.h"
 #include "model/fitness/fitness_function.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/parameter_sets.h"
@@ -148,6 +149,12 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
                               "seed: " + std::to_string(request.seed), "parameter set: " + std::to_string(k)});
     run.logger->Sample(simulation.time());
   }
+  std::unique_ptr<Recorder> recorder;
+  if (request.record_set == k) {
+    recorder = std::make_unique<Recorder>(
+        simulation, RecordingSource{request.program, request.scenario.environment_name, request.scenario.name,
+                                    request.seed, k, request.genome});
+  }
   const double dt = simulation.StepDuration();
   const auto steps = static_cast<std::int64_t>(std::llround(request.scenario.duration / dt));
   const bool fault = request.inject_faults && request.scenario.fault.kind != scene::FaultInjection::Kind::kNone;
@@ -161,6 +168,7 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
     }
     run.fitness->Sample(simulation, dt);
     if (run.logger) run.logger->Sample(simulation.time());
+    if (recorder) recorder->Sample();
     if (i % kStepsPerClockCheck == 0 && Clock::now() > deadline) {
       outcome.status = EvaluationStatus::kTimeout;
       outcome.message = "time limit of " + text::FormatDouble(request.time_limit_seconds) +
@@ -180,6 +188,7 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
     run.logger->Finish();
     outcome.log_csv = run.logger->text();
   }
+  if (recorder) outcome.recording = recorder->Finish();
 }
 
 // The sets to run: drawn against the nominal world (scenario values and overrides applied).

@@ -30,6 +30,10 @@ struct EvaluationRequest {
   /// Whether the scenario's "fault" test hook is carried out. Only orcs-worker's sandboxed simulation process sets
   /// it (worker/job/sandbox_child.h): a fault anywhere else would take a user's program down with it.
   bool inject_faults = false;
+  /// Record parameter set `record_set`'s run (docs/recording.md) into SetOutcome::recording; −1 = record none.
+  /// Recording only reads the simulation: the outcome's numbers are the same bits either way.
+  int record_set = -1;
+  std::string program = "orcs";  ///< who runs the job, written into recordings
 };
 
 enum class EvaluationStatus { kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError };
@@ -46,6 +50,7 @@ struct SetOutcome {
   std::string message;                                  ///< why, when not ok
   double simulated_seconds = 0.0;                       ///< simulated time reached
   std::string log_csv;                                  ///< the logged values (scenario "log"), "" = none
+  std::string recording;                                ///< the run's recording file bytes, "" = not recorded
 };
 
 struct EvaluationOutcome {

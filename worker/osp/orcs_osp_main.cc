@@ -14,7 +14,7 @@
 #include "worker/cli_style.h"
 #include "worker/osp/odcp_server.h"
 #include "worker/osp/osp_server.h"
-#include "worker/sim/world_setup.h"
+#include "model/scene/world_setup.h"
 
 namespace {
 
@@ -74,7 +74,7 @@ int Serve(const OspOptions& options) {
   // The original's port values, so that a value file can set them as it could there.
   simulation.repository().Add("/UDPCommunication/ServerPort", 45454);
   simulation.repository().Add("/SimpleUdpMotorInterface/ServerPort", 45453);
-  orcs::sim::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
+  orcs::scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   simulation.Reset(0);
   orcs::osp::OspServerOptions server_options;
   server_options.bind_address = options.bind_address;

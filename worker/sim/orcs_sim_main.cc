@@ -13,13 +13,15 @@
 #include "model/core/text.h"
 #include "model/core/value_file.h"
 #include "model/core/value_logger.h"
+#include "model/evaluation/recorder.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
 #include "worker/cli_style.h"
+#include "worker/sim/gui_launch.h"
 #include "worker/sim/realtime.h"
 #include "worker/sim/scenario_run.h"
 #include "worker/sim/sim_options.h"
-#include "worker/sim/world_setup.h"
+#include "model/scene/world_setup.h"
 
 namespace orcs::sim {
 namespace {
@@ -143,7 +145,7 @@ void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
 
 int Run(const SimOptions& options) {
   scene::Simulation simulation;
-  SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
+  scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   simulation.Reset(options.seed);
   std::vector<control::KeyframePlayer> players = MakePlayers(options, simulation);
 
@@ -171,6 +173,11 @@ int Run(const SimOptions& options) {
     logger->Open(options.out, LogComments(options));
     logger->Sample(simulation.time());
   }
+  std::unique_ptr<evaluation::Recorder> recorder;
+  if (!options.record.empty()) {
+    recorder = std::make_unique<evaluation::Recorder>(
+        simulation, evaluation::RecordingSource{"orcs-sim", options.environment, "", options.seed, 0, nullptr});
+  }
   std::unique_ptr<RealtimeRunner> realtime;
   if (options.realtime) {
     realtime = std::make_unique<RealtimeRunner>(simulation, options.odcp_port, options.bind_address);
@@ -182,9 +189,11 @@ int Run(const SimOptions& options) {
     for (control::KeyframePlayer& player : players) player.Apply(simulation.time());
     if (simulation.Step() != scene::SimulationStatus::kOk) break;
     if (logger) logger->Sample(simulation.time());
+    if (recorder) recorder->Sample();
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (logger) logger->Finish();
+  if (recorder) evaluation::WriteRecording(options.record, recorder->Finish());
   PrintSummary(simulation, wall);
   if (simulation.status() != scene::SimulationStatus::kOk) {
     std::cerr << "orcs-sim: " << simulation.message() << "\n";
@@ -200,6 +209,7 @@ int main(int argc, char** argv) {
   const orcs::sim::ParsedOptions parsed = orcs::sim::ParseSimOptions(argc, argv);
   if (parsed.exit_code >= 0) return parsed.exit_code;
   try {
+    if (parsed.options.gui) return orcs::sim::LaunchGui(argv[0], parsed.options);
     if (!parsed.options.scenario.empty()) return orcs::sim::RunScenario(parsed.options);
     return orcs::sim::Run(parsed.options);
   } catch (const orcs::InputError& error) {

@@ -5,6 +5,7 @@
 #include "model/core/error.h"
 #include "model/core/json_node.h"
 #include "model/core/text_file.h"
+#include "model/evaluation/recorder.h"
 #include "worker/cli_style.h"
 #include "worker/evaluation/evaluation.h"
 #include "worker/job/job_translation.h"
@@ -29,8 +30,18 @@ int RunScenario(const SimOptions& options) {
   request.scenario = scene::ParseScenario(scene::ResolveScenarioFile(options.scenario), options.scenario);
   request.genome = GenomeOf(options, request.scenario);
   request.seed = options.seed;
+  request.program = "orcs-sim";
+  if (!options.record.empty()) request.record_set = options.record_set;
   const evaluation::EvaluationOutcome outcome = evaluation::Evaluate(request);
   if (outcome.status == evaluation::EvaluationStatus::kInvalidInput) throw InputError(outcome.message);
+  if (!options.record.empty()) {
+    if (options.record_set >= static_cast<int>(outcome.sets.size())) {
+      throw InputError("--record-set", 0, "the scenario has parameter sets 0…" +
+                                              std::to_string(outcome.sets.size() - 1) + ", found " +
+                                              std::to_string(options.record_set));
+    }
+    evaluation::WriteRecording(options.record, outcome.sets[options.record_set].recording);
+  }
   v1::Job job;
   job.set_job_id("orcs-sim");
   job.set_seed(options.seed);

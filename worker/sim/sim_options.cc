@@ -25,6 +25,14 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
                  "AGENT RECORD: play a keyframe record into the agent's inputs (repeatable, one per agent; "
                  "-play also accepted)")
       ->allow_extra_args(false);
+  app.add_option("--record", o.record,
+                 "write the run's recording (docs/recording.md) to this file, for orcs-view; with --scenario, "
+                 "parameter set --record-set's run");
+  app.add_option("--record-set", o.record_set, "with --scenario --record: the parameter set recorded (default 0)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--gui", o.gui,
+               "open the world in orcs-view's live mode (the original's GUI) instead of running headless "
+               "(-gui also accepted)");
   app.add_option("--print-values", o.print_values, "print matching repository values as path=value and exit");
   app.add_flag("--describe", o.describe, "print the bodies, joints and agents as JSON and exit");
   CLI::Option* scenario =
@@ -48,12 +56,15 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
     const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
                                !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
                                app.count("--duration") > 0 || o.realtime;
+    if (app.count("--record-set") > 0 && (o.scenario.empty() || o.record.empty())) {
+      throw CLI::ValidationError("--record-set", "needs --scenario and --record FILE");
+    }
     if (!o.scenario.empty() && world_options) {
       throw CLI::ValidationError("--scenario", "takes only --genome and --seed: the scenario gives the world, the "
                                                "duration and what to log, and runs as fast as it can");
     }
   };
-  parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port"}, validate);
+  parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port", "gui"}, validate);
   return parsed;
 }
 

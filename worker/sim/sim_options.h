@@ -18,6 +18,9 @@ struct SimOptions {
   std::string out;                               ///< --out FILE.csv: where the log goes
   /// -play AGENT RECORD...: keyframe records played into agents' inputs, driven by simulated time
   std::vector<std::pair<std::string, std::string>> play;
+  std::string record;                            ///< --record FILE: the run's recording ("" = none)
+  int record_set = 0;                            ///< --record-set K: the scenario's parameter set recorded
+  bool gui = false;                              ///< -gui: orcs-view --live on this world instead of a headless run
   std::string print_values;                      ///< --print-values REGEX: print matching values and exit
   bool describe = false;                         ///< --describe: print the world as JSON and exit
   std::string scenario;                          ///< --scenario FILE.json: evaluate one job and print its result

@@ -1,18 +1,18 @@
-#include "worker/sim/world_setup.h"
+#include "model/scene/world_setup.h"
 
 #include "model/core/value_file.h"
 #include "model/scene/environment_reader.h"
 
-namespace orcs::sim {
+namespace orcs::scene {
 
-void SetUpWorld(scene::Simulation& simulation, const std::string& environment_file,
+void SetUpWorld(Simulation& simulation, const std::string& environment_file,
                 const std::vector<std::string>& initial_value_files, const std::vector<std::string>& value_files) {
-  scene::EnvironmentDescription environment;
+  EnvironmentDescription environment;
   if (environment_file.empty()) {
     environment.source = "(default: one A-Series named Humanoid on the floor)";
-    environment.agents.push_back(scene::AgentDescription{});
+    environment.agents.push_back(AgentDescription{});
   } else {
-    environment = scene::EnvironmentReader::ReadFile(environment_file);
+    environment = EnvironmentReader::ReadFile(environment_file);
   }
   simulation.LoadEnvironment(environment);
   for (const std::string& file : initial_value_files) ValueFile::Apply(file, simulation.repository());
@@ -20,4 +20,4 @@ void SetUpWorld(scene::Simulation& simulation, const std::string& environment_fi
   for (const std::string& file : value_files) ValueFile::Apply(file, simulation.repository());
 }
 
-}  // namespace orcs::sim
+}  // namespace orcs::scene

@@ -1,0 +1,244 @@
+#include "viewer/live_session.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <random>
+
+#include "model/core/error.h"
+#include "model/core/value_file.h"
+#include "model/scene/world_setup.h"
+
+namespace orcs::viewer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr auto kControlSilence = std::chrono::seconds(10);  // a controller silent this long loses control
+constexpr auto kFastSlice = std::chrono::milliseconds(15);  // as fast as possible: steps between publications
+
+// 128 bits from the OS, as hex: the control token.
+std::string NewToken() {
+  std::random_device device;
+  std::string token;
+  static constexpr char kHex[] = "0123456789abcdef";
+  for (int i = 0; i < 32; ++i) token += kHex[device() & 15];
+  return token;
+}
+
+}  // namespace
+
+bool IsSafeFileName(const std::string& file, const char* extension) {
+  if (file.empty() || file.size() > 64 || !file.ends_with(extension) || file.find("..") != std::string::npos) {
+    return false;
+  }
+  return std::all_of(file.begin(), file.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-'; });
+}
+
+LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
+  scene::SetUpWorld(simulation_, options.environment, options.initial_value_files, options.value_files);
+  simulation_.Reset(options.seed);
+  layout_ = std::make_unique<evaluation::RecordingLayout>(
+      simulation_, evaluation::RecordingSource{"orcs-view --live", options.environment, "", options.seed, 0, nullptr});
+  world_ = layout_->header();
+  frame_.values.resize(layout_->channel_count());
+  running_ = options.start_running;
+  PublishLocked();
+  thread_ = std::thread([this] { Loop(); });
+}
+
+LiveSession::~LiveSession() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+}
+
+// The stepping thread: runs while running_ (paced to the wall clock in real time), does single steps on request.
+void LiveSession::Loop() {
+  std::unique_lock lock(mutex_);
+  while (!stopping_) {
+    if (pending_steps_ > 0) {
+      --pending_steps_;
+      StepLocked();
+      PublishLocked();
+      continue;
+    }
+    if (!running_ || simulation_.status() != scene::SimulationStatus::kOk) {
+      changed_.wait(lock);
+      continue;
+    }
+    if (realtime_) {
+      // Step when the wall clock has caught up with the next step's simulated time.
+      const double ahead = simulation_.time() + simulation_.StepDuration() - run_start_time_;
+      const Clock::time_point due = run_start_wall_ + std::chrono::duration_cast<Clock::duration>(
+                                                          std::chrono::duration<double>(ahead));
+      if (Clock::now() < due) {
+        changed_.wait_until(lock, due);
+        continue;
+      }
+      StepLocked();
+    } else {
+      const Clock::time_point until = Clock::now() + kFastSlice;
+      while (Clock::now() < until && simulation_.status() == scene::SimulationStatus::kOk) StepLocked();
+    }
+    PublishLocked();
+  }
+}
+
+void LiveSession::StepLocked() {
+  try {
+    simulation_.Step();
+  } catch (const InputError& error) {  // a value set since the last step is out of range
+    running_ = false;
+    last_error_ = error.what();
+    return;
+  }
+  if (logger_) logger_->Sample(simulation_.time());
+}
+
+void LiveSession::PublishLocked() {
+  frame_.step = simulation_.steps();
+  frame_.time = simulation_.time();
+  ++frame_.serial;
+  layout_->ReadValues(frame_.values.data());
+  layout_->ReadContacts(frame_.contacts);
+  changed_.notify_all();
+}
+
+LiveFrame LiveSession::FrameAfter(std::int64_t serial, std::chrono::milliseconds wait) {
+  std::unique_lock lock(mutex_);
+  changed_.wait_for(lock, wait, [&] { return frame_.serial > serial || stopping_; });
+  return frame_;
+}
+
+nlohmann::json LiveSession::State() {
+  std::lock_guard lock(mutex_);
+  return {{"running", running_},
+          {"realtime", realtime_},
+          {"time", simulation_.time()},
+          {"step", simulation_.steps()},
+          {"status", scene::SimulationStatusName(simulation_.status())},
+          {"message", !last_error_.empty() ? last_error_ : simulation_.message()},
+          {"logging", logger_ ? nlohmann::json(logger_file_) : nlohmann::json(nullptr)}};
+}
+
+std::string LiveSession::Claim() {
+  std::lock_guard lock(mutex_);
+  if (!token_.empty() && Clock::now() - token_seen_ < kControlSilence) return "";
+  token_ = NewToken();
+  token_seen_ = Clock::now();
+  return token_;
+}
+
+bool LiveSession::Controls(const std::string& token) {
+  std::lock_guard lock(mutex_);
+  if (token_.empty() || token != token_ || Clock::now() - token_seen_ >= kControlSilence) return false;
+  token_seen_ = Clock::now();
+  return true;
+}
+
+void LiveSession::Control(const std::string& action, bool realtime) {
+  std::lock_guard lock(mutex_);
+  realtime_ = realtime;
+  if (action == "run") {
+    running_ = true;
+    last_error_.clear();
+    run_start_wall_ = Clock::now();
+    run_start_time_ = simulation_.time();
+  } else if (action == "pause") {
+    running_ = false;
+  } else if (action == "step") {
+    running_ = false;
+    ++pending_steps_;
+  } else if (action == "reset") {
+    simulation_.Reset(options_.seed);
+    last_error_.clear();
+    run_start_wall_ = Clock::now();
+    run_start_time_ = 0.0;
+    PublishLocked();
+  } else {
+    throw InputError("action", 0, "expected run, pause, step or reset, found '" + action + "'");
+  }
+  changed_.notify_all();
+}
+
+nlohmann::json LiveSession::Values(const std::string& pattern, std::size_t limit) {
+  std::lock_guard lock(mutex_);
+  const VariableRepository& repository = simulation_.repository();
+  nlohmann::json rows = nlohmann::json::array();
+  for (int id : repository.Match(pattern)) {
+    if (rows.size() >= limit) break;
+    const Value& value = repository.value(id);
+    rows.push_back({{"id", id},
+                    {"path", repository.path(id)},
+                    {"type", ValueTypeName(value.type())},
+                    {"value", value.ToString()}});
+  }
+  return rows;
+}
+
+std::string LiveSession::SetValue(const std::string& path, const std::string& text) {
+  std::lock_guard lock(mutex_);
+  simulation_.repository().Set(path, text);
+  PublishLocked();  // a paused page sees the change
+  return simulation_.repository().Get(path).ToString();
+}
+
+std::string LiveSession::FilePath(const std::string& file, const char* extension) const {
+  if (!IsSafeFileName(file, extension)) {
+    throw InputError("file", 0, "expected a name of letters, digits, '_', '.' or '-' ending in " +
+                                    std::string(extension) + ", found '" + file.substr(0, 80) + "'");
+  }
+  std::filesystem::create_directories(options_.files_dir);
+  return (std::filesystem::path(options_.files_dir) / file).string();
+}
+
+void LiveSession::Save(const std::string& file, const std::string& pattern) {
+  const std::string path = FilePath(file, ".val");
+  std::lock_guard lock(mutex_);
+  ValueFile::Save(path, simulation_.repository(), "orcs-view, simulated time " + std::to_string(simulation_.time()) + " s",
+                  pattern);
+}
+
+void LiveSession::Load(const std::string& file) {
+  const std::string path = FilePath(file, ".val");
+  std::lock_guard lock(mutex_);
+  ValueFile::Apply(path, simulation_.repository());
+  PublishLocked();
+}
+
+nlohmann::json LiveSession::Files() {
+  nlohmann::json files = nlohmann::json::array();
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(options_.files_dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file(error) && (IsSafeFileName(name, ".val") || IsSafeFileName(name, ".csv"))) {
+      files.push_back(name);
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void LiveSession::StartLogger(const std::string& pattern, const std::string& file) {
+  const std::string path = FilePath(file, ".csv");
+  std::lock_guard lock(mutex_);
+  auto logger = std::make_unique<ValueLogger>(simulation_.repository(), std::vector<std::string>{pattern});
+  if (logger_) logger_->Finish();
+  logger->Open(path, {"orcs-view live log", "environment: " + options_.environment});
+  logger->Sample(simulation_.time());
+  logger_ = std::move(logger);
+  logger_file_ = file;
+}
+
+void LiveSession::StopLogger() {
+  std::lock_guard lock(mutex_);
+  if (logger_) logger_->Finish();
+  logger_.reset();
+  logger_file_.clear();
+}
+
+}  // namespace orcs::viewer

@@ -1,0 +1,109 @@
+// orcs-view's live mode: one simulation running in the server (the original's GUI, docs/viewer.md). A thread steps
+// it — in real time or as fast as it can — and publishes frames; pages read frames, and the one page holding the
+// control token runs, pauses, steps and resets it, sets values (motor sliders, the property editor), saves and
+// loads value files and starts the Logger. Every public method is safe to call from any server thread.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "model/core/value_logger.h"
+#include "model/evaluation/recording_layout.h"
+#include "model/scene/simulation.h"
+
+namespace orcs::viewer {
+
+struct LiveOptions {
+  std::string environment;                       ///< ORCS XML environment, "" = one A-Series on the floor
+  std::vector<std::string> initial_value_files;  ///< -ival: before the build
+  std::vector<std::string> value_files;          ///< -val: after the build
+  std::uint64_t seed = 0;                        ///< /Simulation/Seed of every reset
+  std::string files_dir = "orcs-view-files";     ///< where save/load/logger files live
+  bool start_running = false;                    ///< run at start instead of paused
+};
+
+/// One published state of the simulation.
+struct LiveFrame {
+  std::int64_t step = 0;                           ///< steps since the last reset
+  std::int64_t serial = 0;                         ///< increases with every published frame, across resets
+  double time = 0.0;                               ///< simulated s
+  std::vector<float> values;                       ///< every channel of world()
+  std::vector<evaluation::ContactSample> contacts;  ///< of the last step
+};
+
+class LiveSession {
+ public:
+  /// Builds the world (throws InputError naming the file) and starts the stepping thread, paused.
+  explicit LiveSession(const LiveOptions& options);
+  ~LiveSession();
+  LiveSession(const LiveSession&) = delete;
+  LiveSession& operator=(const LiveSession&) = delete;
+
+  /// The recording header of the live world (docs/recording.md).
+  const nlohmann::json& world() const { return world_; }
+
+  /// The newest frame after `serial` — waiting up to `wait` for one — or the newest there is.
+  LiveFrame FrameAfter(std::int64_t serial, std::chrono::milliseconds wait);
+  /// {"running", "realtime", "time", "step", "status", "message", "logging"}.
+  nlohmann::json State();
+
+  /// A new control token when nobody holds control or the holder was silent for 10 s; "" otherwise.
+  std::string Claim();
+  /// Whether `token` holds control now; refreshes the holder's silence clock.
+  bool Controls(const std::string& token);
+
+  /// "run", "pause", "step" or "reset"; `realtime` paces running to the wall clock. Throws InputError for an
+  /// unknown action.
+  void Control(const std::string& action, bool realtime);
+  /// Values whose path matches `pattern` (RE2, bounded): [{"id", "path", "type", "value"}], at most `limit`.
+  nlohmann::json Values(const std::string& pattern, std::size_t limit);
+  /// Sets a value from text; returns its new text. Throws InputError naming the path and what was expected.
+  std::string SetValue(const std::string& path, const std::string& text);
+  /// Saves the values matching `pattern` as a value file in the files folder. Throws InputError for a bad name.
+  void Save(const std::string& file, const std::string& pattern);
+  /// Applies a value file from the files folder.
+  void Load(const std::string& file);
+  /// Value files and logs in the files folder.
+  nlohmann::json Files();
+  /// Starts writing the values matching `pattern` to a CSV file in the files folder each step; stops the last.
+  void StartLogger(const std::string& pattern, const std::string& file);
+  void StopLogger();
+
+ private:
+  void Loop();
+  void StepLocked();
+  void PublishLocked();
+  std::string FilePath(const std::string& file, const char* extension) const;
+
+  LiveOptions options_;
+  std::mutex mutex_;  // guards everything below
+  std::condition_variable changed_;
+  scene::Simulation simulation_;
+  std::unique_ptr<evaluation::RecordingLayout> layout_;
+  nlohmann::json world_;
+  LiveFrame frame_;
+  bool running_ = false;
+  bool realtime_ = true;
+  int pending_steps_ = 0;
+  std::unique_ptr<ValueLogger> logger_;
+  std::string logger_file_;
+  std::string last_error_;  // why running stopped (a bad value), "" = none
+  std::string token_;
+  std::chrono::steady_clock::time_point token_seen_;
+  std::chrono::steady_clock::time_point run_start_wall_;
+  double run_start_time_ = 0.0;
+  bool stopping_ = false;
+  std::thread thread_;
+};
+
+/// Whether `file` is a plain file name [A-Za-z0-9_.-]{1,64} ending in `extension` (".val", ".csv").
+bool IsSafeFileName(const std::string& file, const char* extension);
+
+}  // namespace orcs::viewer

@@ -1,0 +1,69 @@
+// orcs-view: serves recordings, batch, evolve and gap folders, or a live simulation, to a browser; renders stills
+// and clips (docs/viewer.md).
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include "model/core/error.h"
+#include "viewer/clip_renderer.h"
+#include "viewer/live_session.h"
+#include "viewer/view_catalog.h"
+#include "viewer/view_options.h"
+#include "viewer/view_server.h"
+#include "viewer/web_assets.h"
+#include "worker/cli_style.h"
+
+namespace orcs::viewer {
+namespace {
+
+// Stops the server on SIGINT or SIGTERM: a thread waits for the signals, so no work happens in a handler.
+std::thread WatchSignals(ViewServer& server) {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  return std::thread([signals, &server] {
+    int received = 0;
+    sigwait(&signals, &received);
+    server.Stop();
+  });
+}
+
+int Serve(const ViewOptions& options) {
+  const WebAssets assets(options.web_dir);
+  std::unique_ptr<ViewCatalog> catalog;
+  std::unique_ptr<LiveSession> live;
+  if (options.live) {
+    live = std::make_unique<LiveSession>(options.live_options);
+  } else {
+    catalog = std::make_unique<ViewCatalog>(options.inputs);
+  }
+  ViewServer server(assets, catalog.get(), live.get(), nullptr);
+  const int port = server.Bind(options.bind, options.port);
+  std::thread watcher = WatchSignals(server);
+  watcher.detach();
+  const std::string host = options.bind == "0.0.0.0" ? "127.0.0.1" : options.bind;
+  std::cout << "orcs-view: serving http://" << host << ":" << port << "/ (Ctrl-C to stop)" << std::endl;
+  server.Serve();
+  return cli::kExitOk;
+}
+
+}  // namespace
+}  // namespace orcs::viewer
+
+int main(int argc, char** argv) {
+  const orcs::viewer::ParsedViewOptions parsed = orcs::viewer::ParseViewOptions(argc, argv);
+  if (parsed.exit_code >= 0) return parsed.exit_code;
+  try {
+    if (parsed.options.render) return orcs::viewer::RenderClip(parsed.options);
+    return orcs::viewer::Serve(parsed.options);
+  } catch (const orcs::InputError& error) {
+    std::cerr << "orcs-view: " << error.what() << "\n";
+    return orcs::cli::kExitBadInput;
+  } catch (const std::exception& error) {
+    std::cerr << "orcs-view: internal error: " << error.what() << "\n";
+    return orcs::cli::kExitRunFailed;
+  }
+}

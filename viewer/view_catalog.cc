@@ -1,0 +1,256 @@
+#include "viewer/view_catalog.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "model/core/error.h"
+#include "model/core/json_node.h"
+
+namespace orcs::viewer {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::uintmax_t kMaxTableBytes = 256u << 20;  // results.jsonl, fitness.csv, report.json
+constexpr const char* kRecordingExtension = ".orcsrec";
+
+bool IsFile(const fs::path& path) {
+  std::error_code error;
+  return fs::is_regular_file(path, error);
+}
+
+// A bounded text file (a table the page shows); "" when it is missing.
+std::string ReadTable(const fs::path& path) {
+  if (!IsFile(path)) return "";
+  std::error_code error;
+  if (fs::file_size(path, error) > kMaxTableBytes) {
+    throw InputError(path.string(), 0, "larger than " + std::to_string(kMaxTableBytes >> 20) + " MiB");
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Recordings directly in `folder`, sorted by name.
+std::vector<fs::path> RecordingsIn(const fs::path& folder) {
+  std::vector<fs::path> found;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
+    if (entry.path().extension() == kRecordingExtension && IsFile(entry.path())) found.push_back(entry.path());
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+nlohmann::json NumberOrNull(const std::string& text) {
+  if (text.empty()) return nullptr;
+  try {
+    std::size_t used = 0;
+    const double number = std::stod(text, &used);
+    return used == text.size() ? nlohmann::json(number) : nlohmann::json(nullptr);
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+}
+
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream in(line);
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+}  // namespace
+
+ViewCatalog::ViewCatalog(const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs) AddInput(input);
+  if (items_.empty()) throw InputError("orcs-view", 0, "nothing to show: give recordings (*.orcsrec) or folders");
+}
+
+void ViewCatalog::AddInput(const std::string& input) {
+  std::error_code error;
+  if (!fs::exists(input, error)) throw InputError(input, 0, "no such file or folder");
+  if (fs::is_directory(input, error)) return AddFolder(input);
+  if (!IsFile(input)) throw InputError(input, 0, "not a regular file");
+  // Read whole now: a foreign, truncated or newer file is reported before the server starts.
+  std::shared_ptr<const evaluation::Recording> recording =
+      std::make_shared<evaluation::Recording>(evaluation::ReadRecording(input));
+  const std::string id = AddRecording(input, "", fs::path(input).filename().string());
+  cache_.emplace(id, std::move(recording));
+}
+
+void ViewCatalog::AddFolder(const std::string& folder) {
+  const fs::path root(folder);
+  const std::string name = root.filename().empty() ? root.parent_path().filename().string() : root.filename().string();
+  const std::size_t before = items_.size();
+  if (IsFile(root / "fitness.csv")) {
+    const std::string id = AddItem("evolve", name, folder, "");
+    if (IsFile(root / "best" / "results.jsonl")) {
+      const std::string best = AddItem("batch", name + " / winner and validation", (root / "best").string(), id);
+      for (const fs::path& file : RecordingsIn(root / "best" / "recordings")) {
+        AddRecording(file.string(), best, file.stem().string());
+      }
+    }
+  } else if (IsFile(root / "report.json")) {
+    const std::string id = AddItem("gap", name, folder, "");
+    for (const fs::path& file : RecordingsIn(root / "replays")) AddRecording(file.string(), id, file.stem().string());
+  } else if (IsFile(root / "results.jsonl") || IsFile(root / "results.jsonl.partial")) {
+    const std::string id = AddItem("batch", name, folder, "");
+    for (const fs::path& file : RecordingsIn(root / "recordings")) AddRecording(file.string(), id, file.stem().string());
+  } else {
+    for (const fs::path& file : RecordingsIn(root)) AddRecording(file.string(), "", file.filename().string());
+  }
+  if (items_.size() == before) {
+    throw InputError(folder, 0,
+                     "nothing viewable: expected recordings (*.orcsrec), a batch (results.jsonl), an evolve run "
+                     "(fitness.csv) or a gap report (report.json)");
+  }
+}
+
+std::string ViewCatalog::AddItem(std::string kind, std::string label, std::string path, std::string parent) {
+  const char prefix = kind == "recording" ? 'r' : kind[0];
+  std::string id = prefix + std::to_string(counters_[std::string(1, prefix)]++);
+  items_.push_back({id, std::move(kind), std::move(label), std::move(path), std::move(parent)});
+  return id;
+}
+
+std::string ViewCatalog::AddRecording(const std::string& path, const std::string& parent, const std::string& label) {
+  return AddItem("recording", label, path, parent);
+}
+
+const ViewItem* ViewCatalog::Find(std::string_view id) const {
+  for (const ViewItem& item : items_) {
+    if (item.id == id) return &item;
+  }
+  return nullptr;
+}
+
+std::string ViewCatalog::RecordingIdOf(const std::string& path) const {
+  for (const ViewItem& item : items_) {
+    if (item.kind == "recording" && fs::path(item.path) == fs::path(path)) return item.id;
+  }
+  return "";
+}
+
+nlohmann::json ViewCatalog::ItemsJson() const {
+  nlohmann::json items = nlohmann::json::array();
+  for (const ViewItem& item : items_) {
+    nlohmann::json entry = {{"id", item.id}, {"kind", item.kind}, {"label", item.label}, {"path", item.path}};
+    if (!item.parent.empty()) entry["parent"] = item.parent;
+    items.push_back(std::move(entry));
+  }
+  return items;
+}
+
+std::shared_ptr<const evaluation::Recording> ViewCatalog::Recording(std::string_view id) {
+  const ViewItem* item = Find(id);
+  if (item == nullptr || item->kind != "recording") return nullptr;
+  std::lock_guard lock(mutex_);
+  const auto cached = cache_.find(id);
+  if (cached != cache_.end()) return cached->second;
+  constexpr std::size_t kKept = 16;  // parsed recordings kept in memory
+  if (cache_.size() >= kKept) cache_.erase(cache_.begin());
+  auto recording = std::make_shared<const evaluation::Recording>(evaluation::ReadRecording(item->path));
+  cache_.emplace(std::string(id), recording);
+  return recording;
+}
+
+std::optional<nlohmann::json> ViewCatalog::BatchJson(std::string_view id) const {
+  const ViewItem* item = Find(id);
+  if (item == nullptr || item->kind != "batch") return std::nullopt;
+  const fs::path folder(item->path);
+  const fs::path file = IsFile(folder / "results.jsonl") ? folder / "results.jsonl" : folder / "results.jsonl.partial";
+  std::istringstream lines(ReadTable(file));
+  nlohmann::json jobs = nlohmann::json::array();
+  std::vector<std::string> terms;
+  std::string line;
+  int number = 0;
+  while (std::getline(lines, line)) {
+    ++number;
+    if (line.empty()) continue;
+    const nlohmann::json result = ParseJson(line, file.string() + ":" + std::to_string(number));
+    if (!result.is_object()) continue;
+    const std::string job = result.value("id", "");
+    nlohmann::json entry = {{"job", job},
+                            {"status", result.value("status", "")},
+                            {"fitness", result.contains("fitness") ? result["fitness"] : nlohmann::json(nullptr)},
+                            {"seed", result.contains("seed") ? result["seed"] : nlohmann::json(nullptr)},
+                            {"terms", result.value("terms", nlohmann::json::object())},
+                            {"message", result.value("message", "")}};
+    for (const auto& [term, value] : entry["terms"].items()) {
+      if (std::find(terms.begin(), terms.end(), term) == terms.end()) terms.push_back(term);
+    }
+    const std::string recording = RecordingIdOf((folder / "recordings" / (job + kRecordingExtension)).string());
+    entry["recording"] = recording.empty() ? nlohmann::json(nullptr) : nlohmann::json(recording);
+    jobs.push_back(std::move(entry));
+  }
+  nlohmann::json columns = {"job", "status", "fitness", "seed"};
+  for (const std::string& term : terms) columns.push_back(term);
+  return nlohmann::json{{"name", item->label}, {"columns", columns}, {"jobs", jobs}};
+}
+
+std::optional<nlohmann::json> ViewCatalog::EvolveJson(std::string_view id) const {
+  const ViewItem* item = Find(id);
+  if (item == nullptr || item->kind != "evolve") return std::nullopt;
+  const fs::path folder(item->path);
+  std::istringstream lines(ReadTable(folder / "fitness.csv"));
+  std::string line;
+  std::vector<std::string> names;
+  nlohmann::json generations = nlohmann::json::array();
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::vector<std::string> fields = SplitCsvLine(line);
+    if (names.empty()) {
+      names = fields;
+      continue;
+    }
+    nlohmann::json row = nlohmann::json::object();
+    for (std::size_t i = 0; i < names.size() && i < fields.size(); ++i) row[names[i]] = NumberOrNull(fields[i]);
+    generations.push_back(std::move(row));
+  }
+  nlohmann::json genome = nullptr;
+  const std::string genome_text = ReadTable(folder / "best_genome.json");
+  if (!genome_text.empty()) genome = ParseJson(genome_text, (folder / "best_genome.json").string());
+  const std::string winner = RecordingIdOf((folder / "best" / "recordings" / "winner.orcsrec").string());
+  return nlohmann::json{{"name", item->label},
+                        {"generations", generations},
+                        {"best_genome", genome},
+                        {"recording", winner.empty() ? nlohmann::json(nullptr) : nlohmann::json(winner)}};
+}
+
+std::optional<nlohmann::json> ViewCatalog::GapJson(std::string_view id) const {
+  const ViewItem* item = Find(id);
+  if (item == nullptr || item->kind != "gap") return std::nullopt;
+  const fs::path folder(item->path);
+  const nlohmann::json report = ParseJson(ReadTable(folder / "report.json"), (folder / "report.json").string());
+  nlohmann::json effect = nullptr;
+  if (report.is_object() && report.contains("verdict") && report["verdict"].is_object()) {
+    effect = report["verdict"].value("effect", nlohmann::json(nullptr));
+  }
+  // replays/<run>.orcsrec (fitted model), <run>.given.orcsrec (model as given), <run>.measured.orcsrec (measured).
+  std::map<std::string, nlohmann::json> runs;
+  for (const ViewItem& child : items_) {
+    if (child.parent != item->id) continue;
+    std::string name = child.label;
+    std::string role = "simulated";
+    for (const char* suffix : {".given", ".measured"}) {
+      if (name.ends_with(suffix)) {
+        role = std::string(suffix + 1);
+        name.resize(name.size() - std::string_view(suffix).size());
+      }
+    }
+    nlohmann::json& run = runs[name];
+    if (run.is_null()) run = {{"name", name}, {"simulated", nullptr}, {"given", nullptr}, {"measured", nullptr}};
+    run[role] = child.id;
+  }
+  nlohmann::json list = nlohmann::json::array();
+  for (auto& [name, run] : runs) list.push_back(std::move(run));
+  return nlohmann::json{{"name", item->label}, {"missing_effect", effect}, {"runs", list}};
+}
+
+}  // namespace orcs::viewer

@@ -1,0 +1,64 @@
+#include "viewer/view_options.h"
+
+#include <CLI/CLI.hpp>
+
+#include "worker/cli_style.h"
+
+#ifndef ORCS_WEB_DIR
+#define ORCS_WEB_DIR "viewer/web"
+#endif
+
+namespace orcs::viewer {
+
+ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
+  ParsedViewOptions parsed;
+  ViewOptions& o = parsed.options;
+  o.web_dir = ORCS_WEB_DIR;
+  RenderOptions& r = o.render_options;
+  LiveOptions& l = o.live_options;
+  CLI::App app("orcs-view: see what the robot does. Serves recordings (*.orcsrec), batch, evolve and gap folders, or "
+               "a live simulation (--live), to a browser; --render draws a still or a clip.",
+               "orcs-view");
+  app.add_option("inputs", o.inputs, "recordings and folders (batch, evolve, gap) to open")->check(CLI::ExistingPath);
+  app.add_option("--port", o.port, "port to serve on (0 = any free port)")->check(CLI::Range(0, 65535));
+  app.add_option("--bind", o.bind, "interface to listen on (default 127.0.0.1: this machine only)");
+  app.add_option("--web-dir", o.web_dir, "the page's folder, holding files.txt")->check(CLI::ExistingDirectory);
+  CLI::Option* live = app.add_flag("--live", o.live, "run a simulation in the server: the original's GUI");
+  app.add_option("--env", l.environment, "with --live: ORCS XML environment (-env also accepted)")
+      ->check(CLI::ExistingFile)->needs(live);
+  app.add_option("--ival", l.initial_value_files, "with --live: value file loaded before the world is built")
+      ->check(CLI::ExistingFile)->needs(live);
+  app.add_option("--val", l.value_files, "with --live: value file loaded after the world is built")
+      ->check(CLI::ExistingFile)->needs(live);
+  app.add_option("--seed", l.seed, "with --live: seed of every reset")->needs(live);
+  app.add_option("--files", l.files_dir, "with --live: folder for saved value files and logs")->needs(live);
+  app.add_flag("--run", l.start_running, "with --live: start running instead of paused")->needs(live);
+  CLI::Option* render = app.add_option("--render", r.run, "draw this recording (or a folder's first) to --out")
+                            ->check(CLI::ExistingPath);
+  app.add_option("--out", r.out, "with --render: .png (a still), .gif, .mp4 or .webm (a clip)")->needs(render);
+  app.add_option("--from", r.from, "with --render: first second of a clip")->check(CLI::NonNegativeNumber)->needs(render);
+  app.add_option("--to", r.to, "with --render: last second of a clip (default: the end)")
+      ->check(CLI::NonNegativeNumber)->needs(render);
+  app.add_option("--at", r.at, "with --render: the still's second (default: the middle)")
+      ->check(CLI::NonNegativeNumber)->needs(render);
+  app.add_option("--fps", r.fps, "with --render: clip frames per second")->check(CLI::Range(1.0, 60.0))->needs(render);
+  app.add_option("--width", r.width, "with --render: pixels")->check(CLI::Range(64, 3840))->needs(render);
+  app.add_option("--height", r.height, "with --render: pixels")->check(CLI::Range(64, 2160))->needs(render);
+  app.add_option("--chromium", r.chromium, "with --render: the headless browser that draws")->needs(render);
+
+  const auto validate = [&] {
+    o.render = !r.run.empty();
+    if (o.render && r.out.empty()) throw CLI::ValidationError("--render", "needs --out FILE (.png, .gif, .mp4, .webm)");
+    if (o.render && !o.inputs.empty()) throw CLI::ValidationError("--render", "takes one run; give it no other inputs");
+    if (o.render && o.live) throw CLI::ValidationError("--render", "draws recordings, not --live");
+    if (o.live && !o.inputs.empty()) throw CLI::ValidationError("--live", "serves a simulation; give it no recordings");
+    if (!o.live && !o.render && o.inputs.empty()) {
+      throw CLI::ValidationError("orcs-view", "give recordings or folders to open, --live, or --render RUN --out FILE");
+    }
+    if (r.to >= 0 && r.to <= r.from) throw CLI::ValidationError("--to", "must be after --from");
+  };
+  parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val"}, validate);
+  return parsed;
+}
+
+}  // namespace orcs::viewer

@@ -1,0 +1,281 @@
+#include "viewer/view_server.h"
+
+#include <httplib.h>
+
+#include <charconv>
+#include <cstring>
+
+#include "model/core/error.h"
+#include "model/core/json_node.h"
+
+namespace orcs::viewer {
+namespace {
+
+using httplib::Request;
+using httplib::Response;
+
+constexpr std::size_t kMaxBodyBytes = 1 << 20;      // POST bodies
+constexpr std::size_t kMaxPatternLength = 1000;     // RE2 patterns from the page
+constexpr std::size_t kMaxChannelsPerRequest = 4096;
+constexpr std::size_t kMaxValueRows = 5000;
+constexpr int kServerThreads = 12;                  // long polls hold a thread for up to 0.5 s each
+constexpr auto kLongPoll = std::chrono::milliseconds(500);
+
+void SendJson(Response& response, const nlohmann::json& body, int status = 200) {
+  response.status = status;
+  response.set_content(body.dump(), "application/json");
+}
+
+void SendError(Response& response, int status, const std::string& message) {
+  SendJson(response, {{"error", message}}, status);
+}
+
+template <typename T>
+void SendArray(Response& response, const std::vector<T>& data) {
+  response.set_content(std::string(reinterpret_cast<const char*>(data.data()), data.size() * sizeof(T)),
+                       "application/octet-stream");
+}
+
+// The request's body as a JSON object; nullopt (and a 400 sent) when it is not one.
+std::optional<nlohmann::json> BodyObject(const Request& request, Response& response) {
+  try {
+    nlohmann::json body = ParseJson(request.body, "request body");
+    if (body.is_object()) return body;
+  } catch (const InputError&) {
+  }
+  SendError(response, 400, "expected a JSON object as the request body");
+  return std::nullopt;
+}
+
+std::string StringField(const nlohmann::json& body, const char* key) {
+  const auto it = body.find(key);
+  return it != body.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+// "3,4,5" → channel indices, each < count; nullopt for anything else.
+std::optional<std::vector<int>> ParseIds(const std::string& text, int count) {
+  std::vector<int> ids;
+  const char* at = text.data();
+  const char* end = text.data() + text.size();
+  while (at < end) {
+    int id = -1;
+    const auto [next, error] = std::from_chars(at, end, id);
+    if (error != std::errc() || id < 0 || id >= count || ids.size() >= kMaxChannelsPerRequest) return std::nullopt;
+    ids.push_back(id);
+    at = next;
+    if (at < end && *at++ != ',') return std::nullopt;
+  }
+  if (ids.empty()) return std::nullopt;
+  return ids;
+}
+
+nlohmann::json ContactsJson(const std::vector<evaluation::ContactSample>& contacts, std::size_t from, std::size_t to) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t k = from; k < to; ++k) {
+    const evaluation::ContactSample& c = contacts[k];
+    list.push_back({c.body1, c.body2, c.position[0], c.position[1], c.position[2], c.normal[0], c.normal[1],
+                    c.normal[2], c.depth});
+  }
+  return list;
+}
+
+}  // namespace
+
+ViewServer::ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSession* live, RenderSink* render)
+    : assets_(assets), catalog_(catalog), live_(live), render_(render), server_(std::make_unique<httplib::Server>()) {
+  server_->new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
+  server_->set_payload_max_length(kMaxBodyBytes);
+  server_->set_read_timeout(5, 0);
+  server_->set_write_timeout(5, 0);
+  server_->set_keep_alive_max_count(1000);
+  server_->set_exception_handler([](const Request&, Response& response, std::exception_ptr error) {
+    try {
+      std::rethrow_exception(error);
+    } catch (const InputError& input) {
+      SendError(response, 400, input.what());
+    } catch (const std::exception& other) {
+      SendError(response, 500, other.what());
+    }
+  });
+  AddPageRoutes();
+  if (catalog_ != nullptr) AddFilesRoutes();
+  if (live_ != nullptr) AddLiveRoutes();
+  if (render_ != nullptr) AddRenderRoutes();
+  server_->set_error_handler([](const Request&, Response& response) {
+    if (response.body.empty()) {
+      response.set_content(response.status == 404 ? "not found\n" : "bad request\n", "text/plain");
+    }
+  });
+}
+
+ViewServer::~ViewServer() = default;
+
+int ViewServer::Bind(const std::string& address, int port) {
+  const bool bound = port == 0 ? (port = server_->bind_to_any_port(address)) > 0 : server_->bind_to_port(address, port);
+  if (!bound) {
+    throw InputError("--port", 0, "cannot listen on " + address + ":" + std::to_string(port) +
+                                      " (in use, or not an address of this machine): choose another with --port");
+  }
+  return port;
+}
+
+void ViewServer::Serve() { server_->listen_after_bind(); }
+void ViewServer::Stop() { server_->stop(); }
+
+void ViewServer::AddPageRoutes() {
+  server_->Get("/", [this](const Request&, Response& response) {
+    const WebAsset* page = assets_.Find("index.html");
+    response.set_content(page->content, page->content_type);
+  });
+  server_->Get(R"(/assets/([A-Za-z0-9_.-]+))", [this](const Request& request, Response& response) {
+    const WebAsset* asset = assets_.Find(request.matches[1].str());
+    if (asset == nullptr) {
+      response.status = 404;
+      return;
+    }
+    response.set_content(asset->content, asset->content_type);
+  });
+  server_->Get("/api/session", [this](const Request&, Response& response) {
+    nlohmann::json session = {{"mode", live_ != nullptr ? "live" : "files"}, {"title", "orcs-view"}};
+    if (catalog_ != nullptr) session["items"] = catalog_->ItemsJson();
+    if (live_ != nullptr) session["items"] = {{{"id", "live"}, {"kind", "live"}, {"label", "live simulation"}}};
+    if (render_ != nullptr) session["render"] = true;
+    SendJson(response, session);
+  });
+}
+
+void ViewServer::AddFilesRoutes() {
+  // Each handler looks the id up; an id that is not a recording answers 404.
+  const auto recording_of = [this](const Request& request, Response& response) {
+    std::shared_ptr<const evaluation::Recording> recording = catalog_->Recording(request.matches[1].str());
+    if (recording == nullptr) SendError(response, 404, "no such recording");
+    return recording;
+  };
+  server_->Get(R"(/api/recording/([A-Za-z0-9]+))", [this, recording_of](const Request& request, Response& response) {
+    const auto recording = recording_of(request, response);
+    if (!recording) return;
+    nlohmann::json header = recording->header;
+    header["frames"] = recording->frame_count();
+    header["duration"] = recording->times.back();
+    header["file"] = catalog_->Find(request.matches[1].str())->path;
+    SendJson(response, header);
+  });
+  server_->Get(R"(/api/recording/([A-Za-z0-9]+)/times)", [recording_of](const Request& request, Response& response) {
+    if (const auto recording = recording_of(request, response)) SendArray(response, recording->times);
+  });
+  server_->Get(R"(/api/recording/([A-Za-z0-9]+)/channels)", [recording_of](const Request& request,
+                                                                           Response& response) {
+    const auto recording = recording_of(request, response);
+    if (!recording) return;
+    const auto ids = ParseIds(request.get_param_value("ids"), recording->channel_count());
+    if (!ids) return SendError(response, 400, "ids: expected channel indices such as 3,4,5 (at most 4096)");
+    std::vector<float> columns;
+    columns.reserve(ids->size() * recording->frame_count());
+    for (int id : *ids) {
+      for (int f = 0; f < recording->frame_count(); ++f) columns.push_back(recording->value(f, id));
+    }
+    SendArray(response, columns);
+  });
+  server_->Get(R"(/api/recording/([A-Za-z0-9]+)/contacts)", [recording_of](const Request& request,
+                                                                           Response& response) {
+    const auto recording = recording_of(request, response);
+    if (!recording) return;
+    SendJson(response, {{"offsets", recording->contact_offsets},
+                        {"contacts", ContactsJson(recording->contacts, 0, recording->contacts.size())}});
+  });
+  const auto table_route = [this](const char* pattern, std::optional<nlohmann::json> (ViewCatalog::*get)(std::string_view)
+                                                            const) {
+    server_->Get(pattern, [this, get](const Request& request, Response& response) {
+      const std::optional<nlohmann::json> table = (catalog_->*get)(request.matches[1].str());
+      if (!table) return SendError(response, 404, "no such item");
+      SendJson(response, *table);
+    });
+  };
+  table_route(R"(/api/batch/([A-Za-z0-9]+))", &ViewCatalog::BatchJson);
+  table_route(R"(/api/evolve/([A-Za-z0-9]+))", &ViewCatalog::EvolveJson);
+  table_route(R"(/api/gap/([A-Za-z0-9]+))", &ViewCatalog::GapJson);
+}
+
+void ViewServer::AddLiveRoutes() {
+  // Mutating routes need the control token (X-Orcs-Token); without it they answer 403.
+  const auto controlled = [this](auto handler) {
+    return [this, handler](const Request& request, Response& response) {
+      if (!live_->Controls(request.get_header_value("X-Orcs-Token"))) {
+        return SendError(response, 403, "this page does not hold control: take control first");
+      }
+      const std::optional<nlohmann::json> body = BodyObject(request, response);
+      if (body) handler(*body, response);
+    };
+  };
+  server_->Get("/api/live/world", [this](const Request&, Response& response) { SendJson(response, live_->world()); });
+  server_->Get("/api/live/frame", [this](const Request& request, Response& response) {
+    std::int64_t since = -1;
+    const std::string text = request.get_param_value("since");
+    std::from_chars(text.data(), text.data() + text.size(), since);
+    const LiveFrame frame = live_->FrameAfter(since, kLongPoll);
+    nlohmann::json body = live_->State();
+    body["serial"] = frame.serial;
+    body["step"] = frame.step;
+    body["time"] = frame.time;
+    body["controller"] = live_->Controls(request.get_header_value("X-Orcs-Token"));
+    body["values"] = frame.values;
+    body["contacts"] = ContactsJson(frame.contacts, 0, frame.contacts.size());
+    SendJson(response, body);
+  });
+  server_->Post("/api/live/claim", [this](const Request&, Response& response) {
+    const std::string token = live_->Claim();
+    if (token.empty()) return SendError(response, 409, "another page holds control");
+    SendJson(response, {{"token", token}});
+  });
+  server_->Post("/api/live/control", controlled([this](const nlohmann::json& body, Response& response) {
+    live_->Control(StringField(body, "action"), body.value("realtime", true));
+    SendJson(response, live_->State());
+  }));
+  server_->Get("/api/live/values", [this](const Request& request, Response& response) {
+    const std::string filter = request.has_param("filter") ? request.get_param_value("filter") : ".*";
+    if (filter.size() > kMaxPatternLength) return SendError(response, 400, "filter: at most 1000 characters");
+    SendJson(response, live_->Values(filter, kMaxValueRows));
+  });
+  server_->Post("/api/live/values", controlled([this](const nlohmann::json& body, Response& response) {
+    const std::string path = StringField(body, "path");
+    const std::string value = live_->SetValue(path, StringField(body, "value"));
+    SendJson(response, {{"path", path}, {"value", value}});
+  }));
+  server_->Get("/api/live/files", [this](const Request&, Response& response) { SendJson(response, live_->Files()); });
+  server_->Post("/api/live/save", controlled([this](const nlohmann::json& body, Response& response) {
+    const std::string filter = body.contains("filter") ? StringField(body, "filter") : ".*";
+    live_->Save(StringField(body, "file"), filter);
+    SendJson(response, {{"saved", StringField(body, "file")}});
+  }));
+  server_->Post("/api/live/load", controlled([this](const nlohmann::json& body, Response& response) {
+    live_->Load(StringField(body, "file"));
+    SendJson(response, {{"loaded", StringField(body, "file")}});
+  }));
+  server_->Post("/api/live/logger", controlled([this](const nlohmann::json& body, Response& response) {
+    const std::string action = StringField(body, "action");
+    if (action == "start") {
+      live_->StartLogger(StringField(body, "filter"), StringField(body, "file"));
+    } else if (action == "stop") {
+      live_->StopLogger();
+    } else {
+      return SendError(response, 400, "action: expected start or stop");
+    }
+    SendJson(response, live_->State());
+  }));
+}
+
+void ViewServer::AddRenderRoutes() {
+  server_->Post("/api/render/frame", [this](const Request& request, Response& response) {
+    int index = -1;
+    const std::string text = request.get_param_value("index");
+    std::from_chars(text.data(), text.data() + text.size(), index);
+    if (!render_->AddFrame(index, request.body)) return SendError(response, 400, "expected a PNG frame and its index");
+    SendJson(response, {{"stored", index}});
+  });
+  server_->Post("/api/render/done", [this](const Request& request, Response& response) {
+    render_->Done(request.body);
+    SendJson(response, {{"done", true}});
+  });
+}
+
+}  // namespace orcs::viewer
