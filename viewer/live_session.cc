@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <future>
 #include <random>
 
 #include "model/core/error.h"
@@ -31,8 +32,9 @@ bool IsSafeFileName(const std::string& file, const char* extension) {
   if (file.empty() || file.size() > 64 || !file.ends_with(extension) || file.find("..") != std::string::npos) {
     return false;
   }
-  return std::all_of(file.begin(), file.end(),
-                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-'; });
+  return std::all_of(file.begin(), file.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
+  });
 }
 
 LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
@@ -43,55 +45,90 @@ LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
   world_ = layout_->header();
   frame_.values.resize(layout_->channel_count());
   running_ = options.start_running;
-  PublishLocked();
+  run_start_wall_ = Clock::now();
+  Publish();
   thread_ = std::thread([this] { Loop(); });
 }
 
 LiveSession::~LiveSession() {
   {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(command_mutex_);
     stopping_ = true;
   }
-  changed_.notify_all();
+  command_posted_.notify_all();
   thread_.join();
+  if (logger_) logger_->Finish();
 }
 
-// The stepping thread: runs while running_ (paced to the wall clock in real time), does single steps on request.
+template <typename Task>
+auto LiveSession::OnSimulationThread(Task task) -> decltype(task()) {
+  auto job = std::make_shared<std::packaged_task<decltype(task())()>>(std::move(task));
+  std::future<decltype(task())> result = job->get_future();
+  {
+    std::lock_guard lock(command_mutex_);
+    commands_.push_back([job] { (*job)(); });
+  }
+  command_posted_.notify_all();
+  return result.get();
+}
+
+// The stepping thread: carries out commands, runs while running_ (paced to the wall clock in real time), does
+// single steps on request, and publishes a frame after each slice.
 void LiveSession::Loop() {
-  std::unique_lock lock(mutex_);
+  std::unique_lock lock(command_mutex_);
   while (!stopping_) {
+    RunCommands(lock);
+    if (stopping_) break;
+    const bool ok = simulation_.status() == scene::SimulationStatus::kOk;
     if (pending_steps_ > 0) {
       --pending_steps_;
-      StepLocked();
-      PublishLocked();
+      lock.unlock();
+      StepOnce();
+      Publish();
+      lock.lock();
       continue;
     }
-    if (!running_ || simulation_.status() != scene::SimulationStatus::kOk) {
-      changed_.wait(lock);
-      continue;
+    if (!running_ || !ok) {
+      command_posted_.wait(lock, [this] { return stopping_ || !commands_.empty() || pending_steps_ > 0 || running_; });
+      if (!running_ || simulation_.status() != scene::SimulationStatus::kOk) continue;
     }
     if (realtime_) {
       // Step when the wall clock has caught up with the next step's simulated time.
       const double ahead = simulation_.time() + simulation_.StepDuration() - run_start_time_;
-      const Clock::time_point due = run_start_wall_ + std::chrono::duration_cast<Clock::duration>(
-                                                          std::chrono::duration<double>(ahead));
+      const Clock::time_point due =
+          run_start_wall_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(ahead));
       if (Clock::now() < due) {
-        changed_.wait_until(lock, due);
+        command_posted_.wait_until(lock, due, [this] { return stopping_ || !commands_.empty() || !running_; });
         continue;
       }
-      StepLocked();
+      lock.unlock();
+      StepOnce();
     } else {
+      lock.unlock();
       const Clock::time_point until = Clock::now() + kFastSlice;
-      while (Clock::now() < until && simulation_.status() == scene::SimulationStatus::kOk) StepLocked();
+      while (Clock::now() < until && simulation_.status() == scene::SimulationStatus::kOk && running_) StepOnce();
     }
-    PublishLocked();
+    Publish();
+    lock.lock();
   }
 }
 
-void LiveSession::StepLocked() {
+// Carries out the posted commands, without the command lock (a command may post nothing, but takes time).
+void LiveSession::RunCommands(std::unique_lock<std::mutex>& lock) {
+  while (!commands_.empty()) {
+    std::vector<std::function<void()>> commands;
+    commands.swap(commands_);
+    lock.unlock();
+    for (std::function<void()>& command : commands) command();
+    lock.lock();
+  }
+}
+
+void LiveSession::StepOnce() {
   try {
     simulation_.Step();
   } catch (const InputError& error) {  // a value set since the last step is out of range
+    std::lock_guard lock(command_mutex_);
     running_ = false;
     last_error_ = error.what();
     return;
@@ -99,34 +136,41 @@ void LiveSession::StepLocked() {
   if (logger_) logger_->Sample(simulation_.time());
 }
 
-void LiveSession::PublishLocked() {
+// The stepping thread's view of the simulation, for the pages.
+void LiveSession::Publish() {
+  nlohmann::json state;
+  {
+    std::lock_guard lock(command_mutex_);
+    state = {{"running", running_}, {"realtime", realtime_}};
+  }
+  state["time"] = simulation_.time();
+  state["step"] = simulation_.steps();
+  state["status"] = scene::SimulationStatusName(simulation_.status());
+  state["message"] = !last_error_.empty() ? last_error_ : simulation_.message();
+  state["logging"] = logger_ ? nlohmann::json(logger_file_) : nlohmann::json(nullptr);
+  std::lock_guard lock(frame_mutex_);
   frame_.step = simulation_.steps();
   frame_.time = simulation_.time();
   ++frame_.serial;
   layout_->ReadValues(frame_.values.data());
   layout_->ReadContacts(frame_.contacts);
-  changed_.notify_all();
+  state_ = std::move(state);
+  frame_published_.notify_all();
 }
 
 LiveFrame LiveSession::FrameAfter(std::int64_t serial, std::chrono::milliseconds wait) {
-  std::unique_lock lock(mutex_);
-  changed_.wait_for(lock, wait, [&] { return frame_.serial > serial || stopping_; });
+  std::unique_lock lock(frame_mutex_);
+  frame_published_.wait_for(lock, wait, [&] { return frame_.serial > serial; });
   return frame_;
 }
 
 nlohmann::json LiveSession::State() {
-  std::lock_guard lock(mutex_);
-  return {{"running", running_},
-          {"realtime", realtime_},
-          {"time", simulation_.time()},
-          {"step", simulation_.steps()},
-          {"status", scene::SimulationStatusName(simulation_.status())},
-          {"message", !last_error_.empty() ? last_error_ : simulation_.message()},
-          {"logging", logger_ ? nlohmann::json(logger_file_) : nlohmann::json(nullptr)}};
+  std::lock_guard lock(frame_mutex_);
+  return state_;
 }
 
 std::string LiveSession::Claim() {
-  std::lock_guard lock(mutex_);
+  std::lock_guard lock(token_mutex_);
   if (!token_.empty() && Clock::now() - token_seen_ < kControlSilence) return "";
   token_ = NewToken();
   token_seen_ = Clock::now();
@@ -134,57 +178,57 @@ std::string LiveSession::Claim() {
 }
 
 bool LiveSession::Controls(const std::string& token) {
-  std::lock_guard lock(mutex_);
+  std::lock_guard lock(token_mutex_);
   if (token_.empty() || token != token_ || Clock::now() - token_seen_ >= kControlSilence) return false;
   token_seen_ = Clock::now();
   return true;
 }
 
 void LiveSession::Control(const std::string& action, bool realtime) {
-  std::lock_guard lock(mutex_);
-  realtime_ = realtime;
-  if (action == "run") {
-    running_ = true;
-    last_error_.clear();
-    run_start_wall_ = Clock::now();
-    run_start_time_ = simulation_.time();
-  } else if (action == "pause") {
-    running_ = false;
-  } else if (action == "step") {
-    running_ = false;
-    ++pending_steps_;
-  } else if (action == "reset") {
-    simulation_.Reset(options_.seed);
-    last_error_.clear();
-    run_start_wall_ = Clock::now();
-    run_start_time_ = 0.0;
-    PublishLocked();
-  } else {
-    throw InputError("action", 0, "expected run, pause, step or reset, found '" + action + "'");
+  if (action != "run" && action != "pause" && action != "step" && action != "reset") {
+    throw InputError("action", 0, "expected run, pause, step or reset, found '" + action.substr(0, 40) + "'");
   }
-  changed_.notify_all();
+  OnSimulationThread([&] {
+    {
+      std::lock_guard lock(command_mutex_);
+      realtime_ = realtime;
+      running_ = action == "run";
+      if (action == "step") ++pending_steps_;
+    }
+    if (action == "run") {
+      last_error_.clear();
+      run_start_wall_ = Clock::now();
+      run_start_time_ = simulation_.time();
+    } else if (action == "reset") {
+      simulation_.Reset(options_.seed);
+      last_error_.clear();
+    }
+    Publish();
+  });
 }
 
 nlohmann::json LiveSession::Values(const std::string& pattern, std::size_t limit) {
-  std::lock_guard lock(mutex_);
-  const VariableRepository& repository = simulation_.repository();
-  nlohmann::json rows = nlohmann::json::array();
-  for (int id : repository.Match(pattern)) {
-    if (rows.size() >= limit) break;
-    const Value& value = repository.value(id);
-    rows.push_back({{"id", id},
-                    {"path", repository.path(id)},
-                    {"type", ValueTypeName(value.type())},
-                    {"value", value.ToString()}});
-  }
-  return rows;
+  return OnSimulationThread([&] {
+    const VariableRepository& repository = simulation_.repository();
+    nlohmann::json rows = nlohmann::json::array();
+    for (int id : repository.Match(pattern)) {
+      if (rows.size() >= limit) break;
+      const Value& value = repository.value(id);
+      rows.push_back({{"id", id},
+                      {"path", repository.path(id)},
+                      {"type", ValueTypeName(value.type())},
+                      {"value", value.ToString()}});
+    }
+    return rows;
+  });
 }
 
 std::string LiveSession::SetValue(const std::string& path, const std::string& text) {
-  std::lock_guard lock(mutex_);
-  simulation_.repository().Set(path, text);
-  PublishLocked();  // a paused page sees the change
-  return simulation_.repository().Get(path).ToString();
+  return OnSimulationThread([&] {
+    simulation_.repository().Set(path, text);
+    Publish();  // a paused page sees the change
+    return simulation_.repository().Get(path).ToString();
+  });
 }
 
 std::string LiveSession::FilePath(const std::string& file, const char* extension) const {
@@ -198,16 +242,18 @@ std::string LiveSession::FilePath(const std::string& file, const char* extension
 
 void LiveSession::Save(const std::string& file, const std::string& pattern) {
   const std::string path = FilePath(file, ".val");
-  std::lock_guard lock(mutex_);
-  ValueFile::Save(path, simulation_.repository(), "orcs-view, simulated time " + std::to_string(simulation_.time()) + " s",
-                  pattern);
+  OnSimulationThread([&] {
+    ValueFile::Save(path, simulation_.repository(),
+                    "orcs-view, simulated time " + std::to_string(simulation_.time()) + " s", pattern);
+  });
 }
 
 void LiveSession::Load(const std::string& file) {
   const std::string path = FilePath(file, ".val");
-  std::lock_guard lock(mutex_);
-  ValueFile::Apply(path, simulation_.repository());
-  PublishLocked();
+  OnSimulationThread([&] {
+    ValueFile::Apply(path, simulation_.repository());
+    Publish();
+  });
 }
 
 nlohmann::json LiveSession::Files() {
@@ -225,20 +271,24 @@ nlohmann::json LiveSession::Files() {
 
 void LiveSession::StartLogger(const std::string& pattern, const std::string& file) {
   const std::string path = FilePath(file, ".csv");
-  std::lock_guard lock(mutex_);
-  auto logger = std::make_unique<ValueLogger>(simulation_.repository(), std::vector<std::string>{pattern});
-  if (logger_) logger_->Finish();
-  logger->Open(path, {"orcs-view live log", "environment: " + options_.environment});
-  logger->Sample(simulation_.time());
-  logger_ = std::move(logger);
-  logger_file_ = file;
+  OnSimulationThread([&] {
+    auto logger = std::make_unique<ValueLogger>(simulation_.repository(), std::vector<std::string>{pattern});
+    if (logger_) logger_->Finish();
+    logger->Open(path, {"orcs-view live log", "environment: " + options_.environment});
+    logger->Sample(simulation_.time());
+    logger_ = std::move(logger);
+    logger_file_ = file;
+    Publish();
+  });
 }
 
 void LiveSession::StopLogger() {
-  std::lock_guard lock(mutex_);
-  if (logger_) logger_->Finish();
-  logger_.reset();
-  logger_file_.clear();
+  OnSimulationThread([&] {
+    if (logger_) logger_->Finish();
+    logger_.reset();
+    logger_file_.clear();
+    Publish();
+  });
 }
 
 }  // namespace orcs::viewer

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -77,29 +78,47 @@ class LiveSession {
   void StopLogger();
 
  private:
+  /// Runs `task` on the stepping thread between steps and returns its result (or rethrows its exception): only
+  /// that thread touches the simulation, and a request never waits for more than one slice of steps.
+  template <typename Task>
+  auto OnSimulationThread(Task task) -> decltype(task());
   void Loop();
-  void StepLocked();
-  void PublishLocked();
+  void RunCommands(std::unique_lock<std::mutex>& lock);
+  void StepOnce();
+  void Publish();
   std::string FilePath(const std::string& file, const char* extension) const;
 
   LiveOptions options_;
-  std::mutex mutex_;  // guards everything below
-  std::condition_variable changed_;
+  // Owned by the stepping thread (and the constructor, before it starts).
   scene::Simulation simulation_;
   std::unique_ptr<evaluation::RecordingLayout> layout_;
   nlohmann::json world_;
-  LiveFrame frame_;
-  bool running_ = false;
-  bool realtime_ = true;
-  int pending_steps_ = 0;
   std::unique_ptr<ValueLogger> logger_;
   std::string logger_file_;
   std::string last_error_;  // why running stopped (a bad value), "" = none
-  std::string token_;
-  std::chrono::steady_clock::time_point token_seen_;
   std::chrono::steady_clock::time_point run_start_wall_;
   double run_start_time_ = 0.0;
+
+  // Commands for the stepping thread, and whether it should run.
+  std::mutex command_mutex_;
+  std::condition_variable command_posted_;
+  std::vector<std::function<void()>> commands_;
+  bool running_ = false;
+  bool realtime_ = true;
+  int pending_steps_ = 0;
   bool stopping_ = false;
+
+  // The newest frame, for the pages.
+  std::mutex frame_mutex_;
+  std::condition_variable frame_published_;
+  LiveFrame frame_;
+  nlohmann::json state_;  // State() as of the newest frame
+
+  // Who controls.
+  std::mutex token_mutex_;
+  std::string token_;
+  std::chrono::steady_clock::time_point token_seen_;
+
   std::thread thread_;
 };
 

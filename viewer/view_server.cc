@@ -85,6 +85,12 @@ ViewServer::ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSessio
     : assets_(assets), catalog_(catalog), live_(live), render_(render), server_(std::make_unique<httplib::Server>()) {
   server_->new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
   server_->set_payload_max_length(kMaxBodyBytes);
+  // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, which would let a second orcs-view share a port that is
+  // in use instead of being told so.
+  server_->set_socket_options([](socket_t socket) {
+    int yes = 1;
+    setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   server_->set_read_timeout(5, 0);
   server_->set_write_timeout(5, 0);
   server_->set_keep_alive_max_count(1000);

@@ -1,0 +1,252 @@
+// ViewServer over real loopback sockets: what it serves, what it refuses, and that it stays up.
+#include "viewer/view_server.h"
+
+#include <arpa/inet.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <httplib.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <thread>
+
+#include "model/evaluation/recorder.h"
+#include "model/scene/world_setup.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs::viewer {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr int kSteps = 40;
+
+std::string WriteRecording(const test_support::TempDir& dir, const std::string& name) {
+  scene::Simulation simulation;
+  scene::SetUpWorld(simulation, "", {}, {});
+  simulation.Reset(0);
+  simulation.repository().Set("/Sim/Humanoid/Right/Knee/DesiredAngle", "30");
+  evaluation::Recorder recorder(simulation, evaluation::RecordingSource{});
+  for (int i = 0; i < kSteps; ++i) {
+    simulation.Step();
+    recorder.Sample();
+  }
+  const std::string path = dir.PathOf(name);
+  evaluation::WriteRecording(path, recorder.Finish());
+  return path;
+}
+
+// A web folder with a page and one script, as files.txt lists them.
+std::string WriteWebDir(const test_support::TempDir& dir) {
+  dir.Write("web/index.html", "<html>orcs-view</html>");
+  dir.Write("web/src/app.js", "export const app = 1;");
+  dir.Write("web/files.txt", "# test page\nindex.html -> index.html\nsrc/app.js -> app.js\n");
+  return dir.PathOf("web");
+}
+
+// A server on an ephemeral loopback port, serving in a thread for the test's life.
+class Served {
+ public:
+  Served(const std::string& web, ViewCatalog* catalog, LiveSession* live)
+      : assets_(web), server_(assets_, catalog, live, nullptr) {
+    port_ = server_.Bind("127.0.0.1", 0);
+    thread_ = std::thread([this] { server_.Serve(); });
+  }
+  ~Served() {
+    server_.Stop();
+    thread_.join();
+  }
+  httplib::Client Client() const {
+    httplib::Client client("127.0.0.1", port_);
+    client.set_read_timeout(5, 0);
+    return client;
+  }
+  int port() const { return port_; }
+
+ private:
+  WebAssets assets_;
+  ViewServer server_;
+  int port_ = 0;
+  std::thread thread_;
+};
+
+// Sends raw bytes and returns the status line of the answer ("" when the connection closed without one).
+std::string RawRequest(int port, const std::string& bytes) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    close(fd);
+    return "";
+  }
+  timeval timeout{5, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  (void)!write(fd, bytes.data(), bytes.size());
+  char buffer[512] = {};
+  const ssize_t got = read(fd, buffer, sizeof buffer - 1);
+  close(fd);
+  const std::string answer(buffer, got > 0 ? static_cast<std::size_t>(got) : 0);
+  return answer.substr(0, answer.find("\r\n"));
+}
+
+class ViewServerTest : public ::testing::Test {
+ protected:
+  test_support::TempDir dir_;
+  std::string web_ = WriteWebDir(dir_);
+  std::string recording_ = WriteRecording(dir_, "run.orcsrec");
+};
+
+TEST_F(ViewServerTest, ServesThePageAndTheListedAssetsOnly) {
+  ViewCatalog catalog({recording_});
+  Served served(web_, &catalog, nullptr);
+  httplib::Client client = served.Client();
+  EXPECT_EQ(client.Get("/")->body, "<html>orcs-view</html>");
+  EXPECT_EQ(client.Get("/assets/app.js")->body, "export const app = 1;");
+  EXPECT_EQ(client.Get("/assets/app.js")->get_header_value("Content-Type"), "text/javascript; charset=utf-8");
+  EXPECT_EQ(client.Get("/assets/files.txt")->status, 404);
+  EXPECT_EQ(client.Get("/assets/index.html.bak")->status, 404);
+}
+
+TEST_F(ViewServerTest, PathTraversalAndAbsolutePathsAnswer404) {
+  ViewCatalog catalog({recording_});
+  Served served(web_, &catalog, nullptr);
+  httplib::Client client = served.Client();
+  for (const char* path : {"/../run.orcsrec", "/assets/../files.txt", "/assets/..%2Ffiles.txt", "/assets/%2e%2e/files.txt",
+                           "/etc/passwd", "//etc/passwd", "/assets//etc/passwd", "/assets/src/app.js",
+                           "/api/recording/..%2F..%2Frun.orcsrec", "/api/recording/r0/../../files.txt",
+                           "/api/recording//tmp/x"}) {
+    const httplib::Result result = client.Get(path);
+    ASSERT_TRUE(result) << path;
+    EXPECT_EQ(result->status, 404) << path;
+  }
+  // The same through a raw socket, where no client library normalises the path first.
+  EXPECT_EQ(RawRequest(served.port(), "GET /../../../../etc/passwd HTTP/1.1\r\nHost: x\r\n\r\n").substr(9, 3), "404");
+}
+
+TEST_F(ViewServerTest, MalformedRequestsAnswer4xx) {
+  ViewCatalog catalog({recording_});
+  Served served(web_, &catalog, nullptr);
+  const std::string garbage = RawRequest(served.port(), "\x16\x03\x01 not http at all\r\n\r\n");
+  EXPECT_THAT(garbage, HasSubstr(" 4")) << garbage;
+  const std::string no_version = RawRequest(served.port(), "GET\r\n\r\n");
+  EXPECT_THAT(no_version, HasSubstr(" 4")) << no_version;
+  httplib::Client client = served.Client();
+  EXPECT_EQ(client.Get("/api/recording/r0/channels?ids=1,x")->status, 400);
+  EXPECT_EQ(client.Get("/api/recording/r0/channels?ids=999999")->status, 400);
+  EXPECT_EQ(client.Get("/api/recording/r0/channels")->status, 400);
+  EXPECT_EQ(client.Get("/api/recording/r9")->status, 404);
+  EXPECT_EQ(client.Post("/api/live/claim", "", "application/json")->status, 404) << "no live session in files mode";
+  const std::string huge(2 << 20, 'x');
+  const httplib::Result too_big = client.Post("/api/render/done", huge, "text/plain");
+  ASSERT_TRUE(too_big);
+  EXPECT_EQ(too_big->status, 413);
+}
+
+TEST_F(ViewServerTest, ChannelsComeBackAsTheRecordingHoldsThem) {
+  ViewCatalog catalog({recording_});
+  Served served(web_, &catalog, nullptr);
+  httplib::Client client = served.Client();
+  const nlohmann::json header = nlohmann::json::parse(client.Get("/api/recording/r0")->body);
+  EXPECT_EQ(header["frames"], kSteps + 1);
+  EXPECT_DOUBLE_EQ(header["duration"].get<double>(), kSteps * 0.01);
+  const auto recording = catalog.Recording("r0");
+  const int knee = recording->FindChannel("/Sim/Humanoid/Right/Knee/JointAngle");
+  const int time = recording->FindChannel("/Simulation/CurrentSimulationTime");
+  const std::string body =
+      client.Get(("/api/recording/r0/channels?ids=" + std::to_string(knee) + "," + std::to_string(time)).c_str())->body;
+  ASSERT_EQ(body.size(), 2u * (kSteps + 1) * sizeof(float));
+  std::vector<float> columns(2 * (kSteps + 1));
+  std::memcpy(columns.data(), body.data(), body.size());
+  EXPECT_EQ(columns[kSteps], recording->value(kSteps, knee));
+  EXPECT_GT(columns[kSteps], 5.0f) << "the knee moved";
+  EXPECT_FLOAT_EQ(columns[2 * kSteps + 1], kSteps * 0.01f);
+  const std::string times = client.Get("/api/recording/r0/times")->body;
+  ASSERT_EQ(times.size(), (kSteps + 1) * sizeof(double));
+  const nlohmann::json contacts = nlohmann::json::parse(client.Get("/api/recording/r0/contacts")->body);
+  EXPECT_EQ(contacts["offsets"].size(), static_cast<std::size_t>(kSteps + 2));
+}
+
+TEST_F(ViewServerTest, StaysUpUnderABoundedFloodOfRequests) {
+  ViewCatalog catalog({recording_});
+  Served served(web_, &catalog, nullptr);
+  constexpr int kClients = 8;
+  constexpr int kRequestsEach = 250;
+  std::atomic<int> answered{0};
+  std::vector<std::thread> clients;
+  for (int c = 0; c < kClients; ++c) {
+    clients.emplace_back([&, c] {
+      httplib::Client client = served.Client();
+      for (int i = 0; i < kRequestsEach; ++i) {
+        const char* path = (i + c) % 3 == 0 ? "/api/session" : (i + c) % 3 == 1 ? "/../x" : "/api/recording/r0/times";
+        if (client.Get(path)) ++answered;
+      }
+    });
+  }
+  for (std::thread& client : clients) client.join();
+  EXPECT_EQ(answered.load(), kClients * kRequestsEach);
+  const httplib::Result after = served.Client().Get("/api/session");
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->status, 200);
+}
+
+TEST_F(ViewServerTest, LiveModeObeysOnlyTheControllingPage) {
+  LiveOptions options;
+  options.files_dir = dir_.PathOf("files");
+  LiveSession live(options);
+  Served served(web_, nullptr, &live);
+  httplib::Client watcher = served.Client();
+  const nlohmann::json denied = {{"path", "/Sim/Humanoid/Right/Knee/DesiredAngle"}, {"value", "25"}};
+  EXPECT_EQ(watcher.Post("/api/live/values", denied.dump(), "application/json")->status, 403);
+
+  const nlohmann::json claim = nlohmann::json::parse(watcher.Post("/api/live/claim", "", "application/json")->body);
+  const std::string token = claim["token"];
+  EXPECT_EQ(token.size(), 32u);
+  EXPECT_EQ(watcher.Post("/api/live/claim", "", "application/json")->status, 409) << "one page controls";
+  const httplib::Headers headers = {{"X-Orcs-Token", token}};
+  const httplib::Result set = watcher.Post("/api/live/values", headers, denied.dump(), "application/json");
+  ASSERT_EQ(set->status, 200) << set->body;
+  const nlohmann::json values = nlohmann::json::parse(watcher.Get("/api/live/values?filter=.*Right/Knee/DesiredAngle")->body);
+  ASSERT_EQ(values.size(), 1u);
+  EXPECT_EQ(values[0]["value"], "25");
+  const nlohmann::json bad = {{"path", "/Sim/Humanoid/Right/Knee/DesiredAngle"}, {"value", "abc"}};
+  const httplib::Result refused = watcher.Post("/api/live/values", headers, bad.dump(), "application/json");
+  EXPECT_EQ(refused->status, 400);
+  EXPECT_THAT(refused->body, HasSubstr("DesiredAngle"));
+  const nlohmann::json traversal = {{"file", "../escape.val"}};
+  EXPECT_EQ(watcher.Post("/api/live/save", headers, traversal.dump(), "application/json")->status, 400);
+  EXPECT_EQ(watcher.Get("/api/live/values?filter=(.*)*(.*)*(.*)*(.*)*(.*)*X")->body, "[]") << "RE2: no hang";
+}
+
+// The first frame at or beyond `step`, awaited frame by frame (each wait bounded).
+LiveFrame FrameAtStep(LiveSession& live, std::int64_t step) {
+  LiveFrame frame = live.FrameAfter(-1, std::chrono::milliseconds(0));
+  for (int tries = 0; frame.step < step && tries < 1000; ++tries) {
+    frame = live.FrameAfter(frame.serial, std::chrono::milliseconds(1000));
+  }
+  return frame;
+}
+
+TEST_F(ViewServerTest, LiveStepsWhenToldAndStandsStillWhenPaused) {
+  LiveOptions options;
+  options.files_dir = dir_.PathOf("files");
+  LiveSession live(options);
+  EXPECT_EQ(live.FrameAfter(-1, std::chrono::milliseconds(0)).step, 0);
+  live.Control("step", true);
+  EXPECT_EQ(FrameAtStep(live, 1).step, 1);
+  live.Control("run", false);
+  EXPECT_GE(FrameAtStep(live, 20).step, 20);
+  live.Control("pause", true);
+  const LiveFrame paused = live.FrameAfter(-1, std::chrono::milliseconds(0));
+  const LiveFrame later = live.FrameAfter(paused.serial, std::chrono::milliseconds(200));
+  EXPECT_EQ(later.step, paused.step) << "no step while paused";
+  EXPECT_EQ(later.time, paused.time);
+  live.Control("reset", true);
+  EXPECT_EQ(live.State()["step"], 0);
+}
+
+}  // namespace
+}  // namespace orcs::viewer
