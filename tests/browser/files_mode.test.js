@@ -135,8 +135,10 @@ test('orcsView.select on a body plots its position; a channel search adds any ch
 test('a second run overlays the plots, the legend names both runs', async () => {
   await page.evaluate(() => orcsView.select('Waist'));
   await page.selectOption('#compare', 'r1');
-  await until(() => page.evaluate(() => document.querySelectorAll('#plots .u-legend .u-series').length >= 5), 5000, 'overlay series');
-  const legend = await page.locator('#plots .u-legend').first().textContent();
+  const legend = await until(async () => {
+    const text = await page.locator('#plots .u-legend').first().textContent();
+    return /waist_bend/.test(text) && text;
+  }, 10_000, 'the overlaid run in the legend');
   assert.match(legend, /stand/);
   assert.match(legend, /waist_bend/);
   await page.selectOption('#compare', '');

@@ -321,6 +321,22 @@ function countRender() {
   while (renderTimes.length && renderTimes[0] < now - 1000) renderTimes.shift();
 }
 
+// While playing a recording, the drawing resolution follows the frame rate (software GL on a busy machine
+// cannot fill a large canvas 60 times a second); paused, the view is drawn at full resolution again.
+let lastAdapt = 0, playingSince = 0;
+function adaptResolution(now) {
+  if (state.mode !== 'files' || !state.playing) {
+    playingSince = 0;
+    if (world.scale !== 1) world.setScale(1);
+    return;
+  }
+  if (!playingSince) playingSince = now;
+  if (now - playingSince < 1000 || now - lastAdapt < 1000) return;
+  lastAdapt = now;
+  if (state.fps < 45 && world.scale > 0.5) world.setScale(world.scale * 0.8);
+  else if (state.fps >= 58 && world.scale < 1) world.setScale(world.scale * 1.25);
+}
+
 function tick(now) {
   if (state.playing && rec && state.mode === 'files') {
     if (lastWall !== null) {
@@ -342,6 +358,7 @@ function tick(now) {
   }
   while (renderTimes.length && renderTimes[0] < now - 1000) renderTimes.shift();
   state.fps = renderTimes.length;
+  adaptResolution(now);
   requestAnimationFrame(tick);
 }
 
@@ -433,8 +450,10 @@ function channelSearch() {
   const test = matcher(text);
   if (!test) { list.replaceChildren(el('li', { class: 'muted' }, 'not a valid regular expression')); return; }
   const found = channelList().filter(test);
-  list.replaceChildren(...found.slice(0, 200).map((c) => el('li', { title: `plot ${c}`, onclick: () => plot(c) }, shortName(c))),
-    found.length > 200 ? el('li', { class: 'muted' }, `… ${found.length - 200} more`) : null);
+  const rows = found.slice(0, 200).map((c) => el('li', { title: `plot ${c}`, onclick: () => plot(c) }, shortName(c)));
+  if (found.length > 200) rows.push(el('li', { class: 'muted' }, `… ${found.length - 200} more`));
+  if (!found.length) rows.push(el('li', { class: 'muted' }, 'no channel matches'));
+  list.replaceChildren(...rows);
 }
 
 // ---------------------------------------------------------------------------------------------------------

@@ -11,6 +11,19 @@ export function shortName(path) {
   return path.replace(/^\/Sim\//, '');
 }
 
+/** A run's name for legends: its label without the .orcsrec ending. */
+function runName(source) {
+  return String(source.label || '').replace(/\.orcsrec$/, '');
+}
+
+/** The longest common prefix of the paths that ends at a '/', or ''. */
+function commonFolder(paths) {
+  if (paths.length < 2) return paths.length ? paths[0].slice(0, paths[0].lastIndexOf('/') + 1) : '';
+  let prefix = paths[0];
+  for (const p of paths) while (!p.startsWith(prefix)) prefix = prefix.slice(0, -1);
+  return prefix.slice(0, prefix.lastIndexOf('/') + 1);
+}
+
 /** Values of `values` (at `fromTimes`) resampled linearly at `toTimes`; null outside the range. */
 function resample(fromTimes, values, toTimes) {
   const same = fromTimes.length === toTimes.length && fromTimes.length > 0 &&
@@ -92,7 +105,7 @@ export class Plots {
     if (!chart) {
       const div = el('div', { class: 'chart' });
       const title = el('div', { class: 'chart-title' },
-        el('span', {}, unit ? `[${unit}]` : '[—]'),
+        el('span', { class: 'chart-name' }, unit ? `[${unit}]` : '[—]'),
         el('button', { class: 'chart-close', title: 'remove this plot', onclick: () => this.removeUnit(unit) }, '×'));
       div.append(title);
       this.container.append(div);
@@ -129,17 +142,20 @@ export class Plots {
     const times = primary.times;
     const data = [Array.from(times)];
     const series = [{ label: 't', value: (u, v) => (v == null ? '—' : v.toFixed(3) + ' s') }];
+    const folder = commonFolder(chart.paths);
+    chart.div.querySelector('.chart-name').textContent = `${shortName(folder) || ''} [${chart.unit || '—'}]`;
+    const name = (path) => path.slice(folder.length) || shortName(path);
     for (let i = 0; i < chart.paths.length; i++) {
       const path = chart.paths[i];
       const color = PALETTE[i % PALETTE.length];
       const values = await primary.values(primary.channelIndex(path));
       data.push(Array.from(values || []));
-      series.push({ label: overlay ? `${shortName(path)} · ${primary.label}` : shortName(path), stroke: color, width: 1.5, value: (u, v) => (v == null ? '—' : v.toFixed(4)) });
+      series.push({ label: overlay ? `${name(path)} · ${runName(primary)}` : name(path), stroke: color, width: 1.5, value: (u, v) => (v == null ? '—' : v.toFixed(4)) });
       if (overlay) {
         const oi = overlay.channelIndex(path);
         const ov = oi >= 0 ? await overlay.values(oi) : null;
         data.push(ov ? resample(overlay.times, ov, times) : new Array(times.length).fill(null));
-        series.push({ label: `${shortName(path)} · ${overlay.label}`, stroke: color, width: 1.5, dash: [6, 4], value: (u, v) => (v == null ? '—' : v.toFixed(4)) });
+        series.push({ label: `${name(path)} · ${runName(overlay)}`, stroke: color, width: 1.5, dash: [6, 4], value: (u, v) => (v == null ? '—' : v.toFixed(4)) });
       }
     }
     if (generation !== this.generation || !this.charts.has(chart.unit)) return;

@@ -50,7 +50,9 @@ export class World {
     this.canvas = canvas;
     this.fixedSize = fixedSize;
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(fixedSize ? 1 : Math.min(window.devicePixelRatio || 1, 2));
+    this.basePixelRatio = fixedSize ? 1 : Math.min(window.devicePixelRatio || 1, 2);
+    this.scale = 1;  // resolution scale while playing (1 = full); see setScale
+    this.renderer.setPixelRatio(this.basePixelRatio);
     this.renderer.outputColorSpace = THREE.SRGBColorSpace;
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x1d2127);
@@ -134,6 +136,18 @@ export class World {
     this.needsDraw = true;
   }
 
+  /**
+   * Dynamic resolution: draws at scale × the full pixel ratio (0.5–1). The page lowers it while playing when
+   * frames come slower than the display's (software GL on a busy machine) and restores it when paused.
+   */
+  setScale(scale) {
+    const s = Math.max(0.5, Math.min(1, scale));
+    if (this.fixedSize || Math.abs(s - this.scale) < 1e-3) return;
+    this.scale = s;
+    this.renderer.setPixelRatio(this.basePixelRatio * s);
+    this.needsDraw = true;
+  }
+
   static disposeGroup(group) {
     group.traverse((o) => {
       if (o.geometry) o.geometry.dispose();
@@ -194,15 +208,15 @@ export class World {
     const { color } = colorOf(geom.color && geom.color.length ? geom.color : [120, 124, 130, 255]);
     const y = (body.position && body.position[1]) || 0;
     const floor = new THREE.Mesh(new THREE.PlaneGeometry(40, 40),
-      new THREE.MeshLambertMaterial({ color: color.clone().multiplyScalar(0.55) }));
+      new THREE.MeshLambertMaterial({ color: color.clone().multiplyScalar(0.6) }));
     floor.rotation.x = -Math.PI / 2;
     floor.position.y = y;
     floor.userData.floor = true;
-    const grid = new THREE.GridHelper(10, 100, 0x8a94a6, 0x4a515c);
+    const grid = new THREE.GridHelper(4, 40, 0x6c7380, 0x6c7380);
     grid.position.y = y + 0.0005;
     grid.material.transparent = true;
-    grid.material.opacity = 0.55;
-    const major = new THREE.GridHelper(10, 10, 0xaab4c4, 0x7a8494);
+    grid.material.opacity = 0.35;
+    const major = new THREE.GridHelper(20, 20, 0x4f5662, 0x4f5662);
     major.position.y = y + 0.0008;
     this.staticRoot.add(floor, grid, major);
   }
@@ -370,7 +384,7 @@ export class World {
     const c = this.robotCenter();
     const d = this.robotSize() * 3;
     const offsets = {
-      front: [0, 0.3, 1], back: [0, 0.3, -1], left: [1, 0.3, 0], right: [-1, 0.3, 0],
+      front: [0, 0.45, 1], back: [0, 0.45, -1], left: [1, 0.45, 0], right: [-1, 0.45, 0],
       top: [0, 1.3, 0.001], follow: [-0.62, 0.38, 0.78],
     };
     const o = offsets[name] || offsets.front;
