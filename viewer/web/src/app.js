@@ -331,10 +331,14 @@ function adaptResolution(now) {
     return;
   }
   if (!playingSince) playingSince = now;
-  if (now - playingSince < 1000 || now - lastAdapt < 1000) return;
+  if (now - playingSince < 500 || now - lastAdapt < 500) return;
   lastAdapt = now;
-  if (state.fps < 45 && world.scale > 0.5) world.setScale(world.scale * 0.8);
-  else if (state.fps >= 58 && world.scale < 1) world.setScale(world.scale * 1.25);
+  // Frames drawn in the last half second, as a rate.
+  let recent = 0;
+  for (let i = renderTimes.length - 1; i >= 0 && renderTimes[i] >= now - 500; i--) recent++;
+  const rate = recent * 2;
+  if (rate < 50 && world.scale > 0.5) world.setScale(world.scale * 0.75);
+  else if (rate >= 58 && world.scale < 1) world.setScale(world.scale * 1.15);
 }
 
 function tick(now) {

@@ -208,7 +208,8 @@ export class World {
     const { color } = colorOf(geom.color && geom.color.length ? geom.color : [120, 124, 130, 255]);
     const y = (body.position && body.position[1]) || 0;
     const floor = new THREE.Mesh(new THREE.PlaneGeometry(40, 40),
-      new THREE.MeshLambertMaterial({ color: color.clone().multiplyScalar(0.6) }));
+      // Unlit: the floor fills most of the view, and software GL pays per pixel for lighting.
+      new THREE.MeshBasicMaterial({ color: color.clone().multiplyScalar(0.62) }));
     floor.rotation.x = -Math.PI / 2;
     floor.position.y = y;
     floor.userData.floor = true;
