@@ -116,6 +116,24 @@ test('clicking a joint in the list plots its angle', async () => {
   assert.match(await page.locator('#plots').textContent(), /\[deg\]/);
 });
 
+test('clicking the robot in the 3D view selects a body and plots its position', async () => {
+  await page.evaluate(() => { orcsView.seek(0); });
+  await page.click('[data-camera="front"]');
+  await frames(page, 2);
+  // The front preset looks at the robot's centre: the middle of the view is on the robot.
+  const box = await page.locator('#canvas').boundingBox();
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  const plots = await until(async () => {
+    const p = await page.evaluate(() => orcsView.plots);
+    return p.length === 3 && p;
+  }, 5000, 'the picked body\'s plots');
+  const body = /^\/Sim\/(.+)\/Position\.x$/.exec(plots[0]);
+  assert.ok(body, `plots: ${plots}`);
+  assert.ok(body[1].startsWith('Humanoid/'), `picked ${body[1]}`);
+  assert.match(await page.locator('#selection').textContent(), new RegExp(`body: ${body[1]}`));
+  assert.equal(await page.locator('#tree li.current').getAttribute('data-name'), body[1]);
+});
+
 test('orcsView.select on a body plots its position; a channel search adds any channel', async () => {
   const header = await fetchJson(`${server.url}api/recording/r0`);
   const head = headName(header);

@@ -19,7 +19,7 @@ export class Items {
     this.items = Array.isArray(session.items) ? session.items : [];
     const list = $('items');
     list.replaceChildren(...this.items.map((item) => el('li', {
-      class: 'item', dataset: { id: item.id, kind: item.kind }, title: item.path || item.label || item.id,
+      class: item.parent ? 'item child' : 'item', dataset: { id: item.id, kind: item.kind }, title: item.path || item.label || item.id,
       onclick: () => this.ctx.open(item.id),
     }, el('span', { class: 'icon' }, KIND_ICON[item.kind] || '•'), el('span', { class: 'label' }, item.label || item.path || item.id),
     el('span', { class: 'muted id' }, item.id))));
