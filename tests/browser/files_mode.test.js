@@ -220,6 +220,7 @@ test('screenshot: a body selected and a plot shown (ORCS_SCREENSHOT_DIR)', async
     await orcsView.select('Waist');
   });
   await page.selectOption('#compare', 'r0');
+  await page.fill('#channel-search', '');
   await page.click('[data-camera="follow"]');
   await page.evaluate(() => {
     const names = Object.keys(orcsView.bodies);

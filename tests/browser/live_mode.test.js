@@ -99,3 +99,20 @@ test('save and load a pose', async () => {
   const errors = await page.evaluate(() => orcsView.errors);
   assert.ok(errors.every((e) => !/pose_test/.test(e)), errors.join('\n'));
 });
+
+test('the Logger writes a CSV while the simulation runs', async () => {
+  await page.fill('#logger-filter', `${KNEE}/JointAngle`);
+  await page.fill('#logger-file', 'knee_log.csv');
+  await page.click('#logger-start');
+  await until(async () => /writing/.test(await page.locator('#logger-state').textContent()), 5000, 'the logger started');
+  await page.click('#live-run');
+  await until(() => page.evaluate(() => orcsView.playing), 5000, 'running');
+  const t0 = await page.evaluate(() => orcsView.time);
+  await until(() => page.evaluate((t) => orcsView.time > t + 0.2, t0), 10_000, 'time passing');
+  await page.click('#logger-stop');
+  await until(async () => /stopped/.test(await page.locator('#logger-state').textContent()), 5000, 'the logger stopped');
+  await page.click('#live-pause');
+  const files = JSON.stringify(await fetchJson(`${server.url}api/live/files`));
+  assert.match(files, /knee_log\.csv/);
+  assert.deepEqual(page.orcsProblems.filter((p) => !/status of 400/.test(p)), []);
+});
