@@ -28,11 +28,11 @@ export async function makeRecording(file, args = []) {
 }
 
 /**
- * Starts orcs-view on a free loopback port (--port 0) and waits for its "serving http://..." line.
- * ORCS_WEB_DIR, when set, is passed as --web-dir. Returns {url, stop()}.
+ * Starts orcs-view on a free loopback port (--port 0) and waits for its "serving http://..." line. The page is
+ * this checkout's viewer/web (its files.txt), or ORCS_WEB_DIR when set. Returns {url, stop()}.
  */
 export function startServer(args) {
-  const webDir = process.env.ORCS_WEB_DIR ? ['--web-dir', path.resolve(repoRoot, process.env.ORCS_WEB_DIR)] : [];
+  const webDir = ['--web-dir', path.resolve(repoRoot, process.env.ORCS_WEB_DIR || 'viewer/web')];
   const child = spawn(path.join(binDir, 'orcs-view'), [...args, '--port', '0', ...webDir], {
     cwd: repoRoot, stdio: ['ignore', 'pipe', 'pipe'],
   });

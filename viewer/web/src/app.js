@@ -321,24 +321,26 @@ function countRender() {
   while (renderTimes.length && renderTimes[0] < now - 1000) renderTimes.shift();
 }
 
-// While playing a recording, the drawing resolution follows the frame rate (software GL on a busy machine
-// cannot fill a large canvas 60 times a second); paused, the view is drawn at full resolution again.
-let lastAdapt = 0, playingSince = 0;
+// While the picture moves (a recording playing, a live simulation running), the drawing resolution follows the
+// browser's frame rate: software GL on a busy machine cannot fill a large canvas 60 times a second, and a slow
+// draw also slows the live long poll. Standing still, the view is drawn at full resolution again.
+let lastAdapt = 0, movingSince = 0;
+const tickTimes = [];
 function adaptResolution(now) {
-  if (state.mode !== 'files' || !state.playing) {
-    playingSince = 0;
+  tickTimes.push(now);
+  while (tickTimes.length && tickTimes[0] < now - 500) tickTimes.shift();
+  const moving = state.mode === 'files' ? state.playing : state.mode === 'live' && state.playing;
+  if (!moving || renderMode) {
+    movingSince = 0;
     if (world.scale !== 1) world.setScale(1);
     return;
   }
-  if (!playingSince) playingSince = now;
-  if (now - playingSince < 500 || now - lastAdapt < 500) return;
+  if (!movingSince) movingSince = now;
+  if (now - movingSince < 500 || now - lastAdapt < 500) return;
   lastAdapt = now;
-  // Frames drawn in the last half second, as a rate.
-  let recent = 0;
-  for (let i = renderTimes.length - 1; i >= 0 && renderTimes[i] >= now - 500; i--) recent++;
-  const rate = recent * 2;
+  const rate = tickTimes.length * 2;  // animation frames per second over the last half second
   if (rate < 50 && world.scale > 0.5) world.setScale(world.scale * 0.75);
-  else if (rate >= 58 && world.scale < 1) world.setScale(world.scale * 1.15);
+  else if (rate >= 57 && world.scale < 1) world.setScale(world.scale * 1.15);
 }
 
 function tick(now) {
