@@ -5,7 +5,7 @@ import assert from 'node:assert/strict';
 import path from 'node:path';
 import { mkdir } from 'node:fs/promises';
 import {
-  repoRoot, tempDir, makeRecording, startServer, launchBrowser, openPage, frames, canvasPixels,
+  repoRoot, tempDir, makeRecording, startServer, launchBrowser, openPage, frames, snapshotCanvas, diffSnapshots,
   fetchArray, fetchJson, until,
 } from './helpers.js';
 
@@ -50,24 +50,13 @@ test('the robot is drawn: hiding the bodies changes the robot region, not the ba
   await page.evaluate(() => window.orcsView.seek(0));
   await page.click('[data-camera="front"]');
   await frames(page, 3);
-  const shown = await canvasPixels(page);
+  await snapshotCanvas(page, 'shown');
   await page.uncheck('#toggle-bodies');
   await frames(page, 3);
-  const hidden = await canvasPixels(page);
+  await snapshotCanvas(page, 'hidden');
   await page.check('#toggle-bodies');
   await frames(page, 2);
-  const { width, height } = shown;
-  let changed = 0, changedNearCentre = 0, changedInCorner = 0;
-  for (let y = 0; y < height; y++) {
-    for (let x = 0; x < width; x++) {
-      const i = 4 * (y * width + x);
-      const d = Math.abs(shown.data[i] - hidden.data[i]) + Math.abs(shown.data[i + 1] - hidden.data[i + 1]) + Math.abs(shown.data[i + 2] - hidden.data[i + 2]);
-      if (d <= 24) continue;
-      changed++;
-      if (Math.abs(x - width / 2) < width / 4 && Math.abs(y - height / 2) < height / 3) changedNearCentre++;
-      if (x < width / 8 && y > (height * 7) / 8) changedInCorner++;
-    }
-  }
+  const { changed, centre: changedNearCentre, corner: changedInCorner } = await diffSnapshots(page, 'shown', 'hidden');
   // The front preset centres the robot: its pixels are there, the bare floor in the bottom-left corner stays.
   assert.ok(changed > 2000, `only ${changed} pixels show the robot`);
   assert.ok(changedNearCentre > 0.8 * changed, `${changedNearCentre} of ${changed} changed pixels near the centre`);

@@ -101,18 +101,40 @@ export function frames(page, n = 2) {
   }), n);
 }
 
-/** The WebGL canvas' pixels (its drawing buffer is preserved), as {width, height, data: number[]}. */
-export function canvasPixels(page) {
-  return page.evaluate(() => {
+/** Keeps a copy of the WebGL canvas' pixels (its drawing buffer is preserved) in the page under `name`. */
+export function snapshotCanvas(page, name) {
+  return page.evaluate((key) => {
     const c = document.getElementById('canvas');
     const copy = document.createElement('canvas');
     copy.width = c.width;
     copy.height = c.height;
-    const g = copy.getContext('2d');
+    const g = copy.getContext('2d', { willReadFrequently: true });
     g.drawImage(c, 0, 0);
-    const img = g.getImageData(0, 0, c.width, c.height);
-    return { width: img.width, height: img.height, data: Array.from(img.data) };
-  });
+    (window.__testSnapshots ||= {})[key] = g.getImageData(0, 0, c.width, c.height);
+  }, name);
+}
+
+/**
+ * Compares two snapshots pixel by pixel (summed |ΔR|+|ΔG|+|ΔB| > 24 counts as changed): how many changed in
+ * all, near the centre (the middle half across, two thirds down), and in the bottom-left eighth.
+ */
+export function diffSnapshots(page, a, b) {
+  return page.evaluate(([ka, kb]) => {
+    const A = window.__testSnapshots[ka], B = window.__testSnapshots[kb];
+    const { width, height } = A;
+    let changed = 0, centre = 0, corner = 0;
+    for (let y = 0; y < height; y++) {
+      for (let x = 0; x < width; x++) {
+        const i = 4 * (y * width + x);
+        const d = Math.abs(A.data[i] - B.data[i]) + Math.abs(A.data[i + 1] - B.data[i + 1]) + Math.abs(A.data[i + 2] - B.data[i + 2]);
+        if (d <= 24) continue;
+        changed++;
+        if (Math.abs(x - width / 2) < width / 4 && Math.abs(y - height / 2) < height / 3) centre++;
+        if (x < width / 8 && y > (height * 7) / 8) corner++;
+      }
+    }
+    return { width, height, changed, centre, corner };
+  }, [a, b]);
 }
 
 /** Float64 or Float32 array from a route of the server. */
