@@ -446,7 +446,11 @@ function fillTree() {
 }
 
 function markTree() {
-  for (const li of $('tree').children) li.classList.toggle('current', li.dataset.name === selected);
+  for (const li of $('tree').children) {
+    const on = li.dataset.name === selected;
+    li.classList.toggle('current', on);
+    if (on) li.scrollIntoView({ block: 'nearest' });
+  }
 }
 
 function channelSearch() {
