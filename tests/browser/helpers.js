@@ -1,0 +1,163 @@
+// Shared by the browser tests: the real orcs-view and orcs-sim binaries (ORCS_BIN_DIR, default build/bin of
+// the repository), Debian's chromium through playwright-core (WebGL2 via SwiftShader), and small page helpers.
+import { spawn, execFile } from 'node:child_process';
+import { mkdtemp, rm } from 'node:fs/promises';
+import { existsSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { createInterface } from 'node:readline';
+import { fileURLToPath } from 'node:url';
+import { promisify } from 'node:util';
+import { chromium } from 'playwright-core';
+
+export const repoRoot = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..');
+export const binDir = path.resolve(repoRoot, process.env.ORCS_BIN_DIR || 'build/bin');
+export const chromiumPath = process.env.ORCS_CHROMIUM || '/usr/bin/chromium';
+const run = promisify(execFile);
+
+/** A scratch folder, removed by the returned cleanup. */
+export async function tempDir() {
+  const dir = await mkdtemp(path.join(tmpdir(), 'orcs-browser-'));
+  return { dir, cleanup: () => rm(dir, { recursive: true, force: true }) };
+}
+
+/** Makes a recording with orcs-sim --record (the A-Series standing 10 s unless args say otherwise). */
+export async function makeRecording(file, args = []) {
+  await run(path.join(binDir, 'orcs-sim'), ['--record', file, ...args], { cwd: repoRoot, timeout: 60_000 });
+  return file;
+}
+
+/**
+ * Starts orcs-view on a free loopback port (--port 0) and waits for its "serving http://..." line. The page is
+ * this checkout's viewer/web (its files.txt), or ORCS_WEB_DIR when set. Returns {url, stop()}.
+ */
+export function startServer(args) {
+  const webDir = ['--web-dir', path.resolve(repoRoot, process.env.ORCS_WEB_DIR || 'viewer/web')];
+  const child = spawn(path.join(binDir, 'orcs-view'), [...args, '--port', '0', ...webDir], {
+    cwd: repoRoot, stdio: ['ignore', 'pipe', 'pipe'],
+  });
+  let stderr = '';
+  child.stderr.on('data', (d) => { stderr += d; });
+  const exited = new Promise((resolve) => child.once('exit', (code, signal) => resolve({ code, signal })));
+  const url = new Promise((resolve, reject) => {
+    const timer = setTimeout(() => {
+      child.kill('SIGKILL');
+      reject(new Error(`orcs-view ${args.join(' ')} printed no address in 30 s: ${stderr.trim()}`));
+    }, 30_000);
+    child.once('error', (err) => { clearTimeout(timer); reject(err); });
+    const lines = createInterface({ input: child.stdout });
+    lines.on('line', (line) => {
+      const m = /serving (http:\/\/[^\s/]+)/.exec(line);
+      if (m) { clearTimeout(timer); resolve(m[1] + '/'); }
+    });
+    exited.then(({ code, signal }) => {
+      clearTimeout(timer);
+      reject(new Error(`orcs-view ${args.join(' ')} exited (${code ?? signal}) before serving: ${stderr.trim()}`));
+    });
+  });
+  return url.then((u) => ({
+    url: u,
+    stderr: () => stderr,
+    stop: async () => {
+      if (child.exitCode === null && child.signalCode === null) child.kill('SIGTERM');
+      const timer = setTimeout(() => child.kill('SIGKILL'), 5000);
+      await exited;
+      clearTimeout(timer);
+    },
+  }));
+}
+
+export function haveBinaries(...names) {
+  return names.every((n) => existsSync(path.join(binDir, n)));
+}
+
+export async function launchBrowser() {
+  return chromium.launch({
+    executablePath: chromiumPath,
+    // Software compositing: the page's WebGL still runs on SwiftShader, but the browser does not composite the
+    // whole window through it every frame (measured: a blank page's requestAnimationFrame 37 → 61 per second
+    // on a busy 2-core machine).
+    args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox', '--disable-gpu-compositing'],
+  });
+}
+
+/** A page that collects console errors and uncaught exceptions into page.orcsProblems. */
+export async function openPage(browser, url, viewport = { width: 1400, height: 850 }) {
+  const page = await browser.newPage({ viewport });
+  const problems = [];
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+  page.on('pageerror', (e) => problems.push(`pageerror: ${e.message}`));
+  page.orcsProblems = problems;
+  await page.goto(url);
+  await page.waitForFunction(() => window.orcsView && window.orcsView.ready === true, null, { timeout: 30_000 });
+  return page;
+}
+
+/** Waits for n animation frames in the page (the view has drawn what was set before). */
+export function frames(page, n = 2) {
+  return page.evaluate((k) => new Promise((resolve) => {
+    const next = (left) => (left ? requestAnimationFrame(() => next(left - 1)) : resolve());
+    next(k);
+  }), n);
+}
+
+/** Keeps a copy of the WebGL canvas' pixels (its drawing buffer is preserved) in the page under `name`. */
+export function snapshotCanvas(page, name) {
+  return page.evaluate((key) => {
+    const c = document.getElementById('canvas');
+    const copy = document.createElement('canvas');
+    copy.width = c.width;
+    copy.height = c.height;
+    const g = copy.getContext('2d', { willReadFrequently: true });
+    g.drawImage(c, 0, 0);
+    (window.__testSnapshots ||= {})[key] = g.getImageData(0, 0, c.width, c.height);
+  }, name);
+}
+
+/**
+ * Compares two snapshots pixel by pixel (summed |ΔR|+|ΔG|+|ΔB| > 24 counts as changed): how many changed in
+ * all, near the centre (the middle half across, two thirds down), and in the bottom-left eighth.
+ */
+export function diffSnapshots(page, a, b) {
+  return page.evaluate(([ka, kb]) => {
+    const A = window.__testSnapshots[ka], B = window.__testSnapshots[kb];
+    const { width, height } = A;
+    let changed = 0, centre = 0, corner = 0;
+    for (let y = 0; y < height; y++) {
+      for (let x = 0; x < width; x++) {
+        const i = 4 * (y * width + x);
+        const d = Math.abs(A.data[i] - B.data[i]) + Math.abs(A.data[i + 1] - B.data[i + 1]) + Math.abs(A.data[i + 2] - B.data[i + 2]);
+        if (d <= 24) continue;
+        changed++;
+        if (Math.abs(x - width / 2) < width / 4 && Math.abs(y - height / 2) < height / 3) centre++;
+        if (x < width / 8 && y > (height * 7) / 8) corner++;
+      }
+    }
+    return { width, height, changed, centre, corner };
+  }, [a, b]);
+}
+
+/** Float64 or Float32 array from a route of the server. */
+export async function fetchArray(url, Type) {
+  const res = await fetch(url);
+  if (!res.ok) throw new Error(`${url}: ${res.status} ${await res.text()}`);
+  return new Type(await res.arrayBuffer());
+}
+
+export async function fetchJson(url, options) {
+  const res = await fetch(url, options);
+  if (!res.ok) throw new Error(`${url}: ${res.status} ${await res.text()}`);
+  return res.json();
+}
+
+/** Polls fn until it returns a truthy value (or throws after timeoutMs). */
+export async function until(fn, timeoutMs = 10_000, what = 'condition') {
+  const end = Date.now() + timeoutMs;
+  let last;
+  for (;;) {
+    last = await fn();
+    if (last) return last;
+    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
+    await new Promise((r) => setTimeout(r, 100));
+  }
+}

@@ -1,0 +1,118 @@
+// orcs-view --live in a real browser: take control, run, move a motor slider (the Motor Control Manager), see
+// the value set and the joint follow, pause and see the clock stand.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import path from 'node:path';
+import { repoRoot, tempDir, startServer, launchBrowser, openPage, fetchJson, until } from './helpers.js';
+
+let tmp, server, browser, page;
+let KNEE;  // /Sim/<the first agent with a Right/Knee motor>/Right/Knee
+
+before(async () => {
+  tmp = await tempDir();
+  server = await startServer(['--live', '-env', path.join(repoRoot, 'scenarios/environments/example.xml'),
+    '--files', tmp.dir]);
+  const world = await fetchJson(`${server.url}api/live/world`);
+  const agent = world.agents.find((a) => a.motors.includes('Right/Knee'));
+  assert.ok(agent, 'an agent with a Right/Knee motor');
+  KNEE = `/Sim/${agent.name}/Right/Knee`;
+  browser = await launchBrowser();
+  page = await openPage(browser, server.url);
+});
+
+after(async () => {
+  await browser?.close();
+  await server?.stop();
+  await tmp?.cleanup();
+});
+
+const value = async (regex) => {
+  const rows = await fetchJson(`${server.url}api/live/values?filter=${encodeURIComponent(regex)}`);
+  assert.equal(rows.length, 1, `one value matches ${regex}`);
+  return Number(rows[0].value);
+};
+
+test('the live world is drawn: every robot of example.xml', async () => {
+  const world = await fetchJson(`${server.url}api/live/world`);
+  const state = await page.evaluate(() => ({ mode: orcsView.mode, item: orcsView.item, bodies: Object.keys(orcsView.bodies) }));
+  assert.equal(state.mode, 'live');
+  assert.equal(state.item, 'live');
+  assert.ok(state.bodies.includes('SecondSphere'), 'the environment\'s sphere');
+  for (const agent of world.agents) assert.ok(state.bodies.some((n) => n.startsWith(`${agent.name}/`)), `${agent.name}'s bodies`);
+  assert.equal(await page.locator(`#motor-sliders input[data-path="${KNEE}/DesiredAngle"]`).isDisabled(), true, 'sliders wait for control');
+});
+
+test('take control, run, move the Right/Knee slider: the value is set and the joint follows', async () => {
+  await page.click('#live-claim');
+  const slider = page.locator(`#motor-sliders input[data-path="${KNEE}/DesiredAngle"]`);
+  await until(() => slider.isEnabled(), 5000, 'the slider enabled after the claim');
+  await page.click('#live-run');
+  await until(() => page.evaluate(() => orcsView.playing), 5000, 'the simulation running');
+
+  const start = await value(`.*Right/Knee/JointAngle`);
+  const lo = Number(await slider.getAttribute('min')), hi = Number(await slider.getAttribute('max'));
+  let target = Math.round(start + 25);
+  if (target > hi) target = Math.round(start - 25);
+  assert.ok(target >= lo && target <= hi, `target ${target} in [${lo}, ${hi}]`);
+  await slider.fill(String(target));
+
+  await until(async () => Math.abs((await value(`.*Right/Knee/DesiredAngle`)) - target) < 0.051, 5000, 'DesiredAngle set');
+  await until(async () => Math.abs((await value(`.*Right/Knee/JointAngle`)) - target) < 4, 10_000, 'JointAngle following');
+  await page.evaluate((p) => orcsView.plot(p), `${KNEE}/JointAngle`);
+  assert.ok((await page.evaluate(() => orcsView.plots)).includes(`${KNEE}/JointAngle`));
+});
+
+test('pause stops the clock: the time stays equal over two successive frames', async () => {
+  await page.click('#live-pause');
+  await until(() => page.evaluate(() => !orcsView.playing), 5000, 'paused');
+  const first = await page.evaluate(() => orcsView.time);
+  // Two more long polls (each waits up to 0.5 s for a new step) answer the same time.
+  await page.waitForTimeout(1200);
+  assert.equal(await page.evaluate(() => orcsView.time), first);
+  const stepped = await page.evaluate(async () => { const before = orcsView.frame; orcsView.step(1); return before; });
+  await until(() => page.evaluate((b) => orcsView.frame === b + 1, stepped), 5000, 'one step');
+});
+
+test('Simulation Properties: a bad value shows the server\'s reason', async () => {
+  await page.fill('#props-filter', `${KNEE}/DesiredAngle`);
+  await page.click('#props-refresh');
+  const cell = page.locator(`#props-table input[data-path="${KNEE}/DesiredAngle"]`);
+  await cell.waitFor();
+  await cell.fill('not a number');
+  await cell.press('Enter');
+  await page.locator('#banner').waitFor({ state: 'visible' });
+  const errors = await page.evaluate(() => orcsView.errors);
+  assert.ok(errors.length >= 1);
+  assert.match(errors.at(-1), /DesiredAngle/);
+  await page.click('#banner-close');
+  // 400 answers are logged by chromium as failed resources; nothing else may reach the console.
+  const others = page.orcsProblems.filter((p) => !/status of 400/.test(p));
+  assert.deepEqual(others, []);
+});
+
+test('save and load a pose', async () => {
+  await page.fill('#pose-file', 'pose_test.val');
+  await page.click('#pose-save');
+  await until(() => page.locator('#pose-files option[value="pose_test.val"]').count(), 5000, 'the saved pose listed');
+  await page.selectOption('#pose-files', 'pose_test.val');
+  await page.click('#pose-load');
+  const errors = await page.evaluate(() => orcsView.errors);
+  assert.ok(errors.every((e) => !/pose_test/.test(e)), errors.join('\n'));
+});
+
+test('the Logger writes a CSV while the simulation runs', async () => {
+  await page.fill('#logger-filter', `${KNEE}/JointAngle`);
+  await page.fill('#logger-file', 'knee_log.csv');
+  await page.click('#logger-start');
+  await until(async () => /writing/.test(await page.locator('#logger-state').textContent()), 5000, 'the logger started');
+  await page.click('#live-run');
+  await until(() => page.evaluate(() => orcsView.playing), 5000, 'running');
+  const t0 = await page.evaluate(() => orcsView.time);
+  await until(() => page.evaluate((t) => orcsView.time > t + 0.2, t0), 10_000, 'time passing');
+  await page.click('#logger-stop');
+  await until(async () => /stopped/.test(await page.locator('#logger-state').textContent()), 5000, 'the logger stopped');
+  await page.click('#live-pause');
+  const files = JSON.stringify(await fetchJson(`${server.url}api/live/files`));
+  assert.match(files, /knee_log\.csv/);
+  assert.deepEqual(page.orcsProblems.filter((p) => !/status of 400/.test(p)), []);
+});

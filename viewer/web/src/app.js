@@ -1,0 +1,529 @@
+// orcs-view's page: loads the session, shows recordings (3D view, time line, plots), batch/evolve/gap items,
+// live simulations, and the render mode; keeps window.orcsView (docs/viewer-api.md) for tests and scripts.
+import { World } from './world.js';
+import { Plots, shortName } from './plots.js';
+import { Items } from './items.js';
+import { Live } from './live.js';
+import { runRender } from './render.js';
+import { getJson, getFloat64, getChannels } from './api.js';
+import { $, el, showError, hideError, onError, floorIndex, matcher } from './util.js';
+
+const PLAY_ICON = '<svg viewBox="0 0 16 16" width="14" height="14"><path d="M4 2v12l10-6z" fill="currentColor"/></svg>';
+const PAUSE_ICON = '<svg viewBox="0 0 16 16" width="14" height="14"><rect x="3" y="2" width="3.5" height="12" fill="currentColor"/><rect x="9.5" y="2" width="3.5" height="12" fill="currentColor"/></svg>';
+const params = new URLSearchParams(location.search);
+const renderMode = params.get('render') === '1';
+
+// ---------------------------------------------------------------------------------------------------------
+// The state object tests read back.
+const state = {
+  ready: false,
+  mode: null,
+  item: null,
+  time: 0,
+  frame: 0,
+  playing: false,
+  speed: 1,
+  loop: true,
+  bodies: {},
+  plots: [],
+  fps: 0,
+  errors: [],
+  seek: (t) => seek(t),
+  play: () => play(),
+  pause: () => pause(),
+  step: (n = 1) => step(n),
+  select: (name) => select(name),
+  plot: (path) => plot(path),
+  open: (id) => open(id),
+};
+window.orcsView = state;
+onError((text) => state.errors.push(text));
+window.addEventListener('unhandledrejection', (e) => { e.preventDefault(); showError(e.reason); });
+window.addEventListener('error', (e) => { e.preventDefault(); showError(e.message || 'script error'); });
+$('banner-close').addEventListener('click', hideError);
+
+// ---------------------------------------------------------------------------------------------------------
+// A recording as the page holds it: header, times, pose channels, other channels on demand.
+class Recording {
+  static async load(rid, label) {
+    const r = new Recording();
+    r.id = rid;
+    r.header = await getJson(`/api/recording/${encodeURIComponent(rid)}`);
+    r.times = await getFloat64(`/api/recording/${encodeURIComponent(rid)}/times`);
+    r.frames = r.times.length;
+    if (!r.frames) throw new Error(`recording ${rid} has no frames`);
+    r.duration = typeof r.header.duration === 'number' ? r.header.duration : r.times[r.frames - 1];
+    r.channels = Array.isArray(r.header.channels) ? r.header.channels : [];
+    r.index = new Map(r.channels.map((c, i) => [c, i]));
+    r.label = label || r.header.file || rid;
+    r.cache = new Map();
+    const poseIds = [];
+    for (const b of r.header.bodies || []) if (b.dynamic && Array.isArray(b.pose_channels)) poseIds.push(...b.pose_channels);
+    if (poseIds.length) for (const [id, v] of await getChannels(rid, poseIds, r.frames)) r.cache.set(id, v);
+    r.contactData = null;
+    return r;
+  }
+
+  channelIndex(path) { return this.index.has(path) ? this.index.get(path) : -1; }
+
+  async values(id) {
+    if (id < 0) return null;
+    if (!this.cache.has(id)) for (const [k, v] of await getChannels(this.id, [id], this.frames)) this.cache.set(k, v);
+    return this.cache.get(id);
+  }
+
+  value(id, frame) {
+    const v = this.cache.get(id);
+    return v ? v[frame] : NaN;
+  }
+
+  async contacts() {
+    if (!this.contactData) this.contactData = await getJson(`/api/recording/${encodeURIComponent(this.id)}/contacts`);
+    return this.contactData;
+  }
+
+  contactsAt(frame) {
+    const d = this.contactData;
+    if (!d || !Array.isArray(d.offsets) || !Array.isArray(d.contacts)) return [];
+    return d.contacts.slice(d.offsets[frame] ?? 0, d.offsets[frame + 1] ?? 0);
+  }
+
+  frameAt(t) { return floorIndex(this.times, t + 1e-9); }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+const canvas = $('canvas');
+let world;
+let plots;
+let items;
+let live = null;
+let session = null;
+let rec = null;        // the shown recording
+let overlay = null;    // the run overlaid in plots and drawn as a ghost
+let simTime = 0;
+let drawnFrame = -1;
+let lastWall = null;
+const renderTimes = [];
+let selected = null;
+
+function start() {
+  if (renderMode) {
+    document.body.classList.add('render-mode');
+    const w = Math.max(16, Math.min(7680, parseInt(params.get('width') || '960', 10) || 960));
+    const h = Math.max(16, Math.min(4320, parseInt(params.get('height') || '540', 10) || 540));
+    world = new World(canvas, { fixedSize: [w, h] });
+  } else {
+    world = new World(canvas);
+  }
+  plots = new Plots($('plots'), {
+    onChange: (paths) => { state.plots = paths.slice(); },
+    onSeek: (t) => { if (state.mode === 'files') seek(t); },
+  });
+  items = new Items({ open, openRecording: (rid, opts) => openRecording(rid, opts) });
+  wireUi();
+  boot().catch((err) => showError(err));
+  if (!renderMode) requestAnimationFrame(tick);
+}
+
+async function boot() {
+  session = await getJson('/api/session');
+  state.mode = session.mode === 'live' ? 'live' : 'files';
+  document.body.classList.add(`mode-${state.mode}`);
+  $('session-title').textContent = session.title || '';
+  if (session.title) document.title = `orcs-view — ${session.title}`;
+  items.setSession(session);
+  fillCompare();
+  if (state.mode === 'live') {
+    live = new Live({ world, plots, state, fillTree, channelSearch });
+    await live.start();
+    state.item = 'live';
+    items.markCurrent('live');
+    state.ready = true;
+    return;
+  }
+  const wanted = params.get('item');
+  const first = wanted ? items.byId(wanted) : (session.items || []).find((i) => i.kind === 'recording') || (session.items || [])[0];
+  if (wanted && !first) throw new Error(`no item ${wanted} in this session`);
+  if (!first) { showError('this session has no items'); return; }
+  await open(first.id);
+  if (renderMode) {
+    await runRender({ world, rec, params, seekFrame: (f) => applyFrame(f, true), state });
+  }
+}
+
+function fillCompare() {
+  const select = $('compare');
+  const recs = (session.items || []).filter((i) => i.kind === 'recording');
+  select.replaceChildren(el('option', { value: '' }, '— none —'),
+    ...recs.map((i) => el('option', { value: i.id }, `${i.label || i.path || i.id}`)));
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Items.
+async function open(id) {
+  const item = items.byId(id);
+  if (!item) {
+    // A recording id not listed in the session (a batch job's, a gap replay) opens as a recording.
+    if (/^r\d+$/.test(String(id))) return openRecording(String(id));
+    showError(`no item "${id}" in this session`);
+    return false;
+  }
+  items.markCurrent(id);
+  try {
+    switch (item.kind) {
+      case 'recording': items.clearDetail(); return await openRecording(id, { label: item.label });
+      case 'batch': await items.showBatch(id); break;
+      case 'evolve': await items.showEvolve(id); break;
+      case 'gap': await items.showGap(id); break;
+      case 'live': return true;
+      default: showError(`unknown item kind "${item.kind}"`); return false;
+    }
+  } catch (err) {
+    showError(err);
+    return false;
+  }
+  state.item = id;
+  if (!state.ready) { state.ready = true; }
+  return true;
+}
+
+/** Shows a recording; opts.overlay names a run to overlay (a gap's measured run). */
+async function openRecording(rid, opts = {}) {
+  let next;
+  try {
+    next = await Recording.load(rid, opts.label);
+  } catch (err) {
+    showError(err);
+    return false;
+  }
+  pause();
+  rec = next;
+  state.item = rid;
+  if (items.byId(rid)) items.markCurrent(rid);
+  world.load(rec.header);
+  world.setContactsVisible($('toggle-contacts').checked);
+  world.setJointsVisible($('toggle-joints').checked);
+  world.setBodiesVisible($('toggle-bodies') ? $('toggle-bodies').checked : true);
+  if ($('toggle-contacts').checked) await rec.contacts().catch((e) => showError(e));
+  const slider = $('tl-slider');
+  slider.max = String(rec.frames - 1);
+  simTime = rec.times[0];
+  drawnFrame = -1;
+  applyFrame(0, true);
+  world.setPreset(renderMode ? 'follow' : world.preset || 'front');
+  fillTree();
+  channelSearch();
+  await plots.setPrimary(rec, true);
+  overlay = null;
+  world.clearGhost();
+  $('compare').value = '';
+  if (opts.overlay) await setOverlay(opts.overlay, opts.overlayLabel);
+  else plots.setOverlay(null);
+  applyFrame(rec.frameAt(simTime), true);
+  world.render();
+  countRender();
+  state.ready = true;
+  return true;
+}
+
+async function setOverlay(rid, label) {
+  if (!rid) {
+    overlay = null;
+    world.clearGhost();
+    await plots.setOverlay(null);
+    return;
+  }
+  try {
+    const item = items.byId(rid);
+    overlay = await Recording.load(rid, label || (item && item.label) || rid);
+  } catch (err) {
+    showError(err);
+    return;
+  }
+  const select = $('compare');
+  if (![...select.options].some((o) => o.value === rid)) select.append(el('option', { value: rid }, overlay.label));
+  select.value = rid;
+  if ((overlay.header.bodies || []).some((b) => b.dynamic && Array.isArray(b.pose_channels))) {
+    world.loadGhost(overlay.header);
+    world.setGhostVisible($('toggle-ghost').checked);
+  }
+  await plots.setOverlay(overlay);
+  applyFrame(drawnFrame < 0 ? 0 : drawnFrame, true);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The time line.
+function applyFrame(frame, force = false) {
+  if (!rec) return;
+  frame = Math.max(0, Math.min(rec.frames - 1, frame));
+  if (frame === drawnFrame && !force) return;
+  drawnFrame = frame;
+  world.pose((id) => rec.value(id, frame));
+  if (world.contactGroup.visible) world.setContacts(rec.contactsAt(frame));
+  const t = rec.times[frame];
+  if (overlay && world.ghostBodies.length) {
+    const f = overlay.frameAt(t);
+    world.pose((id) => overlay.value(id, f), true);
+  }
+  world.poses(state.bodies);
+  state.frame = frame;
+  state.time = t;
+  plots.setTime(t);
+  $('tl-slider').value = String(frame);
+  $('tl-time').textContent = `t = ${t.toFixed(3)} s / ${rec.duration.toFixed(3)} s   frame ${frame} / ${rec.frames - 1}`;
+  $('time-label').textContent = `t = ${t.toFixed(3)} s`;
+}
+
+function seek(t) {
+  if (state.mode === 'live') return;
+  if (!rec) return;
+  const x = Number(t);
+  if (!Number.isFinite(x)) { showError(`seek: not a time: ${t}`); return; }
+  simTime = Math.max(rec.times[0], Math.min(rec.times[rec.frames - 1], x));
+  applyFrame(rec.frameAt(simTime));
+}
+
+function play() {
+  if (state.mode === 'live') { live?.control('run'); return; }
+  if (!rec) return;
+  if (drawnFrame >= rec.frames - 1) simTime = rec.times[0];
+  state.playing = true;
+  lastWall = null;
+  $('tl-play').innerHTML = PAUSE_ICON;
+}
+
+function pause() {
+  if (state.mode === 'live') { live?.control('pause'); return; }
+  state.playing = false;
+  $('tl-play').innerHTML = PLAY_ICON;
+}
+
+function step(n = 1) {
+  if (state.mode === 'live') { live?.stepMany(n); return; }
+  if (!rec) return;
+  pause();
+  const f = Math.max(0, Math.min(rec.frames - 1, drawnFrame + Math.trunc(Number(n) || 0)));
+  simTime = rec.times[f];
+  applyFrame(f);
+}
+
+function setSpeed(v) {
+  const x = Number(v);
+  if (!(x > 0)) return;
+  state.speed = x;
+  const sel = $('tl-speed');
+  if ([...sel.options].some((o) => Number(o.value) === x)) sel.value = String(x);
+}
+
+function countRender() {
+  const now = performance.now();
+  renderTimes.push(now);
+  while (renderTimes.length && renderTimes[0] < now - 1000) renderTimes.shift();
+}
+
+// While the picture moves (a recording playing, a live simulation running), the drawing resolution follows the
+// browser's frame rate: software GL on a busy machine cannot fill a large canvas 60 times a second, and a slow
+// draw also slows the live long poll. Standing still, the view is drawn at full resolution again.
+let lastAdapt = 0, movingSince = 0;
+const tickTimes = [];
+function adaptResolution(now) {
+  tickTimes.push(now);
+  while (tickTimes.length && tickTimes[0] < now - 500) tickTimes.shift();
+  const moving = state.mode === 'files' ? state.playing : state.mode === 'live' && state.playing;
+  if (!moving || renderMode) {
+    movingSince = 0;
+    if (world.scale !== 1) world.setScale(1);
+    return;
+  }
+  if (!movingSince) movingSince = now;
+  if (now - movingSince < 500 || now - lastAdapt < 500) return;
+  lastAdapt = now;
+  const rate = tickTimes.length * 2;  // animation frames per second over the last half second
+  if (rate < 50 && world.scale > 0.5) world.setScale(world.scale * 0.75);
+  else if (rate >= 57 && world.scale < 1) world.setScale(world.scale * 1.15);
+}
+
+function tick(now) {
+  if (state.playing && rec && state.mode === 'files') {
+    if (lastWall !== null) {
+      simTime += ((now - lastWall) / 1000) * state.speed;
+      const end = rec.times[rec.frames - 1];
+      if (simTime > end) {
+        if (state.loop && end > rec.times[0]) simTime = rec.times[0] + ((simTime - rec.times[0]) % (end - rec.times[0]));
+        else { simTime = end; pause(); }
+      }
+    }
+    lastWall = now;
+    applyFrame(rec.frameAt(simTime));
+  }
+  if (live) live.beforeDraw();
+  world.follow();
+  if (world.needsDraw || state.playing) {
+    world.render();
+    countRender();
+  }
+  while (renderTimes.length && renderTimes[0] < now - 1000) renderTimes.shift();
+  state.fps = renderTimes.length;
+  adaptResolution(now);
+  requestAnimationFrame(tick);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Selection and plots.
+function headerOf() { return live ? live.header : rec && rec.header; }
+function channelList() { return live ? live.channels : rec ? rec.channels : []; }
+function hasChannel(path) { return live ? live.channelIndex(path) >= 0 : rec ? rec.channelIndex(path) >= 0 : false; }
+
+/** Resolves a body or joint name (exact, or the end of a path: "Right/Knee"). */
+function resolve(name) {
+  const header = headerOf();
+  if (!header) return null;
+  const bodies = header.bodies || [], joints = header.joints || [];
+  const exactB = bodies.find((b) => b.name === name);
+  if (exactB) return { kind: 'body', obj: exactB };
+  const exactJ = joints.find((j) => j.name === name || (j.agent && j.motor && `${j.agent}/${j.motor}` === name));
+  if (exactJ) return { kind: 'joint', obj: exactJ };
+  const suffix = (n) => n === name || n.endsWith('/' + name);
+  const j = joints.find((x) => suffix(x.name) || (x.motor && suffix(x.motor)));
+  if (j) return { kind: 'joint', obj: j };
+  const b = bodies.find((x) => suffix(x.name));
+  if (b) return { kind: 'body', obj: b };
+  return null;
+}
+
+function channelsFor(found) {
+  const all = channelList();
+  if (found.kind === 'body') {
+    const prefix = `/Sim/${found.obj.name}/`;
+    const pos = ['x', 'y', 'z'].map((a) => `${prefix}Position.${a}`).filter(hasChannel);
+    if (pos.length) return pos;
+    return all.filter((c) => c.startsWith(prefix)).slice(0, 6);
+  }
+  const j = found.obj;
+  const prefix = j.agent && j.motor ? `/Sim/${j.agent}/${j.motor}/` : `/Sim/${j.name}/`;
+  const out = ['JointAngle', 'DesiredAngle', 'MotorTorque'].map((leaf) => prefix + leaf).filter(hasChannel);
+  if (!out.includes(prefix + 'JointAngle') && Number.isInteger(j.angle_channel) && all[j.angle_channel]) out.unshift(all[j.angle_channel]);
+  if (out.length) return out;
+  return all.filter((c) => c.startsWith(prefix)).slice(0, 6);
+}
+
+async function select(name) {
+  const found = resolve(String(name));
+  if (!found) { showError(`nothing named "${name}" in this world`); return false; }
+  selected = found.obj.name;
+  world.highlight(found.kind === 'body' ? found.obj.name : null);
+  markTree();
+  $('selection').textContent = `${found.kind}: ${found.obj.name}`;
+  plots.clear();
+  for (const path of channelsFor(found)) await plots.add(path);
+  if (live) plots.refreshLive();
+  return true;
+}
+
+async function plot(path) {
+  if (!hasChannel(String(path))) { showError(`no channel "${path}" in ${state.item}`); return false; }
+  const ok = await plots.add(String(path));
+  if (live) plots.refreshLive();
+  return ok;
+}
+
+function fillTree() {
+  const header = headerOf();
+  if (!header) return;
+  const filter = matcher($('tree-filter').value || '') || (() => true);
+  const entries = [];
+  for (const b of header.bodies || []) {
+    if ((b.geoms || []).every((g) => g.shape === 'plane')) continue;
+    if (filter(b.name)) entries.push(el('li', { class: 'body', dataset: { name: b.name }, onclick: () => select(b.name) },
+      el('span', { class: 'icon' }, b.dynamic ? '◆' : '◇'), b.name));
+  }
+  for (const j of header.joints || []) {
+    if (filter(j.name)) entries.push(el('li', { class: 'joint', dataset: { name: j.name }, onclick: () => select(j.name) },
+      el('span', { class: 'icon' }, j.motor ? '⚙' : '○'), j.name));
+  }
+  $('tree').replaceChildren(...entries);
+  markTree();
+}
+
+function markTree() {
+  for (const li of $('tree').children) {
+    const on = li.dataset.name === selected;
+    li.classList.toggle('current', on);
+    if (on) li.scrollIntoView({ block: 'nearest' });
+  }
+}
+
+function channelSearch() {
+  const text = $('channel-search').value;
+  const list = $('channel-results');
+  if (!text.trim()) { list.replaceChildren(); return; }
+  const test = matcher(text);
+  if (!test) { list.replaceChildren(el('li', { class: 'muted' }, 'not a valid regular expression')); return; }
+  const found = channelList().filter(test);
+  const rows = found.slice(0, 200).map((c) => el('li', { title: `plot ${c}`, onclick: () => plot(c) }, shortName(c)));
+  if (found.length > 200) rows.push(el('li', { class: 'muted' }, `… ${found.length - 200} more`));
+  if (!found.length) rows.push(el('li', { class: 'muted' }, 'no channel matches'));
+  list.replaceChildren(...rows);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The controls.
+function wireUi() {
+  // A "robots" toggle and the selection label, added here so index.html stays the static skeleton.
+  const bodiesToggle = el('label', { class: 'toggle' }, el('input', { type: 'checkbox', id: 'toggle-bodies', checked: true }), ' bodies');
+  $('toggle-contacts').parentElement.before(bodiesToggle);
+  $('plot-tools').append(el('div', { id: 'selection', class: 'muted' }, 'click a body or pick one from the list'));
+
+  for (const b of document.querySelectorAll('[data-camera]')) b.addEventListener('click', () => world.setPreset(b.dataset.camera));
+  $('toggle-contacts').addEventListener('change', async (e) => {
+    world.setContactsVisible(e.target.checked);
+    if (e.target.checked && rec && !live) {
+      try { await rec.contacts(); } catch (err) { showError(err); }
+      applyFrame(drawnFrame, true);
+    }
+  });
+  $('toggle-joints').addEventListener('change', (e) => world.setJointsVisible(e.target.checked));
+  $('toggle-bodies').addEventListener('change', (e) => world.setBodiesVisible(e.target.checked));
+  $('toggle-ghost').addEventListener('change', (e) => world.setGhostVisible(e.target.checked));
+  $('tl-play').addEventListener('click', () => (state.playing ? pause() : play()));
+  $('tl-back').addEventListener('click', () => step(-1));
+  $('tl-forward').addEventListener('click', () => step(1));
+  $('tl-speed').addEventListener('change', (e) => setSpeed(e.target.value));
+  $('tl-loop').addEventListener('change', (e) => { state.loop = e.target.checked; });
+  $('tl-slider').addEventListener('input', (e) => {
+    if (!rec) return;
+    const f = Number(e.target.value);
+    simTime = rec.times[f];
+    applyFrame(f);
+  });
+  $('tree-filter').addEventListener('input', fillTree);
+  $('channel-search').addEventListener('input', channelSearch);
+  $('plot-clear').addEventListener('click', () => plots.clear());
+  $('compare').addEventListener('change', (e) => setOverlay(e.target.value));
+
+  // Click (not drag) on a body selects it.
+  let down = null;
+  canvas.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+  canvas.addEventListener('pointerup', (e) => {
+    if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+    const name = world.pick(e.clientX, e.clientY);
+    if (name) select(name);
+  });
+
+  window.addEventListener('keydown', (e) => {
+    const t = e.target;
+    const typing = (t.tagName === 'INPUT' && !['checkbox', 'range', 'button'].includes(t.type)) || t.tagName === 'SELECT' || t.tagName === 'TEXTAREA';
+    if (typing || e.ctrlKey || e.metaKey || e.altKey) return;
+    const presets = { 1: 'front', 2: 'back', 3: 'left', 4: 'right', 5: 'top', 6: 'follow' };
+    if (e.key in presets) { world.setPreset(presets[e.key]); e.preventDefault(); return; }
+    if (e.key === ' ') {
+      e.preventDefault();
+      if (state.mode === 'live') live?.toggle(); else if (state.playing) pause(); else play();
+    } else if (e.key === 'ArrowRight') { e.preventDefault(); step(1); }
+    else if (e.key === 'ArrowLeft') { e.preventDefault(); if (state.mode !== 'live') step(-1); }
+    else return;
+    if (t.tagName === 'BUTTON' || t.type === 'range') t.blur();
+  });
+}
+
+start();

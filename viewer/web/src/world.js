@@ -1,0 +1,447 @@
+// The 3D view: every body of a recording header (docs/recording.md) as three.js meshes, posed per frame from
+// the pose channels; the floor; contacts; joint axes; camera presets; picking. Entirely data-driven: any
+// number of robots and objects. World frame +Y up, metres, quaternions [w, x, y, z].
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+const CONTACT_CAPACITY = 512;
+const UP = new THREE.Vector3(0, 1, 0);
+
+function colorOf(rgba) {
+  const c = Array.isArray(rgba) && rgba.length >= 3 ? rgba : [180, 180, 180, 255];
+  return {
+    color: new THREE.Color().setRGB(c[0] / 255, c[1] / 255, c[2] / 255, THREE.SRGBColorSpace),
+    opacity: c.length >= 4 ? c[3] / 255 : 1,
+  };
+}
+
+function vec(a, fallback = [0, 0, 0]) {
+  const v = Array.isArray(a) && a.length >= 3 ? a : fallback;
+  return new THREE.Vector3(v[0], v[1], v[2]);
+}
+
+function quat(a) {
+  const q = Array.isArray(a) && a.length >= 4 ? a : [1, 0, 0, 0];
+  return new THREE.Quaternion(q[1], q[2], q[3], q[0]);  // header [w, x, y, z] -> three (x, y, z, w)
+}
+
+function geometryOf(geom) {
+  const s = geom.size || [];
+  switch (geom.shape) {
+    case 'box': return new THREE.BoxGeometry(s[0] || 0.01, s[1] || 0.01, s[2] || 0.01);
+    case 'sphere': return new THREE.SphereGeometry(s[0] || 0.01, 20, 14);
+    case 'capsule': {
+      // ODE's capsule: radius, length of the cylinder part along the geom's local z; three's is along y.
+      const g = new THREE.CapsuleGeometry(s[0] || 0.01, s[1] || 0, 6, 14);
+      g.rotateX(Math.PI / 2);
+      return g;
+    }
+    case 'cylinder': {
+      const g = new THREE.CylinderGeometry(s[0] || 0.01, s[0] || 0.01, s[1] || 0.01, 20);
+      g.rotateX(Math.PI / 2);
+      return g;
+    }
+    default: return null;
+  }
+}
+
+export class World {
+  constructor(canvas, { fixedSize = null } = {}) {
+    this.canvas = canvas;
+    this.fixedSize = fixedSize;
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+    this.basePixelRatio = fixedSize ? 1 : Math.min(window.devicePixelRatio || 1, 2);
+    this.scale = 1;  // resolution scale while playing (1 = full); see setScale
+    this.renderer.setPixelRatio(this.basePixelRatio);
+    this.renderer.outputColorSpace = THREE.SRGBColorSpace;
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(0x1d2127);
+    this.camera = new THREE.PerspectiveCamera(40, 16 / 9, 0.01, 200);
+    this.camera.position.set(0, 0.4, 1.5);
+    this.controls = fixedSize ? null : new OrbitControls(this.camera, canvas);
+    if (this.controls) {
+      this.controls.target.set(0, 0.2, 0);
+      this.controls.enableDamping = false;
+      this.controls.screenSpacePanning = true;
+      this.controls.update();
+    }
+
+    const hemi = new THREE.HemisphereLight(0xdfe8ff, 0x3a3630, 1.6);
+    this.scene.add(hemi);
+    const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+    sun.position.set(-1.5, 3, 2);
+    this.scene.add(sun);
+
+    this.root = new THREE.Group();         // bodies of the shown run
+    this.ghostRoot = new THREE.Group();    // a second run drawn translucent
+    this.staticRoot = new THREE.Group();   // floor and static bodies
+    this.scene.add(this.root, this.ghostRoot, this.staticRoot);
+
+    const contactGeo = new THREE.SphereGeometry(0.006, 8, 6);
+    const contactMat = new THREE.MeshBasicMaterial({ color: 0xff3b30, depthTest: false });
+    this.contactMesh = new THREE.InstancedMesh(contactGeo, contactMat, CONTACT_CAPACITY);
+    this.contactMesh.count = 0;
+    this.contactMesh.renderOrder = 10;
+    this.contactMesh.frustumCulled = false;
+    this.contactLines = new THREE.LineSegments(
+      new THREE.BufferGeometry().setAttribute('position',
+        new THREE.BufferAttribute(new Float32Array(CONTACT_CAPACITY * 6), 3)),
+      new THREE.LineBasicMaterial({ color: 0xffcc00, depthTest: false }));
+    this.contactLines.frustumCulled = false;
+    this.contactLines.renderOrder = 10;
+    this.contactGroup = new THREE.Group();
+    this.contactGroup.add(this.contactMesh, this.contactLines);
+    this.contactGroup.visible = false;
+    this.scene.add(this.contactGroup);
+
+    this.jointLines = null;
+    this.jointGroup = new THREE.Group();
+    this.jointGroup.visible = false;
+    this.scene.add(this.jointGroup);
+
+    this.raycaster = new THREE.Raycaster();
+    this.bodies = [];       // {name, dynamic, group, meshes, index}
+    this.ghostBodies = [];
+    this.byName = new Map();
+    this.agents = [];
+    this.preset = 'front';
+    this.following = false;
+    this.lastCenter = null;
+    this.selected = null;
+    this._tmpM = new THREE.Matrix4();
+    this._tmpV = new THREE.Vector3();
+    this._tmpQ = new THREE.Quaternion();
+    this.resize();
+    if (!fixedSize) {
+      new ResizeObserver(() => this.resize()).observe(canvas.parentElement);
+    }
+  }
+
+  resize() {
+    let w, h;
+    if (this.fixedSize) {
+      [w, h] = this.fixedSize;
+    } else {
+      const box = this.canvas.parentElement.getBoundingClientRect();
+      w = Math.max(1, Math.floor(box.width));
+      h = Math.max(1, Math.floor(box.height));
+    }
+    this.renderer.setSize(w, h, !this.fixedSize);
+    if (this.fixedSize) {
+      this.canvas.style.width = `${w}px`;
+      this.canvas.style.height = `${h}px`;
+    }
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    this.needsDraw = true;
+  }
+
+  /**
+   * Dynamic resolution: draws at scale × the full pixel ratio (0.5–1). The page lowers it while playing when
+   * frames come slower than the display's (software GL on a busy machine) and restores it when paused.
+   */
+  setScale(scale) {
+    const s = Math.max(0.5, Math.min(1, scale));
+    if (this.fixedSize || Math.abs(s - this.scale) < 1e-3) return;
+    this.scale = s;
+    this.renderer.setPixelRatio(this.basePixelRatio * s);
+    this.needsDraw = true;
+  }
+
+  static disposeGroup(group) {
+    group.traverse((o) => {
+      if (o.geometry) o.geometry.dispose();
+      if (o.material) (Array.isArray(o.material) ? o.material : [o.material]).forEach((m) => m.dispose());
+    });
+    group.clear();
+  }
+
+  /** Builds the meshes of a header's bodies. `ghost` draws them translucent and unpickable. */
+  buildBodies(header, ghost = false) {
+    const list = [];
+    const target = ghost ? this.ghostRoot : this.root;
+    (header.bodies || []).forEach((body, index) => {
+      const group = new THREE.Group();
+      group.name = body.name;
+      group.position.copy(vec(body.position));
+      group.quaternion.copy(quat(body.quaternion));
+      const meshes = [];
+      let isFloor = false;
+      for (const geom of body.geoms || []) {
+        if (geom.shape === 'plane') {
+          isFloor = true;
+          if (!ghost) this.addFloor(body, geom);
+          continue;
+        }
+        const geometry = geometryOf(geom);
+        if (!geometry) continue;
+        const { color, opacity } = colorOf(geom.color);
+        const material = new THREE.MeshLambertMaterial({ color });
+        if (ghost) {
+          material.transparent = true;
+          material.opacity = 0.28;
+          material.depthWrite = false;
+          material.color.lerp(new THREE.Color(0x66ccff), 0.5);
+        } else if (opacity < 1) {
+          material.transparent = true;
+          material.opacity = opacity;
+          material.depthWrite = opacity > 0.5;
+        }
+        if (!ghost && opacity === 0) material.visible = false;
+        const mesh = new THREE.Mesh(geometry, material);
+        mesh.position.copy(vec(geom.offset));
+        mesh.quaternion.copy(quat(geom.rotation));
+        mesh.userData.body = body.name;
+        group.add(mesh);
+        meshes.push(mesh);
+      }
+      if (isFloor && meshes.length === 0) return;
+      const p = Array.isArray(body.pose_channels) && body.pose_channels.length === 7 ? body.pose_channels : null;
+      const entry = { name: body.name, index, dynamic: !!body.dynamic && !!p, poseChannels: p, group, meshes };
+      (body.dynamic || ghost ? target : this.staticRoot).add(group);
+      list.push(entry);
+    });
+    return list;
+  }
+
+  addFloor(body, geom) {
+    const { color } = colorOf(geom.color && geom.color.length ? geom.color : [120, 124, 130, 255]);
+    const y = (body.position && body.position[1]) || 0;
+    const floor = new THREE.Mesh(new THREE.PlaneGeometry(40, 40),
+      // Unlit: the floor fills most of the view, and software GL pays per pixel for lighting.
+      new THREE.MeshBasicMaterial({ color: color.clone().multiplyScalar(0.62) }));
+    floor.rotation.x = -Math.PI / 2;
+    floor.position.y = y;
+    floor.userData.floor = true;
+    const grid = new THREE.GridHelper(4, 40, 0x6c7380, 0x6c7380);
+    grid.position.y = y + 0.0005;
+    grid.material.transparent = true;
+    grid.material.opacity = 0.35;
+    const major = new THREE.GridHelper(20, 20, 0x4f5662, 0x4f5662);
+    major.position.y = y + 0.0008;
+    this.staticRoot.add(floor, grid, major);
+  }
+
+  /** Replaces the world by a recording header's bodies, joints and agents. */
+  load(header) {
+    World.disposeGroup(this.root);
+    World.disposeGroup(this.staticRoot);
+    this.clearGhost();
+    this.header = header;
+    this.bodies = this.buildBodies(header);
+    this.byName = new Map(this.bodies.map((b) => [b.name, b]));
+    this.agents = (header.agents || []).map((a) => a.name);
+    this.hasFloor = (header.bodies || []).some((b) => (b.geoms || []).some((g) => g.shape === 'plane'));
+    if (!this.hasFloor) {
+      const grid = new THREE.GridHelper(10, 100, 0x8a94a6, 0x4a515c);
+      this.staticRoot.add(grid);
+    }
+    this.buildJoints(header);
+    this.selected = null;
+    this.lastCenter = null;
+    this.needsDraw = true;
+  }
+
+  loadGhost(header) {
+    this.clearGhost();
+    this.ghostBodies = this.buildBodies(header, true);
+    this.needsDraw = true;
+  }
+
+  clearGhost() {
+    World.disposeGroup(this.ghostRoot);
+    this.ghostBodies = [];
+    this.needsDraw = true;
+  }
+
+  buildJoints(header) {
+    World.disposeGroup(this.jointGroup);
+    this.joints = [];
+    for (const joint of header.joints || []) {
+      if (!Array.isArray(joint.anchor) || !Array.isArray(joint.axis)) continue;
+      const body = this.byName.get(joint.body1) || this.byName.get(joint.body2);
+      const anchor = vec(joint.anchor);
+      const axis = vec(joint.axis).normalize();
+      let localAnchor = anchor.clone(), localAxis = axis.clone();
+      if (body) {
+        const hb = header.bodies[body.index];
+        const q0inv = quat(hb.quaternion).invert();
+        localAnchor = anchor.clone().sub(vec(hb.position)).applyQuaternion(q0inv);
+        localAxis = axis.clone().applyQuaternion(q0inv);
+      }
+      this.joints.push({ name: joint.name, body, localAnchor, localAxis });
+    }
+    const positions = new Float32Array(Math.max(1, this.joints.length) * 6);
+    const geometry = new THREE.BufferGeometry().setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    this.jointLines = new THREE.LineSegments(geometry,
+      new THREE.LineBasicMaterial({ color: 0x4cd964, depthTest: false }));
+    this.jointLines.renderOrder = 11;
+    this.jointLines.frustumCulled = false;
+    const dots = new THREE.InstancedMesh(new THREE.SphereGeometry(0.004, 8, 6),
+      new THREE.MeshBasicMaterial({ color: 0x4cd964, depthTest: false }), Math.max(1, this.joints.length));
+    dots.renderOrder = 11;
+    dots.count = this.joints.length;
+    dots.frustumCulled = false;
+    this.jointDots = dots;
+    this.jointGroup.add(this.jointLines, dots);
+  }
+
+  /** Poses the dynamic bodies from a channel accessor value(channelIndex). */
+  pose(value, ghost = false) {
+    const list = ghost ? this.ghostBodies : this.bodies;
+    for (const b of list) {
+      if (!b.dynamic) continue;
+      const p = b.poseChannels;
+      const qw = value(p[3]), qx = value(p[4]), qy = value(p[5]), qz = value(p[6]);
+      const px = value(p[0]), py = value(p[1]), pz = value(p[2]);
+      if (![px, py, pz, qw, qx, qy, qz].every(Number.isFinite)) continue;
+      b.group.position.set(px, py, pz);
+      b.group.quaternion.set(qx, qy, qz, qw);
+      const n = Math.hypot(qx, qy, qz, qw);
+      if (n > 0 && Math.abs(n - 1) > 1e-3) b.group.quaternion.normalize();
+    }
+    if (!ghost) this.updateJoints();
+    this.needsDraw = true;
+  }
+
+  updateJoints() {
+    if (!this.jointGroup.visible || !this.joints) return;
+    const pos = this.jointLines.geometry.attributes.position;
+    const a = this._tmpV, d = new THREE.Vector3();
+    this.joints.forEach((j, i) => {
+      a.copy(j.localAnchor);
+      d.copy(j.localAxis);
+      if (j.body) {
+        a.applyQuaternion(j.body.group.quaternion).add(j.body.group.position);
+        d.applyQuaternion(j.body.group.quaternion);
+      }
+      d.multiplyScalar(0.035);
+      pos.setXYZ(2 * i, a.x - d.x, a.y - d.y, a.z - d.z);
+      pos.setXYZ(2 * i + 1, a.x + d.x, a.y + d.y, a.z + d.z);
+      this._tmpM.makeTranslation(a.x, a.y, a.z);
+      this.jointDots.setMatrixAt(i, this._tmpM);
+    });
+    pos.needsUpdate = true;
+    this.jointDots.instanceMatrix.needsUpdate = true;
+  }
+
+  setJointsVisible(on) { this.jointGroup.visible = on; this.updateJoints(); this.needsDraw = true; }
+  setContactsVisible(on) { this.contactGroup.visible = on; this.needsDraw = true; }
+  setBodiesVisible(on) { this.root.visible = on; this.needsDraw = true; }
+  setGhostVisible(on) { this.ghostRoot.visible = on; this.needsDraw = true; }
+
+  /** Contacts as [body1, body2, px, py, pz, nx, ny, nz, depth] rows. */
+  setContacts(rows) {
+    const n = Math.min(rows.length, CONTACT_CAPACITY);
+    const lines = this.contactLines.geometry.attributes.position;
+    for (let i = 0; i < n; i++) {
+      const c = rows[i];
+      this._tmpM.makeTranslation(c[2], c[3], c[4]);
+      this.contactMesh.setMatrixAt(i, this._tmpM);
+      lines.setXYZ(2 * i, c[2], c[3], c[4]);
+      lines.setXYZ(2 * i + 1, c[2] + c[5] * 0.03, c[3] + c[6] * 0.03, c[4] + c[7] * 0.03);
+    }
+    this.contactMesh.count = n;
+    this.contactMesh.instanceMatrix.needsUpdate = true;
+    this.contactLines.geometry.setDrawRange(0, 2 * n);
+    lines.needsUpdate = true;
+    this.needsDraw = true;
+  }
+
+  /** The drawn pose of every body, for the page's state object. */
+  poses(out = {}) {
+    for (const b of this.bodies) {
+      const p = b.group.position, q = b.group.quaternion;
+      const e = out[b.name] || (out[b.name] = { position: [0, 0, 0], quaternion: [1, 0, 0, 0] });
+      e.position[0] = p.x; e.position[1] = p.y; e.position[2] = p.z;
+      e.quaternion[0] = q.w; e.quaternion[1] = q.x; e.quaternion[2] = q.y; e.quaternion[3] = q.z;
+    }
+    return out;
+  }
+
+  /** The centre of the first robot (the mean of its bodies), else of the dynamic bodies, else the origin. */
+  robotCenter(target = new THREE.Vector3()) {
+    const agent = this.agents[0];
+    let chosen = agent ? this.bodies.filter((b) => b.name.startsWith(agent + '/')) : [];
+    if (!chosen.length) chosen = this.bodies.filter((b) => b.dynamic);
+    target.set(0, 0, 0);
+    if (!chosen.length) return target.set(0, 0.2, 0);
+    for (const b of chosen) target.add(b.group.position);
+    return target.multiplyScalar(1 / chosen.length);
+  }
+
+  robotSize() {
+    const agent = this.agents[0];
+    const chosen = agent ? this.bodies.filter((b) => b.name.startsWith(agent + '/')) : this.bodies.filter((b) => b.dynamic);
+    if (!chosen.length) return 0.5;
+    const box = new THREE.Box3();
+    for (const b of chosen) box.expandByObject(b.group);
+    const size = box.getSize(new THREE.Vector3());
+    return Math.max(0.25, Math.min(3, Math.max(size.x, size.y, size.z)));
+  }
+
+  /** Camera presets of the original: front, back, left, right, top, follow (front-right, tracking). */
+  setPreset(name) {
+    const c = this.robotCenter();
+    const d = this.robotSize() * 3;
+    const offsets = {
+      front: [0, 0.45, 1], back: [0, 0.45, -1], left: [1, 0.45, 0], right: [-1, 0.45, 0],
+      top: [0, 1.3, 0.001], follow: [-0.62, 0.38, 0.78],
+    };
+    const o = offsets[name] || offsets.front;
+    this.preset = name in offsets ? name : 'front';
+    this.following = this.preset === 'follow';
+    this.camera.position.set(c.x + o[0] * d, c.y + o[1] * d, c.z + o[2] * d);
+    this.camera.up.copy(UP);
+    this.lookAt(c);
+    this.lastCenter = c.clone();
+    this.needsDraw = true;
+  }
+
+  lookAt(c) {
+    if (this.controls) {
+      this.controls.target.copy(c);
+      this.controls.update();
+    } else {
+      this.camera.lookAt(c);
+    }
+  }
+
+  /** Keeps the camera's offset to the robot while following. */
+  follow() {
+    if (!this.following) return;
+    const c = this.robotCenter();
+    if (this.lastCenter) {
+      const delta = this._tmpV.copy(c).sub(this.lastCenter);
+      if (delta.lengthSq() > 0) {
+        this.camera.position.add(delta);
+        this.lookAt(c);
+        this.needsDraw = true;
+      }
+    }
+    this.lastCenter = c.clone();
+  }
+
+  /** The body under a client-space point, or null. */
+  pick(clientX, clientY) {
+    const rect = this.canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+    this.raycaster.setFromCamera(ndc, this.camera);
+    const meshes = [];
+    for (const b of this.bodies) if (b.group.parent && b.group.parent.visible) meshes.push(...b.meshes);
+    const hits = this.raycaster.intersectObjects(meshes, false).filter((h) => h.object.material.visible);
+    return hits.length ? hits[0].object.userData.body : null;
+  }
+
+  highlight(name) {
+    if (this.selected) for (const m of this.selected.meshes) m.material.emissive.setHex(0x000000);
+    this.selected = name ? this.byName.get(name) || null : null;
+    if (this.selected) for (const m of this.selected.meshes) m.material.emissive.setHex(0x3a6ea5);
+    this.needsDraw = true;
+  }
+
+  render() {
+    this.renderer.render(this.scene, this.camera);
+    this.needsDraw = false;
+  }
+}
