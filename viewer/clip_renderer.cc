@@ -161,7 +161,7 @@ int RenderClip(const ViewOptions& options) {
   }
   std::error_code ignored;
   fs::remove_all(folder, ignored);
-  if (code == cli::kExitOk) std::cout << "orcs-view: wrote " << r.out << " (" << frames << " frames)\n";
+  if (code == cli::kExitOk) std::cout << "orcs-view: wrote " << r.out << " (" << frames << (frames == 1 ? " frame)\n" : " frames)\n");
   return code;
 }
 

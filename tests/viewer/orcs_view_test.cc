@@ -94,6 +94,30 @@ TEST_F(OrcsViewTest, ServesOnLoopbackAndAPortInUseIsNamed) {
   EXPECT_EQ(ended->exit_code, 0) << "SIGTERM stops it cleanly";
 }
 
+// Width and height from a PNG's IHDR chunk (big-endian, bytes 16–23).
+std::pair<int, int> PngSize(const std::string& png) {
+  const auto u32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+           (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
+  };
+  return png.size() < 24 ? std::pair{0, 0} : std::pair{u32(16), u32(20)};
+}
+
+TEST_F(OrcsViewTest, RendersAStillAndAClipThroughHeadlessChromium) {
+  const std::string web = ORCS_SOURCE_DIR "/viewer/web";
+  const ProcessResult still = RunProcess({kView, "--web-dir", web, "--render", dir_.PathOf("run.orcsrec"), "--out",
+                                          dir_.PathOf("still.png"), "--width", "320", "--height", "180"});
+  ASSERT_EQ(still.exit_code, 0) << still.err;
+  const std::string png = dir_.Read("still.png");
+  EXPECT_EQ(png.substr(0, 8), "\x89PNG\r\n\x1a\n");
+  EXPECT_EQ(PngSize(png), std::pair(320, 180));
+  const ProcessResult clip = RunProcess({kView, "--web-dir", web, "--render", dir_.PathOf("run.orcsrec"), "--out",
+                                         dir_.PathOf("clip.gif"), "--fps", "10", "--width", "160", "--height", "90"});
+  ASSERT_EQ(clip.exit_code, 0) << clip.err;
+  EXPECT_THAT(clip.out, HasSubstr("(3 frames)")) << "0.2 s at 10 frames/s: t = 0, 0.1, 0.2";
+  EXPECT_EQ(dir_.Read("clip.gif").substr(0, 6), "GIF89a");
+}
+
 TEST_F(OrcsViewTest, ABadOptionIsOneLine) {
   ExpectBadInput(View({"--live", dir_.PathOf("run.orcsrec")}), {"--live"});
   ExpectBadInput(View({}), {"give recordings"});

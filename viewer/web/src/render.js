@@ -25,7 +25,7 @@ export async function runRender({ world, rec, params, seekFrame, state }) {
   out.height = h;
   const g = out.getContext('2d');
   const count = Math.max(1, Math.floor((to - from) * fps + 1e-6) + 1);
-  world.setPreset('follow');
+  world.setPreset('follow', 1.9);  // closer than the page's default: the robot fills a still or a clip
   try {
     for (let k = 0; k < count; k++) {
       const t = from + k / fps;

@@ -380,10 +380,13 @@ export class World {
     return Math.max(0.25, Math.min(3, Math.max(size.x, size.y, size.z)));
   }
 
-  /** Camera presets of the original: front, back, left, right, top, follow (front-right, tracking). */
-  setPreset(name) {
+  /**
+   * Camera presets of the original: front, back, left, right, top, follow (front-right, tracking). `distance` is
+   * the camera's distance in robot sizes (3 leaves room to move around; stills and clips frame closer).
+   */
+  setPreset(name, distance = 3) {
     const c = this.robotCenter();
-    const d = this.robotSize() * 3;
+    const d = this.robotSize() * distance;
     const offsets = {
       front: [0, 0.45, 1], back: [0, 0.45, -1], left: [1, 0.45, 0], right: [-1, 0.45, 0],
       top: [0, 1.3, 0.001], follow: [-0.62, 0.38, 0.78],
