@@ -3,7 +3,8 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import path from 'node:path';
-import { repoRoot, tempDir, startServer, launchBrowser, openPage, fetchJson, until } from './helpers.js';
+import { mkdir } from 'node:fs/promises';
+import { repoRoot, tempDir, startServer, launchBrowser, openPage, frames, fetchJson, until } from './helpers.js';
 
 let tmp, server, browser, page;
 let KNEE;  // /Sim/<the first agent with a Right/Knee motor>/Right/Knee
@@ -115,4 +116,51 @@ test('the Logger writes a CSV while the simulation runs', async () => {
   const files = JSON.stringify(await fetchJson(`${server.url}api/live/files`));
   assert.match(files, /knee_log\.csv/);
   assert.deepEqual(page.orcsProblems.filter((p) => !/status of 400/.test(p)), []);
+});
+
+test('screenshot: in control, a motor moved, its plot and Simulation Properties filtered (ORCS_SCREENSHOT_DIR)', async (t) => {
+  // Control is held since the tests above; take it when this test runs alone.
+  if (await page.locator('#live-claim').isEnabled()) await page.click('#live-claim');
+  const SHOULDER = KNEE.replace(/Right\/Knee$/, 'Right/ShoulderPitch');
+  const slider = page.locator(`#motor-sliders input[data-path="${SHOULDER}/DesiredAngle"]`);
+  await until(() => slider.isEnabled(), 5000, 'the slider enabled');
+  // A fresh table (the earlier test left a rejected value in a cell), no banner, the world as loaded.
+  await page.fill('#props-filter', '.*Right/ShoulderPitch/.*');
+  await page.click('#props-refresh');
+  await page.locator(`#props-table input[data-path="${SHOULDER}/DesiredAngle"]`).waitFor();
+  if (await page.locator('#banner').isVisible()) await page.click('#banner-close');
+  // Reset restores bodies and time, not the values set: the knee bent above goes back to 0 by its slider first.
+  await page.locator(`#motor-sliders input[data-path="${KNEE}/DesiredAngle"]`).fill('0');
+  await until(async () => Math.abs(await value(`.*Right/Knee/DesiredAngle`)) < 0.051, 5000, 'the knee straight');
+  await page.click('#live-reset');
+  await until(() => page.evaluate(() => orcsView.time === 0), 5000, 'reset');
+  await page.click('[data-camera="follow"]');
+  await page.fill('#channel-search', '');
+  await page.click('#plot-clear');
+  assert.equal(await page.evaluate(() => orcsView.select('Right/ShoulderPitch')), true);
+  await page.click('#live-run');
+  await until(() => page.evaluate(() => orcsView.playing), 5000, 'running');
+  let t0 = await page.evaluate(() => orcsView.time);
+  await until(() => page.evaluate((s) => orcsView.time > s + 0.5, t0), 10_000, 'a moment of simulated time');
+  const lo = Number(await slider.getAttribute('min'));
+  const target = Math.max(lo, -90);
+  await slider.fill(String(target));
+  await until(async () => Math.abs((await value(`.*Right/ShoulderPitch/DesiredAngle`)) - target) < 0.051, 5000, 'DesiredAngle set');
+  t0 = await page.evaluate(() => orcsView.time);
+  await until(() => page.evaluate((s) => orcsView.time > s + 1.5, t0), 15_000, 'the arm moving');
+  await page.click('#live-pause');
+  await until(() => page.evaluate(() => !orcsView.playing), 5000, 'paused');
+  await page.click('#props-refresh');
+  await until(async () => (await page.locator(`#props-table input[data-path="${SHOULDER}/DesiredAngle"]`).inputValue()) === String(target),
+    5000, 'Simulation Properties showing the new DesiredAngle');
+  assert.equal(await page.locator('#banner').isVisible(), false, await page.locator('#banner').textContent());
+  const plots = await page.evaluate(() => orcsView.plots);
+  assert.ok(plots.includes(`${SHOULDER}/JointAngle`), `plots: ${plots}`);
+  assert.ok(Math.abs((await value(`.*Right/ShoulderPitch/JointAngle`)) - target) < 10, 'the arm followed the slider');
+  await frames(page, 4);
+  assert.deepEqual(page.orcsProblems.filter((p) => !/status of 400/.test(p)), []);
+  if (!process.env.ORCS_SCREENSHOT_DIR) { t.skip('ORCS_SCREENSHOT_DIR not set'); return; }
+  const dir = path.resolve(repoRoot, process.env.ORCS_SCREENSHOT_DIR);
+  await mkdir(dir, { recursive: true });
+  await page.screenshot({ path: path.join(dir, 'viewer_live.png') });
 });
