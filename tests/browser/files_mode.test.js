@@ -116,7 +116,7 @@ test('clicking the robot in the 3D view selects a body and plots its position', 
   const plots = await until(async () => {
     const p = await page.evaluate(() => orcsView.plots);
     return p.length === 3 && p;
-  }, 5000, 'the picked body\'s plots');
+  }, 20_000, 'the picked body\'s plots');
   const body = /^\/Sim\/(.+)\/Position\.x$/.exec(plots[0]);
   assert.ok(body, `plots: ${plots}`);
   assert.ok(body[1].startsWith('Humanoid/'), `picked ${body[1]}`);
@@ -135,9 +135,10 @@ test('orcsView.select on a body plots its position; a channel search adds any ch
   plots = await until(async () => {
     const p = await page.evaluate(() => orcsView.plots);
     return p.includes('/Sim/Humanoid/Left/Knee/JointAngle') && p;
-  }, 5000, 'the searched channel in the plots');
+  }, 20_000, 'the searched channel in the plots');
   assert.equal(plots.length, 4);
-  assert.equal(await page.locator('#plots .uplot').count(), 2, 'one chart in m, one in deg');
+  // The chart is made once the channel's data has arrived: awaited, since a loaded machine takes its time.
+  await until(async () => (await page.locator('#plots .uplot').count()) === 2, 20_000, 'one chart in m, one in deg');
 });
 
 test('a second run overlays the plots, the legend names both runs', async () => {

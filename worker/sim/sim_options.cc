@@ -56,6 +56,13 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
     const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
                                !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
                                app.count("--duration") > 0 || o.realtime;
+    const bool run_options = !o.play.empty() || !o.log.empty() || !o.record.empty() || !o.scenario.empty() ||
+                             !o.print_values.empty() || o.describe || o.realtime || app.count("--duration") > 0;
+    if (o.gui && run_options) {
+      throw CLI::ValidationError("-gui", "opens the world (-env, -ival, -val, --seed) in orcs-view --live; run, log, "
+                                         "play or record without -gui, or use orcs-view --live --port P for another "
+                                         "port");
+    }
     if (app.count("--record-set") > 0 && (o.scenario.empty() || o.record.empty())) {
       throw CLI::ValidationError("--record-set", "needs --scenario and --record FILE");
     }

@@ -142,7 +142,7 @@ async function boot() {
     return;
   }
   const wanted = params.get('item');
-  const first = wanted ? items.byId(wanted) : (session.items || []).find((i) => i.kind === 'recording') || (session.items || [])[0];
+  const first = wanted ? items.byId(wanted) : (session.items || []).find((i) => !i.parent) || (session.items || [])[0];
   if (wanted && !first) throw new Error(`no item ${wanted} in this session`);
   if (!first) { showError('this session has no items'); return; }
   await open(first.id);

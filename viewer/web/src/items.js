@@ -126,6 +126,15 @@ export class Items {
         onclick: () => run.simulated && this.ctx.openRecording(run.simulated, {
           label: `${run.name} (simulated)`, overlay: run.measured || null, overlayLabel: `${run.name} (measured)`,
         }),
-      }, el('span', { class: 'label' }, run.name || run.simulated), run.measured ? el('span', { class: 'muted' }, ' + measured') : null))));
+      }, el('span', { class: 'label' }, run.name || run.simulated), run.measured ? el('span', { class: 'muted' }, ' + measured') : null,
+      run.given ? el('button', {
+        class: 'small', title: 'the replay under the model as given, before the fit, with the measured run',
+        onclick: (e) => {
+          e.stopPropagation();
+          this.ctx.openRecording(run.given, {
+            label: `${run.name} (model as given)`, overlay: run.measured || null, overlayLabel: `${run.name} (measured)`,
+          });
+        },
+      }, 'model as given') : null))));
   }
 }

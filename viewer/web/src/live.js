@@ -92,7 +92,7 @@ export class Live {
     const { world, state } = this.ctx;
     const v = f.values;
     this.last = f;
-    this.since = Number.isInteger(f.step) ? f.step : this.since;
+    this.since = Number.isInteger(f.serial) ? f.serial : this.since;  // the server's frame counter, not the step
     world.pose((i) => v[i]);
     if (world.contactGroup.visible) world.setContacts(Array.isArray(f.contacts) ? f.contacts : []);
     world.poses(state.bodies);
@@ -106,7 +106,10 @@ export class Live {
       if (this.times.length > HISTORY) { this.times.shift(); this.history.shift(); }
       this.plotDirty = true;
     }
-    $('live-time').textContent = `t = ${Number(f.time).toFixed(3)} s   step ${f.step}   ${f.running ? 'running' : 'paused'}${f.realtime ? ', real time' : ', as fast as possible'}`;
+    const stopped = f.message ? `   stopped: ${f.message}` : (f.status && f.status !== 'ok' ? `   ${f.status}` : '');
+    $('live-time').textContent = `t = ${Number(f.time).toFixed(3)} s   step ${f.step}   ${f.running ? 'running' : 'paused'}${f.realtime ? ', real time' : ', as fast as possible'}${stopped}`;
+    if (f.message && f.message !== this.shownMessage) showError(`the simulation stopped: ${f.message}`);
+    this.shownMessage = f.message || '';
     $('time-label').textContent = `t = ${Number(f.time).toFixed(3)} s`;
     if (document.activeElement !== $('live-realtime')) $('live-realtime').checked = !!f.realtime;
     $('live-run').classList.toggle('active', !!f.running);
@@ -238,7 +241,7 @@ export class Live {
       try {
         await post('/api/live/values', { path, value: String(text) });
       } catch (err) {
-        showError(err.reason ? `${path}: ${err.reason}` : err);
+        showError(err.reason || err);  // the server's reason names the path already
       }
     }
     s.busy = false;
@@ -297,7 +300,8 @@ export class Live {
         } catch (err) {
           tr.classList.add('bad');
           tr.title = err.reason || err.message;
-          showError(err.reason ? `${row.path}: ${err.reason}` : err);
+          input.value = input.defaultValue;  // back to the value in force, so a later blur does not send it again
+          showError(err.reason || err);       // the server's reason names the path already
         }
       };
       input.addEventListener('keydown', (e) => { if (e.key === 'Enter') commit(); if (e.key === 'Escape') input.value = input.defaultValue; });
