@@ -155,7 +155,7 @@ std::string MeasuredRecording(const Rig& rig, const std::vector<ValueAssignment>
   const int agent = simulation.FindAgent(rig.agent);
   if (agent < 0) throw InputError(rig.environment_name + ": no agent '" + rig.agent + "' (the runs' agent)");
   const std::vector<aseries::MorphologyMotor>& motors = simulation.model().morphology(agent).motors;
-  // Which measured column drives each of the agent's motors (-1: not measured).
+  // The measured column of each of the agent's motors (null: not measured).
   std::vector<const std::vector<double>*> columns(motors.size(), nullptr);
   for (std::size_t m = 0; m < motors.size(); ++m) {
     const auto found = run.joint_angle.find(motors[m].name);
