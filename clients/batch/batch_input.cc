@@ -42,6 +42,10 @@ v1::Job MakeJob(const ScenarioInput& input, const Genome& genome, std::uint64_t 
   job.set_genome_json(genome.value.dump());
   job.set_seed(seed);
   job.set_time_limit_seconds(settings.time_limit_seconds);
+  if (input.scenario.record) {  // the scenario's "record": true — every job, set 0
+    job.set_record(true);
+    job.set_record_set(0);
+  }
   return job;
 }
 
@@ -86,6 +90,55 @@ void CheckSweptPathsAreNotRedrawn(const ScenarioInput& input, const SweepPoint& 
 }
 
 }  // namespace
+
+bool JobSelection::Contains(std::size_t index) const {
+  if (all) return true;
+  for (const auto& [first, last] : ranges) {
+    if (index >= first && index <= last) return true;
+  }
+  return false;
+}
+
+JobSelection ParseJobSelection(const std::string& text, std::size_t job_count) {
+  const auto fail = [&text](const std::string& expected) -> void {
+    throw InputError("--record", 0, "expected " + expected + ", found '" + text + "'");
+  };
+  const std::string format = "'all' or job indices such as 0,3-5";
+  JobSelection selection;
+  if (text == "all") {
+    selection.all = true;
+    return selection;
+  }
+  if (text.empty()) fail(format);
+  const auto index = [&](std::string_view digits) -> std::size_t {
+    if (digits.empty() || digits.size() > 12 || digits.find_first_not_of("0123456789") != std::string_view::npos) {
+      fail(format);
+    }
+    const std::size_t value = std::stoull(std::string(digits));
+    if (value >= job_count) {
+      fail(job_count == 1 ? std::string("job index 0 (the batch has 1 job)")
+                          : "job indices 0…" + std::to_string(job_count - 1) + " (the batch has " +
+                                std::to_string(job_count) + " jobs)");
+    }
+    return value;
+  };
+  for (std::string_view item : text::Split(text, ',')) {
+    const std::size_t dash = item.find('-');
+    const std::size_t first = index(item.substr(0, dash));
+    const std::size_t last = dash == std::string_view::npos ? first : index(item.substr(dash + 1));
+    if (last < first) fail("ranges FIRST-LAST with FIRST ≤ LAST");
+    selection.ranges.emplace_back(first, last);
+  }
+  return selection;
+}
+
+void MarkRecorded(std::vector<PlannedJob>& jobs, const JobSelection& selection) {
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    if (!selection.Contains(i)) continue;
+    jobs[i].job.set_record(true);
+    jobs[i].job.set_record_set(0);
+  }
+}
 
 std::string SweepValue::OverrideText() const { return categorical() ? text : text::FormatDouble(number); }
 

@@ -84,6 +84,22 @@ std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& 
 /// InputError.
 void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const std::vector<PlannedJob>& jobs);
 
+/// The jobs `--record JOBS` names: "all", or comma-separated 0-based job indices and ranges such as "0,3-5" (a
+/// range includes both ends), in the order the batch plans its jobs.
+struct JobSelection {
+  bool all = false;
+  std::vector<std::pair<std::size_t, std::size_t>> ranges;  ///< [first, last], each first ≤ last
+  bool Contains(std::size_t index) const;
+};
+
+/// Parses `--record`'s text for a batch of `job_count` jobs. Throws InputError "--record: expected ..., found ..."
+/// for anything else, an index beyond the batch's last job, or a range whose end lies before its start.
+JobSelection ParseJobSelection(const std::string& text, std::size_t job_count);
+
+/// Asks a recording of parameter set 0 of every job `selection` names (Job.record; the scenario's "record": true
+/// asks it of every job already).
+void MarkRecorded(std::vector<PlannedJob>& jobs, const JobSelection& selection);
+
 /// The genomes to use when none is given on the command line: the scenario's "genome", else an empty one (a
 /// controller without genes, e.g. a keyframe player).
 Genome DefaultGenome(const ScenarioInput& input);

@@ -2,7 +2,10 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <limits>
 
+#include "clients/batch/batch_input.h"
+#include "model/core/error.h"
 #include "worker/cli_style.h"
 
 namespace orcs::batch {
@@ -31,6 +34,21 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
   command.add_option("--seed", o.seed, "seed of the first job (default 1)");
   command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
       ->check(CLI::Range(0.0, 1e7));
+  command.add_option("--record", o.record,
+                     "record these jobs for orcs-view into OUT/recordings/JOB.orcsrec: all, or job indices such as "
+                     "0,3-5 (docs/recording.md)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            try {
+              ParseJobSelection(text, std::numeric_limits<std::size_t>::max());
+              return std::string();
+            } catch (const InputError& error) {  // CLI11 names the option itself
+              const std::string message = error.what();
+              const std::string prefix = error.source() + ": ";
+              return message.starts_with(prefix) ? message.substr(prefix.size()) : message;
+            }
+          },
+          "JOBS"));
   AddSessionOptions(command, o, "output folder (default runs/<scenario name>)");
 }
 

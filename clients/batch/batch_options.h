@@ -1,6 +1,6 @@
 // The command line of orcs-batch (docs/batch.md):
 //   orcs-batch run SCENARIO.json [--genomes FILE.jsonl | --genome JSON] [--jobs N] [--seed S] [--workers N]
-//                                [--out DIR] [--time-limit SECONDS] [--curve-keys DIR]
+//                                [--out DIR] [--time-limit SECONDS] [--record JOBS] [--curve-keys DIR]
 //   orcs-batch submit --broker ENDPOINT SCENARIO.json ... (the same job options, no --workers)
 //   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
@@ -32,6 +32,7 @@ struct BatchOptions {
   std::string broker;                ///< --broker ENDPOINT: a running broker's client endpoint ("" = embedded)
   std::string out;                   ///< --out DIR ("" = runs/<scenario name>)
   double time_limit_seconds = 0.0;   ///< --time-limit: wall-clock seconds per job (0 = none)
+  std::string record;                ///< --record JOBS: "all" or indices "0,3-5" of the jobs recorded ("" = none)
   double heartbeat_seconds = 1.0;    ///< --heartbeat: the client's (and embedded broker's) heartbeat interval
   std::vector<std::string> params;   ///< --param PATH=LOW:HIGH:STEPS, PATH=LOW:HIGH (lhs) or PATH=V1,V2,... (sweep)
   std::string sample = "grid";       ///< --sample grid|lhs (sweep): every combination, or a Latin hypercube sample

@@ -54,6 +54,7 @@ BatchSummary RunSession(broker::BatchClient& client, const std::vector<PlannedJo
     progress.Update(summary.ok, summary.failed, Clock::now());
     if (options.keep_results) {
       result->clear_logs();
+      result->clear_recording();  // written to recordings/ already; a sweep's table needs only the numbers
       summary.results.push_back(std::move(*result));
     }
   }

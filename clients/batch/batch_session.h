@@ -26,7 +26,7 @@ struct BatchSummary {
   double best_fitness = 0.0;   ///< highest fitness among ok results (when ok > 0)
   std::string best_job;        ///< its job id
   std::map<std::string, std::size_t> failures;  ///< status name → count, for the failed ones
-  std::vector<v1::Result> results;  ///< every result, in arrival order, logs stripped (kept when asked)
+  std::vector<v1::Result> results;  ///< every result, in arrival order, logs and recordings stripped (kept when asked)
 
   double jobs_per_second() const { return seconds > 0 ? static_cast<double>(ok + failed) / seconds : 0.0; }
   /// Exit code: 0 every job ran ok, 1 some failed or the batch was interrupted.

@@ -88,6 +88,7 @@ Plan MakePlan(const BatchOptions& options) {
   } else {
     plan.jobs = PlanRunJobs(plan.input, plan.genomes, settings);
   }
+  if (!options.record.empty()) MarkRecorded(plan.jobs, ParseJobSelection(options.record, plan.jobs.size()));
   CheckJobs(plan.input, plan.genomes, plan.jobs);
   plan.out = options.out.empty() ? (std::filesystem::path("runs") / plan.input.scenario.name).string() : options.out;
   return plan;

@@ -4,6 +4,7 @@
 
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
+#include "model/evaluation/recorder.h"
 #include "worker/job/result_json.h"
 
 namespace orcs::batch {
@@ -13,6 +14,8 @@ namespace fs = std::filesystem;
 
 constexpr const char* kResults = "results.jsonl";
 constexpr const char* kPartial = "results.jsonl.partial";
+constexpr const char* kRecordings = "recordings";
+constexpr const char* kRecordingExtension = ".orcsrec";  // docs/recording.md; what orcs-view looks for
 
 // A job id as a file name: anything but letters, digits, '-', '_' and '.' becomes '_'.
 std::string FileNameOf(const std::string& job_id) {
@@ -35,6 +38,11 @@ ResultsWriter::ResultsWriter(std::string folder) : folder_(std::move(folder)) {
   for (const fs::directory_entry& entry : fs::directory_iterator(fs::path(folder_) / "logs", error)) {
     if (entry.is_regular_file() && entry.path().extension() == ".csv") fs::remove(entry.path(), error);
   }
+  // An earlier batch's recordings would show up beside this batch's jobs in orcs-view: remove them too. The folder
+  // itself is made when the first recording arrives.
+  for (const fs::directory_entry& entry : fs::directory_iterator(fs::path(folder_) / kRecordings, error)) {
+    if (entry.is_regular_file() && entry.path().extension() == kRecordingExtension) fs::remove(entry.path(), error);
+  }
   partial_.open(fs::path(folder_) / kPartial, std::ios::trunc);
   if (!partial_) throw InputError((fs::path(folder_) / kPartial).string(), 0, "cannot be written");
 }
@@ -52,9 +60,20 @@ void ResultsWriter::Write(const v1::Result& result, const nlohmann::ordered_json
       for (auto e = extra.begin(); e != extra.end(); ++e) line[e.key()] = e.value();
     }
   }
+  // The recording first, so that a line naming it never precedes the file.
+  if (!result.recording().empty()) line["recording"] = WriteRecording(result);
   partial_ << line.dump() << '\n' << std::flush;
   if (!partial_) throw InputError(results_path(), 0, "writing failed");
   WriteLogs(result);
+}
+
+std::string ResultsWriter::WriteRecording(const v1::Result& result) {
+  const fs::path relative = fs::path(kRecordings) / (FileNameOf(result.job_id()) + kRecordingExtension);
+  std::error_code error;
+  fs::create_directories(fs::path(folder_) / kRecordings, error);
+  if (error) throw InputError((fs::path(folder_) / kRecordings).string(), 0, "cannot be created: " + error.message());
+  evaluation::WriteRecording((fs::path(folder_) / relative).string(), result.recording());
+  return relative.string();
 }
 
 void ResultsWriter::WriteLogs(const v1::Result& result) {

@@ -1,5 +1,6 @@
-// The output folder of a batch (docs/batch.md): DIR/results.jsonl, one JSON object per job in arrival order, and
-// DIR/logs/JOB.csv (JOB.set-K.csv when a job has several parameter sets) for the logged values.
+// The output folder of a batch (docs/batch.md): DIR/results.jsonl, one JSON object per job in arrival order,
+// DIR/logs/JOB.csv (JOB.set-K.csv when a job has several parameter sets) for the logged values, and
+// DIR/recordings/JOB.orcsrec for the jobs that were recorded (docs/recording.md), each written atomically.
 //
 // Lines go to DIR/results.jsonl.partial as results arrive, flushed each time, so an interrupted batch keeps what
 // it has; Finish() renames it to results.jsonl, so a results.jsonl is always a complete batch.
@@ -15,12 +16,13 @@ namespace orcs::batch {
 
 class ResultsWriter {
  public:
-  /// Creates DIR and DIR/logs (CSV files left there by an earlier batch are removed). Throws InputError naming
-  /// the folder when it cannot be created or written.
+  /// Creates DIR and DIR/logs (CSV files left there by an earlier batch are removed; so are recordings left in
+  /// DIR/recordings). Throws InputError naming the folder when it cannot be created or written.
   explicit ResultsWriter(std::string folder);
 
-  /// Appends the result's line (worker::ResultToJson with `extra`'s members added after "id") and writes its
-  /// logs. Throws InputError when a file cannot be written.
+  /// Appends the result's line (worker::ResultToJson with `extra`'s members added after "id", and
+  /// "recording": "recordings/JOB.orcsrec" when it carries one) and writes its logs and its recording. Throws
+  /// InputError when a file cannot be written.
   void Write(const v1::Result& result, const nlohmann::ordered_json& extra);
 
   /// Renames results.jsonl.partial to results.jsonl.
@@ -32,6 +34,8 @@ class ResultsWriter {
 
  private:
   void WriteLogs(const v1::Result& result);
+  /// Writes the result's recording; returns its path relative to the folder.
+  std::string WriteRecording(const v1::Result& result);
 
   std::string folder_;
   std::ofstream partial_;

@@ -64,6 +64,8 @@ std::vector<v1::Job> JobsOf(const batch::ScenarioInput& input, const std::vector
   for (const std::vector<double>& genes : genomes) list.push_back(GenomeJson(genes, "evolve"));
   std::vector<v1::Job> jobs;
   for (batch::PlannedJob& planned : batch::PlanRunJobs(input, list, {seed, 1, time_limit_seconds})) {
+    planned.job.clear_record();  // a scenario's "record": true is for batches; evolve records only its winner
+    planned.job.clear_record_set();
     jobs.push_back(std::move(planned.job));
   }
   return jobs;
@@ -108,11 +110,14 @@ void SaveGeneration(const std::string& folder, const Evolution& evolution, const
   WriteBestGenome(folder, evolution.champion());
 }
 
-// DIR/best/: the winner once more with the run's seed (its logs; it must give the same fitness, bit for bit) and on
+// DIR/best/: the winner once more with the run's seed (its logs and its recording, best/recordings/winner.orcsrec for
+// orcs-view, of parameter set 0; it must give the same fitness, bit for bit: recording changes no bits) and on
 // `validate` fresh seeds (how it fares on parameter sets it never met). Returns false when the replay differs.
 bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, const EvolutionSettings& settings,
                  const Champion& champion, double time_limit_seconds, const std::string& folder) {
   std::vector<v1::Job> jobs = JobsOf(input, {champion.genome}, settings.seed, time_limit_seconds);
+  jobs.front().set_record(true);
+  jobs.front().set_record_set(0);
   for (int v = 1; v <= settings.validate; ++v) {
     std::vector<v1::Job> more =
         JobsOf(input, {champion.genome}, settings.seed + static_cast<std::uint64_t>(v), time_limit_seconds);
@@ -220,6 +225,9 @@ int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop)
   std::cout << "orcs-batch: best genome in " << (fs::path(folder) / "best_genome.json").string()
             << "; replay it with: orcs-sim --scenario " << options.scenario << " --genome @"
             << (fs::path(folder) / "best_genome.json").string() << " --seed " << settings.seed << "\n";
+  if (fs::exists(fs::path(folder) / "best" / "recordings" / "winner.orcsrec")) {
+    std::cout << "orcs-batch: watch the winner with: orcs-view " << folder << "\n";
+  }
   if (evolution.cache_misses() > 0) {
     std::cout << "orcs-batch: " << evolution.cache_misses() << " genomes were evaluated outside their generation's "
               << "batch (the algorithm looked at answers mid-generation)\n";

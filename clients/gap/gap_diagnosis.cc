@@ -46,15 +46,23 @@ std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, con
   return report;
 }
 
-// The replays of one model with logs, as per-run channel traces: measured, simulated, desired, motor torque.
+// The replays of one model with logs, as per-run channel traces: measured, simulated, desired, motor torque. With
+// `recordings`, the replays are recorded too (recording changes no bits) and their recordings kept by run name.
 std::vector<std::vector<ChannelTrace>> Traces(JobRunner& runner, const std::vector<ReplayRun>& runs,
-                                              const std::vector<Override>& model) {
+                                              const std::vector<Override>& model,
+                                              std::map<std::string, std::string>* recordings) {
   std::vector<v1::Job> jobs;
-  for (const ReplayRun& run : runs) jobs.push_back(MakeReplayJob(run, model, true));
-  const std::vector<v1::Result> results = runner.Run(std::move(jobs));
+  for (const ReplayRun& run : runs) {
+    jobs.push_back(MakeReplayJob(run, model, true));
+    if (recordings != nullptr) jobs.back().set_record(true);
+  }
+  std::vector<v1::Result> results = runner.Run(std::move(jobs));
   std::vector<std::vector<ChannelTrace>> traces;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const MeasuredRun& measured = *runs[r].run;
+    if (recordings != nullptr && !results[r].recording().empty()) {
+      (*recordings)[runs[r].name] = std::move(*results[r].mutable_recording());
+    }
     const std::vector<v1::Result>::value_type& result = results[r];
     std::vector<std::pair<std::string, std::vector<double>>> columns;
     if (result.status() == v1::Result::OK && result.logs_size() > 0) {
@@ -84,12 +92,13 @@ std::vector<std::vector<ChannelTrace>> Traces(JobRunner& runner, const std::vect
   return traces;
 }
 
+// `record`: keep the replays' recordings (GapSnapshot::recordings).
 GapSnapshot Snapshot(JobRunner& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
-                     const std::vector<Override>& model, double step) {
+                     const std::vector<Override>& model, double step, bool record) {
   GapSnapshot snapshot;
   snapshot.fit_rms = Rms(MeanSquaredError(runner, fit, model));
   snapshot.holdout_rms = Rms(MeanSquaredError(runner, holdout, model));
-  snapshot.traces = Traces(runner, Concatenate(fit, holdout), model);
+  snapshot.traces = Traces(runner, Concatenate(fit, holdout), model, record ? &snapshot.recordings : nullptr);
   std::vector<ChannelTrace> all;  // a replay that failed (unstable physics) has no trace to analyse
   for (const auto& run : snapshot.traces) {
     for (const ChannelTrace& trace : run) {
@@ -198,7 +207,7 @@ Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRu
   for (const ReplayRun& run : holdout) d.holdout_runs.push_back(run.source);
 
   // 1. The model as given.
-  d.before = Snapshot(runner, fit, holdout, {}, rig.step);
+  d.before = Snapshot(runner, fit, holdout, {}, rig.step, /*record=*/true);
 
   // 2. Its own parameters refitted.
   const std::vector<FitParameter> base = BaseParameters(rig, model);
@@ -238,8 +247,9 @@ Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRu
   d.effect = won ? d.candidates[0].label : "";
   d.quantity = won ? d.candidates[0].quantity : "speed";
   d.model_values = won ? ModelOf(d.candidates[0], d.effect) : ModelOf(d.base, "");
-  d.refit = Snapshot(runner, fit, holdout, ModelOf(d.base, ""), rig.step);
-  d.after = won ? Snapshot(runner, fit, holdout, d.model_values, rig.step) : d.refit;
+  // The fitted model's replays are recorded for replays/<run>.orcsrec: the winner's, else the refit's.
+  d.refit = Snapshot(runner, fit, holdout, ModelOf(d.base, ""), rig.step, /*record=*/!won);
+  d.after = won ? Snapshot(runner, fit, holdout, d.model_values, rig.step, /*record=*/true) : d.refit;
   d.verdict = Verdict(d, options);
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   d.jobs = runner.jobs_run() - jobs_before;

@@ -4,6 +4,7 @@
 // when it clearly beats "nothing missing".
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct GapSnapshot {
   double holdout_rms = 0.0;  ///< degrees
   std::vector<ChannelStatistics> channels;  ///< per run and motor ("run:motor"), worst first
   std::vector<std::vector<ChannelTrace>> traces;  ///< per run (fit runs, then holdout runs): the channels' traces
+  /// run name → its replay's recording (docs/recording.md), for the snapshots orcs-gap writes to replays/: the
+  /// model as given (before) and the fitted model (after); empty for the others
+  std::map<std::string, std::string> recordings;
 };
 
 struct Diagnosis {

@@ -1,12 +1,14 @@
 #include "clients/gap/gap_report.h"
 
 #include <cmath>
+#include <set>
 #include <filesystem>
 #include <sstream>
 
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/evaluation/recorder.h"
 
 namespace orcs::gap {
 namespace {
@@ -207,6 +209,29 @@ void WriteReport(const std::string& folder, const Diagnosis& d, const Rig& rig,
       const ChannelTrace* after = d.effect.empty() ? nullptr : &d.after.traces[r][c];
       WriteFile(root / "traces" / (name + ".csv"), TraceCsv(before, d.refit.traces[r][c], after, rig.step));
     }
+  }
+}
+
+void WriteReplays(const std::string& folder, const Diagnosis& d, const Rig& rig,
+                  const std::vector<ValueAssignment>& model, const std::vector<ReplayRun>& runs) {
+  const fs::path replays = fs::path(folder) / "replays";
+  std::error_code error;
+  fs::create_directories(replays, error);
+  if (error) throw InputError(replays.string() + ": cannot create the folder: " + error.message());
+  for (const fs::directory_entry& entry : fs::directory_iterator(replays, error)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".orcsrec") fs::remove(entry.path(), error);
+  }
+  std::set<std::string> written;
+  for (const ReplayRun& run : runs) {
+    if (!written.insert(run.name).second) continue;  // a run both fitted and held out (in-sample) once
+    const auto write = [&](const std::string& suffix, const std::string& bytes) {
+      if (!bytes.empty()) evaluation::WriteRecording((replays / (run.name + suffix)).string(), bytes);
+    };
+    const auto fitted = d.after.recordings.find(run.name);
+    if (fitted != d.after.recordings.end()) write(".orcsrec", fitted->second);
+    const auto given = d.before.recordings.find(run.name);
+    if (given != d.before.recordings.end()) write(".given.orcsrec", given->second);
+    write(".measured.orcsrec", MeasuredRecording(rig, model, run));
   }
 }
 

@@ -25,4 +25,11 @@ std::string ReportMarkdown(const Diagnosis& diagnosis, const Rig& rig, const Dia
 void WriteReport(const std::string& folder, const Diagnosis& diagnosis, const Rig& rig,
                  const std::vector<ValueAssignment>& model, const DiagnosisOptions& options);
 
+/// Writes replays/ into `folder` for orcs-view (docs/gap.md, "Output"): per run, <run>.orcsrec (its replay under
+/// the fitted model), <run>.given.orcsrec (under the model as given) and <run>.measured.orcsrec (the measured joint
+/// angles, posed kinematically: MeasuredRecording). Recordings an earlier report left there are removed first.
+/// Throws InputError when a file cannot be written.
+void WriteReplays(const std::string& folder, const Diagnosis& diagnosis, const Rig& rig,
+                  const std::vector<ValueAssignment>& model, const std::vector<ReplayRun>& runs);
+
 }  // namespace orcs::gap

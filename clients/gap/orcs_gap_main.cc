@@ -117,10 +117,14 @@ int Diagnose(const GapOptions& o) {
             << (o.broker.empty() ? std::to_string(runner.local_workers()) + " local workers" : "broker " + o.broker)
             << "\n";
   const Diagnosis diagnosis = Diagnose(runner, rig, fit, holdout, model, options);
+  std::vector<ReplayRun> runs = fit;
+  runs.insert(runs.end(), holdout.begin(), holdout.end());
+  WriteReplays(o.out, diagnosis, rig, model, runs);
   WriteReport(o.out, diagnosis, rig, model, options);
   std::cout << diagnosis.verdict << "\n"
             << "orcs-gap: report in " << o.out << "/report.md, fitted model in " << o.out
-            << "/model.val; plot with scripts/plot_gap.py " << o.out << "\n";
+            << "/model.val; plot with scripts/plot_gap.py " << o.out << "; watch the replays with orcs-view "
+            << o.out << "\n";
   return cli::kExitOk;
 }
 

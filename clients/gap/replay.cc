@@ -1,10 +1,12 @@
 #include "clients/gap/replay.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
 #include "model/control/keyframe_record.h"
+#include "model/evaluation/recorder.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 #include "model/core/text_file.h"
@@ -140,6 +142,42 @@ v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& over
     override_value->set_value(entry.second);
   }
   return job;
+}
+
+std::string MeasuredRecording(const Rig& rig, const std::vector<ValueAssignment>& model, const ReplayRun& replay) {
+  const MeasuredRun& run = *replay.run;
+  scene::Simulation simulation;
+  simulation.LoadEnvironment(EnvironmentOf(rig));
+  simulation.Build();
+  std::vector<ValueAssignment> values = model;
+  values.push_back({"/AngularMotor/IncludeNoise", "F", "orcs-gap", 0});  // JointAngle reads the pose as set
+  ValueFile::ApplyAssignments(values, simulation.repository());
+  const int agent = simulation.FindAgent(rig.agent);
+  if (agent < 0) throw InputError(rig.environment_name + ": no agent '" + rig.agent + "' (the runs' agent)");
+  const std::vector<aseries::MorphologyMotor>& motors = simulation.model().morphology(agent).motors;
+  // The measured column of each of the agent's motors (null: not measured).
+  std::vector<const std::vector<double>*> columns(motors.size(), nullptr);
+  for (std::size_t m = 0; m < motors.size(); ++m) {
+    const auto found = run.joint_angle.find(motors[m].name);
+    if (found != run.joint_angle.end()) columns[m] = &found->second;
+  }
+  std::vector<double> angles(motors.size(), 0.0);
+  const auto pose = [&](std::size_t row) {
+    simulation.Reset();
+    for (std::size_t m = 0; m < motors.size(); ++m) {
+      const double measured = columns[m] != nullptr ? (*columns[m])[row] : 0.0;
+      angles[m] = std::clamp(std::isfinite(measured) ? measured : 0.0, motors[m].min_degrees, motors[m].max_degrees);
+    }
+    simulation.SetAgentJointAngles(agent, angles);
+  };
+  pose(0);
+  evaluation::Recorder recorder(simulation, {"orcs-gap", rig.environment_name, "gap:" + replay.name + " (measured)",
+                                             0, 0, nlohmann::json()});  // frame 0: row 0, at time 0
+  for (std::size_t row = 1; row < run.time.size(); ++row) {
+    pose(row);
+    recorder.SampleAt(run.time[row]);
+  }
+  return recorder.Finish();
 }
 
 std::vector<std::pair<std::string, std::vector<double>>> ParseLogColumns(const std::string& csv,

@@ -63,6 +63,12 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
 /// simulated JointAngle and MotorTorque of every motor.
 v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log);
 
+/// The measured run as a recording (docs/recording.md) for orcs-view: the rig under `model` (noise off), posed
+/// kinematically at every row — Reset(), the measured joint angles set (each clamped to its motor's range; motors
+/// the run does not measure stay at 0), a frame stamped with the row's time. No physics runs: it shows where the
+/// real robot's joints were. Returns the file's bytes.
+std::string MeasuredRecording(const Rig& rig, const std::vector<ValueAssignment>& model, const ReplayRun& replay);
+
 /// A simulated log (the CSV the worker returns) as columns: path → values per row. Throws InputError when it
 /// has no "# columns:" line.
 std::vector<std::pair<std::string, std::vector<double>>> ParseLogColumns(const std::string& csv,

@@ -253,7 +253,7 @@ FaultInjection ReadFault(const JsonNode& node) {
 Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode root(resolved, "", source);
   root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
-                   "randomisation", "log", "genome", "fault", "evolution"});
+                   "randomisation", "log", "genome", "fault", "evolution", "record"});
   Scenario scenario;
   scenario.source = source;
   scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
@@ -294,6 +294,7 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
     if (!evolution.value().is_object()) evolution.Fail("an object (orcs-batch evolve's settings)");
     scenario.evolution = evolution.value();
   }
+  if (root.Has("record")) scenario.record = root.At("record").Bool("true or false");
   return scenario;
 }
 

@@ -87,6 +87,9 @@ struct Scenario {
   /// "evolution": how orcs-batch evolve searches the genome (bounds, algorithm, ...; docs/evolution.md). Read and
   /// checked by the client (clients/evolve); a job carries it but the model never reads it. null = none
   nlohmann::json evolution;
+  /// "record": orcs-batch asks a recording (docs/recording.md) of every job of the scenario, parameter set 0. Read by
+  /// the client, which sets Job.record; the model and the worker never act on it.
+  bool record = false;
 };
 
 /// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found

@@ -8,6 +8,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -16,6 +18,7 @@
 #include <set>
 #include <sstream>
 
+#include "model/evaluation/recording_reader.h"
 #include "tests/support/background_process.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
@@ -226,6 +229,86 @@ TEST_F(OrcsBatchTest, SubmitRunsTheBatchOnARunningBroker) {
   const std::vector<nlohmann::json> lines = ReadLines(Out("remote") + "/results.jsonl");
   ASSERT_EQ(lines.size(), 3u);
   for (const nlohmann::json& line : lines) EXPECT_EQ(line["worker"], "remote");
+}
+
+// The channel of `name` (x, y or z of a vector) in the last frame.
+float LastValue(const evaluation::Recording& recording, const std::string& name) {
+  const int channel = recording.FindChannel(name);
+  EXPECT_GE(channel, 0) << name;
+  return channel < 0 ? std::nanf("") : recording.value(recording.frame_count() - 1, channel);
+}
+
+TEST_F(OrcsBatchTest, RecordedJobsThroughARunningBrokerAreWrittenWithTheSameBitsAndReplayWithOrcsSim) {
+  BackgroundProcess broker({kBin + "orcs-broker", "--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
+  const std::optional<std::string> endpoints = broker.ReadLine(milliseconds(10000));
+  ASSERT_TRUE(endpoints.has_value()) << broker.err();
+  std::smatch match;
+  ASSERT_TRUE(std::regex_match(*endpoints, match, std::regex("orcs-broker clients=(\\S+) workers=(\\S+)")));
+  BackgroundProcess worker({kBin + "orcs-worker", "--connect", match[2], "--heartbeat", "0.1", "--id", "remote"});
+  // Three identical jobs (one genome three times, one seed): 0 and 2 recorded, 1 not.
+  const std::string genome = "[20, 2, 0, 0, 20, 2, 3, 0]";
+  const std::string genomes = dir_.Write("same.jsonl", genome + "\n" + genome + "\n" + genome + "\n");
+  dir_.Write("rec/recordings/job-7.orcsrec", "an earlier batch's");
+  const std::string scenario = Scenario();
+  const ProcessResult result = Batch({"submit", "--broker", match[1], "--heartbeat", "0.1", scenario, "--genomes",
+                                      genomes, "--seed", "5", "--record", "0,2", "--out", Out("rec")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::map<std::string, nlohmann::json> by_id = ById(ReadLines(Out("rec") + "/results.jsonl"));
+  ASSERT_EQ(by_id.size(), 3u);
+  EXPECT_EQ(by_id.at("job-0")["recording"], "recordings/job-0.orcsrec");
+  EXPECT_FALSE(by_id.at("job-1").contains("recording"));
+  EXPECT_EQ(by_id.at("job-2")["recording"], "recordings/job-2.orcsrec");
+  std::set<std::string> files;
+  for (const fs::directory_entry& entry : fs::directory_iterator(Out("rec") + "/recordings")) {
+    files.insert(entry.path().filename().string());
+  }
+  EXPECT_EQ(files, (std::set<std::string>{"job-0.orcsrec", "job-2.orcsrec"})) << "exactly those, the stale one gone";
+  for (const char* id : {"job-1", "job-2"}) {  // recorded or not: the same bits
+    EXPECT_EQ(by_id.at(id)["fitness"].dump(), by_id.at("job-0")["fitness"].dump()) << id;
+    EXPECT_EQ(by_id.at(id)["sets"].dump(), by_id.at("job-0")["sets"].dump()) << id;
+  }
+
+  const evaluation::Recording recording = evaluation::ReadRecording(Out("rec") + "/recordings/job-0.orcsrec");
+  const double step = recording.header["step_seconds"].get<double>();
+  EXPECT_EQ(recording.frame_count(), std::lround(0.2 / step) + 1);  // frame 0 and one per step
+  EXPECT_EQ(recording.header["source"]["seed"], 5);
+  EXPECT_EQ(recording.header["source"]["set"], 0);
+  const ProcessResult sim = RunProcess({kBin + "orcs-sim", "--scenario", scenario, "--genome", genome, "--seed", "5",
+                                        "--record", Out("sim.orcsrec")});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_EQ(nlohmann::json::parse(sim.out)["fitness"].dump(), by_id.at("job-0")["fitness"].dump());
+  const evaluation::Recording replay = evaluation::ReadRecording(Out("sim.orcsrec"));
+  ASSERT_EQ(replay.frame_count(), recording.frame_count());
+  for (const char* axis : {".x", ".y", ".z"}) {
+    const std::string channel = std::string("/Sim/Humanoid/Middle/Head/Position") + axis;
+    const float batch = LastValue(recording, channel);
+    const float local = LastValue(replay, channel);
+    EXPECT_EQ(std::memcmp(&batch, &local, sizeof batch), 0) << channel << ": " << batch << " vs " << local;
+  }
+}
+
+TEST_F(OrcsBatchTest, AScenarioThatAsksForRecordingsGetsEveryJobRecordedAndBadRecordTextIsExitTwo) {
+  nlohmann::json recorded = nlohmann::json::parse(kScenario);
+  recorded["record"] = true;
+  recorded["duration"] = 0.05;
+  const std::string scenario = dir_.Write("recorded.json", recorded.dump());
+  ProcessResult result = Batch({"run", scenario, "--jobs", "2", "--workers", "1", "--out", Out("all"), "--quiet"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  for (const char* id : {"job-0", "job-1"}) {
+    EXPECT_NO_THROW(evaluation::ReadRecording(Out("all") + "/recordings/" + id + ".orcsrec")) << id;
+  }
+
+  for (const char* bad : {"1-x", "0,5", "everything"}) {
+    result = Batch({"run", Scenario(), "--jobs", "3", "--record", bad, "--out", Out("bad")});
+    EXPECT_EQ(result.exit_code, 2) << bad;
+    EXPECT_THAT(result.err, HasSubstr("--record")) << bad;
+    EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+    EXPECT_FALSE(fs::exists(Out("bad"))) << "nothing written, nothing submitted";
+  }
+  recorded["record"] = "yes";
+  result = Batch({"run", dir_.Write("yes.json", recorded.dump()), "--out", Out("bad")});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("yes.json: field 'record' expected true or false, found the string \"yes\""));
 }
 
 TEST_F(OrcsBatchTest, AnUnreachableBrokerIsAClearErrorNotAHang) {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "model/evaluation/recording_reader.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
 
@@ -170,6 +171,14 @@ TEST_F(OrcsEvolveTest, RunWritesItsFolderAndTheWinnerReplaysWithOrcsSimToTheSame
   }
   ASSERT_TRUE(fs::is_directory(out + "/best/logs"));
   EXPECT_FALSE(fs::is_empty(out + "/best/logs"));
+
+  // best/recordings/winner.orcsrec: the winner's replay (set 0) for orcs-view; the validation runs are not recorded.
+  EXPECT_EQ(winner["recording"], "recordings/winner.orcsrec");
+  const evaluation::Recording recording = evaluation::ReadRecording(out + "/best/recordings/winner.orcsrec");
+  EXPECT_EQ(recording.frame_count(), 51);  // half a second at 10 ms, and frame 0
+  EXPECT_EQ(recording.header["source"]["genome"], champion["genome"]);
+  EXPECT_FALSE(fs::exists(out + "/best/recordings/validate-1.orcsrec"));
+  EXPECT_THAT(run.out, HasSubstr("orcs-view " + out));
 
   // orcs-sim replays best_genome.json on the run's seed to the champion's fitness, bit for bit.
   const ProcessResult sim = RunProcess(

@@ -7,11 +7,15 @@
 // it cannot tell yet"), so it is not claimed here.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "model/evaluation/recording_reader.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
 
@@ -70,6 +74,71 @@ TEST_P(GapDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
   // The fitted model switches the effect on, and the report lists every candidate with its fitted values.
   EXPECT_EQ(report.at("model").at("/Effects/" + std::string(c.expected) + "/Enabled"), "T");
   EXPECT_EQ(report.at("candidates").size(), 8u);
+}
+
+// The column `name` of an orcs-sim log (what orcs-gap synth writes), per row.
+std::vector<double> LogColumn(const std::string& path, const std::string& name) {
+  std::ifstream in(path);
+  std::string line;
+  int column = -1;
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    if (line.rfind("# columns: ", 0) == 0) {
+      std::istringstream names(line.substr(11));
+      std::string field;
+      for (int c = 0; std::getline(names, field, ','); ++c) {
+        if (field == name) column = c;
+      }
+      continue;
+    }
+    if (line.empty() || line[0] == '#' || column < 0) continue;
+    std::istringstream fields(line);
+    std::string field;
+    for (int c = 0; std::getline(fields, field, ','); ++c) {
+      if (c == column) values.push_back(std::stod(field));
+    }
+  }
+  return values;
+}
+
+// Three recordings per measured run in replays/ for orcs-view: the fitted model's replay, the given model's, and the
+// measured run posed kinematically, whose JointAngle is the measured angle. A small diagnosis: short runs, one
+// candidate, two generations.
+TEST(GapReplaysTest, EveryRunGetsItsFittedGivenAndMeasuredRecording) {
+  test_support::TempDir dir;
+  const std::string data = dir.PathOf("data");
+  const auto made = RunProcess({kGap, "synth", "--rig", "pendulum", "--motion", kMotions + "pendulum_identification_a.csv",
+                                kMotions + "pendulum_identification_b.csv", "--duration", "2", "--effect",
+                                "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04", "--out", data});
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  const std::string report = dir.PathOf("report");
+  dir.Write("report/replays/stale.orcsrec", "an earlier report's");
+  const auto diagnosed = RunProcess({kGap, "--rig", "pendulum", "--measured", data + "/pendulum_identification_a.csv",
+                                     "--holdout", data + "/pendulum_identification_b.csv", "--workers", "2",
+                                     "--effects", "TransportDelay", "--generations", "2", "--out", report});
+  ASSERT_EQ(diagnosed.exit_code, 0) << diagnosed.err;
+  EXPECT_FALSE(std::filesystem::exists(report + "/replays/stale.orcsrec"));
+  for (const std::string run : {"pendulum_identification_a", "pendulum_identification_b"}) {
+    const std::vector<double> measured =
+        LogColumn(data + "/" + run + ".csv", "/Sim/Pendulum/Motor/JointAngle");
+    ASSERT_GT(measured.size(), 100u) << run;
+    for (const char* suffix : {".orcsrec", ".given.orcsrec"}) {
+      const evaluation::Recording replay = evaluation::ReadRecording(report + "/replays/" + run + suffix);
+      EXPECT_EQ(replay.frame_count(), static_cast<int>(measured.size())) << run << suffix;  // frame 0 and every step
+    }
+    const evaluation::Recording recording = evaluation::ReadRecording(report + "/replays/" + run + ".measured.orcsrec");
+    ASSERT_EQ(recording.frame_count(), static_cast<int>(measured.size())) << run;
+    const int channel = recording.FindChannel("/Sim/Pendulum/Motor/JointAngle");
+    ASSERT_GE(channel, 0);
+    for (std::size_t row : {std::size_t{0}, std::size_t{1}, measured.size() / 3, measured.size() / 2,
+                            measured.size() - 1}) {
+      EXPECT_NEAR(recording.times[row], 0.01 * static_cast<double>(row), 1e-9) << run << " row " << row;
+      // The pendulum's motor turns −150°…150°: the measured angles lie inside, so no clamping here.
+      EXPECT_NEAR(recording.value(static_cast<int>(row), channel), measured[row],
+                  1e-6 * std::max(1.0, std::abs(measured[row])))
+          << run << " row " << row;
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -25,6 +25,10 @@ using Clock = std::chrono::steady_clock;
 
 // Wall-clock checks every this many steps: often enough to stop within a few ms, rarely enough to cost nothing.
 constexpr int kStepsPerClockCheck = 64;
+// A recording keeps at most this many frames (frame 0 and 60,000 steps: 10 simulated minutes at 10 ms, about 70 MB
+// for the A-Series); a longer run's recording ends there, so that the recording's memory, and the result that
+// carries it through the sandbox and the broker, stay bounded whatever the scenario's duration (≤ 1e6 s).
+constexpr std::int64_t kMaxRecordedFrames = 60001;
 
 scene::EnvironmentDescription EnvironmentOf(const scene::Scenario& scenario) {
   return scene::EnvironmentReader::ReadStringOrDefault(scenario.environment_xml, scenario.environment_name);
@@ -168,7 +172,7 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
     }
     run.fitness->Sample(simulation, dt);
     if (run.logger) run.logger->Sample(simulation.time());
-    if (recorder) recorder->Sample();
+    if (recorder && recorder->frame_count() < kMaxRecordedFrames) recorder->Sample();
     if (i % kStepsPerClockCheck == 0 && Clock::now() > deadline) {
       outcome.status = EvaluationStatus::kTimeout;
       outcome.message = "time limit of " + text::FormatDouble(request.time_limit_seconds) +

@@ -34,6 +34,16 @@ evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults) 
   }
   request.time_limit_seconds = job.time_limit_seconds();
   request.inject_faults = inject_faults;
+  if (job.record()) {
+    const int sets = request.scenario.randomisation.sets;
+    if (job.record_set() >= static_cast<std::uint32_t>(sets)) {
+      throw InputError(source + " record_set", 0,
+                       "expected a parameter set of the job, 0…" + std::to_string(sets - 1) + ", found " +
+                           std::to_string(job.record_set()));
+    }
+    request.record_set = static_cast<int>(job.record_set());
+  }
+  request.program = "orcs-worker";
   return request;
 }
 
@@ -62,6 +72,7 @@ v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& out
     out->set_status(StatusOf(set.status));
     out->set_message(text::ValidUtf8(set.message));
     simulated += set.simulated_seconds;
+    if (!set.recording.empty()) result.set_recording(set.recording);
     if (!set.log_csv.empty()) {
       v1::LogFile* log = result.add_logs();
       log->set_name("set-" + std::to_string(set.index) + ".csv");

@@ -75,6 +75,42 @@ TEST_F(BatchInputTest, RunJobsAreEveryGenomeTimesEverySeedWithSortableIds) {
   EXPECT_EQ(nlohmann::json::parse(jobs[0].job.scenario_json())["duration"], 0.1);
 }
 
+TEST_F(BatchInputTest, RecordSelectsAllOrIndicesAndRangesAndNamesTheOptionWhenBad) {
+  EXPECT_TRUE(ParseJobSelection("all", 3).all);
+  const JobSelection some = ParseJobSelection("0,3-5,9", 10);
+  std::vector<std::size_t> chosen;
+  for (std::size_t i = 0; i < 10; ++i) {
+    if (some.Contains(i)) chosen.push_back(i);
+  }
+  EXPECT_EQ(chosen, (std::vector<std::size_t>{0, 3, 4, 5, 9}));
+  EXPECT_EQ(InputErrorOf([] { ParseJobSelection("1-x", 10); }),
+            "--record: expected 'all' or job indices such as 0,3-5, found '1-x'");
+  for (const char* bad : {"", "ALL", "1,", ",1", "-1", "1-", "1 ,2", "+1", "1-2-3", "99999999999999999999"}) {
+    EXPECT_THAT(InputErrorOf([&] { ParseJobSelection(bad, 10); }), HasSubstr("--record: expected")) << bad;
+  }
+  EXPECT_EQ(InputErrorOf([] { ParseJobSelection("0,3", 3); }),
+            "--record: expected job indices 0…2 (the batch has 3 jobs), found '0,3'");
+  EXPECT_THAT(InputErrorOf([] { ParseJobSelection("5-2", 10); }), HasSubstr("FIRST ≤ LAST"));
+}
+
+TEST_F(BatchInputTest, RecordedJobsAskForParameterSetZeroAndTheScenarioCanAskForAll) {
+  const std::vector<Genome> genomes = {{nlohmann::json({1}), "a", 1}};
+  std::vector<PlannedJob> jobs = PlanRunJobs(Scenario(), genomes, {.seed = 1, .repeats = 4});
+  for (const PlannedJob& planned : jobs) EXPECT_FALSE(planned.job.record());
+  MarkRecorded(jobs, ParseJobSelection("1-2", jobs.size()));
+  EXPECT_FALSE(jobs[0].job.record());
+  EXPECT_TRUE(jobs[1].job.record());
+  EXPECT_EQ(jobs[1].job.record_set(), 0u);
+  EXPECT_TRUE(jobs[2].job.record());
+  EXPECT_FALSE(jobs[3].job.record());
+
+  nlohmann::json recorded = nlohmann::json::parse(kScenario);
+  recorded["record"] = true;
+  for (const PlannedJob& planned : PlanRunJobs(Scenario(recorded.dump()), genomes, {.seed = 1, .repeats = 2})) {
+    EXPECT_TRUE(planned.job.record());
+  }
+}
+
 TEST_F(BatchInputTest, SweepJobsCarryThePointAsOverridesThatReadBackExactly) {
   const ScenarioInput input = Scenario();
   const std::vector<SweepPoint> points = {{{"/AngularMotor/PID/Proportional", 0.1 + 0.2}}, {{"/AngularMotor/PID/Proportional", 30}}};

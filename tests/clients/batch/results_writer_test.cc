@@ -108,6 +108,28 @@ TEST(ResultsWriterTest, RemovesOldLogsButNothingElse) {
   EXPECT_TRUE(fs::exists(dir.path() / "out" / "logs" / "notes.txt"));
 }
 
+TEST(ResultsWriterTest, WritesARecordingBeforeTheLineThatNamesItAndRemovesAnEarlierBatchs) {
+  TempDir dir;
+  dir.Write("out/recordings/job-9.orcsrec", "old");
+  dir.Write("out/recordings/notes.txt", "keep");
+  ResultsWriter writer(dir.PathOf("out"));
+  EXPECT_FALSE(fs::exists(dir.path() / "out" / "recordings" / "job-9.orcsrec"));
+  EXPECT_TRUE(fs::exists(dir.path() / "out" / "recordings" / "notes.txt"));
+  v1::Result recorded = MakeResult("job-1", 1, 2.0);
+  recorded.set_recording(std::string("ORCSREC\x1a\0bytes", 15));
+  writer.Write(recorded, nlohmann::ordered_json::object());
+  writer.Write(MakeResult("job-2", 1, 3.0), nlohmann::ordered_json::object());
+  writer.Finish();
+  EXPECT_EQ(Slurp(dir.path() / "out" / "recordings" / "job-1.orcsrec"), recorded.recording());
+  EXPECT_FALSE(fs::exists(dir.path() / "out" / "recordings" / "job-2.orcsrec"));
+  std::istringstream lines(Slurp(dir.path() / "out" / "results.jsonl"));
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(nlohmann::json::parse(line)["recording"], "recordings/job-1.orcsrec");
+  std::getline(lines, line);
+  EXPECT_FALSE(nlohmann::json::parse(line).contains("recording"));
+}
+
 TEST(ResultsWriterTest, AnUnwritableFolderIsAnInputError) {
   TempDir dir;
   dir.Write("file", "x");

@@ -67,7 +67,11 @@ TEST(ScenarioTest, BadInputNamesFileAndField) {
   };
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duratoin", 3), "s.json"); }),
             "s.json: field 'duratoin' expected no such field (allowed: name, environment, value_files, values, "
-            "duration, agent, controller, fitness, randomisation, log, genome, fault, evolution), found 'duratoin'");
+            "duration, agent, controller, fitness, randomisation, log, genome, fault, evolution, record), found 'duratoin'");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("record", "yes"), "s.json"); }),
+            "s.json: field 'record' expected true or false, found the string \"yes\"");
+  EXPECT_TRUE(ParseScenario(with("record", true), "s.json").record);
+  EXPECT_FALSE(ParseScenario(Minimal(), "s.json").record);
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("evolution", {1, 2}), "s.json"); }),
             "s.json: field 'evolution' expected an object (orcs-batch evolve's settings), found an array of 2");
   EXPECT_EQ(ParseScenario(with("evolution", {{"bounds", {-1, 1}}}), "s.json").evolution["bounds"][1], 1);

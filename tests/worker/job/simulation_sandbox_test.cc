@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "model/evaluation/recording_reader.h"
 #include "tests/support/process.h"
 #include "worker/job/job_translation.h"
 
@@ -86,6 +87,29 @@ TEST(SimulationSandbox, AJobGivesTheSameBitsAsInProcess) {
   ExpectSameBits(sandboxed, in_process);
   ExpectSameBits(sandbox.Run(job), in_process);  // and again in the same process: nothing carries over
   EXPECT_EQ(sandbox.processes_started(), 1);
+}
+
+TEST(SimulationSandbox, ARecordingComesBackThroughTheChannelAndChangesNoBits) {
+  SimulationSandbox sandbox(ChildArguments());
+  const v1::Job plain = Job("plain", 0.3);
+  v1::Job recorded = plain;
+  recorded.set_record(true);
+  recorded.set_record_set(1);
+  const v1::Result with = sandbox.Run(recorded);
+  ASSERT_EQ(with.status(), v1::Result::OK) << with.message();
+  const evaluation::Recording recording = evaluation::ParseRecording(with.recording(), "result");
+  EXPECT_EQ(recording.frame_count(), 31);  // frame 0 and 30 steps of 10 ms
+  EXPECT_EQ(recording.header["source"]["set"], 1);
+  EXPECT_EQ(recording.header["program"], "orcs-worker");
+  v1::Result without_recording = with;
+  without_recording.clear_recording();
+  ExpectSameBits(without_recording, RunJob(plain));  // the numbers: the same bits as unrecorded
+
+  recorded.set_record_set(2);  // the job has sets 0 and 1
+  const v1::Result bad = sandbox.Run(recorded);
+  EXPECT_EQ(bad.status(), v1::Result::INVALID_INPUT);
+  EXPECT_EQ(bad.message(), "job plain record_set: expected a parameter set of the job, 0…1, found 2");
+  EXPECT_TRUE(bad.recording().empty());
 }
 
 TEST(SimulationSandbox, ASegfaultCostsOneJobAndTheNextRunsInAFreshProcess) {
