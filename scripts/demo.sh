@@ -12,12 +12,15 @@ out=demo-out/batch
 build/bin/orcs-batch run scenarios/evolution/rock_oscillator.json \
   --genome @scenarios/evolution/rock_oscillator.winner.json --jobs 8 --record all --out "$out"
 
-# The best job by fitness, from results.jsonl (one JSON object per job).
+# The fitness over the seeds (to stderr) and the best job (to stdout), from results.jsonl (one JSON object per job).
 best=$(python3 -c '
-import json, sys
+import json, statistics, sys
 jobs = [json.loads(line) for line in open(sys.argv[1]) if line.strip()]
-ok = [j for j in jobs if j["status"] == "ok"]
-print(max(ok, key=lambda j: j["fitness"])["id"])
+ok = sorted((j for j in jobs if j["status"] == "ok"), key=lambda j: j["fitness"])
+f = [j["fitness"] for j in ok]
+print(f"demo: fitness over {len(f)} seeds: worst {f[0]:.3f}, median {statistics.median(f):.3f}, best {f[-1]:.3f}",
+      file=sys.stderr)
+print(ok[-1]["id"])
 ' "$out/results.jsonl")
 build/bin/orcs-view --render "$out/recordings/$best.orcsrec" --out demo-out/best.png --width 960 --height 540
 

@@ -11,26 +11,6 @@ namespace {
 nlohmann::json Array(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 nlohmann::json Array(const Eigen::Quaterniond& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
-std::string_view ShapeName(physics::Shape shape) {
-  switch (shape) {
-    case physics::Shape::kBox: return "box";
-    case physics::Shape::kSphere: return "sphere";
-    case physics::Shape::kCapsule: return "capsule";
-    case physics::Shape::kPlane: return "plane";
-  }
-  return "?";
-}
-
-nlohmann::json SizeOf(const physics::GeomDescription& geom) {
-  switch (geom.shape) {
-    case physics::Shape::kBox: return Array(geom.size);
-    case physics::Shape::kSphere: return {geom.size.x()};
-    case physics::Shape::kCapsule: return {geom.size.x(), geom.size.y()};
-    case physics::Shape::kPlane: return nlohmann::json::array();
-  }
-  return nullptr;
-}
-
 // Components a numeric value contributes as channels, with their suffixes; none for strings and colours.
 std::vector<std::string> ComponentSuffixes(ValueType type) {
   switch (type) {
@@ -64,6 +44,26 @@ float ComponentOf(const Value& value, int component) {
 }
 
 }  // namespace
+
+std::string_view ShapeName(physics::Shape shape) {
+  switch (shape) {
+    case physics::Shape::kBox: return "box";
+    case physics::Shape::kSphere: return "sphere";
+    case physics::Shape::kCapsule: return "capsule";
+    case physics::Shape::kPlane: return "plane";
+  }
+  return "?";
+}
+
+nlohmann::json GeomSizeJson(const physics::GeomDescription& geom) {
+  switch (geom.shape) {
+    case physics::Shape::kBox: return Array(geom.size);
+    case physics::Shape::kSphere: return {geom.size.x()};
+    case physics::Shape::kCapsule: return {geom.size.x(), geom.size.y()};
+    case physics::Shape::kPlane: return nlohmann::json::array();
+  }
+  return nullptr;
+}
 
 RecordingLayout::RecordingLayout(const scene::Simulation& simulation, const RecordingSource& source)
     : simulation_(simulation) {
@@ -122,7 +122,7 @@ void RecordingLayout::DescribeWorld() {
     for (const physics::GeomDescription& geom : body.geoms) {
       geoms.push_back({{"name", geom.name},
                        {"shape", ShapeName(geom.shape)},
-                       {"size", SizeOf(geom)},
+                       {"size", GeomSizeJson(geom)},
                        {"offset", Array(geom.offset)},
                        {"rotation", Array(geom.rotation)},
                        {"color", geom.rgba},

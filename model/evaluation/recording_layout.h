@@ -33,6 +33,12 @@ struct ContactSample {
   float depth = 0;          ///< penetration, m
 };
 
+/// "box", "sphere", "capsule" or "plane".
+std::string_view ShapeName(physics::Shape shape);
+/// A geom's size as recordings and `orcs-sim --describe` print it: box [w, h, d], sphere [r], capsule [r, length],
+/// plane [].
+nlohmann::json GeomSizeJson(const physics::GeomDescription& geom);
+
 class RecordingLayout {
  public:
   /// Describes `simulation` (built): its channels are the repository's numeric values as registered now.

@@ -16,11 +16,13 @@ before(async () => {
   tmp = await tempDir();
   const stand = path.join(tmp.dir, 'stand.orcsrec');
   const bend = path.join(tmp.dir, 'waist_bend.orcsrec');
+  const two = path.join(tmp.dir, 'two_robots.orcsrec');
   await Promise.all([
     makeRecording(stand),
+    makeRecording(two, ['-env', path.join(repoRoot, 'scenarios/environments/two_robots.xml'), '--duration', '0.5']),
     makeRecording(bend, ['-play', 'Humanoid', path.join(repoRoot, 'scenarios/motions/waist_bend.csv')]),
   ]);
-  server = await startServer([stand, bend]);
+  server = await startServer([stand, bend, two]);
   browser = await launchBrowser();
   page = await openPage(browser, server.url);
 });
@@ -207,6 +209,19 @@ test('a bad item is shown in the banner and in orcsView.errors, not on the conso
   // Chromium logs the 404 answer itself as a failed resource; the page adds nothing to the console.
   const added = page.orcsProblems.splice(problems);
   assert.ok(added.every((p) => /status of 404/.test(p)), added.join('\n'));
+});
+
+test('several robots: every agent of the world is drawn where it stands', async () => {
+  assert.equal(await page.evaluate(() => orcsView.open('r2')), true);
+  const bodies = await until(async () => {
+    const b = await page.evaluate(() => orcsView.bodies);
+    return b['Partner/Middle/Head'] && b;
+  }, 20_000, 'the second robot drawn');
+  const x = (name) => bodies[name].position[0];
+  assert.ok(Math.abs(x('Humanoid/Middle/Head') - 0.2) < 0.05, `Humanoid at x = 0.2, found ${x('Humanoid/Middle/Head')}`);
+  assert.ok(Math.abs(x('Partner/Middle/Head') + 0.2) < 0.05, `Partner at x = -0.2, found ${x('Partner/Middle/Head')}`);
+  assert.ok(bodies.Ball, 'the ball between them');
+  assert.equal(await page.evaluate(() => orcsView.open('r1')), true);
 });
 
 test('screenshot: a body selected and a plot shown (ORCS_SCREENSHOT_DIR)', async (t) => {

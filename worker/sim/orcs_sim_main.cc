@@ -32,26 +32,6 @@ void PrintValues(const VariableRepository& repository, const std::string& regula
   }
 }
 
-nlohmann::json SizeOf(const physics::GeomDescription& geom) {
-  switch (geom.shape) {
-    case physics::Shape::kBox: return {geom.size.x(), geom.size.y(), geom.size.z()};
-    case physics::Shape::kSphere: return {geom.size.x()};
-    case physics::Shape::kCapsule: return {geom.size.x(), geom.size.y()};
-    case physics::Shape::kPlane: return nlohmann::json::array();
-  }
-  return nullptr;
-}
-
-std::string_view ShapeName(physics::Shape shape) {
-  switch (shape) {
-    case physics::Shape::kBox: return "box";
-    case physics::Shape::kSphere: return "sphere";
-    case physics::Shape::kCapsule: return "capsule";
-    case physics::Shape::kPlane: return "plane";
-  }
-  return "?";
-}
-
 // Every body (name, mass, shape, size), joint (name, type, range in degrees) and agent, as JSON.
 nlohmann::json Describe(const scene::Simulation& simulation) {
   const physics::PhysicsModel& model = *simulation.model().physics();
@@ -61,8 +41,8 @@ nlohmann::json Describe(const scene::Simulation& simulation) {
     bodies.push_back({{"name", body.name},
                       {"dynamic", body.dynamic},
                       {"mass", model.total_mass(b)},
-                      {"shape", ShapeName(body.geoms.front().shape)},
-                      {"size", SizeOf(body.geoms.front())},
+                      {"shape", evaluation::ShapeName(body.geoms.front().shape)},
+                      {"size", evaluation::GeomSizeJson(body.geoms.front())},
                       {"material", body.geoms.front().material},
                       {"geoms", body.geoms.size()}});
   }
