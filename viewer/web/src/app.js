@@ -1,6 +1,7 @@
 // orcs-view's page: loads the session, shows recordings (3D view, time line, plots), batch/evolve/gap items,
 // live simulations, and the render mode; keeps window.orcsView (docs/viewer-api.md) for tests and scripts.
 import { World } from './world.js';
+import { ResolutionGovernor } from './resolution.js';
 import { Plots, shortName } from './plots.js';
 import { Items } from './items.js';
 import { Live } from './live.js';
@@ -27,6 +28,8 @@ const state = {
   bodies: {},
   plots: [],
   fps: 0,
+  drawn: 0,
+  scale: 1,
   errors: [],
   seek: (t) => seek(t),
   play: () => play(),
@@ -319,28 +322,17 @@ function countRender() {
   const now = performance.now();
   renderTimes.push(now);
   while (renderTimes.length && renderTimes[0] < now - 1000) renderTimes.shift();
+  state.drawn++;
 }
 
 // While the picture moves (a recording playing, a live simulation running), the drawing resolution follows the
-// browser's frame rate: software GL on a busy machine cannot fill a large canvas 60 times a second, and a slow
+// browser's frame rate (resolution.js): software GL cannot fill a large canvas 60 times a second, and a slow
 // draw also slows the live long poll. Standing still, the view is drawn at full resolution again.
-let lastAdapt = 0, movingSince = 0;
-const tickTimes = [];
+const governor = new ResolutionGovernor();
 function adaptResolution(now) {
-  tickTimes.push(now);
-  while (tickTimes.length && tickTimes[0] < now - 500) tickTimes.shift();
-  const moving = state.mode === 'files' ? state.playing : state.mode === 'live' && state.playing;
-  if (!moving || renderMode) {
-    movingSince = 0;
-    if (world.scale !== 1) world.setScale(1);
-    return;
-  }
-  if (!movingSince) movingSince = now;
-  if (now - movingSince < 500 || now - lastAdapt < 500) return;
-  lastAdapt = now;
-  const rate = tickTimes.length * 2;  // animation frames per second over the last half second
-  if (rate < 50 && world.scale > 0.5) world.setScale(world.scale * 0.75);
-  else if (rate >= 57 && world.scale < 1) world.setScale(world.scale * 1.15);
+  const moving = !renderMode && state.playing && (state.mode === 'files' || state.mode === 'live');
+  world.setScale(governor.update(now, moving));
+  state.scale = world.scale;
 }
 
 function tick(now) {
