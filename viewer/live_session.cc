@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <future>
-#include <random>
 
 #include "model/core/error.h"
 #include "model/core/value_file.h"
 #include "model/scene/world_setup.h"
+#include "proto/secure_random.h"
 
 namespace orcs::viewer {
 namespace {
@@ -18,13 +18,7 @@ constexpr auto kControlSilence = std::chrono::seconds(10);  // a controller sile
 constexpr auto kFastSlice = std::chrono::milliseconds(15);  // as fast as possible: steps between publications
 
 // 128 bits from the OS, as hex: the control token.
-std::string NewToken() {
-  std::random_device device;
-  std::string token;
-  static constexpr char kHex[] = "0123456789abcdef";
-  for (int i = 0; i < 32; ++i) token += kHex[device() & 15];
-  return token;
-}
+std::string NewToken() { return proto::SecureRandomHex(16); }
 
 }  // namespace
 
