@@ -41,7 +41,8 @@ v1::Job MakeJob(const ScenarioInput& input, const Genome& genome, std::uint64_t 
   job.set_scenario_json(input.resolved_json);
   job.set_genome_json(genome.value.dump());
   job.set_seed(seed);
-  job.set_time_limit_seconds(settings.time_limit_seconds);
+  job.set_time_limit_seconds(settings.time_limit_seconds > 0 ? settings.time_limit_seconds
+                                                              : scene::DefaultTimeLimitSeconds(input.scenario));
   if (input.scenario.record) {  // the scenario's "record": true — every job, set 0
     job.set_record(true);
     job.set_record_set(0);

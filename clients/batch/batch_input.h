@@ -49,7 +49,7 @@ struct PlannedJob {
 struct JobSettings {
   std::uint64_t seed = 1;            ///< seed of the first repeat; repeat r uses seed + r
   int repeats = 1;                   ///< jobs per genome (or per sweep point), ≥ 1, each with its own seed
-  double time_limit_seconds = 0.0;   ///< per job, wall clock; 0 = none
+  double time_limit_seconds = 0.0;   ///< per job, wall clock; 0 = scene::DefaultTimeLimitSeconds of the scenario
 };
 
 /// The jobs of `orcs-batch run`: every genome × every repeat, ids "job-0000", "job-0001", ... in that order.

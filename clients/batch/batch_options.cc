@@ -32,7 +32,7 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
                                                     : "jobs per grid point, seeds S, S+1, ... (default 1)")
       ->check(CLI::Range(1, 1000000));
   command.add_option("--seed", o.seed, "seed of the first job (default 1)");
-  command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
+  command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job (default 0: 30 s + 10 s per simulated second of the job)")
       ->check(CLI::Range(0.0, 1e7));
   command.add_option("--record", o.record,
                      "record these jobs for orcs-view into OUT/recordings/JOB.orcsrec: all, or job indices such as "
@@ -73,7 +73,7 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
   AddSessionOptions(*evolve, o, "output folder (default runs/<scenario name>-evolve)");
   evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")
       ->excludes(evolve->get_option("--out"));
-  evolve->add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job, 0 = none")
+  evolve->add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job (default 0: 30 s + 10 s per simulated second of the job)")
       ->check(CLI::Range(0.0, 1e7));
   evolve->add_flag("--no-plot", o.no_plot, "do not draw fitness.png");
   CLI::Option* workers = evolve->add_option("--workers", o.workers, "local worker processes (default: one per core)")

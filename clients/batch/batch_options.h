@@ -31,7 +31,7 @@ struct BatchOptions {
   int workers = 0;                   ///< --workers N: local workers (0 = one per core, at most one per job)
   std::string broker;                ///< --broker ENDPOINT: a running broker's client endpoint ("" = embedded)
   std::string out;                   ///< --out DIR ("" = runs/<scenario name>)
-  double time_limit_seconds = 0.0;   ///< --time-limit: wall-clock seconds per job (0 = none)
+  double time_limit_seconds = 0.0;   ///< --time-limit: wall-clock seconds per job (0 = scene::DefaultTimeLimitSeconds)
   std::string record;                ///< --record JOBS: "all" or indices "0,3-5" of the jobs recorded ("" = none)
   double heartbeat_seconds = 1.0;    ///< --heartbeat: the client's (and embedded broker's) heartbeat interval
   std::vector<std::string> params;   ///< --param PATH=LOW:HIGH:STEPS, PATH=LOW:HIGH (lhs) or PATH=V1,V2,... (sweep)

@@ -11,6 +11,7 @@
 #include "model/core/text.h"
 #include "model/core/text_file.h"
 #include "model/scene/environment_reader.h"
+#include "model/scene/scenario.h"
 #include "model/scene/simulation.h"
 
 namespace orcs::gap {
@@ -136,6 +137,7 @@ v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& over
   job.set_scenario_json(scenario.dump());
   job.set_genome_json("[]");
   job.set_seed(0);
+  job.set_time_limit_seconds(scene::DefaultTimeLimitSeconds(scenario["duration"].get<double>()));
   for (const Override& entry : overrides) {
     v1::Override* override_value = job.add_overrides();
     override_value->set_path(entry.first);

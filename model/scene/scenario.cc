@@ -348,4 +348,14 @@ double AggregateFitness(std::vector<double> values, Aggregate aggregate, double 
   return 0.0;
 }
 
+double DefaultTimeLimitSeconds(double simulated_seconds) {
+  constexpr double kMarginSeconds = 30.0;
+  constexpr double kWallSecondsPerSimulatedSecond = 10.0;
+  return kMarginSeconds + kWallSecondsPerSimulatedSecond * std::max(0.0, simulated_seconds);
+}
+
+double DefaultTimeLimitSeconds(const Scenario& scenario) {
+  return DefaultTimeLimitSeconds(scenario.duration * static_cast<double>(std::max(1, scenario.randomisation.sets)));
+}
+
 }  // namespace orcs::scene

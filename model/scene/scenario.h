@@ -92,6 +92,13 @@ struct Scenario {
   bool record = false;
 };
 
+/// The wall-clock time limit of a job running `scenario` when its user gave none, s: 30 s + 10 s per simulated
+/// second over all parameter sets (a standing A-Series runs 11× faster than real time on one core, so this
+/// leaves 100× for slow or busy machines). Every job the clients send carries a limit (docs/protocol.md, "Leases").
+double DefaultTimeLimitSeconds(const Scenario& scenario);
+/// The same for a job simulating `simulated_seconds` in all.
+double DefaultTimeLimitSeconds(double simulated_seconds);
+
 /// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found
 /// ..." for unknown keys, wrong types, min above max, a non-positive duration or set count, ...
 Scenario ParseScenario(const nlohmann::json& resolved, const std::string& source);

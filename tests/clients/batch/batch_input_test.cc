@@ -111,6 +111,23 @@ TEST_F(BatchInputTest, RecordedJobsAskForParameterSetZeroAndTheScenarioCanAskFor
   }
 }
 
+// No job leaves without a time limit: the broker's lease and the worker's watch over its simulation process both
+// follow it (docs/protocol.md, "Leases").
+TEST_F(BatchInputTest, EveryJobHasATimeLimitTheUsersOrOneFromItsSimulatedDuration) {
+  const std::vector<Genome> genomes = {{nlohmann::json({1}), "a", 1}};
+  nlohmann::json scenario = nlohmann::json::parse(kScenario);
+  scenario["duration"] = 2.5;
+  scenario["randomisation"] = {{"sets", 4}};
+  const ScenarioInput input = Scenario(scenario.dump());
+  for (const PlannedJob& planned : PlanRunJobs(input, genomes, {.seed = 1, .repeats = 2})) {
+    EXPECT_EQ(planned.job.time_limit_seconds(), 30.0 + 10.0 * 2.5 * 4);
+  }
+  for (const PlannedJob& planned :
+       PlanRunJobs(input, genomes, {.seed = 1, .repeats = 1, .time_limit_seconds = 7.5})) {
+    EXPECT_EQ(planned.job.time_limit_seconds(), 7.5);
+  }
+}
+
 TEST_F(BatchInputTest, SweepJobsCarryThePointAsOverridesThatReadBackExactly) {
   const ScenarioInput input = Scenario();
   const std::vector<SweepPoint> points = {{{"/AngularMotor/PID/Proportional", 0.1 + 0.2}}, {{"/AngularMotor/PID/Proportional", 30}}};
