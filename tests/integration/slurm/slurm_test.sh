@@ -210,6 +210,12 @@ say "orcs-batch.sbatch, $workers Slurm workers: $jobs jobs in $slurm_seconds s f
 
 sed 's/^/  job: /' "$tmp/log/sbatch-same.log"
 
+# Broker, workers and client spoke CURVE with keys made for the job alone, and the keys are gone afterwards.
+grep -q "CURVE keys $tmp/out/slurm/.orcs-keys-" "$tmp/log/sbatch-same.log" ||
+  fail "orcs-batch.sbatch did not make CURVE keys for its job: $(grep broker "$tmp/log/sbatch-same.log")"
+grep -q -- '--curve-keys' "$src/scripts/slurm/orcs-workers.sbatch" || fail "orcs-workers.sbatch passes no --curve-keys"
+if compgen -G "$tmp/out/slurm/.orcs-keys-*" >/dev/null; then fail "the job's CURVE keys were left in $tmp/out/slurm"; fi
+
 # Every job once, ok, and the same bits as the local run; Slurm's workers ran them.
 compare=(python3 "$src/tests/integration/slurm/compare_results.py" "$tmp/out/local/results.jsonl")
 "${compare[@]}" "$tmp/out/slurm/results.jsonl" --seeds "$jobs" --workers "$workers" || fail "results differ"
