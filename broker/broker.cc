@@ -14,6 +14,7 @@
 #include <zmq_addon.hpp>
 
 #include "proto/envelope.h"
+#include "proto/secure_random.h"
 
 namespace orcs::broker {
 namespace {
@@ -25,6 +26,44 @@ constexpr std::int64_t kMaxMessageBytes = 1 << 29;  // 512 MiB: larger messages 
 constexpr int kMaxMessagesPerRound = 256;           // per socket and loop iteration, so neither side starves
 constexpr int kCloseLingerMs = 200;                 // how long DISCONNECTs may take to leave when closing
 constexpr std::size_t kMaxWarnedPeers = 4096;       // bound on the "logged once" set
+constexpr std::size_t kMaxIdBytes = 128;            // worker, client and batch ids (a longer one is refused)
+constexpr std::size_t kMaxJobIdBytes = 256;         // job ids
+constexpr std::size_t kMinOwnerTokenBytes = 16;     // Submit.owner_token: at least 128 bits
+constexpr std::size_t kMaxOwnerTokenBytes = 64;
+constexpr std::size_t kMaxLogLine = 2000;           // bytes of one log line, escapes included
+// A lease lasts the job's time limit × 1.5 + 2 s, plus the liveness period: longer than the worker's own watch
+// (limit + 1 s + 25 %, docs/protocol.md "Crash isolation"), so a working worker reports TIMEOUT first.
+constexpr double kLeaseFactor = 1.5;
+constexpr double kLeaseMarginSeconds = 2.0;
+
+// The line with control characters and invalid bytes as \xNN, cut at kMaxLogLine bytes.
+std::string EscapeForLog(std::string_view line) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string text;
+  text.reserve(std::min(line.size(), kMaxLogLine));
+  for (unsigned char c : line) {
+    if (text.size() >= kMaxLogLine) {
+      text += "... (cut)";
+      break;
+    }
+    if (c < 0x20 || c == 0x7f || c == '\\') {
+      text += "\\x";
+      text += kDigits[c >> 4];
+      text += kDigits[c & 0xf];
+    } else {
+      text += static_cast<char>(c);
+    }
+  }
+  return text;
+}
+
+// Compares two secrets in time that does not depend on where they differ.
+bool SameSecret(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;
+  unsigned char difference = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) difference |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return difference == 0;
+}
 
 // "0x0080000001": a routing id for the log.
 std::string Hex(const std::string& bytes) {
@@ -75,6 +114,9 @@ void Validate(const BrokerOptions& options) {
   if (options.liveness < 2) throw std::invalid_argument("liveness must be at least 2 heartbeat intervals");
   if (options.max_worker_losses < 1) throw std::invalid_argument("max_worker_losses must be at least 1");
   if (options.max_crashes < 1) throw std::invalid_argument("max_crashes must be at least 1");
+  if (!(options.default_time_limit_seconds > 0) || options.default_time_limit_seconds > 1e7) {
+    throw std::invalid_argument("default time limit must be within (0, 1e7] s");
+  }
 }
 
 }  // namespace
@@ -256,9 +298,15 @@ void Broker::OnWorkerReady(const std::string& worker, const v1::Ready& ready) {
         "READY with credit " + std::to_string(ready.credit()) + " (expected 1.." + std::to_string(kMaxCredit) + ")");
     return;
   }
+  if (ready.worker_id().size() > kMaxIdBytes) {
+    DropMessage("worker", worker,
+                "READY with a worker_id of " + std::to_string(ready.worker_id().size()) + " bytes (at most " +
+                    std::to_string(kMaxIdBytes) + ")");
+    return;
+  }
   auto [entry, inserted] = workers_.try_emplace(worker);
   Worker& record = entry->second;
-  record.name = ready.worker_id().empty() ? Hex(worker) : ready.worker_id().substr(0, 200);
+  record.name = ready.worker_id().empty() ? Hex(worker) : ready.worker_id();
   record.credit = ready.credit();
   record.expiry = now_ + liveness_period_;
   Log((inserted ? "worker " + record.name + " joined with credit "
@@ -273,31 +321,49 @@ void Broker::OnWorkerResult(const std::string& worker, v1::Result& result) {
     return;
   }
   const JobKey key{result.batch_id(), result.job_id()};
-  auto holder = workers_.find(worker);
-  if (holder != workers_.end()) {
-    in_flight_count_ -= holder->second.holding.erase(key);
-    MakeReady(worker, holder->second);
+  JobRecord* record = FindJob(key);
+  const std::string problem = LeaseProblem(worker, result, record);
+  if (!problem.empty()) {
+    RefuseResult(worker, result, problem);
+    return;
   }
-  auto batch = batches_.find(key.first);
-  JobRecord* record = nullptr;
-  if (batch != batches_.end()) {
-    auto job = batch->second.jobs.find(key.second);
-    if (job != batch->second.jobs.end()) record = &job->second;
-  }
-  if (record == nullptr || record->state == JobState::kFinished) {
-    // A duplicate (the job finished elsewhere) or a job whose client left: exactly once means dropping it.
-    ++counters_.results_ignored;
+  // The answer to the lease this connection holds: one credit back, and the job ends or is retried.
+  Worker& holder = workers_.at(worker);
+  in_flight_count_ -= holder.holding.erase(key);
+  if (holder.holding.empty()) holder.busy_until = now_;
+  MakeReady(worker, holder);
+  record->lease = 0;
+  if (result.worker_id().empty()) result.set_worker_id(holder.name);
+  Batch& batch = batches_.at(key.first);
+  if (result.status() == v1::Result::CRASHED) {
+    OnJobCrashed(worker, key.first, batch, *record, result);
   } else {
-    // The holder's own result, or a late one from a worker declared lost while the job is still pending.
-    if (record->state != JobState::kDispatched || record->worker != worker) ++counters_.late_results_accepted;
-    if (result.worker_id().empty() && holder != workers_.end()) result.set_worker_id(holder->second.name);
-    if (result.status() == v1::Result::CRASHED) {
-      OnJobCrashed(worker, key.first, batch->second, *record, result);
-    } else {
-      FinishJob(batch->second, *record, result);
-    }
+    FinishJob(batch, *record, result);
   }
-  if (holder == workers_.end()) {
+}
+
+std::string Broker::LeaseProblem(const std::string& worker, const v1::Result& result, const JobRecord* record) const {
+  if (workers_.count(worker) == 0) return "from a connection that never sent READY (or was declared lost)";
+  if (record == nullptr) return "for a job the broker does not know (its batch ended or never existed)";
+  if (record->state == JobState::kFinished) return "for a job that has its result already";
+  if (record->state != JobState::kDispatched || record->worker != worker) {
+    return "for a job not leased to this connection";
+  }
+  if (result.lease() != record->lease) return "without the token of the job's current lease";
+  return "";
+}
+
+// A result is accepted only from the connection holding the job's current lease, with its token: a peer cannot
+// finish a job it was not given, nor a worker a job that has gone elsewhere since. The rest is counted and logged
+// (once per peer: a flood of forgeries makes one line).
+void Broker::RefuseResult(const std::string& worker, const v1::Result& result, const std::string& why) {
+  ++counters_.results_refused;
+  if (warned_peers_.size() >= kMaxWarnedPeers) warned_peers_.clear();
+  if (warned_peers_.insert("refused" + worker).second) {
+    Log("refused a result " + why + ": job " + result.batch_id() + "/" + result.job_id() + " from worker " +
+        WorkerName(worker) + " (further refused results from this peer are counted without a log line)");
+  }
+  if (workers_.count(worker) == 0) {
     v1::BrokerToWorker reply;
     reply.set_protocol_version(kProtocolVersion);
     reply.mutable_disconnect()->set_reason("unknown worker: connect again and send READY");
@@ -323,11 +389,8 @@ void Broker::OnJobCrashed(const std::string& worker, const std::string& batch_id
   }
   Log("job " + job + " crashed worker " + name + " (" + result.message() + "); back to the front of the queue, crash " +
       std::to_string(record.crashes) + " of " + std::to_string(options_.max_crashes));
-  // A late report from a worker that no longer holds the job leaves it where it is (queued, or running elsewhere).
-  if (record.state == JobState::kDispatched && record.worker == worker) {
-    Enqueue(batch_id, record, true);
-    ++counters_.jobs_requeued;
-  }
+  Enqueue(batch_id, record, true);
+  ++counters_.jobs_requeued;
 }
 
 void Broker::OnWorkerHeartbeat(const std::string& worker) {
@@ -373,11 +436,23 @@ namespace {
 std::string CheckSubmit(const v1::Submit& submit) {
   if (submit.batch_id().empty()) return "empty batch_id";
   if (submit.client_id().empty()) return "empty client_id";
+  if (submit.batch_id().size() > kMaxIdBytes) return "batch_id longer than " + std::to_string(kMaxIdBytes) + " bytes";
+  if (submit.client_id().size() > kMaxIdBytes) {
+    return "client_id longer than " + std::to_string(kMaxIdBytes) + " bytes";
+  }
+  if (submit.owner_token().size() < kMinOwnerTokenBytes || submit.owner_token().size() > kMaxOwnerTokenBytes) {
+    return "owner_token of " + std::to_string(submit.owner_token().size()) + " bytes (expected " +
+           std::to_string(kMinOwnerTokenBytes) + "–" + std::to_string(kMaxOwnerTokenBytes) +
+           " random bytes; a client library from before leases and owner tokens?)";
+  }
   std::unordered_set<std::string_view> ids;
   for (int i = 0; i < submit.jobs_size(); ++i) {
     const v1::Job& job = submit.jobs(i);
-    const std::string where = "job " + std::to_string(i) + " (id '" + job.job_id() + "'): ";
     if (job.job_id().empty()) return "job " + std::to_string(i) + ": empty job_id";
+    if (job.job_id().size() > kMaxJobIdBytes) {
+      return "job " + std::to_string(i) + ": job_id longer than " + std::to_string(kMaxJobIdBytes) + " bytes";
+    }
+    const std::string where = "job " + std::to_string(i) + " (id '" + job.job_id() + "'): ";
     if (!ids.insert(job.job_id()).second) return where + "job_id repeated within the SUBMIT";
     if (!job.batch_id().empty() && job.batch_id() != submit.batch_id()) {
       return where + "batch_id '" + job.batch_id() + "' differs from the SUBMIT's '" + submit.batch_id() + "'";
@@ -397,12 +472,15 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
   std::string problem = CheckSubmit(submit);
   auto batch_entry = batches_.find(batch_id);
   auto client_entry = clients_.find(client);
-  if (problem.empty() && batch_entry != batches_.end() && batch_entry->second.client_id != submit.client_id()) {
-    problem = "batch '" + batch_id + "' belongs to another client ('" + batch_entry->second.client_id + "')";
+  // A batch belongs to the holder of the token that opened it (and, with CURVE, to that client's key): a batch id
+  // and a client id are names, printed in logs; the token is a secret, never sent back nor logged.
+  if (problem.empty() && batch_entry != batches_.end() &&
+      !SameSecret(batch_entry->second.owner_token, submit.owner_token())) {
+    problem = "batch '" + batch_id + "' belongs to another client";
   }
   if (problem.empty() && batch_entry != batches_.end() && !batch_entry->second.client_key.empty() &&
       batch_entry->second.client_key != client_key_) {
-    problem = "batch '" + batch_id + "' belongs to another client key";  // a client id is no secret; a key is
+    problem = "batch '" + batch_id + "' belongs to another client key";
   }
   if (problem.empty() && client_entry != clients_.end() && client_entry->second.client_id != submit.client_id()) {
     problem = "this connection submitted as client '" + client_entry->second.client_id + "' before";
@@ -428,14 +506,15 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
     batch_entry->second.client = client;
     batch_entry->second.client_id = submit.client_id();
     batch_entry->second.client_key = client_key_;
-    if (journal_) journal_->AddBatch(batch_id, submit.client_id());
+    batch_entry->second.owner_token = submit.owner_token();
+    if (journal_) journal_->AddBatch(batch_id, submit.client_id(), submit.owner_token(), client_key_);
     Log("client " + submit.client_id() + " opened batch " + batch_id);
   } else if (batch_entry->second.client != client) {
     // The same client on a new connection (it reconnected): results go to the new one from now on.
     auto previous = clients_.find(batch_entry->second.client);
     if (previous != clients_.end()) previous->second.batches.erase(batch_id);
     batch_entry->second.client = client;
-    if (batch_entry->second.client_key.empty()) batch_entry->second.client_key = client_key_;  // restored: claimed
+    batch_entry->second.client_id = submit.client_id();
     Log("batch " + batch_id + " of client " + submit.client_id() + " moved to its new connection");
   }
   client_entry->second.batches.insert(batch_id);
@@ -501,6 +580,7 @@ void Broker::OnClientDisconnect(const std::string& client, const v1::Disconnect&
 void Broker::OnTick(Clock::time_point now) {
   SendHeartbeats();
   PurgeLostWorkers(now);
+  ExpireLeases(now);
   PurgeLostClients(now);
   PurgeUnclaimedBatches(now);
 }
@@ -532,6 +612,39 @@ void Broker::PurgeLostWorkers(Clock::time_point now) {
   for (const std::string& worker : silent) LoseWorker(worker, "silent for " + Seconds(liveness_period_), true);
 }
 
+void Broker::ExpireLeases(Clock::time_point now) {
+  std::vector<std::pair<std::string, std::string>> overdue;  // worker, why
+  for (const auto& [worker_id, worker] : workers_) {
+    for (const JobKey& key : worker.holding) {
+      const JobRecord* record = FindJob(key);
+      if (record == nullptr || record->state != JobState::kDispatched || record->lease_deadline > now) continue;
+      const double limit = record->job.time_limit_seconds();
+      overdue.emplace_back(worker_id, "held job " + key.first + "/" + key.second + " past its lease (time limit " +
+                                          (limit > 0 ? Seconds(std::chrono::duration_cast<Clock::duration>(
+                                                           std::chrono::duration<double>(limit)))
+                                                     : "none given") +
+                                          ", leased for " + Seconds(LeaseLength(limit)) + ")");
+      break;
+    }
+  }
+  for (const auto& [worker_id, why] : overdue) {
+    ++counters_.leases_expired;
+    v1::BrokerToWorker reply;
+    reply.set_protocol_version(kProtocolVersion);
+    reply.mutable_disconnect()->set_reason(why + ": connect again and send READY");
+    SendToWorker(worker_id, reply);
+    LoseWorker(worker_id, why, true);
+  }
+}
+
+Broker::Clock::duration Broker::LeaseLength(double time_limit_seconds) const {
+  const double limit = time_limit_seconds > 0 && time_limit_seconds <= 1e7 ? time_limit_seconds
+                                                                            : options_.default_time_limit_seconds;
+  return std::chrono::duration_cast<Clock::duration>(
+             std::chrono::duration<double>(kLeaseFactor * limit + kLeaseMarginSeconds)) +
+         liveness_period_;
+}
+
 void Broker::PurgeLostClients(Clock::time_point now) {
   std::vector<std::string> silent;
   for (const auto& [client, record] : clients_) {
@@ -556,8 +669,8 @@ void Broker::PurgeUnclaimedBatches(Clock::time_point now) {
 // ---------------------------------------------------------------------------------------------------------------
 // The journal
 
-// Reads the journal back after a restart. Unfinished jobs go to the queue — those that were in flight first, as
-// their workers are gone or will reconnect and send late results, which the late-result rule accepts. Finished
+// Reads the journal back after a restart. Unfinished jobs go to the queue — those that were in flight first: their
+// workers are gone or will reconnect, and their late results are refused (no lease of this broker's). Finished
 // jobs keep their stored results for the client, which resubmits every job it has no result for when it finds
 // the broker restarted. A batch whose client is not back within two liveness periods is dropped.
 void Broker::Restore() {
@@ -566,6 +679,8 @@ void Broker::Restore() {
   for (JournalBatch& stored : journal_->Batches()) {
     Batch& batch = batches_[stored.batch_id];
     batch.client_id = std::move(stored.client_id);
+    batch.owner_token = std::move(stored.owner_token);
+    batch.client_key = std::move(stored.client_key);
     batch.claim_deadline = now_ + 2 * liveness_period_;
   }
   std::uint64_t in_flight = 0;
@@ -636,7 +751,9 @@ void Broker::Dispatch() {
     Worker& worker = workers_.at(worker_id);
     worker.in_ready_list = false;
     record.job.set_attempt(static_cast<std::uint32_t>(record.losses));
+    record.lease = proto::SecureRandomToken();
     *message.mutable_job() = record.job;
+    message.mutable_job()->set_lease(record.lease);
     if (!SendToWorker(worker_id, message)) {
       Enqueue(key.first, record, true);  // never reached the worker: no loss for the job
       LoseWorker(worker_id, "connection closed", true);
@@ -646,6 +763,8 @@ void Broker::Dispatch() {
     record.worker = worker_id;
     ++record.dispatches;
     record.dispatched_at = now_;
+    worker.busy_until = std::max(worker.busy_until, now_) + LeaseLength(record.job.time_limit_seconds());
+    record.lease_deadline = worker.busy_until;
     if (journal_) journal_->SaveDispatched(key.first, key.second, record.dispatches);
     if (worker.holding.insert(std::move(key)).second) ++in_flight_count_;
     ++counters_.jobs_dispatched;
@@ -693,9 +812,17 @@ bool Broker::PopQueued(JobKey& key) {
   return false;
 }
 
+Broker::JobRecord* Broker::FindJob(const JobKey& key) {
+  auto batch = batches_.find(key.first);
+  if (batch == batches_.end()) return nullptr;
+  auto job = batch->second.jobs.find(key.second);
+  return job == batch->second.jobs.end() ? nullptr : &job->second;
+}
+
 void Broker::Enqueue(const std::string& batch_id, JobRecord& record, bool at_front) {
   SetState(record, JobState::kQueued);
   record.worker.clear();
+  record.lease = 0;
   record.ticket = next_ticket_++;
   if (journal_) journal_->SaveQueued(batch_id, record.job, record.ticket, record.losses, record.lost_by);
   QueueEntry entry{batch_id, record.job.job_id(), record.ticket};
@@ -819,6 +946,7 @@ void Broker::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) {
       SecondsBetween(record.accepted_at, record.dispatches > 0 ? record.dispatched_at : now_));
   SetState(record, JobState::kFinished);
   record.worker.clear();
+  record.lease = 0;
   if (journal_) journal_->SaveFinished(record.job.batch_id(), record.job.job_id(), result);
   const std::string job_id = record.job.job_id();
   record.job = v1::Job();  // free the scenario; a resubmission brings it back
@@ -896,10 +1024,11 @@ std::string Broker::WorkerName(const std::string& worker) const {
 }
 
 void Broker::Log(const std::string& line) const {
+  const std::string text = EscapeForLog(line);
   if (options_.log) {
-    options_.log(line);
+    options_.log(text);
   } else {
-    std::cerr << "orcs-broker: " << line << std::endl;
+    std::cerr << "orcs-broker: " << text << std::endl;
   }
 }
 

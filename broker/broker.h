@@ -49,6 +49,9 @@ struct BrokerOptions {
   std::string journal;
   /// A job whose simulation crashed this many workers (CRASHED results) is poisonous: it fails with CRASHED.
   int max_crashes = 3;
+  /// Lease of a job without a time limit (Job.time_limit_seconds 0): the limit the lease assumes, s. The client
+  /// libraries always give a limit derived from the simulated duration; this covers other clients.
+  double default_time_limit_seconds = 3600;
   /// Where log lines (one event each, no newline) go; empty = stderr, prefixed "orcs-broker: ".
   std::function<void(std::string_view)> log;
   /// Folder of CURVE keys (docs/security.md): broker.key, broker.pub, allowed_workers/*.pub, allowed_clients/*.pub.
@@ -67,8 +70,10 @@ struct BrokerStats {
   std::uint64_t jobs_dispatched = 0;        ///< JOB messages sent to workers
   std::uint64_t jobs_requeued = 0;          ///< jobs put back at the front of the queue after their worker left
   std::uint64_t results_delivered = 0;      ///< RESULT messages sent to clients (WORKER_LOST ones included)
-  std::uint64_t results_ignored = 0;        ///< worker results for finished or unknown jobs, dropped
-  std::uint64_t late_results_accepted = 0;  ///< results from a worker other than the job's current holder, accepted
+  /// Worker results refused: not from the connection holding the job's current lease, or without its token —
+  /// forged, late (after a lost worker's jobs went elsewhere), duplicate, or for a job nobody waits for.
+  std::uint64_t results_refused = 0;
+  std::uint64_t leases_expired = 0;         ///< dispatches whose worker held the job past its lease's deadline
   std::uint64_t workers_lost = 0;           ///< workers declared lost (silent or connection closed)
   std::uint64_t clients_lost = 0;           ///< clients with pending jobs declared lost (silent or connection closed)
   std::uint64_t submits_rejected = 0;       ///< SUBMITs answered with ERROR
@@ -128,6 +133,8 @@ class Broker {
     std::string crashed_by;           ///< names of the workers whose simulation it crashed, ", "-separated
     Clock::time_point accepted_at;    ///< when the SUBMIT holding it was accepted
     Clock::time_point dispatched_at;  ///< when it was last sent to a worker
+    std::uint64_t lease = 0;          ///< the current dispatch's token (Job.lease) while kDispatched; 0 = none
+    Clock::time_point lease_deadline;  ///< while kDispatched: its worker is lost unless it answered by then
   };
   struct Batch {
     std::string client;      ///< routing id of the owning client's connection; "" = restored, not yet claimed
@@ -135,6 +142,7 @@ class Broker {
     /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. "" = not yet known
     /// (a batch restored from the journal, which does not record keys): the first client to claim it sets it.
     std::string client_key;
+    std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
     std::unordered_map<std::string, JobRecord> jobs;  ///< by job id
     Clock::time_point claim_deadline;  ///< restored batches: dropped unless their client is back by then
   };
@@ -144,6 +152,9 @@ class Broker {
     std::set<JobKey> holding;    ///< jobs sent to it and not answered
     bool in_ready_list = false;  ///< whether ready_workers_ lists it
     Clock::time_point expiry;    ///< declared lost when nothing arrived from it by then
+    /// When the jobs it holds are due at the latest: it runs them one after another, so each new lease starts
+    /// where the previous one ends.
+    Clock::time_point busy_until;
   };
   struct Client {
     std::string client_id;                    ///< Submit.client_id of its first SUBMIT
@@ -166,6 +177,9 @@ class Broker {
   void OnWorkerMessage(const std::string& worker, zmq::message_t& payload);
   void OnWorkerReady(const std::string& worker, const v1::Ready& ready);
   void OnWorkerResult(const std::string& worker, v1::Result& result);
+  /// Why `result` is not the answer to a lease `worker` holds, or "" when it is.
+  std::string LeaseProblem(const std::string& worker, const v1::Result& result, const JobRecord* record) const;
+  void RefuseResult(const std::string& worker, const v1::Result& result, const std::string& why);
   /// A CRASHED result for a pending job: retried at the front of the queue, or finished as poisonous.
   void OnJobCrashed(const std::string& worker, const std::string& batch_id, Batch& batch, JobRecord& record,
                     v1::Result& result);
@@ -183,6 +197,10 @@ class Broker {
   void PurgeLostWorkers(Clock::time_point now);
   void PurgeLostClients(Clock::time_point now);
   void PurgeUnclaimedBatches(Clock::time_point now);
+  /// Workers holding a job past its lease's deadline are lost (their jobs go elsewhere) and told to reconnect.
+  void ExpireLeases(Clock::time_point now);
+  /// How long a worker may hold a job with this time limit (0 = the default), from when it starts on it.
+  Clock::duration LeaseLength(double time_limit_seconds) const;
 
   // The journal.
   void Restore();
@@ -190,6 +208,7 @@ class Broker {
   bool ResendStoredResult(const std::string& client, const std::string& batch_id, const std::string& job_id);
 
   // Moving jobs.
+  JobRecord* FindJob(const JobKey& key);  // null when its batch or the job is unknown
   void Dispatch();
   bool PopQueued(JobKey& key);
   std::list<std::string>::iterator ReadyWorkerFor(const JobRecord& record);
@@ -210,6 +229,8 @@ class Broker {
   void SayGoodbye();
 
   void DropMessage(std::string_view side, const std::string& peer, const std::string& why);
+  /// Writes one log line; control characters (a peer's newline, escape sequences) are printed escaped, and the
+  /// line is cut at kMaxLogLine bytes, so that no peer can forge or flood log lines.
   void Log(const std::string& line) const;
   std::string WorkerName(const std::string& worker) const;
   void PublishStats();

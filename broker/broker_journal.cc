@@ -1,6 +1,12 @@
 #include "broker/broker_journal.h"
 
+#include <fcntl.h>
 #include <sqlite3.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <stdexcept>
 
@@ -9,7 +15,7 @@ namespace {
 
 // Bumped whenever the tables change; a journal of another version is refused
 // rather than misread.
-constexpr int kSchemaVersion = 1;
+constexpr int kSchemaVersion = 2;  // 2: batches record their owner's token and CURVE key
 
 // State of a job row.
 constexpr int kQueued = 0;
@@ -19,7 +25,9 @@ constexpr int kFinished = 2;
 constexpr const char *kSchema = R"sql(
 CREATE TABLE IF NOT EXISTS batches (
   batch_id TEXT PRIMARY KEY,
-  client_id TEXT NOT NULL
+  client_id TEXT NOT NULL,
+  owner_token BLOB NOT NULL,
+  client_key TEXT NOT NULL
 );
 CREATE TABLE IF NOT EXISTS jobs (
   batch_id TEXT NOT NULL,
@@ -39,6 +47,13 @@ std::string Text(sqlite3_stmt *statement, int column) {
   const auto *text = sqlite3_column_text(statement, column);
   return text == nullptr ? std::string()
                          : std::string(reinterpret_cast<const char *>(text),
+                                       static_cast<std::size_t>(sqlite3_column_bytes(statement, column)));
+}
+
+std::string Blob(sqlite3_stmt *statement, int column) {
+  const void *data = sqlite3_column_blob(statement, column);
+  return data == nullptr ? std::string()
+                         : std::string(static_cast<const char *>(data),
                                        static_cast<std::size_t>(sqlite3_column_bytes(statement, column)));
 }
 
@@ -62,6 +77,15 @@ BrokerJournal::BrokerJournal(const std::string &path) : path_(path) {
 }
 
 void BrokerJournal::Open() {
+  // The journal holds batch owners' tokens: readable by the broker's user only. SQLite gives its -wal and -shm
+  // files the database file's permissions.
+  const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
+  if (fd < 0) Fail(std::string("cannot open: ") + std::strerror(errno));
+  struct stat info {};
+  const bool regular = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
+  if (regular && (info.st_mode & 077) != 0) ::fchmod(fd, 0600);
+  ::close(fd);
+  if (!regular) Fail("not a regular file");
   if (sqlite3_open_v2(path_.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr) !=
       SQLITE_OK) {
     Fail("cannot open");
@@ -81,7 +105,8 @@ void BrokerJournal::Open() {
   }
   Execute(kSchema);
   Execute(("PRAGMA user_version=" + std::to_string(kSchemaVersion)).c_str());
-  add_batch_ = Prepare("INSERT OR REPLACE INTO batches (batch_id, client_id) VALUES (?1, ?2)");
+  add_batch_ = Prepare(
+      "INSERT OR REPLACE INTO batches (batch_id, client_id, owner_token, client_key) VALUES (?1, ?2, ?3, ?4)");
   save_queued_ = Prepare(
       "INSERT INTO jobs (batch_id, job_id, state, job, "
       "result, losses, dispatches, lost_by, ticket) "
@@ -119,8 +144,10 @@ void BrokerJournal::Close() {
 
 std::vector<JournalBatch> BrokerJournal::Batches() {
   std::vector<JournalBatch> batches;
-  sqlite3_stmt *select = Prepare("SELECT batch_id, client_id FROM batches ORDER BY rowid");
-  while (sqlite3_step(select) == SQLITE_ROW) batches.push_back({Text(select, 0), Text(select, 1)});
+  sqlite3_stmt *select = Prepare("SELECT batch_id, client_id, owner_token, client_key FROM batches ORDER BY rowid");
+  while (sqlite3_step(select) == SQLITE_ROW) {
+    batches.push_back({Text(select, 0), Text(select, 1), Blob(select, 2), Text(select, 3)});
+  }
   sqlite3_finalize(select);
   return batches;
 }
@@ -178,9 +205,12 @@ void BrokerJournal::Commit() {
   Execute("COMMIT");
 }
 
-void BrokerJournal::AddBatch(const std::string &batch_id, const std::string &client_id) {
+void BrokerJournal::AddBatch(const std::string &batch_id, const std::string &client_id, const std::string &owner_token,
+                            const std::string &client_key) {
   sqlite3_bind_text(add_batch_, 1, batch_id.data(), static_cast<int>(batch_id.size()), SQLITE_STATIC);
   sqlite3_bind_text(add_batch_, 2, client_id.data(), static_cast<int>(client_id.size()), SQLITE_STATIC);
+  sqlite3_bind_blob(add_batch_, 3, owner_token.data(), static_cast<int>(owner_token.size()), SQLITE_STATIC);
+  sqlite3_bind_text(add_batch_, 4, client_key.data(), static_cast<int>(client_key.size()), SQLITE_STATIC);
   Step(add_batch_, "record a batch");
 }
 

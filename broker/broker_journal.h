@@ -34,7 +34,9 @@ struct JournalJob {
 /// A batch as the journal holds it.
 struct JournalBatch {
   std::string batch_id;   ///< Submit.batch_id
-  std::string client_id;  ///< Submit.client_id of its owner
+  std::string client_id;    ///< Submit.client_id of its owner
+  std::string owner_token;  ///< Submit.owner_token of its first SUBMIT: only its holder may claim the batch
+  std::string client_key;   ///< with CURVE, the owner's public key (Z85); "" without CURVE
 };
 
 /// The journal file. Not thread-safe: the broker's thread alone uses it.
@@ -62,7 +64,8 @@ class BrokerJournal {
   void Begin();
   void Commit();
 
-  void AddBatch(const std::string &batch_id, const std::string &client_id);
+  void AddBatch(const std::string &batch_id, const std::string &client_id, const std::string &owner_token,
+                const std::string &client_key);
   /// The job waits in the queue (accepted, or back after its worker was lost).
   void SaveQueued(const std::string &batch_id, const v1::Job &job, std::uint64_t ticket, int losses,
                   const std::string &lost_by);

@@ -34,6 +34,10 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
   app.add_option("--max-crashes", o.max_crashes,
                  "workers' simulation processes a job may crash before it fails as poisonous with CRASHED (default 3)")
       ->check(CLI::Range(1, 1000));
+  app.add_option("--default-time-limit", o.default_time_limit_seconds,
+                 "seconds a job without a time limit of its own may take before its lease runs out (default 3600; "
+                 "the lease is 1.5 × the limit + 2 s + the liveness period, docs/protocol.md \"Leases\")")
+      ->check(CLI::Range(0.001, 1e7));
   try {
     app.parse(argc, argv);
     if (o.bind_address.empty()) throw CLI::ValidationError("--bind", "needs an address");

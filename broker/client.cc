@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "proto/envelope.h"
+#include "proto/secure_random.h"
 
 namespace orcs::broker {
 namespace {
@@ -53,7 +54,8 @@ std::string Seconds(std::chrono::steady_clock::duration duration) {
 BatchClient::BatchClient(BatchClientOptions options)
     : options_(Checked(std::move(options))),
       client_id_(NewClientId()),
-      batch_id_(options_.batch_id.empty() ? client_id_ : options_.batch_id),
+      batch_id_(options_.batch_id.empty() ? proto::SecureRandomHex(16) : options_.batch_id),
+      owner_token_(proto::SecureRandomBytes(16)),
       context_(1) {
   if (!options_.curve_keys.empty()) curve_ = proto::LoadCurvePeerKeys(options_.curve_keys, "client");
   try {  // a malformed endpoint fails here, at once, rather than at the first Submit()
@@ -361,6 +363,7 @@ void BatchClient::SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_
     v1::Submit& submit = *message.mutable_submit();
     submit.set_batch_id(batch_id_);
     submit.set_client_id(client_id_);
+    submit.set_owner_token(owner_token_);
     std::size_t bytes = 0;
     while (next < jobs.size()) {
       const std::size_t size = jobs[next]->ByteSizeLong();

@@ -35,7 +35,8 @@ namespace orcs::broker {
 struct BatchClientOptions {
   /// The broker's client endpoint, e.g. "tcp://127.0.0.1:5555".
   std::string endpoint;
-  /// Names the batch at the broker; "" = "<hostname>-<pid>-<n>", unique among live processes.
+  /// Names the batch at the broker; "" = 128 random bits from the OS, as 32 hex digits (a name others cannot
+  /// guess; the batch is bound to this client's owner token either way).
   std::string batch_id;
   /// How often the client sends heartbeats while jobs are outstanding; should equal the broker's.
   std::chrono::milliseconds heartbeat_interval{1000};
@@ -99,6 +100,8 @@ class BatchClient {
   std::size_t outstanding() const;
   /// The batch's id (BatchClientOptions::batch_id or its default).
   const std::string& batch_id() const { return batch_id_; }
+  /// The client's name in the broker's log ("<hostname>-<pid>-<n>"; a name, not a secret).
+  const std::string& client_id() const { return client_id_; }
   /// The broker endpoint.
   const std::string& endpoint() const { return options_.endpoint; }
   /// A snapshot of the counters.
@@ -128,6 +131,7 @@ class BatchClient {
   const BatchClientOptions options_;
   const std::string client_id_;
   const std::string batch_id_;
+  const std::string owner_token_;  ///< Submit.owner_token: 128 random bits; the batch is this client's
   zmq::context_t context_;
   int wake_fd_ = -1;  ///< eventfd: Submit() and the destructor wake the I/O thread's poll through it
   std::optional<proto::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys

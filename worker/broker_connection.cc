@@ -92,6 +92,7 @@ std::optional<v1::Job> WorkerConnection::NextJob(std::chrono::milliseconds timeo
   v1::Job job = std::move(jobs_.front());
   jobs_.pop_front();
   ++in_hand_;
+  leases_[{job.batch_id(), job.job_id()}] = job.lease();
   taken_at_ = Clock::now();
   return job;
 }
@@ -102,6 +103,11 @@ void WorkerConnection::SendResult(v1::Result result) {
   const Clock::time_point now = Clock::now();
   {
     std::lock_guard lock(mutex_);
+    auto lease = leases_.find({result.batch_id(), result.job_id()});
+    if (lease != leases_.end()) {
+      result.set_lease(lease->second);
+      leases_.erase(lease);
+    }
     outbox_.push_back(std::move(result));
     if (in_hand_ == 1 && options_.short_job_credit > options_.credit) {  // one job in hand: its time is exact
       if (now - taken_at_ < options_.short_job) {

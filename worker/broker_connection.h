@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -93,8 +94,8 @@ class WorkerConnection {
   std::optional<v1::Job> NextJob(std::chrono::milliseconds timeout);
 
   /// Sends the result of a job NextJob returned (one result per job; it gives the broker back one credit).
-  /// `result.job_id` and `result.batch_id` must be the job's; protocol_version is set and an empty worker_id is
-  /// filled in here. Returns at once: the I/O thread sends it.
+  /// `result.job_id` and `result.batch_id` must be the job's; protocol_version and the job's lease token are set
+  /// and an empty worker_id is filled in here. Returns at once: the I/O thread sends it.
   void SendResult(v1::Result result);
 
   /// The name the worker announced (WorkerConnectionOptions::worker_id or its default).
@@ -147,6 +148,9 @@ class WorkerConnection {
   std::string failure_;  ///< why the I/O thread stopped, when it failed
   WorkerConnectionStats stats_;
   int in_hand_ = 0;                           ///< jobs NextJob handed out whose result has not been given yet
+  /// Job.lease of each job NextJob handed out, by (batch id, job id), until SendResult copies it into the result:
+  /// the broker accepts a result only with its dispatch's token (docs/protocol.md, "Leases").
+  std::map<std::pair<std::string, std::string>, std::uint64_t> leases_;
   std::chrono::steady_clock::time_point taken_at_;  ///< when NextJob last handed out a job
   int short_in_a_row_ = 0;                    ///< short jobs since the last long one (or the last reset)
   int wanted_credit_ = 0;                     ///< the credit the I/O thread should announce

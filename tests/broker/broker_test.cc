@@ -73,7 +73,7 @@ TEST(Broker, FortyJobsOnTwoWorkersComeBackOnceEach) {
   EXPECT_EQ(stats.jobs_accepted, 40u);
   EXPECT_EQ(stats.jobs_dispatched, 40u);
   EXPECT_EQ(stats.results_delivered, 40u);
-  EXPECT_EQ(stats.results_ignored, 0u);
+  EXPECT_EQ(stats.results_refused, 0u);
   EXPECT_EQ(stats.messages_dropped, 0u);
   EXPECT_EQ(client.stats().duplicates_dropped, 0u);
 
@@ -150,12 +150,12 @@ TEST(Broker, SilentWorkersJobsGoToAnotherWorkerAndArriveOnce) {
     EXPECT_EQ(result.message(), was_held ? "attempt=1" : "attempt=0") << result.job_id();
   }
 
-  // The silent worker wakes up and answers: too late, the jobs are finished; the client sees nothing more.
+  // The silent worker wakes up and answers: too late, its lease is gone; the client sees nothing more.
   silent.Send(ResultMessage(held[0], "silent"));
   std::optional<v1::BrokerToWorker> reply = NextNonHeartbeat(silent);
   ASSERT_TRUE(reply.has_value());
   EXPECT_TRUE(reply->has_disconnect());  // "unknown worker: connect again"
-  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_ignored == 1; }));
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_refused == 1; }));
   EXPECT_EQ(broker.stats().results_delivered, 12u);
   EXPECT_EQ(client.Next(milliseconds(200)), std::nullopt);
   EXPECT_EQ(client.stats().duplicates_dropped, 0u);
@@ -324,8 +324,9 @@ TEST(Broker, MaxCrashesOfOneFinishesAJobAtItsFirstCrash) {
   EXPECT_THROW(broker::Broker{options}, std::invalid_argument);
 }
 
-TEST(Broker, LateResultFromALostWorkerIsAcceptedWhileTheJobIsStillPending) {
-  BrokerThread broker(TestBrokerOptions());
+TEST(Broker, LateResultFromALostWorkerIsRefusedAndTheJobRunsElsewhere) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
   RawPeer slow(broker.worker_endpoint());
   slow.Send(ReadyMessage("slow", 1));
   ASSERT_TRUE(WorkersRegistered(broker, 1));
@@ -333,26 +334,129 @@ TEST(Broker, LateResultFromALostWorkerIsAcceptedWhileTheJobIsStillPending) {
   client.Submit({MakeJob("job-0", 21)});
   std::optional<v1::Job> job = AwaitJob(slow);
   ASSERT_TRUE(job.has_value());
-  ASSERT_TRUE(WaitFor([&] { return broker.stats().workers_lost == 1; }));  // silent: lost, job queued again
+  EXPECT_NE(job->lease(), 0u) << "every dispatch is a lease with a token";
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().workers_lost == 1; }));  // silent: lost, its lease revoked
   EXPECT_EQ(broker.stats().queued, 1u);
 
-  slow.Send(ResultMessage(*job, "slow"));  // ...but it was only slow, and the job has not finished elsewhere
-  std::optional<v1::Result> result = client.Next(milliseconds(5000));
-  ASSERT_TRUE(result.has_value());
-  EXPECT_EQ(result->job_id(), "job-0");
-  EXPECT_EQ(result->fitness(), 42.25);
-  EXPECT_EQ(result->worker_id(), "slow");
-  ASSERT_TRUE(WaitFor([&] { return broker.stats().late_results_accepted == 1; }));
-  EXPECT_EQ(broker.stats().queued, 0u);
+  slow.Send(ResultMessage(*job, "slow"));  // it was only slow; but the job is no longer its to answer
   std::optional<v1::BrokerToWorker> reply = NextNonHeartbeat(slow);
   ASSERT_TRUE(reply.has_value());
   EXPECT_TRUE(reply->has_disconnect());
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_refused == 1; }));
+  EXPECT_EQ(client.Next(milliseconds(0)), std::nullopt);
+  EXPECT_EQ(log.Count("refused a result from a connection that never sent READY (or was declared lost): job " +
+                      client.batch_id() + "/job-0"),
+            1);
 
-  // A worker arriving now finds nothing to do.
-  EchoWorker late(TestWorkerOptions(broker.worker_endpoint(), "late", 2));
+  // A worker arriving now runs the job under a new lease, and its result is the one the client gets.
+  EchoWorker next(TestWorkerOptions(broker.worker_endpoint(), "next", 2));
+  std::optional<v1::Result> result = client.Next(milliseconds(5000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->fitness(), 42.25);
+  EXPECT_EQ(result->worker_id(), "next");
+  EXPECT_EQ(result->attempts(), 2u);
+  EXPECT_EQ(next.jobs_done(), 1);
+}
+
+// A peer on the worker port forges results: without READY, for jobs queued but never dispatched, and — once
+// registered — for a job leased to another worker and for its own job without the lease's token. None reaches the
+// client; every job is answered once, by the worker that ran it.
+TEST(Broker, ForgedResultsAreRefusedAndCounted) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  BatchClient client(TestClientOptions(broker.client_endpoint(), &log));
+  client.Submit(MakeJobs("job-", 3));
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().queued == 3; }));
+
+  RawPeer forger(broker.worker_endpoint());
+  const auto forged = [&](const std::string& job_id, std::uint64_t lease) {
+    v1::Job job = MakeJob(job_id, 0);
+    job.set_batch_id(client.batch_id());
+    job.set_lease(lease);
+    v1::WorkerToBroker message = ResultMessage(job, "forger");
+    message.mutable_result()->set_fitness(1e9);
+    return message;
+  };
+  for (int i = 0; i < 3; ++i) forger.Send(forged("job-" + std::to_string(i), 0));
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_refused == 3; }));
+  EXPECT_EQ(broker.stats().queued, 3u) << "nothing moved";
+
+  // Registered, the forger draws job-0; an honest worker then takes the other two.
+  forger.Send(ReadyMessage("forger", 1));
+  std::optional<v1::Job> own = AwaitJob(forger);
+  ASSERT_TRUE(own.has_value());
+  EchoWorker honest(TestWorkerOptions(broker.worker_endpoint(), "honest", 2));
+  forger.Send(forged(own->job_id(), own->lease() + 1));  // its own job, a wrong token
+  forger.Send(forged("job-2", own->lease()));            // another worker's job
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_refused == 5; }));
+  forger.Send(ResultMessage(*own, "forger"));  // the real answer to its lease is accepted
+
+  const std::vector<v1::Result> results = Collect(client, 3);
+  ExpectEachJobOnce(results, "job-", 3, client.batch_id());
+  for (const v1::Result& result : results) EXPECT_NE(result.fitness(), 1e9);
+  EXPECT_EQ(client.Next(milliseconds(200)), std::nullopt);
+  EXPECT_EQ(broker.stats().results_refused, 5u);
+  EXPECT_EQ(log.Count("refused a result"), 1) << "one line per peer: a flood of forgeries makes one line";
+}
+
+// A worker that heartbeats but never answers holds its job only until the lease's deadline: then it is lost, the
+// job runs elsewhere, and the worker is told to start over.
+TEST(Broker, AJobHeldPastItsLeaseGoesToAnotherWorker) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  RawPeer staller(broker.worker_endpoint());
+  staller.Send(ReadyMessage("staller", 1));
   ASSERT_TRUE(WorkersRegistered(broker, 1));
-  EXPECT_EQ(broker.stats().jobs_dispatched, 1u);
-  EXPECT_EQ(late.jobs_done(), 0);
+  BatchClient client(TestClientOptions(broker.client_endpoint()));
+  v1::Job job = MakeJob("job-0", 5);
+  job.set_time_limit_seconds(0.2);  // lease: 1.5 × 0.2 s + 2 s + 0.5 s (liveness) = 2.8 s
+  client.Submit({job});
+  const auto taken = std::chrono::steady_clock::now();
+  std::optional<v1::Job> held = AwaitJob(staller);
+  ASSERT_TRUE(held.has_value());
+  // It keeps heartbeating (so it is never "silent") until the broker gives up on its lease.
+  std::optional<v1::BrokerToWorker> disconnect;
+  while (!disconnect && std::chrono::steady_clock::now() - taken < std::chrono::seconds(10)) {
+    std::optional<v1::BrokerToWorker> message = staller.ReceiveEnvelope<v1::BrokerToWorker>(kTestHeartbeat);
+    if (message && message->has_disconnect()) disconnect = message;
+    staller.Send(WorkerHeartbeat());
+  }
+  ASSERT_TRUE(disconnect.has_value()) << "the lease never expired";
+  const double held_for = std::chrono::duration<double>(std::chrono::steady_clock::now() - taken).count();
+  EXPECT_GE(held_for, 2.8 - 0.2);
+  EXPECT_THAT(disconnect->disconnect().reason(), HasSubstr("held job " + client.batch_id() + "/job-0 past its lease"));
+  EXPECT_EQ(broker.stats().leases_expired, 1u);
+  EXPECT_EQ(log.Count("worker staller lost: held job " + client.batch_id() + "/job-0 past its lease (time limit 0.2 s, "
+                      "leased for 2.8 s); 1 jobs back to the queue"),
+            1);
+
+  EchoWorker rescuer(TestWorkerOptions(broker.worker_endpoint(), "rescuer", 1));
+  std::optional<v1::Result> result = client.Next(milliseconds(5000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->worker_id(), "rescuer");
+  EXPECT_EQ(result->status(), v1::Result::OK);
+  staller.Send(ResultMessage(*held, "staller"));  // too late: refused
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().results_refused == 1; }));
+  EXPECT_EQ(client.Next(milliseconds(200)), std::nullopt);
+}
+
+// Ids a peer chooses are written to the log escaped, and bounded: no peer forges a log line or floods the log.
+TEST(Broker, PeerChosenIdsCannotForgeOrFloodLogLines) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  RawPeer liar(broker.worker_endpoint());
+  liar.Send(ReadyMessage("w1 joined\norcs-broker: worker admin joined with credit 1", 1));
+  ASSERT_TRUE(WorkersRegistered(broker, 1));
+  RawPeer flood(broker.worker_endpoint());
+  flood.Send(ReadyMessage(std::string(1 << 20, 'x'), 1));
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().messages_dropped == 1; }));
+  EXPECT_EQ(broker.stats().workers, 1) << "a 1 MB worker id is refused";
+  for (const std::string& line : log.lines()) {
+    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+    EXPECT_LE(line.size(), 2100u);
+  }
+  EXPECT_EQ(log.Count("worker w1 joined\\x0aorcs-broker: worker admin joined with credit 1 joined with credit 1"), 1);
+  EXPECT_EQ(log.Count("READY with a worker_id of 1048576 bytes (at most 128)"), 1);
 }
 
 TEST(Broker, TwoClientsWithInterleavedBatchesGetOnlyTheirOwnResults) {
@@ -399,6 +503,7 @@ TEST(Broker, SilentClientIsDroppedWithItsJobs) {
   submit.set_protocol_version(proto::kProtocolVersion);
   submit.mutable_submit()->set_batch_id("quiet-batch");
   submit.mutable_submit()->set_client_id("quiet");
+  submit.mutable_submit()->set_owner_token(std::string(16, 'q'));
   for (int i = 0; i < 3; ++i) *submit.mutable_submit()->add_jobs() = MakeJob("job-" + std::to_string(i), i);
   client.Send(submit);
   std::optional<v1::BrokerToClient> answer = client.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
@@ -419,6 +524,7 @@ TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {
     v1::Submit& submit = *message.mutable_submit();
     submit.set_batch_id("b");
     submit.set_client_id("c");
+    submit.set_owner_token(std::string(16, 't'));
     *submit.add_jobs() = MakeJob("job-0", 0);
     *submit.add_jobs() = MakeJob("job-1", 1);
     spoil(submit);
@@ -435,8 +541,16 @@ TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {
             "job 0 (id 'job-0'): protocol_version 2 (expected 1)");
   EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_batch_id(); }), "empty batch_id");
   EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_client_id(); }), "empty client_id");
-  // The broker publishes its stats after it has answered: wait for the sixth rejection to show.
-  EXPECT_TRUE(WaitFor([&] { return broker.stats().submits_rejected == 6u; }));
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.set_client_id(std::string(129, 'c')); }),
+            "client_id longer than 128 bytes");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.set_batch_id(std::string(129, 'b')); }), "batch_id longer than 128 bytes");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.mutable_jobs(0)->set_job_id(std::string(257, 'j')); }),
+            "job 0: job_id longer than 256 bytes");
+  EXPECT_EQ(submit_with([](v1::Submit& s) { s.clear_owner_token(); }),
+            "owner_token of 0 bytes (expected 16–64 random bytes; a client library from before leases and owner "
+            "tokens?)");
+  // The broker publishes its stats after it has answered: wait for the tenth rejection to show.
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().submits_rejected == 10u; }));
   EXPECT_EQ(broker.stats().queued, 0u);
   EXPECT_EQ(broker.stats().batches, 0);
   EXPECT_EQ(broker.stats().messages_dropped, 0u);
@@ -457,6 +571,37 @@ TEST(Broker, BatchOfAnotherClientCannotBeJoined) {
   }
   EXPECT_THROW(intruder.Next(milliseconds(0)), BatchClientError);  // errors stay
   EXPECT_TRUE(WaitFor([&] { return broker.stats().queued == 1; }));
+}
+
+// Knowing a batch's id and its client's name is not enough: an empty SUBMIT naming them from another connection
+// is refused, and the owner keeps its batch and its results.
+TEST(Broker, AnEmptySubmitNamingAnotherClientsBatchCannotTakeItOver) {
+  LogLines log;
+  BrokerThread broker(TestBrokerOptions(&log));
+  BatchClient owner(TestClientOptions(broker.client_endpoint(), &log));
+  owner.Submit(MakeJobs("job-", 4));
+  EXPECT_EQ(owner.batch_id().size(), 32u) << "128 random bits as hex";
+  EXPECT_EQ(owner.batch_id().find_first_not_of("0123456789abcdef"), std::string::npos);
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().queued == 4; }));
+
+  RawPeer thief(broker.client_endpoint());
+  v1::ClientToBroker message;
+  message.set_protocol_version(proto::kProtocolVersion);
+  v1::Submit& submit = *message.mutable_submit();
+  submit.set_batch_id(owner.batch_id());  // read from the broker's log
+  submit.set_client_id(owner.client_id());
+  submit.set_owner_token(std::string(16, '\0'));
+  thief.Send(message);
+  std::optional<v1::BrokerToClient> answer = thief.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
+  ASSERT_TRUE(answer.has_value());
+  ASSERT_TRUE(answer->has_error());
+  EXPECT_EQ(answer->error().message(), "batch '" + owner.batch_id() + "' belongs to another client");
+
+  EchoWorker worker(TestWorkerOptions(broker.worker_endpoint(), "w", 2));
+  ExpectEachJobOnce(Collect(owner, 4), "job-", 4, owner.batch_id());
+  std::optional<v1::BrokerToClient> stolen = thief.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(200));
+  EXPECT_FALSE(stolen.has_value() && stolen->has_result()) << "the thief received a result";
+  EXPECT_EQ(broker.stats().submits_rejected, 1u);
 }
 
 TEST(Broker, GarbageWrongVersionsAndTruncatedMessagesAreDroppedAndTheBrokerKeepsServing) {

@@ -253,8 +253,9 @@ TEST_F(CurveTest, WorkerKeyOnClientSocketAndClientKeyOnWorkerSocketAreRefused) {
   EXPECT_GE(broker.stats().handshakes_refused, 2u);
 }
 
-// A client id is guessable ("<host>-<pid>-<n>"); with CURVE a batch belongs to the key that opened it, so another
-// allowed client cannot take it over by submitting under the same client id (which would move its results).
+// A batch id and a client id are names others can read in logs; a batch belongs to the owner token and, with CURVE,
+// to the key that opened it, so another allowed client cannot take it over by naming it (which would move its
+// results).
 TEST_F(CurveTest, AnotherAllowedClientCannotTakeOverABatch) {
   BrokerThread broker(BrokerOptions());
   BatchClient alice(ClientOptions(broker, cluster()));
@@ -264,21 +265,22 @@ TEST_F(CurveTest, AnotherAllowedClientCannotTakeOverABatch) {
   v1::ClientToBroker takeover;
   takeover.set_protocol_version(proto::kProtocolVersion);
   takeover.mutable_submit()->set_batch_id(alice.batch_id());
-  takeover.mutable_submit()->set_client_id(alice.batch_id());  // the default batch id is the client id
+  takeover.mutable_submit()->set_client_id(alice.client_id());
+  takeover.mutable_submit()->set_owner_token(std::string(16, 'x'));
   bob_peer.Send(takeover);
   std::optional<v1::BrokerToClient> answer = bob_peer.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
   ASSERT_TRUE(answer.has_value());
   ASSERT_TRUE(answer->has_error());
-  EXPECT_THAT(answer->error().message(), HasSubstr("belongs to another client key"));
+  EXPECT_EQ(answer->error().message(), "batch '" + alice.batch_id() + "' belongs to another client");
 
   EchoWorker worker(WorkerOptions(broker, "allowed", cluster()));
   EXPECT_EQ(Collect(alice, 2).size(), 2u);
   EXPECT_EQ(broker.stats().submits_rejected, 1u);
 }
 
-// The journal does not record keys: a batch restored from it belongs to the first allowed client that claims it
-// under its client id, and from then on to that key alone.
-TEST_F(CurveTest, ABatchRestoredFromTheJournalIsClaimedAndThenKeptByOneKey) {
+// The journal records each batch's key: a batch restored from it belongs to the key that opened it, even against
+// an allowed client that has the owner token (stolen, say, from the owner's machine).
+TEST_F(CurveTest, ABatchRestoredFromTheJournalStaysWithTheKeyThatOpenedIt) {
   broker::BrokerOptions options = BrokerOptions();
   options.journal = (dir_.path() / "journal.db").string();
   auto broker = std::make_unique<BrokerThread>(options);
@@ -286,6 +288,7 @@ TEST_F(CurveTest, ABatchRestoredFromTheJournalIsClaimedAndThenKeptByOneKey) {
   submit.set_protocol_version(proto::kProtocolVersion);
   submit.mutable_submit()->set_batch_id("b");
   submit.mutable_submit()->set_client_id("c");
+  submit.mutable_submit()->set_owner_token(std::string(16, 'o'));
   *submit.mutable_submit()->add_jobs() = MakeJob("j0", 3);
   {
     RawPeer alice(broker->client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
@@ -299,16 +302,16 @@ TEST_F(CurveTest, ABatchRestoredFromTheJournalIsClaimedAndThenKeptByOneKey) {
   broker = std::make_unique<BrokerThread>(options);
   ASSERT_TRUE(WaitFor([&] { return broker->stats().jobs_restored == 1; }));
 
-  RawPeer alice(broker->client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
-  alice.Send(submit);
-  ASSERT_TRUE(WaitFor([&] { return broker->stats().clients == 1; }));
   RawPeer bob_peer(broker->client_endpoint(), proto::LoadCurvePeerKeys(bob(), "client"));
-  bob_peer.Send(submit);
+  bob_peer.Send(submit);  // first after the restart, with the right token, but not alice's key
   std::optional<v1::BrokerToClient> answer = bob_peer.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
   ASSERT_TRUE(answer.has_value());
   ASSERT_TRUE(answer->has_error());
-  EXPECT_THAT(answer->error().message(), HasSubstr("belongs to another client key"));
+  EXPECT_EQ(answer->error().message(), "batch 'b' belongs to another client key");
 
+  RawPeer alice(broker->client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
+  alice.Send(submit);
+  ASSERT_TRUE(WaitFor([&] { return broker->stats().clients == 1; }));
   EchoWorker worker(WorkerOptions(*broker, "allowed", cluster()));
   std::optional<v1::Result> result;
   ASSERT_TRUE(WaitFor([&] {

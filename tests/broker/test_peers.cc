@@ -191,6 +191,7 @@ v1::WorkerToBroker ResultMessage(const v1::Job& job, const std::string& name) {
   result.set_status(v1::Result::OK);
   result.set_fitness(EchoFitness(job));
   result.set_worker_id(name);
+  result.set_lease(job.lease());  // the dispatch's token, as WorkerConnection returns it
   return message;
 }
 

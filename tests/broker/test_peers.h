@@ -133,7 +133,7 @@ v1::WorkerToBroker ReadyMessage(const std::string& name, int credit);
 /// HEARTBEAT from a fake worker.
 v1::WorkerToBroker WorkerHeartbeat();
 /// RESULT for `job` from a fake worker: status OK, fitness EchoFitness(job), worker id `name`.
-v1::WorkerToBroker ResultMessage(const v1::Job& job, const std::string& name);
+v1::WorkerToBroker ResultMessage(const v1::Job& job, const std::string& name);  // with the job's lease token
 /// Waits for the next JOB on a fake worker, heartbeating every kTestHeartbeat meanwhile; nullopt after `limit`.
 std::optional<v1::Job> AwaitJob(RawPeer& worker, std::chrono::milliseconds limit = std::chrono::seconds(10));
 

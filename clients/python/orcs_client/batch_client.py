@@ -15,6 +15,7 @@ import collections
 import itertools
 import math
 import os
+import secrets
 import socket as _socket
 import sys
 import threading
@@ -127,8 +128,10 @@ class BatchClient:
         self._reconnect_timeout = float(reconnect_timeout)
         self._max_submit_bytes = max_submit_bytes
         self._log_function = log
-        # "<hostname>-<pid>-<n>": unique among live processes without clocks or randomness, as in the C++ client.
+        # "<hostname>-<pid>-<n>": a name for the broker's log, as in the C++ client. Not a secret: the batches belong
+        # to the owner token, 128 random bits from the OS sent with every SUBMIT and never logged (docs/protocol.md).
         self.client_id = "%s-%d-py%d" % (_socket.gethostname(), os.getpid(), next(_CLIENT_NUMBERS))
+        self._owner_token = secrets.token_bytes(16)
         self._context = zmq.Context()
         try:  # a malformed endpoint fails here, at once, rather than at the first submit()
             probe = self._context.socket(zmq.DEALER)
@@ -148,7 +151,6 @@ class BatchClient:
         self._submissions = 0                  # submit() calls that got past validation
         self._accepted_through = 0             # submissions 1..this are accepted
         self._batches = {}                     # batch id → _BatchState
-        self._batch_numbers = itertools.count(1)
         self._error = ""                       # the terminal error, once there is one
         self._stopping = False
         self._closed = False
@@ -206,7 +208,7 @@ class BatchClient:
         """Submits the jobs (orcs.v1.Job messages; copies are sent) as a new batch and returns its Batch once the
         broker has accepted them. A job without a job_id gets "job-<its position>", zero-padded to the digits of the
         last position ("job-00" ... "job-11" for 12 jobs), as orcs-batch numbers its jobs.
-        batch_id: None = "<client id>-<n>". Raises ValueError for no jobs, a repeated job id or a batch id used
+        batch_id: None = 128 random bits as 32 hex digits, a name nobody can guess. Raises ValueError for no jobs, a repeated job id or a batch id used
         before, and BrokerError when no broker answers within connect_timeout or it rejects the batch."""
         jobs = list(jobs)
         if not jobs:
@@ -231,7 +233,7 @@ class BatchClient:
             if self._closed:
                 raise ValueError("submit: the client is closed")
             if batch_id is None:
-                batch_id = "%s-%d" % (self.client_id, next(self._batch_numbers))
+                batch_id = secrets.token_hex(16)
             if not batch_id or batch_id in self._batches:
                 raise ValueError("submit: batch id %r is empty or was used before" % (batch_id,))
             for job in sending:
@@ -430,7 +432,8 @@ class BatchClient:
     def _send_jobs(self, batch_id, jobs, submission):
         start = 0
         while True:
-            message = self._envelope(submit=broker_pb2.Submit(batch_id=batch_id, client_id=self.client_id))
+            message = self._envelope(submit=broker_pb2.Submit(batch_id=batch_id, client_id=self.client_id,
+                                                                owner_token=self._owner_token))
             size = 0
             end = start
             while end < len(jobs):
