@@ -25,6 +25,7 @@
 #include "proto/envelope.h"
 #include "tests/broker/test_peers.h"
 #include "tests/support/background_process.h"
+#include "tests/support/broker_process.h"
 #include "tests/support/temp_dir.h"
 
 namespace orcs {
@@ -63,15 +64,11 @@ std::map<std::string, nlohmann::json> ReadResults(const std::string& path) {
 class AdversarialTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    broker_ = std::make_unique<BackgroundProcess>(std::vector<std::string>{kBin + "orcs-broker", "--client-port", "0",
-                                                                           "--worker-port", "0", "--heartbeat", "0.1"});
-    const std::optional<std::string> line = broker_->ReadLine(milliseconds(10000));
-    ASSERT_TRUE(line.has_value()) << broker_->err();
-    std::smatch match;
-    static const std::regex kLine("orcs-broker clients=(\\S+) workers=(\\S+)");
-    ASSERT_TRUE(std::regex_match(*line, match, kLine)) << *line;
-    clients_ = match[1];
-    workers_ = match[2];
+    test_support::BrokerProcess broker = test_support::StartBrokerProcess({"--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
+    ASSERT_TRUE(broker.error.empty()) << broker.error;
+    broker_ = std::move(broker.process);
+    clients_ = broker.clients;
+    workers_ = broker.workers;
   }
 
   // `orcs-batch submit` of `jobs` jobs of ScenarioText(duration), in the background.
