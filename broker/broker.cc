@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <iterator>
@@ -638,8 +639,9 @@ void Broker::ExpireLeases(Clock::time_point now) {
 }
 
 Broker::Clock::duration Broker::LeaseLength(double time_limit_seconds) const {
-  const double limit = time_limit_seconds > 0 && time_limit_seconds <= 1e7 ? time_limit_seconds
-                                                                            : options_.default_time_limit_seconds;
+  // Capped at 1e9 s (32 years) so that the lease fits a steady_clock duration.
+  const double limit = std::isfinite(time_limit_seconds) && time_limit_seconds > 0 ? std::min(time_limit_seconds, 1e9)
+                                                                                 : options_.default_time_limit_seconds;
   return std::chrono::duration_cast<Clock::duration>(
              std::chrono::duration<double>(kLeaseFactor * limit + kLeaseMarginSeconds)) +
          liveness_period_;
