@@ -7,10 +7,12 @@
 #include "clients/batch/batch_input.h"
 #include "model/core/error.h"
 #include "worker/cli_style.h"
-#include "worker/evaluation/evaluation.h"
 
 namespace orcs::batch {
 namespace {
+
+// --time-limit: 115 days at most (a job may carry up to evaluation::kMaxJobTimeLimitSeconds).
+constexpr double kMaxTimeLimitOption = 1e7;
 
 // What every command that runs a batch shares: where results go, the connection, the progress display.
 void AddSessionOptions(CLI::App& command, BatchOptions& o, const std::string& out_help) {
@@ -34,7 +36,7 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
       ->check(CLI::Range(1, 1000000));
   command.add_option("--seed", o.seed, "seed of the first job (default 1)")->check(cli::Seed());
   command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job (default 0: 30 s + 10 s per simulated second of the job)")
-      ->check(cli::NumberIn(0.0, evaluation::kMaxJobTimeLimitSeconds));
+      ->check(cli::NumberIn(0.0, kMaxTimeLimitOption));
   command.add_option("--record", o.record,
                      "record these jobs for orcs-view into OUT/recordings/JOB.orcsrec: all, or job indices such as "
                      "0,3-5 (docs/recording.md)")
@@ -76,7 +78,7 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
   evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")
       ->excludes(evolve->get_option("--out"));
   evolve->add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job (default 0: 30 s + 10 s per simulated second of the job)")
-      ->check(cli::NumberIn(0.0, evaluation::kMaxJobTimeLimitSeconds));
+      ->check(cli::NumberIn(0.0, kMaxTimeLimitOption));
   evolve->add_flag("--no-plot", o.no_plot, "do not draw fitness.png");
   CLI::Option* workers = evolve->add_option("--workers", o.workers, "local worker processes (default: one per core)")
                              ->check(CLI::Range(1, 4096));

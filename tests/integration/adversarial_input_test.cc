@@ -317,7 +317,7 @@ TEST_F(AdversarialInputTest, ARawJobWithANonFiniteTimeLimitIsInvalidInputNamingT
     const v1::Result& result = results.at("job-" + std::to_string(i));
     EXPECT_EQ(result.status(), v1::Result::INVALID_INPUT) << result.message();
     EXPECT_THAT(result.message(), AllOf(HasSubstr("job job-" + std::to_string(i)),
-                                        HasSubstr("field 'time_limit_seconds' expected seconds from 0 (none) to 1e+07")));
+                                        HasSubstr("field 'time_limit_seconds' expected seconds from 0 (none) to 1e+09")));
   }
   EXPECT_EQ(results.at("job-4").status(), v1::Result::OK) << results.at("job-4").message();
 }

@@ -21,9 +21,10 @@
 
 namespace orcs::evaluation {
 
-/// The longest wall-clock time limit a job may carry (115 days); beyond it, and for NaN, infinity or a negative
-/// limit, the job is invalid input: a clock deadline that far would overflow.
-inline constexpr double kMaxJobTimeLimitSeconds = 1e7;
+/// The longest wall-clock time limit a job may carry (31 years: the default limit of a job of 1e8 simulated
+/// seconds); beyond it, and for NaN, infinity or a negative limit, the job is invalid input. A deadline computed
+/// from a larger limit would overflow the clock (an infinite limit timed out at once).
+inline constexpr double kMaxJobTimeLimitSeconds = 1e9;
 
 struct EvaluationRequest {
   scene::Scenario scenario;                 ///< parsed, resolved
