@@ -1,7 +1,11 @@
 #include "worker/cli_style.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <iostream>
+#include <limits>
+#include <sstream>
 
 namespace orcs::cli {
 
@@ -33,6 +37,75 @@ int ParseArguments(CLI::App& app, int argc, const char* const* argv, const std::
     return kExitBadInput;
   }
   return -1;
+}
+
+namespace {
+
+// "0.001", "1e+07", "inf": a bound for messages.
+std::string Bound(double value) {
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+}  // namespace
+
+CLI::Validator NumberIn(double min, double max) {
+  const std::string expected = "a number from " + Bound(min) + " to " + Bound(max);
+  return CLI::Validator(
+      [min, max, expected](const std::string& text) -> std::string {
+        double number = 0.0;
+        const char* begin = text.data();
+        const char* end = text.data() + text.size();
+        if (begin != end && *begin == '+') ++begin;
+        const auto [stop, error] = std::from_chars(begin, end, number);
+        if (error != std::errc() || stop != end || std::isnan(number) || number < min || number > max) {
+          return "expected " + expected + ", found '" + text + "'";
+        }
+        return "";
+      },
+      "NUMBER in [" + Bound(min) + ", " + Bound(max) + "]");
+}
+
+CLI::Validator Seed(std::uint64_t max) {
+  return CLI::Validator(
+      [max](const std::string& text) -> std::string {
+        std::uint64_t seed = 0;
+        const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+        const auto [stop, error] = std::from_chars(text.data(), text.data() + text.size(), seed);
+        if (!digits || error != std::errc() || stop != text.data() + text.size() || seed > max) {
+          return "expected a seed, an integer from 0 to " + std::to_string(max) + ", found '" + text + "'";
+        }
+        return "";
+      },
+      "SEED");
+}
+
+CLI::Validator Endpoint() {
+  return CLI::Validator(
+      [](const std::string& text) -> std::string {
+        const std::string expected =
+            "expected an endpoint tcp://HOST:PORT (e.g. tcp://127.0.0.1:5555), ipc://PATH or inproc://NAME, found '" +
+            text + "'";
+        for (const char* scheme : {"ipc://", "inproc://"}) {
+          if (text.starts_with(scheme)) return text.size() > std::string_view(scheme).size() ? "" : expected;
+        }
+        if (!text.starts_with("tcp://")) return expected;
+        const std::string address = text.substr(6);
+        const std::size_t colon = address.rfind(':');
+        if (colon == std::string::npos || colon == 0) return expected;
+        const std::string host = address.substr(0, colon);
+        const std::string port = address.substr(colon + 1);
+        if (host.find_first_of(" /\t") != std::string::npos) return expected;
+        int number = 0;
+        const auto [stop, error] = std::from_chars(port.data(), port.data() + port.size(), number);
+        if (port.empty() || error != std::errc() || stop != port.data() + port.size() || number < 1 || number > 65535) {
+          return expected + " (the port must be 1…65535)";
+        }
+        return "";
+      },
+      "ENDPOINT");
 }
 
 }  // namespace orcs::cli

@@ -226,8 +226,10 @@ std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& 
 
 void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const std::vector<PlannedJob>& jobs) {
   if (jobs.empty()) return;
-  // Genomes first, so that a genome's error names its file and line rather than the scenario.
+  // The controller first, under the scenario's name (a bad "controller" is the scenario's error, not a genome's);
+  // then the genomes, so that a genome's error names its file and line rather than the scenario.
   const control::ControlTarget target = evaluation::ControlTargetOf(input.scenario);
+  control::CheckController(input.scenario.controller, target, input.path);
   for (const Genome& genome : genomes) {
     control::CheckGenome(input.scenario.controller, genome.value, target, GenomeSource(genome));
   }

@@ -11,11 +11,14 @@
 namespace orcs::batch {
 namespace {
 
+// --time-limit: 115 days at most (a job may carry up to evaluation::kMaxJobTimeLimitSeconds).
+constexpr double kMaxTimeLimitOption = 1e7;
+
 // What every command that runs a batch shares: where results go, the connection, the progress display.
 void AddSessionOptions(CLI::App& command, BatchOptions& o, const std::string& out_help) {
   command.add_option("--out", o.out, out_help);
   command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
-      ->check(CLI::Range(0.001, 3600.0));
+      ->check(cli::NumberIn(0.001, 3600.0));
   command.add_flag("--quiet", o.quiet, "no progress display");
   command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
       ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
@@ -31,9 +34,9 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
   command.add_option("--jobs", o.jobs, many_genomes ? "jobs per genome, seeds S, S+1, ... (default 1)"
                                                     : "jobs per grid point, seeds S, S+1, ... (default 1)")
       ->check(CLI::Range(1, 1000000));
-  command.add_option("--seed", o.seed, "seed of the first job (default 1)");
+  command.add_option("--seed", o.seed, "seed of the first job (default 1)")->check(cli::Seed());
   command.add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job (default 0: 30 s + 10 s per simulated second of the job)")
-      ->check(CLI::Range(0.0, 1e7));
+      ->check(cli::NumberIn(0.0, kMaxTimeLimitOption));
   command.add_option("--record", o.record,
                      "record these jobs for orcs-view into OUT/recordings/JOB.orcsrec: all, or job indices such as "
                      "0,3-5 (docs/recording.md)")
@@ -67,18 +70,20 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
   evolve->add_option("--population", o.population, "genomes per generation (default: the scenario's)")
       ->check(CLI::Range(1, 100000));
   evolve->add_option("--algorithm", o.algorithm, "cmaes, xnes, sga, de or pso_gen (default: the scenario's, else cmaes)");
-  evolve->add_option("--seed", o.seed, "seed of the jobs' parameter sets and of the algorithm (default: the scenario's)");
+  evolve->add_option("--seed", o.seed, "seed of the jobs' parameter sets and of the algorithm (default: the scenario's)")
+      ->check(cli::Seed());
   evolve->add_option("--validate", o.validate, "fresh seeds the winner is run on at the end (default 8)")
       ->check(CLI::Range(0, 100000));
   AddSessionOptions(*evolve, o, "output folder (default runs/<scenario name>-evolve)");
   evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")
       ->excludes(evolve->get_option("--out"));
   evolve->add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job (default 0: 30 s + 10 s per simulated second of the job)")
-      ->check(CLI::Range(0.0, 1e7));
+      ->check(cli::NumberIn(0.0, kMaxTimeLimitOption));
   evolve->add_flag("--no-plot", o.no_plot, "do not draw fitness.png");
   CLI::Option* workers = evolve->add_option("--workers", o.workers, "local worker processes (default: one per core)")
                              ->check(CLI::Range(1, 4096));
   evolve->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->check(cli::Endpoint())
       ->excludes(workers);
   return evolve;
 }
@@ -95,6 +100,7 @@ CLI::App* AddRegressCommand(CLI::App& app, BatchOptions& o) {
   CLI::Option* workers = regress->add_option("--workers", o.workers, "local worker processes (default: one per core)")
                              ->check(CLI::Range(1, 4096));
   regress->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->check(cli::Endpoint())
       ->excludes(workers);
   AddSessionOptions(*regress, o, "output folder (default runs/<suite name>)");
   return regress;
@@ -113,7 +119,9 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   AddWorkersOption(*run, o);
   CLI::App* submit = app.add_subcommand("submit", "run a batch on a running broker");
   AddJobOptions(*submit, o, true);
-  submit->add_option("--broker", o.broker, "the broker's client endpoint, e.g. tcp://127.0.0.1:5555")->required();
+  submit->add_option("--broker", o.broker, "the broker's client endpoint, e.g. tcp://127.0.0.1:5555")
+      ->required()
+      ->check(cli::Endpoint());
   CLI::App* sweep = app.add_subcommand(
       "sweep", "evaluate one genome over a grid or a Latin hypercube sample of repository values: a robustness report");
   AddJobOptions(*sweep, o, false);
@@ -127,10 +135,12 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   CLI::Option* samples = sweep->add_option("--samples", o.samples, "points of the Latin hypercube (--sample lhs)")
                              ->check(CLI::Range(1, 1000000));
   CLI::Option* sample_seed =
-      sweep->add_option("--sample-seed", o.sample_seed, "seed of the Latin hypercube (default: --seed)");
+      sweep->add_option("--sample-seed", o.sample_seed, "seed of the Latin hypercube (default: --seed)")
+          ->check(cli::Seed());
   CLI::Option* sweep_workers = sweep->add_option("--workers", o.workers, "local worker processes (default: one per core)")
                                    ->check(CLI::Range(1, 4096));
   sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->check(cli::Endpoint())
       ->excludes(sweep_workers);
   CLI::App* evolve = AddEvolveCommand(app, o);
   CLI::App* regress = AddRegressCommand(app, o);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -171,6 +172,8 @@ Table ReadTable(std::string_view text, const std::string& source, const ColumnMa
 // Plans: which field of a row fills which series of the run
 
 // Where one series of the run comes from.
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+
 struct SeriesSource {
   std::string column;                     // column name, for messages
   int field = -1;                         // index of the field in a row; −1: every row is `constant`
@@ -178,7 +181,12 @@ struct SeriesSource {
   double offset = 0.0;
   double constant = 0.0;                  // the value when field is −1
   std::vector<double>* values = nullptr;  // the run's series it fills
+  double max_magnitude = kUnbounded;      // a larger |value| is not a measurement
 };
+
+// A joint angle (measured or commanded) beyond ±360° is not a measurement of a hinge; such a value (1e308° in a
+// careless export) must not reach the fitter (docs/gap_measured_data.md).
+constexpr double kMaxAngleDegrees = 360.0;
 
 std::vector<double>& SeriesOf(MeasuredRun& run, std::string_view quantity, const std::string& motor) {
   if (quantity == kDesiredAngle) return run.desired_angle[motor];
@@ -266,9 +274,10 @@ std::vector<SeriesSource> NativePlan(const Table& table, const std::string& sour
   const std::vector<MotorField> fields = MotorFields(table, source);
   ListMotors(fields, source, run);
   run.agent = fields.front().agent;
-  std::vector<SeriesSource> plan = {{"time", 0, 1.0, 0.0, 0.0, &run.time}};
+  std::vector<SeriesSource> plan = {{"time", 0, 1.0, 0.0, 0.0, &run.time, kUnbounded}};
   for (const MotorField& f : fields) {
-    plan.push_back({table.columns[f.field], f.field, 1.0, 0.0, 0.0, &SeriesOf(run, f.quantity, f.motor)});
+    plan.push_back({table.columns[f.field], f.field, 1.0, 0.0, 0.0, &SeriesOf(run, f.quantity, f.motor), kUnbounded});
+    if (f.quantity != kDesiredTorque) plan.back().max_magnitude = kMaxAngleDegrees;
   }
   return plan;
 }
@@ -388,8 +397,9 @@ int FieldOf(const Table& table, const std::string& column, const std::string& fi
 
 SeriesSource MappedSeries(const ColumnSource& s, const std::string& field, const Table& table,
                           const ColumnMapping& m, const std::string& source, std::vector<double>& values) {
-  if (s.constant) return {field, -1, 1.0, 0.0, *s.constant, &values};
-  return {s.column, FieldOf(table, s.column, field + ".column", m.source, source), s.scale, s.offset, 0.0, &values};
+  if (s.constant) return {field, -1, 1.0, 0.0, *s.constant, &values, kUnbounded};
+  return {s.column, FieldOf(table, s.column, field + ".column", m.source, source), s.scale, s.offset, 0.0, &values,
+          kUnbounded};
 }
 
 std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m, const std::string& source,
@@ -403,6 +413,7 @@ std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m,
       run.commanded.push_back(c.motor);
       plan.push_back(MappedSeries(*c.desired_angle, ChannelField(i, "desired_angle"), table, m, source,
                                   run.desired_angle[c.motor]));
+      plan.back().max_magnitude = kMaxAngleDegrees;
       plan.push_back(MappedSeries(*c.desired_torque, ChannelField(i, "desired_torque"), table, m, source,
                                   run.desired_torque[c.motor]));
     }
@@ -410,6 +421,7 @@ std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m,
       run.motors.push_back(c.motor);
       plan.push_back(MappedSeries(*c.joint_angle, ChannelField(i, "joint_angle"), table, m, source,
                                   run.joint_angle[c.motor]));
+      plan.back().max_magnitude = kMaxAngleDegrees;
     }
   }
   return plan;
@@ -429,6 +441,12 @@ double ValueOf(const SeriesSource& s, const std::vector<std::string>& fields, co
   if (!std::isfinite(value)) {
     throw InputError(source, line, "column '" + s.column + "': " + text::Quote(cell) + " scaled by " +
                                        text::FormatDouble(s.scale) + " is not a finite number");
+  }
+  if (std::abs(value) > s.max_magnitude) {
+    throw InputError(source, line,
+                     "column '" + s.column + "': " + text::Quote(cell) + " gives " + text::FormatDouble(value) +
+                         "°, not a physical joint angle (expected −" + text::FormatDouble(s.max_magnitude) + "…" +
+                         text::FormatDouble(s.max_magnitude) + "°)");
   }
   return value;
 }
@@ -519,7 +537,7 @@ MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source, c
 }
 
 MeasuredRun ReadMeasuredRun(const std::string& path, const ColumnMapping* mapping) {
-  return ParseMeasuredRun(ReadTextFile(path), path, mapping);
+  return ParseMeasuredRun(ReadTextFile(path, kMaxMeasuredRunBytes, "a measured run"), path, mapping);
 }
 
 void CheckRunsAgree(const std::vector<MeasuredRun>& runs, const std::string& role) {
@@ -549,9 +567,9 @@ void CheckDisjoint(const std::vector<std::string>& fit_paths, const std::vector<
   }
   std::vector<std::string> fit_contents;
   fit_contents.reserve(fit_paths.size());
-  for (const std::string& fit : fit_paths) fit_contents.push_back(ReadTextFile(fit));
+  for (const std::string& fit : fit_paths) fit_contents.push_back(ReadTextFile(fit, kMaxMeasuredRunBytes, "a measured run"));
   for (const std::string& holdout : holdout_paths) {
-    const std::string contents = ReadTextFile(holdout);
+    const std::string contents = ReadTextFile(holdout, kMaxMeasuredRunBytes, "a measured run");
     for (size_t i = 0; i < fit_paths.size(); ++i) {
       if (contents == fit_contents[i]) {
         throw InputError(holdout, 0, "a holdout run is also a fit run: the same contents as " + fit_paths[i]);

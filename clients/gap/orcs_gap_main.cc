@@ -142,17 +142,19 @@ int main(int argc, char** argv) {
   app.add_option("--mapping", o.mapping, "column mapping JSON for CSVs that are not orcs logs (docs/gap.md)");
   CLI::Option* workers = app.add_option("--workers", o.workers, "local worker processes (default: one per core)")
                              ->check(CLI::Range(1, 4096));
-  app.add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")->excludes(workers);
+  app.add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->check(orcs::cli::Endpoint())
+      ->excludes(workers);
   app.add_option("--out", o.out, "output folder (default gap-report)");
   app.add_option("--generations", o.generations, "optimiser generations per fit (default 40)")->check(CLI::Range(1, 10000));
-  app.add_option("--seed", o.seed, "seed of the fits (default 1)");
+  app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");
   AddRigOptions(*synth, o);
   synth->add_option("--motion", o.motions, "keyframe records to play, one run each")->required();
   synth->add_option("--effect", o.effect_switches, "switch an effect on (repeatable)");
   synth->add_option("--set", o.sets, "PATH=VALUE, a hidden value (repeatable)");
-  synth->add_option("--seed", o.noise_seed, "noise seed of the first run (default 1)");
+  synth->add_option("--seed", o.noise_seed, "noise seed of the first run (default 1)")->check(orcs::cli::Seed());
   synth->add_option("--duration", o.duration, "seconds per run (default: the record's length)");
   synth->add_option("--agent", o.agent, "the agent (default Pendulum / Humanoid)");
   synth->add_option("--out", o.out, "output folder")->required();

@@ -18,9 +18,39 @@ int LineOf(const std::string& text, std::size_t byte) {
   return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n'));
 }
 
+// Throws when arrays and objects nest deeper than kMaxJsonDepth; a scan of the text before nlohmann builds
+// anything, so no deep value ever exists. Brackets inside strings do not count.
+void CheckJsonDepth(const std::string& text, const std::string& source) {
+  int depth = 0;
+  bool in_string = false;
+  bool escaped = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        throw InputError(source, LineOf(text, i),
+                         "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+      }
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
 }  // namespace
 
 Json ParseJson(const std::string& text, const std::string& source) {
+  CheckJsonDepth(text, source);
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& error) {

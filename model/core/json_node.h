@@ -12,7 +12,14 @@
 
 namespace orcs {
 
-/// Parses JSON text; malformed text is an InputError "source:line: malformed JSON: ...".
+/// How deep JSON from outside may nest (arrays and objects within each other). Every JSON input — scenarios,
+/// genomes, jobs, settings, column mappings, results read back — is parsed by ParseJson, and nothing orcs reads
+/// needs more than a few levels; the bound keeps a hostile 100,000-deep nesting from exhausting the stack in the
+/// recursive code that copies, prints and destroys JSON values (docs/formats.md, "Input limits").
+inline constexpr int kMaxJsonDepth = 256;
+
+/// Parses JSON text; malformed text is an InputError "source:line: malformed JSON: ...", and text nested deeper
+/// than kMaxJsonDepth is an InputError "source:line: JSON nested deeper than 256 levels".
 nlohmann::json ParseJson(const std::string& text, const std::string& source);
 
 /// What a JSON value is, for "found ..." in messages: "the string \"abc\"", "the number 3", "an object".

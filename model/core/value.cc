@@ -136,10 +136,25 @@ std::optional<Value::Data> Value::Parse(ValueType type, std::string_view text, s
   return std::nullopt;
 }
 
+std::string Value::CheckRange(const Data& data) const {
+  if (!range_) return "";
+  double number = 0.0;
+  if (const auto* integer = std::get_if<std::int64_t>(&data)) {
+    number = static_cast<double>(*integer);
+  } else if (const auto* real = std::get_if<double>(&data)) {
+    number = *real;
+  } else {
+    return "";
+  }
+  if (number >= range_->first && number <= range_->second) return "";
+  return "a number from " + text::FormatDouble(range_->first) + " to " + text::FormatDouble(range_->second);
+}
+
 std::string Value::SetFromString(std::string_view text) {
   std::string expected;
   std::optional<Data> parsed = Parse(type(), text, expected);
   if (!parsed) return expected;
+  if (std::string out_of_range = CheckRange(*parsed); !out_of_range.empty()) return out_of_range;
   if (!(*parsed == data_)) {
     data_ = std::move(*parsed);
     Notify();
@@ -149,8 +164,8 @@ std::string Value::SetFromString(std::string_view text) {
 
 std::string Value::CheckString(std::string_view text) const {
   std::string expected;
-  Parse(type(), text, expected);
-  return expected;
+  const std::optional<Data> parsed = Parse(type(), text, expected);
+  return parsed ? CheckRange(*parsed) : expected;
 }
 
 int Value::AddObserver(Observer observer) {

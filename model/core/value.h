@@ -63,6 +63,15 @@ class Value {
   /// What SetFromString(text) would return, without changing anything.
   std::string CheckString(std::string_view text) const;
 
+  /// Restricts a number (an int or a double value) to [min, max]: SetFromString and CheckString refuse a value
+  /// outside it, saying "a number from MIN to MAX". Every writer from outside — value files, scenario values and
+  /// overrides, sweeps, OSP command 52, orcs-view's editor — sets values through them. The typed setters are the
+  /// program's own and are not checked.
+  Value& SetRange(double min, double max) {
+    range_ = std::make_pair(min, max);
+    return *this;
+  }
+
   // Typed access; the type must match (asserted).
   bool as_bool() const { return std::get<bool>(data_); }
   std::int64_t as_int() const { return std::get<std::int64_t>(data_); }
@@ -97,7 +106,11 @@ class Value {
   void Assign(T&& value);
   void Notify() const;
 
+  // "" when `data` is within range_, else what was expected.
+  std::string CheckRange(const Data& data) const;
+
   Data data_;
+  std::optional<std::pair<double, double>> range_;  // SetRange()
   std::vector<std::pair<int, Observer>> observers_;
   int next_observer_id_ = 0;
 };

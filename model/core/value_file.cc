@@ -2,11 +2,12 @@
 
 #include <cctype>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/core/text_file.h"
 
 namespace orcs {
 namespace {
@@ -34,8 +35,7 @@ void ReadInclude(const std::filesystem::path& file, int line_number, std::string
 }
 
 void ReadInto(const std::filesystem::path& file, int depth, std::vector<ValueAssignment>& out) {
-  std::ifstream in(file);
-  if (!in || std::filesystem::is_directory(file)) throw InputError(file.string(), 0, "cannot read the file");
+  std::istringstream in(ReadTextFile(file.string()));  // a regular file within the input bound, or an InputError
   std::string raw;
   for (int line_number = 1; std::getline(in, raw); ++line_number) {
     const std::string_view line = text::Trim(raw);

@@ -5,11 +5,10 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 
 #include "model/core/error.h"
 #include "model/core/json_node.h"
+#include "model/core/text_file.h"
 #include "model/evaluation/recorder.h"
 
 namespace orcs::evaluation {
@@ -137,18 +136,7 @@ Recording ParseRecording(std::string_view bytes, const std::string& name, const 
 }
 
 Recording ReadRecording(const std::string& path, const RecordingLimits& limits) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    throw InputError(path, 0, std::filesystem::exists(path, error) ? "not a regular file" : "no such file");
-  }
-  const std::uintmax_t size = std::filesystem::file_size(path, error);
-  if (error || size > limits.max_file_bytes) {
-    throw InputError(path, 0, "larger than " + std::to_string(limits.max_file_bytes >> 20) + " MiB");
-  }
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes(size, '\0');
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) throw InputError(path, 0, "cannot read the file");
-  return ParseRecording(bytes, path, limits);
+  return ParseRecording(ReadTextFile(path, limits.max_file_bytes, "a recording"), path, limits);
 }
 
 }  // namespace orcs::evaluation

@@ -53,6 +53,9 @@ constexpr const char* kGravitation = "/Simulation/Gravitation";
 constexpr const char* kUseQuickStep = "/Simulation/ODE/UseQuickStep";
 constexpr const char* kQuickStepIterations = "/Simulation/ODE/QuickStepIterations";
 constexpr const char* kMaxContactPoints = "/Simulation/ODE/MaxContactPoints";
+constexpr double kMaxIterationsPerStep = 1000;
+constexpr double kMaxQuickStepIterations = 100000;
+constexpr double kMaxContactPointsValue = 1e6;  // used up to PhysicsParameters::kMaxContactPoints
 
 }  // namespace
 
@@ -71,14 +74,16 @@ Simulation::~Simulation() = default;
 void Simulation::RegisterSimulationValues() {
   const PhysicsParameters defaults;
   const auto watch = [this](Value& value) { value.AddObserver([this](const Value&) { parameters_changed_ = true; }); };
-  time_step_ = &repository_.Add(kTimeStep, 0.01);
-  iterations_ = &repository_.Add(kIterations, 1);
+  // The ranges (docs/orcs-sim.md): a step of 1e-300 s or 1e300 s is no simulation, and a value written from
+  // outside (a value file, a job, OSP) is refused where it is written, naming the path, not at the next step.
+  time_step_ = &repository_.Add(kTimeStep, 0.01).SetRange(kMinTimeStep, kMaxTimeStep);
+  iterations_ = &repository_.Add(kIterations, 1).SetRange(1, kMaxIterationsPerStep);
   watch(*time_step_);
   watch(*iterations_);
   watch(repository_.Add(kGravitation, -defaults.gravity.y()));
   watch(repository_.Add(kUseQuickStep, defaults.solver == physics::Solver::kQuickStep));
-  watch(repository_.Add(kQuickStepIterations, defaults.quickstep_iterations));
-  watch(repository_.Add(kMaxContactPoints, defaults.max_contact_points));
+  watch(repository_.Add(kQuickStepIterations, defaults.quickstep_iterations).SetRange(1, kMaxQuickStepIterations));
+  watch(repository_.Add(kMaxContactPoints, defaults.max_contact_points).SetRange(1, kMaxContactPointsValue));
   for (const DoubleParameter& p : kDoubleParameters) watch(repository_.Add(p.path, defaults.*p.member));
   for (const CustomMaterialParameter& p : kCustomMaterialParameters) {
     watch(repository_.Add(p.path, defaults.*p.material.*p.member));

@@ -33,6 +33,11 @@ enum class SimulationStatus {
 
 std::string_view SimulationStatusName(SimulationStatus status);
 
+/// The range of /Simulation/TimeStepSize, seconds (docs/orcs-sim.md): a value outside it is refused where it is
+/// written (value files, scenario values, job overrides, sweeps, OSP command 52).
+inline constexpr double kMinTimeStep = 1e-5;
+inline constexpr double kMaxTimeStep = 0.1;
+
 class Simulation {
  public:
   Simulation();

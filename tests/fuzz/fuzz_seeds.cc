@@ -245,8 +245,8 @@ std::vector<Seed> MeasuredRuns() {
    "joint_angle": {"column": "pos_knee", "scale": 0.29296875, "offset": -150}},
   {"motor": "Right/Hip", "joint_angle": {"column": "pos_hip"}}]})"
            "\n---\n"
-           "# exported by the robot's logger\n\"t_ms\"; cmd_knee ; pos_knee;pos_hip\n0;10;512;600\n20;20;522;601\n"
-           "40;30;532;602\n"}};
+           "# exported by the robot's logger\n\"t_ms\"; cmd_knee ; pos_knee;pos_hip\n0;10;512;60\n20;20;522;61\n"
+           "40;30;532;62\n"}};
 }
 
 }  // namespace

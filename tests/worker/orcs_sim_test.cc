@@ -360,14 +360,15 @@ TEST_F(OrcsSimTest, BadValueInValueFile) {
   EXPECT_THAT(result.err, HasSubstr("'fast'"));
 }
 
-TEST_F(OrcsSimTest, NonPositiveTimeStepInValueFile) {
-  for (const char* step : {"0", "-0.01"}) {
+TEST_F(OrcsSimTest, TimeStepOutsideItsRangeInValueFile) {
+  for (const char* step : {"0", "-0.01", "1e-300", "1e300"}) {
     SCOPED_TRACE(step);
     const std::string val = dir_.Write("zero.val", std::string("/Simulation/TimeStepSize=") + step + "\n");
     const ProcessResult result = Run({"-env", kExample, "-val", val, "--duration", "1"});
     ExpectBadInput(result);
+    EXPECT_THAT(result.err, HasSubstr(val + ":1: "));
     EXPECT_THAT(result.err, HasSubstr("/Simulation/TimeStepSize"));
-    EXPECT_THAT(result.err, HasSubstr("positive"));
+    EXPECT_THAT(result.err, HasSubstr("a number from 1e-05 to 0.1"));
   }
 }
 
@@ -389,8 +390,7 @@ TEST_F(OrcsSimTest, NonexistentEnvironment) {
   const std::string env = dir_.PathOf("nonexistent.xml");
   const ProcessResult result = Run({"-env", env});
   ExpectBadInput(result);
-  EXPECT_THAT(result.err, HasSubstr(env));
-  EXPECT_THAT(result.err, HasSubstr("not exist"));
+  EXPECT_THAT(result.err, HasSubstr(env + ": cannot read the file: no such file"));
 }
 
 TEST_F(OrcsSimTest, NonexistentValueFile) {

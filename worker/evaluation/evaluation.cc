@@ -42,13 +42,11 @@ int FindScenarioAgent(const scene::Simulation& simulation, const scene::Scenario
   return agent;
 }
 
+// Through the value's text form (shortest round trip: the same double), so that a drawn value is held to the
+// value's range as every other writer is (a drawn /Simulation/TimeStepSize of 1e-300 is refused, not run).
 void SetDrawn(VariableRepository& values, const std::string& path, double value) {
-  Value& target = values.Get(path);
-  if (target.type() == ValueType::kInt) {
-    target.Set(static_cast<std::int64_t>(std::llround(value)));
-  } else {
-    target.Set(value);
-  }
+  const Value& target = values.Get(path);
+  values.Set(path, target.type() == ValueType::kInt ? std::to_string(std::llround(value)) : text::FormatDouble(value));
 }
 
 // The environment's structure values — /Sim/Floor/Material, an object's /Sim/<name>/Material, Mass, size, ... —
@@ -236,12 +234,18 @@ control::ControlTarget ControlTargetOf(const scene::Scenario& scenario) {
 
 EvaluationOutcome Evaluate(const EvaluationRequest& request) {
   const Clock::time_point start = Clock::now();
+  const double limit = request.time_limit_seconds;
   const Clock::time_point deadline =
-      request.time_limit_seconds > 0
-          ? start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(request.time_limit_seconds))
+      limit > 0 && limit <= kMaxJobTimeLimitSeconds
+          ? start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limit))
           : Clock::time_point::max();
   EvaluationOutcome outcome;
   try {
+    if (!(limit >= 0 && limit <= kMaxJobTimeLimitSeconds)) {  // NaN fails both
+      throw InputError("time limit", 0,
+                       "expected seconds from 0 (none) to " + text::FormatDouble(kMaxJobTimeLimitSeconds) +
+                           ", found " + text::FormatDouble(limit));
+    }
     const std::vector<scene::ParameterSet> sets = DrawSets(request);
     for (int k = 0; k < static_cast<int>(sets.size()); ++k) {
       SetOutcome set_outcome;

@@ -21,12 +21,17 @@
 
 namespace orcs::evaluation {
 
+/// The longest wall-clock time limit a job may carry (31 years: the default limit of a job of 1e8 simulated
+/// seconds); beyond it, and for NaN, infinity or a negative limit, the job is invalid input. A deadline computed
+/// from a larger limit would overflow the clock (an infinite limit timed out at once).
+inline constexpr double kMaxJobTimeLimitSeconds = 1e9;
+
 struct EvaluationRequest {
   scene::Scenario scenario;                 ///< parsed, resolved
   nlohmann::json genome = nlohmann::json::array();  ///< flat numbers, or a full network object
   std::uint64_t seed = 0;                   ///< the job's seed
   std::vector<ValueAssignment> overrides;   ///< applied after the scenario's values
-  double time_limit_seconds = 0.0;          ///< wall-clock limit for the whole job, s; 0 = none
+  double time_limit_seconds = 0.0;          ///< wall-clock limit for the whole job, s; 0 = none; ≤ kMaxJobTimeLimitSeconds
   /// Whether the scenario's "fault" test hook is carried out. Only orcs-worker's sandboxed simulation process sets
   /// it (worker/job/sandbox_child.h): a fault anywhere else would take a user's program down with it.
   bool inject_faults = false;

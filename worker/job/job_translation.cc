@@ -32,7 +32,13 @@ evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults) 
   for (const v1::Override& override : job.overrides()) {
     request.overrides.push_back({override.path(), override.value(), source + " override", 0});
   }
-  request.time_limit_seconds = job.time_limit_seconds();
+  const double limit = job.time_limit_seconds();
+  if (!(limit >= 0.0 && limit <= evaluation::kMaxJobTimeLimitSeconds)) {  // NaN fails both
+    throw InputError(source, 0,
+                     "field 'time_limit_seconds' expected seconds from 0 (none) to " +
+                         text::FormatDouble(evaluation::kMaxJobTimeLimitSeconds) + ", found " + text::FormatDouble(limit));
+  }
+  request.time_limit_seconds = limit;
   request.inject_faults = inject_faults;
   if (job.record()) {
     const int sets = request.scenario.randomisation.sets;

@@ -46,7 +46,9 @@ int main(int argc, char** argv) {
   }
   orcs::worker::WorkerConnectionOptions options;
   CLI::App app{"orcs-worker: runs simulation jobs from a broker", "orcs-worker"};
-  app.add_option("--connect", options.endpoint, "the broker's worker endpoint, e.g. tcp://127.0.0.1:5556")->required();
+  app.add_option("--connect", options.endpoint, "the broker's worker endpoint, e.g. tcp://127.0.0.1:5556")
+      ->required()
+      ->check(orcs::cli::Endpoint());
   app.add_option("--credit", options.credit, "jobs held at once (queued at the worker)")->check(CLI::Range(1, 64));
   app.add_option("--short-job-credit", options.short_job_credit,
                  "credit after 16 jobs in a row shorter than 1 ms (default 16; <= --credit keeps it fixed)")
@@ -54,7 +56,7 @@ int main(int argc, char** argv) {
   app.add_option("--id", options.worker_id, "worker name in results (default: host-pid)");
   double heartbeat_seconds = 1.0;
   app.add_option("--heartbeat", heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
-      ->check(CLI::Range(0.001, 3600.0));
+      ->check(orcs::cli::NumberIn(0.001, 3600.0));
   app.add_option("--curve-keys", options.curve_keys,
                  "folder with worker.key, worker.pub and broker.pub: connect with CURVE (docs/security.md)")
       ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));

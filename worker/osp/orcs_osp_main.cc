@@ -109,8 +109,7 @@ int Serve(const OspOptions& options) {
 int main(int argc, char** argv) {
   OspOptions options;
   CLI::App app{"orcs-osp: a headless simulation served over OSP 1.1 (UDP)", "orcs-osp"};
-  app.add_option("--env", options.environment, "ORCS XML environment file (-env also accepted)")
-      ->check(CLI::ExistingFile);
+  app.add_option("--env", options.environment, "ORCS XML environment file (-env also accepted)");  // checked as read
   app.add_option("--ival", options.initial_value_files, "value file loaded before the world is built (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--val", options.value_files, "value file loaded after the world is built (repeatable)")
@@ -124,7 +123,7 @@ int main(int argc, char** argv) {
   app.add_option("--bind", options.bind_address, "interface to listen on (default 127.0.0.1; * = every interface)");
   app.add_option("--client-timeout", options.client_timeout_seconds,
                  "seconds of silence after which a client loses its agents (default 10)")
-      ->check(CLI::Range(0.001, 1e6));
+      ->check(orcs::cli::NumberIn(0.001, 1e6));
   if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "port", "odcp_port"}); exit_code >= 0) {
     return exit_code;
   }

@@ -4,6 +4,7 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -73,6 +74,13 @@ void OspServer::Run() {
       while (std::optional<Datagram> datagram = server_socket_.Receive()) OnServerDatagram(*datagram);
     }
     for (std::size_t i = 0; i < session_ids.size(); ++i) {
+      if (fds[2 + i].revents & POLLERR) {  // else poll() reports it again at once, for ever
+        auto it = sessions_.find(session_ids[i]);
+        if (it != sessions_.end() && it->second->socket.TakeError() == ECONNREFUSED) {
+          ReclaimSession(session_ids[i], "is gone (its port is closed: ICMP port unreachable)");
+          continue;
+        }
+      }
       if ((fds[2 + i].revents & POLLIN) == 0) continue;
       auto it = sessions_.find(session_ids[i]);
       while (it != sessions_.end()) {  // a handler may drop the session (or all of them)
@@ -107,7 +115,7 @@ void OspServer::OnServerDatagram(const Datagram& datagram) {
   } catch (const MalformedDatagram& error) {
     return Ignore(nullptr, std::string(error.what()) + ", from " + datagram.from.ToString());
   }
-  if (static_cast<int>(sessions_.size()) >= options_.max_clients) {
+  if (static_cast<int>(sessions_.size()) >= options_.max_clients && !ReclaimSilentSlot()) {
     return Ignore(nullptr, "an INIT from " + datagram.from.ToString() + ": " + std::to_string(sessions_.size()) +
                                " clients already, the most served at once");
   }
@@ -132,6 +140,7 @@ void OspServer::OnServerDatagram(const Datagram& datagram) {
 
 void OspServer::OnSessionDatagram(Session& session, const Datagram& datagram) {
   session.last_heard = Clock::now();
+  session.spoke = true;
   if (datagram.truncated) return Ignore(&session, "a datagram longer than " + std::to_string(kMaxDatagramBytes) + " bytes");
   try {
     DatagramReader reader(datagram.bytes);
@@ -200,8 +209,8 @@ void OspServer::OnValueIds(Session& session, DatagramReader& reader) {
   std::vector<int> ids;
   try {
     ids = simulation_.repository().Match(pattern);
-  } catch (const InputError&) {  // an invalid expression matches nothing
-    Ignore(&session, "an invalid regular expression '" + pattern + "'");
+  } catch (const InputError& error) {  // an invalid or over-long expression matches nothing
+    Ignore(&session, "command 40: " + std::string(error.what()));
   }
   Send(session, Reply(kValueIdsCount).Int(static_cast<std::int32_t>(ids.size())));
   for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -353,7 +362,11 @@ void OspServer::RunStep() {
       }
     }
   }
-  if (simulation_.Step() != scene::SimulationStatus::kOk) Log("the simulation stopped: " + simulation_.message());
+  try {
+    if (simulation_.Step() != scene::SimulationStatus::kOk) Log("the simulation stopped: " + simulation_.message());
+  } catch (const InputError& error) {  // a value a client wrote that the step refuses: the gateway serves on
+    Log("the step did not run: " + std::string(error.what()));
+  }
   std::lock_guard lock(stats_mutex_);
   ++stats_.steps;
 }
@@ -425,7 +438,12 @@ bool OspServer::BlocksOthers(const Session& session) const {
 void OspServer::OnTick() {
   const Clock::time_point now = Clock::now();
   std::vector<int> silent;
+  std::vector<int> mute;  // never spoke after the INIT
   for (const auto& [id, session] : sessions_) {
+    if (!session->spoke) {
+      if (now - session->last_heard > options_.client_timeout) mute.push_back(id);
+      continue;
+    }
     const Clock::time_point silent_since = std::max(session->last_heard, waiting_since_);
     if (BlocksOthers(*session) && now - silent_since > options_.client_timeout) silent.push_back(id);
   }
@@ -434,12 +452,43 @@ void OspServer::OnTick() {
     std::lock_guard lock(stats_mutex_);
     ++stats_.clients_timed_out;
   }
+  if (!mute.empty()) {  // one line for a flood, not one per client
+    Log(std::to_string(mute.size()) + " client(s) sent nothing to their handler port within " +
+        std::to_string(options_.client_timeout.count()) + " ms of their INIT (first: client " +
+        std::to_string(mute.front()) + "): dropped, their slots are free");
+    for (int id : mute) ReclaimSession(id, "");
+  }
+}
+
+bool OspServer::ReclaimSilentSlot() {
+  const Clock::time_point now = Clock::now();
+  int quietest = 0;
+  Clock::time_point oldest = now - options_.client_timeout;
+  for (const auto& [id, session] : sessions_) {
+    if (session->last_heard < oldest) {
+      oldest = session->last_heard;
+      quietest = id;
+    }
+  }
+  if (quietest == 0) return false;
+  ReclaimSession(quietest, "was silent for " +
+                               std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(now - oldest).count()) +
+                               " ms while every slot was taken: its slot goes to a new client");
+  return true;
+}
+
+void OspServer::ReclaimSession(int id, const std::string& why) {
+  {
+    std::lock_guard lock(stats_mutex_);
+    ++stats_.clients_reclaimed;
+  }
+  DropSession(id, why);
 }
 
 void OspServer::DropSession(int id, const std::string& why) {
   const auto it = sessions_.find(id);
   if (it == sessions_.end()) return;
-  Log("client " + std::to_string(id) + " " + why + "; its agents are free");
+  if (!why.empty()) Log("client " + std::to_string(id) + " " + why + "; its agents are free");
   sessions_.erase(it);
   {
     std::lock_guard lock(stats_mutex_);

@@ -34,10 +34,13 @@ struct OspServerOptions {
   std::string bind_address = "127.0.0.1";  ///< interface to listen on; loopback unless told otherwise
   std::uint16_t port = 45454;              ///< the server port (/UDPCommunication/ServerPort); 0 = ephemeral
   /// A controlling client the others wait for, silent this long (no datagram at all, counted from when the
-  /// waiting began at the earliest), is dropped and loses its agents.
+  /// waiting began at the earliest), is dropped and loses its agents. A client that sends nothing to its handler
+  /// port this long after its INIT never completed the handshake and is dropped too; and when every slot is
+  /// taken, an INIT takes the slot of the client silent longest, if it has been silent this long.
   std::chrono::milliseconds client_timeout{10000};
-  /// Clients served at once. An INIT beyond them is ignored, so that a flood of INITs cannot use up the process's
-  /// sockets (each client has its own) and end the server.
+  /// Clients served at once. An INIT beyond them is ignored (unless a silent client's slot can be reclaimed, as
+  /// above), so that a flood of INITs cannot use up the process's sockets (each client has its own) and end the
+  /// server.
   int max_clients = 64;
   /// Where log lines go (one event each, no newline); empty = stderr, prefixed "orcs-osp: ".
   std::function<void(std::string_view)> log;
@@ -49,7 +52,8 @@ struct OspServerStats {
   std::uint64_t steps = 0;               ///< physics steps run
   std::uint64_t resets = 0;              ///< simulation resets
   std::uint64_t datagrams_ignored = 0;   ///< malformed, unknown or not allowed
-  std::uint64_t clients_timed_out = 0;   ///< clients dropped for silence
+  std::uint64_t clients_timed_out = 0;   ///< clients dropped for silence while others waited for them
+  std::uint64_t clients_reclaimed = 0;   ///< slots taken back: no handshake, a closed port, or silent when full
 };
 
 /// Something else served in the same thread (the ODCP servers): its socket is polled with the server's.
@@ -96,7 +100,8 @@ class OspServer {
     int id = 0;                          // for logs
     UdpSocket socket;                    // its handler socket, connected to it
     Endpoint peer;                       // its address
-    Clock::time_point last_heard;        // when it last sent anything
+    Clock::time_point last_heard;        // when it last sent anything (its INIT, until it speaks on its port)
+    bool spoke = false;                  // sent anything to its handler port: the handshake is complete
     std::set<int> agents;                // agent indices it controls
     std::set<int> observed_events;       // event indices it observes
     std::set<int> observed_values;       // repository ids it observes
@@ -137,6 +142,8 @@ class OspServer {
   void Send(Session& session, const DatagramWriter& writer);
   void Ignore(Session* session, const std::string& why);
   void DropSession(int id, const std::string& why);
+  void ReclaimSession(int id, const std::string& why);  // DropSession, counted as reclaimed
+  bool ReclaimSilentSlot();  // when full: drops the client silent longest, if silent for client_timeout
   int ControllerOf(int agent) const;  // session id, or 0
   bool BlocksOthers(const Session& session) const;
   bool AnythingPending() const;  // a step input or reset request is waiting for others  // a controller whose step or reset the others wait for

@@ -107,6 +107,13 @@ std::optional<Datagram> UdpSocket::Receive(std::size_t max_bytes) {
   return datagram;
 }
 
+int UdpSocket::TakeError() {
+  int error = 0;
+  socklen_t length = sizeof error;
+  if (getsockopt(fd_, SOL_SOCKET, SO_ERROR, &error, &length) != 0) return errno;
+  return error;
+}
+
 bool UdpSocket::WaitReadable(int timeout_ms) const {
   pollfd entry{fd_, POLLIN, 0};
   return poll(&entry, 1, timeout_ms) > 0 && (entry.revents & POLLIN) != 0;

@@ -50,6 +50,9 @@ class UdpSocket {
   bool SendTo(std::span<const std::uint8_t> bytes, const Endpoint& peer);
   /// The next waiting datagram, nullopt when none is waiting (non-blocking).
   std::optional<Datagram> Receive(std::size_t max_bytes = 2048);
+  /// The socket's pending error (errno value, 0 for none), cleared by reading it: on a connected socket,
+  /// ECONNREFUSED says an ICMP "port unreachable" came back for something sent: the peer's socket is closed.
+  int TakeError();
   /// Waits up to `timeout_ms` for a datagram to be waiting; true when one is.
   bool WaitReadable(int timeout_ms) const;
 

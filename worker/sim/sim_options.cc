@@ -11,13 +11,13 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
   ParsedOptions parsed;
   SimOptions& o = parsed.options;
   CLI::App app{"orcs-sim: headless simulation of an ORCS environment", "orcs-sim"};
-  app.add_option("--env", o.environment, "ORCS XML environment file (-env also accepted)")->check(CLI::ExistingFile);
+  app.add_option("--env", o.environment, "ORCS XML environment file (-env also accepted)");  // checked as it is read
   app.add_option("--ival", o.initial_value_files, "value file loaded before the world is built (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--val", o.value_files, "value file loaded after the world is built (repeatable)")
       ->allow_extra_args(false);
-  app.add_option("--duration", o.duration, "simulated seconds")->check(CLI::NonNegativeNumber);
-  app.add_option("--seed", o.seed, "seed of the run's random streams");
+  app.add_option("--duration", o.duration, "simulated seconds")->check(cli::NumberIn(0.0, 1e6));  // as a scenario's duration
+  app.add_option("--seed", o.seed, "seed of the run's random streams")->check(cli::Seed());
   app.add_option("--log", o.log, "regular expression of repository values to log each step (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--out", o.out, "CSV file the logged values are written to");

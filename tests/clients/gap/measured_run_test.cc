@@ -143,7 +143,7 @@ TEST(MeasuredRunTest, ReadsAFileAndNamesAnUnreadableOne) {
   EXPECT_EQ(ReadMeasuredRun(path).source, path);
   EXPECT_EQ(ReadMeasuredRun(path).joint_angle.at("Motor").at(3), -0.2494817702416845);
   const std::string missing = dir.PathOf("missing.csv");
-  EXPECT_EQ(InputErrorOf([&] { ReadMeasuredRun(missing); }), missing + ": cannot read the file");
+  EXPECT_EQ(InputErrorOf([&] { ReadMeasuredRun(missing); }), missing + ": cannot read the file: no such file");
 }
 
 TEST(MeasuredRunTest, RejectsEmptyAndRowlessAndOneRowFiles) {
@@ -265,9 +265,9 @@ TEST(MeasuredRunTest, RejectsAnUnterminatedQuote) {
 constexpr const char* kLoggerCsv =
     "# exported by the robot's logger\n"
     "\"t_ms\"; cmd_knee ; pos_knee;pos_hip\n"
-    "0;10;512;600\n"
-    "20;20;522;601\n"
-    "40;30;532;602\n";
+    "0;10;512;60\n"
+    "20;20;522;61\n"
+    "40;30;532;62\n";
 
 constexpr const char* kLoggerMapping = R"({
   "comment": "the robot's logger",
@@ -314,8 +314,21 @@ TEST(MeasuredRunTest, MappedCsvWithMillisecondsScaleOffsetAndConstantTorque) {
   EXPECT_THAT(run.desired_angle.at("Right/Knee"), ElementsAre(10.0, 20.0, 30.0));
   EXPECT_THAT(run.desired_torque.at("Right/Knee"), ElementsAre(1.0, 1.0, 1.0));
   EXPECT_THAT(run.joint_angle.at("Right/Knee"), ElementsAre(0.0, 10 * 0.29296875, 20 * 0.29296875));
-  EXPECT_THAT(run.joint_angle.at("Right/Hip"), ElementsAre(600.0, 601.0, 602.0));
+  EXPECT_THAT(run.joint_angle.at("Right/Hip"), ElementsAre(60.0, 61.0, 62.0));
   EXPECT_THAT(run.lines, ElementsAre(3, 4, 5));
+}
+
+// Issue 18: a joint angle beyond ±360° is not a measurement (1e308° was fitted; so would be encoder ticks mapped
+// without their scale). The error names the file, the line and the column.
+TEST(MeasuredRunTest, AJointAngleBeyond360DegreesIsRefusedNamingFileLineAndColumn) {
+  const ColumnMapping m = Mapping(kLoggerMapping);
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun("t_ms;cmd_knee;pos_knee;pos_hip\n0;10;512;60\n20;20;522;600\n", "l.csv", &m); }),
+            "l.csv:3: column 'pos_hip': '600' gives 600°, not a physical joint angle (expected −360…360°)");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun("t_ms;cmd_knee;pos_knee;pos_hip\n0;400;512;60\n20;20;522;61\n", "l.csv", &m); }),
+            "l.csv:2: column 'cmd_knee': '400' gives 400°, not a physical joint angle (expected −360…360°)");
+  const std::string native = std::string("# columns: time,/Sim/P/M/JointAngle\n0,0\n0.01,1e308\n");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(native, "run.csv", nullptr); }),
+            "run.csv:3: column '/Sim/P/M/JointAngle': '1e308' gives 1e+308°, not a physical joint angle (expected −360…360°)");
 }
 
 TEST(MeasuredRunTest, ReadsAMappingFileAndAMappedRunFile) {
@@ -499,7 +512,7 @@ TEST(MeasuredRunTest, HoldoutRunsMustNotBeFitRuns) {
   EXPECT_EQ(InputErrorOf([&] { CheckDisjoint({b, a}, {copy_of_a}); }),
             copy_of_a + ": a holdout run is also a fit run: the same contents as " + a);
   EXPECT_EQ(InputErrorOf([&] { CheckDisjoint({a}, {dir.PathOf("none.csv")}); }),
-            dir.PathOf("none.csv") + ": cannot read the file");
+            dir.PathOf("none.csv") + ": cannot read the file: no such file");
 }
 
 TEST(MeasuredRunTest, HoldoutGivenByARelativePathIsTheSameFile) {

@@ -104,9 +104,10 @@ TEST(KeyframeRecordTest, FormatRoundTripsExactly) {
 TEST(KeyframeRecordTest, UnreadableFileIsNamed) {
   test_support::TempDir dir;
   const std::string missing = dir.PathOf("missing.csv");
-  EXPECT_EQ(InputErrorOf([&] { ReadKeyframeRecord(missing, 21); }), missing + ": cannot read the file");
+  EXPECT_EQ(InputErrorOf([&] { ReadKeyframeRecord(missing, 21); }), missing + ": cannot read the file: no such file");
   EXPECT_EQ(InputErrorOf([&] { ReadKeyframeRecord(dir.path().string(), 21); }),
-            dir.path().string() + ": cannot read the file");
+            dir.path().string() + ": not a regular file (a directory)");
+  EXPECT_EQ(InputErrorOf([&] { ReadKeyframeRecord("/dev/zero", 21); }), "/dev/zero: not a regular file (a character device)");
 }
 
 }  // namespace

@@ -28,5 +28,20 @@ TEST(ParseJsonTest, ANumberBeyondDoubleIsAnInputErrorNamingTheLine) {
   EXPECT_EQ(ParseJson("[1E308]", "x.json")[0].get<double>(), 1e308);
 }
 
+// Issue 18: 100,000 nested arrays crashed orcs-batch with SIGSEGV (nlohmann copies, prints and destroys values
+// recursively). Depth is bounded where JSON enters; brackets inside strings do not count.
+TEST(ParseJsonTest, NestingDeeperThanTheBoundIsAnInputErrorNamingTheLine) {
+  const auto nested = [](int depth, const std::string& open, const std::string& close) {
+    std::string text;
+    for (int i = 0; i < depth; ++i) text += open;
+    for (int i = 0; i < depth; ++i) text += close;
+    return text;
+  };
+  EXPECT_EQ(ErrorOf("\n" + nested(100000, "[", "]")), "x.json:2: JSON nested deeper than 256 levels");
+  EXPECT_EQ(ErrorOf(nested(257, "{\"a\":", "}")), "x.json:1: JSON nested deeper than 256 levels");
+  EXPECT_NO_THROW(ParseJson(nested(256, "[", "]"), "x.json"));
+  EXPECT_NO_THROW(ParseJson("[\"" + std::string(1000, '[') + "\\\"[\"]", "x.json"));  // brackets in a string
+}
+
 }  // namespace
 }  // namespace orcs

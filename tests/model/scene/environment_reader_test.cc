@@ -429,7 +429,7 @@ TEST_F(EnvironmentReaderFileTest, DirectoryIsNotAFile) {
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
     EXPECT_THAT(error.what(), StartsWith(file + ": "));
-    EXPECT_THAT(error.what(), HasSubstr("cannot read"));
+    EXPECT_THAT(error.what(), HasSubstr("not a regular file (a directory)"));
   }
 }
 

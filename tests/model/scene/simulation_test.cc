@@ -267,34 +267,34 @@ TEST_F(SimulationTest, IterationsPerStepMultiplyTheTimePerStep) {
   EXPECT_NEAR(PositionOf(simulation_, "Ball").y(), 0.5 - kGravity * 0.0001 * 6 * 7 / 2, 1e-9);
 }
 
-TEST_F(SimulationTest, NonPositiveTimeStepMakesStepThrowNamingThePath) {
+TEST_F(SimulationTest, ATimeStepOutsideItsRangeIsRefusedWhereItIsWrittenNamingThePath) {
   simulation_.Build();
   Steps(1);
-  for (const char* bad : {"0", "-0.01", "inf"}) {
+  for (const char* bad : {"0", "-0.01", "inf", "1e-300", "1e300", "9e-6", "0.11"}) {
     SCOPED_TRACE(bad);
-    simulation_.repository().Set("/Simulation/TimeStepSize", bad);
     try {
-      simulation_.Step();
+      simulation_.repository().Set("/Simulation/TimeStepSize", bad);
       FAIL() << "expected an InputError";
     } catch (const InputError& error) {
-      EXPECT_THAT(error.what(), HasSubstr("/Simulation/TimeStepSize"));
-      EXPECT_THAT(error.what(), HasSubstr("positive"));
+      EXPECT_EQ(std::string(error.what()), std::string("/Simulation/TimeStepSize: expected a number from 1e-05 to 0.1, found '") +
+                                               bad + "'");
     }
-    EXPECT_EQ(simulation_.steps(), 1);  // nothing happened
+    EXPECT_EQ(simulation_.repository().Get("/Simulation/TimeStepSize").as_double(), 0.01);  // unchanged
+    Steps(1);
   }
+  for (const char* edge : {"1e-05", "0.1"}) simulation_.repository().Set("/Simulation/TimeStepSize", edge);
   simulation_.repository().Set("/Simulation/TimeStepSize", "0.01");  // and a good value works again
   Steps(1);
-  EXPECT_EQ(simulation_.steps(), 2);
+  EXPECT_EQ(simulation_.steps(), 9);
 }
 
-TEST_F(SimulationTest, NonPositiveIterationsMakeStepThrowNamingThePath) {
+TEST_F(SimulationTest, NonPositiveIterationsAreRefusedNamingThePath) {
   simulation_.Build();
-  simulation_.repository().Set("/Simulation/IterationsPerStep", "0");
   try {
-    simulation_.Step();
+    simulation_.repository().Set("/Simulation/IterationsPerStep", "0");
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
-    EXPECT_THAT(error.what(), HasSubstr("/Simulation/IterationsPerStep"));
+    EXPECT_THAT(error.what(), HasSubstr("/Simulation/IterationsPerStep: expected a number from 1 to 1000"));
   }
 }
 
