@@ -1,8 +1,10 @@
 #include "clients/evolve/evolution.h"
 
 #include <algorithm>
+#include <boost/archive/codecvt_null.hpp>
 #include <boost/archive/text_iarchive.hpp>
 #include <boost/archive/text_oarchive.hpp>
+#include <boost/math/special_functions/nonfinite_num_facets.hpp>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -155,10 +157,24 @@ void Evolution::CloseGeneration(int generation, double seconds) {
   current_.clear();
 }
 
+namespace {
+
+// The locale a pagmo state is written and read in. Boost's text archives write NaN and ±inf but cannot read them
+// back ("input stream error"); pagmo's state holds them (a NaN or infinite fitness, and pagmo 2.18's CMA-ES saves a
+// vector it never initialises), so the archive streams use Boost.Math's facets that read what they wrote.
+std::locale ArchiveLocale() {
+  const std::locale plain(std::locale::classic(), new boost::archive::codecvt_null<char>);
+  const std::locale with_put(plain, new boost::math::nonfinite_num_put<char>);
+  return std::locale(with_put, new boost::math::nonfinite_num_get<char>);
+}
+
+}  // namespace
+
 std::string Evolution::SaveState() const {
   std::ostringstream text;
+  text.imbue(ArchiveLocale());
   {
-    boost::archive::text_oarchive archive(text);
+    boost::archive::text_oarchive archive(text, boost::archive::no_codecvt);
     archive << algorithm_ << population_;
   }
   return text.str();
@@ -169,7 +185,8 @@ void Evolution::Restore(const std::string& state, std::vector<GenerationRecord> 
   CheckResumable(settings_.algorithm, source);
   try {
     std::istringstream text(state);
-    boost::archive::text_iarchive archive(text);
+    text.imbue(ArchiveLocale());
+    boost::archive::text_iarchive archive(text, boost::archive::no_codecvt);
     archive >> algorithm_ >> population_;
   } catch (const std::exception& error) {
     throw InputError(source + ": field 'pagmo_state' does not read back (" + error.what() + ")");

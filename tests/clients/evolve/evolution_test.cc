@@ -376,6 +376,26 @@ TEST_P(ResumableAlgorithmTest, ResumedFromSaveStateEqualsAnUninterruptedRun) {
   EXPECT_EQ(Bits(resumed_log.genomes[1]), Bits(whole_log.genomes[4]));
 }
 
+// A state holding infinite fitness values (and, as pagmo's CMA-ES sometimes saves, NaN) reads back: Boost's plain
+// text archive writes "inf" and "nan" but fails to read them, which made resuming fail at random.
+TEST(EvolutionTest, AStateHoldingNonFiniteFitnessReadsBack) {
+  const EvolutionSettings settings = SettingsFor(Algorithm::kCmaes);
+  const auto infinite_above_half = [](const Genome& genome) {
+    return genome[0] > 0.5 ? Evaluation{-INFINITY, true} : SphereOk(genome);
+  };
+  BatchLog first_log;
+  Evolution first(settings, Logging(first_log, infinite_above_half));
+  first.Initialise();
+  first.Step();
+  const std::string state = first.SaveState();
+  ASSERT_THAT(state, HasSubstr("inf")) << "the test must put an infinite fitness into the state";
+
+  BatchLog resumed_log;
+  Evolution resumed(settings, Logging(resumed_log, infinite_above_half));
+  resumed.Restore(state, first.history(), first.champion(), "checkpoint.json");
+  ExpectSamePopulation(first.population(), resumed.population());
+}
+
 INSTANTIATE_TEST_SUITE_P(Algorithms, ResumableAlgorithmTest,
                          ::testing::Values(Algorithm::kCmaes, Algorithm::kXnes, Algorithm::kSga, Algorithm::kDe),
                          [](const ::testing::TestParamInfo<Algorithm>& param) { return AlgorithmName(param.param); });
