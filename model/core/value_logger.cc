@@ -1,6 +1,10 @@
 #include "model/core/value_logger.h"
 
 #include <algorithm>
+#include <limits>
+#include <new>
+#include <string>
+#include <utility>
 
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -84,13 +88,18 @@ void ValueLogger::Open(const std::string& path, const std::vector<std::string>& 
   file_.reset();  // an earlier, unfinished file first: it shares the temporary name and would remove ours
   file_ = std::make_unique<AtomicFile>(path);
   out_ = &file_->stream();
+  max_bytes_ = std::numeric_limits<std::size_t>::max();
+  truncated_ = false;
   WriteHeader(comments);
 }
 
-void ValueLogger::OpenInMemory(const std::vector<std::string>& comments) {
+void ValueLogger::OpenInMemory(const std::vector<std::string>& comments, std::size_t max_bytes, std::string why) {
   file_.reset();
   memory_.str("");
   out_ = &memory_;
+  max_bytes_ = max_bytes;
+  truncated_ = false;
+  why_truncated_ = why.empty() ? "it reached its bound of " + std::to_string(max_bytes) + " bytes" : std::move(why);
   WriteHeader(comments);
 }
 
@@ -103,6 +112,7 @@ void ValueLogger::WriteHeader(const std::vector<std::string>& comments) {
 }
 
 void ValueLogger::Sample(double time) {
+  if (truncated_) return;
   row_.clear();
   row_ += text::FormatDouble(time);
   for (int id : ids_) {
@@ -110,7 +120,14 @@ void ValueLogger::Sample(double time) {
     AppendValue(row_, repository_.value(id));
   }
   row_ += '\n';
+  if (out_ == &memory_ && static_cast<std::size_t>(memory_.tellp()) + row_.size() > max_bytes_) {
+    *out_ << "# log truncated at time " << text::FormatDouble(time) << " s: " << why_truncated_ << '\n';
+    truncated_ = true;
+    return;
+  }
   *out_ << row_;
+  // A string stream fails silently when it cannot grow: say so, rather than hand back a log with rows missing.
+  if (out_ == &memory_ && !memory_) throw std::bad_alloc();
 }
 
 void ValueLogger::Finish() {
@@ -119,6 +136,6 @@ void ValueLogger::Finish() {
   out_ = nullptr;
 }
 
-std::string ValueLogger::text() const { return memory_.str(); }
+std::string ValueLogger::TakeText() { return std::move(memory_).str(); }
 
 }  // namespace orcs

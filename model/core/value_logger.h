@@ -10,6 +10,8 @@
 // temporary name and appears under its own name only at Finish().
 #pragma once
 
+#include <cstddef>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -31,10 +33,16 @@ class ValueLogger {
 
   /// Starts writing to `path`: the comment lines (each prefixed "# "), then the column line.
   void Open(const std::string& path, const std::vector<std::string>& comments);
-  /// Starts writing to memory instead of a file (a worker returns the log in its result): see text().
-  void OpenInMemory(const std::vector<std::string>& comments);
-  /// What was written to memory since OpenInMemory.
-  std::string text() const;
+  /// Starts writing to memory instead of a file (a worker returns the log in its result): see TakeText(). The log
+  /// holds at most `max_bytes`: the row that would pass the bound is not written, a comment line
+  /// "# log truncated at time T s: <why>" ends the log instead, and later samples are dropped (see truncated()).
+  /// `why` should name the bound and the fix.
+  void OpenInMemory(const std::vector<std::string>& comments,
+                    std::size_t max_bytes = std::numeric_limits<std::size_t>::max(), std::string why = "");
+  /// What was written to memory since OpenInMemory, moved out (the logger's memory is then empty).
+  std::string TakeText();
+  /// Whether an in-memory log reached its max_bytes and dropped samples.
+  bool truncated() const { return truncated_; }
   /// Appends one row with the current values; `time` in seconds. Only after Open().
   void Sample(double time);
   /// Completes the file (rename onto its name). Throws InputError when writing failed.
@@ -48,6 +56,9 @@ class ValueLogger {
   std::unique_ptr<AtomicFile> file_;
   std::ostringstream memory_;
   std::ostream* out_ = nullptr;  // file_'s stream or memory_
+  std::size_t max_bytes_ = std::numeric_limits<std::size_t>::max();  // bound on the in-memory log
+  bool truncated_ = false;       // the bound was reached: samples are dropped
+  std::string why_truncated_;    // the truncation line's reason
   std::string row_;  // reused buffer, so sampling does not allocate once warm
 };
 

@@ -229,20 +229,22 @@ void ReadFitnessAggregate(const JsonNode& fitness, Scenario& scenario) {
   }
 }
 
-// "fault": {"kind": "segfault" | "abort" | "hang", "at_step": N}.
+// "fault": {"kind": "segfault" | "abort" | "hang" | "spin", "at_step": N}.
 FaultInjection ReadFault(const JsonNode& node) {
   node.ExpectOnly({"kind", "at_step"});
   FaultInjection fault;
   const JsonNode kind = node.At("kind");
-  const std::string name = kind.String("\"segfault\", \"abort\" or \"hang\"");
+  const std::string name = kind.String("\"segfault\", \"abort\", \"hang\" or \"spin\"");
   if (name == "segfault") {
     fault.kind = FaultInjection::Kind::kSegfault;
   } else if (name == "abort") {
     fault.kind = FaultInjection::Kind::kAbort;
   } else if (name == "hang") {
     fault.kind = FaultInjection::Kind::kHang;
+  } else if (name == "spin") {
+    fault.kind = FaultInjection::Kind::kSpin;
   } else {
-    kind.Fail("\"segfault\", \"abort\" or \"hang\"");
+    kind.Fail("\"segfault\", \"abort\", \"hang\" or \"spin\"");
   }
   if (node.Has("at_step")) fault.at_step = node.At("at_step").Unsigned("a step index ≥ 0");
   return fault;

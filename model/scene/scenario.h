@@ -63,8 +63,10 @@ struct Randomisation {
 /// A reliability-test hook (docs/scenarios.md "Fault injection"): the job crashes or hangs the process that
 /// simulates it. Honoured only inside orcs-worker's sandboxed simulation process; everywhere else it is ignored.
 struct FaultInjection {
-  enum class Kind { kNone, kSegfault, kAbort, kHang };
-  Kind kind = Kind::kNone;   ///< what happens: raise(SIGSEGV), abort(), or a sleep that ignores the time limit
+  enum class Kind { kNone, kSegfault, kAbort, kHang, kSpin };
+  /// What happens: raise(SIGSEGV), abort(), a sleep that ignores the time limit, or a busy loop that ignores it
+  /// (spends CPU time, as an engine stuck in a loop does).
+  Kind kind = Kind::kNone;
   std::uint64_t at_step = 0;  ///< before which simulation step of each parameter set it happens (0-based)
 };
 

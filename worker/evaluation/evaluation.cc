@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <memory>
+#include <new>
 #include <thread>
 
 #include "model/control/controller_factory.h"
@@ -129,6 +130,13 @@ void StartPose(const scene::ParameterSet& set, SetRun& run, SetOutcome& outcome)
 // A hang lasts this long, far beyond any time limit a test sets, and then stops by itself.
 constexpr std::chrono::minutes kHangDuration{10};
 
+// Keeps a core busy for `duration` (a volatile counter: the loop cannot be optimised away).
+void Spin(Clock::duration duration) {
+  const Clock::time_point end = Clock::now() + duration;
+  volatile std::uint64_t turns = 0;
+  while (Clock::now() < end) turns = turns + 1;
+}
+
 // The scenario's "fault", carried out (docs/scenarios.md "Fault injection"): the process dies or stops answering.
 void InjectFault(const scene::FaultInjection& fault) {
   switch (fault.kind) {
@@ -136,11 +144,19 @@ void InjectFault(const scene::FaultInjection& fault) {
     case scene::FaultInjection::Kind::kSegfault: std::raise(SIGSEGV); return;
     case scene::FaultInjection::Kind::kAbort: std::abort();
     case scene::FaultInjection::Kind::kHang: std::this_thread::sleep_for(kHangDuration); return;
+    case scene::FaultInjection::Kind::kSpin: Spin(kHangDuration); return;
   }
 }
 
+// "128 MiB" for whole mebibytes, else "N bytes".
+std::string ByteCount(std::size_t bytes) {
+  constexpr std::size_t kMiB = std::size_t{1} << 20;
+  return bytes % kMiB == 0 ? std::to_string(bytes / kMiB) + " MiB" : std::to_string(bytes) + " bytes";
+}
+
+// `log_bytes`: what the job's logs may still hold (kMaxJobLogBytes less the earlier sets' logs).
 void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet* set, SetRun& run,
-              SetOutcome& outcome, Clock::time_point deadline) {
+              SetOutcome& outcome, Clock::time_point deadline, std::size_t log_bytes) {
   scene::Simulation& simulation = run.simulation;
   simulation.Reset(SetSeed(request.seed, k));
   if (set != nullptr) StartPose(*set, run, outcome);
@@ -148,7 +164,10 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
   run.fitness->Start(simulation);
   if (run.logger) {
     run.logger->OpenInMemory({"orcs job log", "scenario: " + request.scenario.name,
-                              "seed: " + std::to_string(request.seed), "parameter set: " + std::to_string(k)});
+                              "seed: " + std::to_string(request.seed), "parameter set: " + std::to_string(k)},
+                             log_bytes,
+                             "a job's logs hold at most " + ByteCount(request.max_log_bytes) +
+                                 " over all its parameter sets; log fewer values or a shorter run");
     run.logger->Sample(simulation.time());
   }
   std::unique_ptr<Recorder> recorder;
@@ -188,7 +207,7 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
   }
   if (run.logger) {
     run.logger->Finish();
-    outcome.log_csv = run.logger->text();
+    outcome.log_csv = run.logger->TakeText();
   }
   if (recorder) outcome.recording = recorder->Finish();
 }
@@ -247,12 +266,14 @@ EvaluationOutcome Evaluate(const EvaluationRequest& request) {
                            ", found " + text::FormatDouble(limit));
     }
     const std::vector<scene::ParameterSet> sets = DrawSets(request);
+    std::size_t log_bytes = request.max_log_bytes;
     for (int k = 0; k < static_cast<int>(sets.size()); ++k) {
       SetOutcome set_outcome;
       set_outcome.index = k;
       SetRun run;
       Configure(request, &sets[k], run, set_outcome);
-      Simulate(request, k, &sets[k], run, set_outcome, deadline);
+      Simulate(request, k, &sets[k], run, set_outcome, deadline, log_bytes);
+      log_bytes -= std::min(log_bytes, set_outcome.log_csv.size());
       outcome.sets.push_back(std::move(set_outcome));
       if (outcome.sets.back().status != EvaluationStatus::kOk) {
         outcome.status = outcome.sets.back().status;
@@ -263,6 +284,8 @@ EvaluationOutcome Evaluate(const EvaluationRequest& request) {
   } catch (const InputError& error) {
     outcome.status = EvaluationStatus::kInvalidInput;
     outcome.message = error.what();
+  } catch (const std::bad_alloc&) {
+    throw;  // the process's trouble, not the job's: its caller says which memory ran out
   } catch (const std::exception& error) {
     outcome.status = EvaluationStatus::kInternalError;
     outcome.message = error.what();

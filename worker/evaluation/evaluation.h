@@ -9,6 +9,7 @@
 // k's noise seed and draws come from the job's seed alone, so the outcome is the same bits on any worker.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -25,6 +26,10 @@ namespace orcs::evaluation {
 /// seconds); beyond it, and for NaN, infinity or a negative limit, the job is invalid input. A deadline computed
 /// from a larger limit would overflow the clock (an infinite limit timed out at once).
 inline constexpr double kMaxJobTimeLimitSeconds = 1e9;
+/// A job's logs (scenario "log"), all parameter sets together, hold at most this many bytes of CSV (128 MiB): a log
+/// that would grow past it ends with a "# log truncated ..." line, so that a job's memory, and the result that
+/// carries its logs through the sandbox and the broker (512 MiB per message), stay bounded.
+inline constexpr std::size_t kMaxJobLogBytes = std::size_t{128} << 20;
 
 struct EvaluationRequest {
   scene::Scenario scenario;                 ///< parsed, resolved
@@ -39,6 +44,8 @@ struct EvaluationRequest {
   /// Recording only reads the simulation: the outcome's numbers are the same bits either way.
   int record_set = -1;
   std::string program = "orcs";  ///< who runs the job, written into recordings
+  /// Bound on the job's logs, bytes of CSV over all parameter sets (see kMaxJobLogBytes, the default).
+  std::size_t max_log_bytes = kMaxJobLogBytes;
 };
 
 enum class EvaluationStatus { kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError };
@@ -66,7 +73,8 @@ struct EvaluationOutcome {
   double wall_seconds = 0.0;                        ///< time the evaluation took (not part of the bits)
 };
 
-/// Runs a job. Never throws for bad input: an InputError becomes kInvalidInput with its message.
+/// Runs a job. Never throws for bad input: an InputError becomes kInvalidInput with its message. std::bad_alloc
+/// passes through: running out of memory is the process's trouble, not the job's (worker/job/job_translation.h).
 EvaluationOutcome Evaluate(const EvaluationRequest& request);
 
 /// Checks a job without simulating it — what a client does before it submits: builds the world, draws the

@@ -1,6 +1,10 @@
 #include "worker/job/job_translation.h"
 
+#include <sys/resource.h>
+
 #include <chrono>
+#include <new>
+#include <string>
 
 #include "model/core/error.h"
 #include "model/core/json_node.h"
@@ -19,6 +23,16 @@ v1::Result::Status StatusOf(evaluation::EvaluationStatus status) {
     case evaluation::EvaluationStatus::kInternalError: return v1::Result::INTERNAL_ERROR;
   }
   return v1::Result::INTERNAL_ERROR;
+}
+
+// Why a job ran out of memory: the process's address-space limit when it has one (a sandbox's), else the machine's.
+std::string OutOfMemoryMessage() {
+  rlimit memory = {};
+  if (::getrlimit(RLIMIT_AS, &memory) == 0 && memory.rlim_cur != RLIM_INFINITY) {
+    return "out of memory: the simulation process may use at most " + std::to_string(memory.rlim_cur >> 20) +
+           " MiB (orcs-worker --memory-limit); log fewer values, record less or raise the limit";
+  }
+  return "out of memory: an allocation failed (std::bad_alloc)";
 }
 
 }  // namespace
@@ -101,6 +115,13 @@ v1::Result RunJob(const v1::Job& job, bool inject_faults) {
     outcome.message = error.what();
     outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return ToResult(job, outcome);
+  } catch (const std::bad_alloc&) {
+    evaluation::EvaluationOutcome outcome;
+    outcome.message = OutOfMemoryMessage();
+    outcome.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    v1::Result result = ToResult(job, outcome);
+    result.set_status(v1::Result::CRASHED);  // the process's trouble, as when it dies: not the job's input's
+    return result;
   } catch (const std::exception& error) {
     evaluation::EvaluationOutcome outcome;
     outcome.status = evaluation::EvaluationStatus::kInternalError;

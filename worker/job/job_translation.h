@@ -9,7 +9,8 @@
 namespace orcs::worker {
 
 /// Runs a job: parses its scenario and genome (bad JSON or fields → INVALID_INPUT with the message), evaluates
-/// it and returns the result. Never throws. `inject_faults`: carry out the scenario's "fault" test hook (only the
+/// it and returns the result. Never throws; running out of memory is CRASHED with a message naming the process's
+/// memory limit (RLIMIT_AS, orcs-worker --memory-limit). `inject_faults`: carry out the scenario's "fault" test hook (only the
 /// sandboxed simulation process passes true; see EvaluationRequest::inject_faults).
 v1::Result RunJob(const v1::Job& job, bool inject_faults = false);
 

@@ -8,11 +8,12 @@
 //
 //   orcs-worker --connect tcp://127.0.0.1:5556 [--credit 2] [--short-job-credit 16] [--id NAME] [--heartbeat SECONDS]
 //               [--curve-keys DIR]
-//               [--no-sandbox]
+//               [--memory-limit MIB] [--no-sandbox]
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -31,6 +32,10 @@ namespace {
 std::atomic<bool> stop_requested{false};
 
 extern "C" void OnSignal(int) { stop_requested.store(true); }
+
+// Each simulation process's address space, MiB: 16 times what the largest shipped scenario needs with a full log
+// and recording, and far below a cluster node's memory (docs/reliability.md "Hostile and careless input").
+constexpr std::uint64_t kDefaultMemoryLimitMib = 2048;
 
 // How long NextJob waits before looking at the stop flag again.
 constexpr std::chrono::milliseconds kPollInterval{200};
@@ -60,6 +65,11 @@ int main(int argc, char** argv) {
   app.add_option("--curve-keys", options.curve_keys,
                  "folder with worker.key, worker.pub and broker.pub: connect with CURVE (docs/security.md)")
       ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+  std::uint64_t memory_limit_mib = kDefaultMemoryLimitMib;
+  app.add_option("--memory-limit", memory_limit_mib,
+                 "MiB of address space each simulation process may use; a job past it is CRASHED (default " +
+                     std::to_string(kDefaultMemoryLimitMib) + "; 0 = no limit)")
+      ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 30));
   bool no_sandbox = false;
   app.add_flag("--no-sandbox", no_sandbox, "run jobs in this process: a crash in the physics ends the worker");
   if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"connect"}); exit_code >= 0) {
@@ -77,7 +87,10 @@ int main(int argc, char** argv) {
   std::unique_ptr<orcs::worker::SimulationSandbox> sandbox;
   std::unique_ptr<orcs::worker::WorkerConnection> connection;
   try {
-    if (!no_sandbox) sandbox = std::make_unique<orcs::worker::SimulationSandbox>(SandboxArguments());
+    if (!no_sandbox) {
+      sandbox = std::make_unique<orcs::worker::SimulationSandbox>(
+          SandboxArguments(), orcs::worker::SandboxLimits{.memory_bytes = memory_limit_mib << 20});
+    }
     connection = std::make_unique<orcs::worker::WorkerConnection>(options);
   } catch (const std::exception& error) {
     std::cerr << "orcs-worker: " << error.what() << "\n";

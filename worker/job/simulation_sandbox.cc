@@ -4,11 +4,13 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <thread>
@@ -30,7 +32,7 @@ constexpr double kLongestWatchedLimit = 1e7;
 // A process that closed its channel is dying; if it has not ended after this long, it is killed.
 constexpr std::chrono::milliseconds kReapPatience{2000};
 // Signals the simulation process starts with at their default action whatever the worker did with them.
-constexpr int kDefaultSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE, SIGCHLD, SIGHUP};
+constexpr int kDefaultSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE, SIGCHLD, SIGHUP, SIGXCPU};
 
 Clock::duration ToDuration(double seconds) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
@@ -91,7 +93,26 @@ class SpawnSetup {
   posix_spawnattr_t attributes_;
 };
 
+// A job's result when its process died: TIMEOUT when it spent its CPU time (SIGXCPU), CRASHED otherwise.
+v1::Result DiedWhileRunning(const v1::Job& job, int status, Clock::time_point start) {
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU) {
+    return Failed(job, v1::Result::TIMEOUT,
+                  "time limit of " + text::FormatDouble(job.time_limit_seconds()) +
+                      " s exceeded: the simulation process used up its " +
+                      std::to_string(CpuSecondsFor(job.time_limit_seconds())) +
+                      " s of CPU time (RLIMIT_CPU: the limit, its grace and 1 s) and was killed by SIGXCPU",
+                  start);
+  }
+  return Failed(job, v1::Result::CRASHED, DescribeDeath(status), start);
+}
+
 }  // namespace
+
+std::uint64_t CpuSecondsFor(double time_limit_seconds) {
+  if (!(time_limit_seconds > 0 && time_limit_seconds <= kLongestWatchedLimit)) return 0;
+  const double grace = std::chrono::duration<double>(SimulationSandbox::Grace(time_limit_seconds)).count();
+  return static_cast<std::uint64_t>(std::ceil(time_limit_seconds + grace)) + 1;
+}
 
 std::string SignalName(int signal) {
   const char* abbreviation = ::sigabbrev_np(signal);
@@ -99,7 +120,8 @@ std::string SignalName(int signal) {
   return std::string("SIG") + abbreviation + " (" + ::strsignal(signal) + ")";
 }
 
-SimulationSandbox::SimulationSandbox(std::vector<std::string> child_argv) : child_argv_(std::move(child_argv)) {
+SimulationSandbox::SimulationSandbox(std::vector<std::string> child_argv, SandboxLimits limits)
+    : child_argv_(std::move(child_argv)), limits_(limits) {
   if (child_argv_.empty()) throw std::invalid_argument("SimulationSandbox: no program to start");
   Start();
 }
@@ -151,7 +173,7 @@ v1::Result SimulationSandbox::Run(const v1::Job& job) {
     case FrameChannel::ReadStatus::kBroken:
       break;
   }
-  return Failed(job, v1::Result::CRASHED, DescribeDeath(Reap()), start);
+  return DiedWhileRunning(job, Reap(), start);
 }
 
 bool SimulationSandbox::Idle() const {
@@ -189,6 +211,19 @@ void SimulationSandbox::Start() {
     throw std::runtime_error("cannot start the simulation process '" + child_argv_[0] + "': " + std::strerror(error));
   }
   ++processes_started_;
+  LimitMemory();
+}
+
+void SimulationSandbox::LimitMemory() {
+  if (limits_.memory_bytes == 0) return;
+  // Set from here, before the first job goes down the channel: the process itself needs no arguments for it.
+  const rlimit memory{limits_.memory_bytes, limits_.memory_bytes};
+  if (::prlimit(pid_, RLIMIT_AS, &memory, nullptr) != 0) {
+    const int error = errno;
+    Stop();
+    throw std::runtime_error("cannot limit the simulation process's memory to " +
+                             std::to_string(limits_.memory_bytes >> 20) + " MiB: prlimit: " + std::strerror(error));
+  }
 }
 
 int SimulationSandbox::Stop() {

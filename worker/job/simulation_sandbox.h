@@ -9,11 +9,18 @@
 // code, and the next job starts a fresh process. When a job has a time limit and its process does not answer
 // within the limit plus a grace (the simulation's own clock check failed: a hang inside the engine), the process
 // is killed and the result is TIMEOUT.
+//
+// Each simulation process also runs under resource limits (docs/reliability.md "Hostile and careless input"): its
+// address space is bounded (SandboxLimits::memory_bytes, `orcs-worker --memory-limit`), so that a job that allocates
+// without end fails alone with CRASHED "out of memory ..." instead of taking the node's memory; and before each job
+// it bounds its own CPU time to the job's time limit plus the grace (RLIMIT_CPU), so that a spinning simulation ends
+// with TIMEOUT even when nobody watches it (the worker stopped with SIGSTOP, say).
 #pragma once
 
 #include <sys/types.h>
 
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,13 +29,19 @@
 
 namespace orcs::worker {
 
+/// Resource limits of each simulation process.
+struct SandboxLimits {
+  /// Its address space (RLIMIT_AS), bytes; 0 = no limit. Allocations past it fail: the job is CRASHED.
+  std::uint64_t memory_bytes = 0;
+};
+
 /// The parent's side: runs jobs in the simulation process, one at a time. Not thread-safe; the thread that
 /// constructs it must outlive the simulation process (which dies with that thread, PR_SET_PDEATHSIG).
 class SimulationSandbox {
  public:
   /// `child_argv`: the simulation process's program and arguments, e.g. {"/proc/self/exe", "--sandbox-child"}.
-  /// Starts it; throws std::runtime_error naming the program when it cannot be started.
-  explicit SimulationSandbox(std::vector<std::string> child_argv);
+  /// Starts it under `limits`; throws std::runtime_error naming the program when it cannot be started or limited.
+  explicit SimulationSandbox(std::vector<std::string> child_argv, SandboxLimits limits = {});
   /// Kills the simulation process (it holds no state worth keeping) and reaps it.
   ~SimulationSandbox();
   SimulationSandbox(const SimulationSandbox&) = delete;
@@ -49,6 +62,8 @@ class SimulationSandbox {
 
  private:
   void Start();
+  // Applies limits_.memory_bytes to the process just started; kills it and throws when that fails.
+  void LimitMemory();
   // Whether a process is running and waiting for a job (its end of the channel is open and silent).
   bool Idle() const;
   // Kills the process (if still running) and reaps it; returns its wait status.
@@ -58,12 +73,17 @@ class SimulationSandbox {
   void CloseChannel();
 
   const std::vector<std::string> child_argv_;
+  const SandboxLimits limits_;
   pid_t pid_ = -1;
   int fd_ = -1;  ///< the parent's end of the socket pair
   int processes_started_ = 0;
   std::string out_;  ///< reused: the serialised job
   std::string in_;   ///< reused: the serialised result
 };
+
+/// The CPU time, seconds, a simulation process may spend on a job with this time limit (0 = none): the limit plus
+/// SimulationSandbox::Grace, rounded up, plus 1 s; 0 (no CPU limit) when the job has no watched limit.
+std::uint64_t CpuSecondsFor(double time_limit_seconds);
 
 /// "SIGSEGV (Segmentation fault)" for a signal number; "signal N" for one without a name.
 std::string SignalName(int signal);

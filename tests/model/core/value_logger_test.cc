@@ -18,6 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test_support::TempDir;
+using ::testing::AllOf;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
@@ -156,6 +157,38 @@ TEST_F(ValueLoggerTest, HeaderAndRowsParseBackExactly) {
   // Booleans are 0/1, integers plain.
   EXPECT_TRUE(lines[3].ends_with(",1,7"));
   EXPECT_TRUE(lines[4].ends_with(",0,-3"));
+}
+
+// An in-memory log stops at its bound: whole rows up to it, then one comment line saying when and why, then nothing
+// however long the run goes on.
+TEST_F(ValueLoggerTest, AnInMemoryLogEndsWithOneLineAtItsBound) {
+  VariableRepository repository;
+  repository.Add("/Sim/Box/Mass", 0.25);
+  ValueLogger logger(repository, {"/Sim/Box/Mass"});
+  logger.OpenInMemory({"bounded"});
+  logger.Sample(0.0);
+  const std::string unbounded = logger.TakeText();
+  const std::size_t header = unbounded.size() - std::string("0,0.25\n").size();
+
+  constexpr std::size_t kRow = 10;  // "0.01,0.25\n" ... "0.09,0.25\n": 10 bytes each
+  logger.OpenInMemory({"bounded"}, header + 3 * kRow + 5);
+  for (int i = 1; i <= 1000; ++i) logger.Sample(i / 100.0);
+  EXPECT_TRUE(logger.truncated());
+  const std::string text = logger.TakeText();
+  std::vector<std::string> lines;
+  for (std::string_view line : text::Split(text, '\n')) lines.emplace_back(line);
+  ASSERT_EQ(lines.size(), 7u) << text;  // 2 header lines, 3 rows, the truncation line, "" after the last newline
+  EXPECT_EQ(lines[2], "0.01,0.25");
+  EXPECT_EQ(lines[4], "0.03,0.25");
+  EXPECT_THAT(lines[5], AllOf(HasSubstr("# log truncated at time 0.04 s"),
+                              HasSubstr("it reached its bound of " + std::to_string(header + 3 * kRow + 5) + " bytes")));
+  EXPECT_EQ(lines[6], "");
+
+  // Opened again, the same logger starts afresh.
+  logger.OpenInMemory({"bounded"});
+  logger.Sample(0.0);
+  EXPECT_FALSE(logger.truncated());
+  EXPECT_EQ(logger.TakeText(), unbounded);
 }
 
 TEST_F(ValueLoggerTest, ColourAndStringColumns) {

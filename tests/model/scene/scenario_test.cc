@@ -48,10 +48,13 @@ TEST(ScenarioTest, AFaultIsReadForTheSandboxAndCheckedLikeEveryField) {
   EXPECT_EQ(ParseScenario(scenario, "s.json").fault.at_step, 0u);
   scenario["fault"] = {{"kind", "hang"}, {"at_step", 1}};
   EXPECT_EQ(ParseScenario(scenario, "s.json").fault.kind, FaultInjection::Kind::kHang);
+  scenario["fault"] = {{"kind", "spin"}, {"at_step", 2}};
+  EXPECT_EQ(ParseScenario(scenario, "s.json").fault.kind, FaultInjection::Kind::kSpin);
 
   scenario["fault"] = {{"kind", "explode"}};
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(scenario, "s.json"); }),
-            "s.json: field 'fault.kind' expected \"segfault\", \"abort\" or \"hang\", found the string \"explode\"");
+            "s.json: field 'fault.kind' expected \"segfault\", \"abort\", \"hang\" or \"spin\", found the string "
+            "\"explode\"");
   scenario["fault"] = {{"kind", "abort"}, {"at_step", -3}};
   EXPECT_THAT(InputErrorOf([&] { ParseScenario(scenario, "s.json"); }),
               HasSubstr("field 'fault.at_step' expected a step index ≥ 0"));

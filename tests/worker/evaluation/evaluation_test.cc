@@ -70,6 +70,34 @@ TEST(EvaluationTest, NetworkScenarioRunsItsSetsAndLogs) {
   EXPECT_EQ(outcome.fitness, std::min({outcome.sets[0].fitness, outcome.sets[1].fitness, outcome.sets[2].fitness}));
 }
 
+// The logs of a job share one bound over all its sets: the first set's log ends with the truncation line once the
+// bound is reached, the later sets' logs hold only their header and that line; the fitness is the same as unbounded.
+TEST(EvaluationTest, AJobsLogsStopAtTheirBoundAndTheRunGoesOn) {
+  const EvaluationOutcome unbounded = Evaluate(Request("stand_network.json", {0, 0, 0, 0, 0, 0}, 3));
+  ASSERT_EQ(unbounded.status, EvaluationStatus::kOk) << unbounded.message;
+  const std::string& whole = unbounded.sets[0].log_csv;
+
+  EvaluationRequest request = Request("stand_network.json", {0, 0, 0, 0, 0, 0}, 3);
+  request.max_log_bytes = whole.size() / 2;
+  const EvaluationOutcome bounded = Evaluate(request);
+  ASSERT_EQ(bounded.status, EvaluationStatus::kOk) << bounded.message;
+  EXPECT_EQ(bounded.fitness, unbounded.fitness);
+  ASSERT_EQ(bounded.sets.size(), 3u);
+  const std::string& first = bounded.sets[0].log_csv;
+  EXPECT_LE(first.size(), request.max_log_bytes + 200);  // the rows up to the bound and the one line
+  const std::size_t cut = first.find("# log truncated at time ");
+  ASSERT_NE(cut, std::string::npos) << first.substr(first.size() - 300);
+  EXPECT_EQ(first.substr(0, cut), whole.substr(0, cut)) << "the rows kept are the unbounded log's";
+  EXPECT_LE(cut, request.max_log_bytes);
+  for (int k = 1; k < 3; ++k) {
+    const std::string& later = bounded.sets[k].log_csv;
+    EXPECT_THAT(later, HasSubstr("# log truncated at time 0 s: a job's logs hold at most " +
+                                 std::to_string(request.max_log_bytes) + " bytes over all its parameter sets"));
+    EXPECT_EQ(std::count(later.begin(), later.end(), '\n'), 5 + 1) << "the header and the truncation line";
+    EXPECT_EQ(bounded.sets[k].fitness, unbounded.sets[k].fitness);
+  }
+}
+
 // The first data row of a set's log (after the comment lines and the header), split at commas.
 std::vector<double> FirstLogRow(const std::string& csv) {
   std::istringstream lines(csv);

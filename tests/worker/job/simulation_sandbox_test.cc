@@ -7,7 +7,11 @@
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <fstream>
@@ -18,7 +22,10 @@
 
 #include "model/evaluation/recording_reader.h"
 #include "tests/support/process.h"
+#include "worker/job/frame_channel.h"
 #include "worker/job/job_translation.h"
+
+extern char** environ;
 
 namespace orcs::worker {
 namespace {
@@ -67,12 +74,13 @@ bool Zombie(pid_t pid) {
   return name_end != std::string::npos && name_end + 2 < text.size() && text[name_end + 2] == 'Z';
 }
 
-// Waits (bounded: 10 s) for `condition`.
-bool AwaitTrue(const std::function<bool()>& condition) {
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+// Waits (bounded: 10 s unless told) for `condition`.
+bool AwaitTrue(const std::function<bool()>& condition,
+               std::chrono::steady_clock::duration patience = std::chrono::seconds(10)) {
+  const auto give_up = std::chrono::steady_clock::now() + patience;
   while (!condition()) {
     if (std::chrono::steady_clock::now() > give_up) return false;
-    std::this_thread::yield();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));  // a poll: the awaited processes need the cores
   }
   return true;
 }
@@ -199,6 +207,85 @@ TEST(SimulationSandbox, AnExitWhileRunningAJobIsCrashedWithItsCode) {
   const v1::Result result = sandbox.Run(Job("quitter", 0.1));
   EXPECT_EQ(result.status(), v1::Result::CRASHED);
   EXPECT_EQ(result.message(), "the simulation process exited with code 4 while running the job");
+}
+
+// ---- resource limits ----
+
+// The process's address space now, bytes (VmSize in /proc/PID/status).
+std::uint64_t AddressSpace(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) << 10;  // kB
+  }
+  return 0;
+}
+
+TEST(SimulationSandbox, AJobPastTheMemoryLimitIsCrashedNamingTheLimitAndTheNextJobRuns) {
+  std::uint64_t warm = 0;  // what a simulation process takes once it has run a job
+  {
+    SimulationSandbox measure(ChildArguments());
+    ASSERT_EQ(measure.Run(Job("warm-up", 0.1)).status(), v1::Result::OK);
+    warm = AddressSpace(measure.child_pid());
+    ASSERT_GT(warm, 0u);
+  }
+  const std::uint64_t limit = warm + (std::uint64_t{48} << 20);
+  SimulationSandbox sandbox(ChildArguments(), SandboxLimits{.memory_bytes = limit});
+  v1::Job greedy = Job("greedy", 1000.0);  // logging every value for 1000 s: far more than 48 MiB
+  nlohmann::json scenario = nlohmann::json::parse(greedy.scenario_json());
+  scenario["log"] = {".*"};
+  greedy.set_scenario_json(scenario.dump());
+  const v1::Result result = sandbox.Run(greedy);
+  EXPECT_EQ(result.status(), v1::Result::CRASHED);
+  EXPECT_EQ(result.message(), "out of memory: the simulation process may use at most " + std::to_string(limit >> 20) +
+                                  " MiB (orcs-worker --memory-limit); log fewer values, record less or raise the limit");
+  const v1::Result after = sandbox.Run(Job("after", 0.1));
+  EXPECT_EQ(after.status(), v1::Result::OK) << after.message();
+  EXPECT_EQ(sandbox.processes_started(), 1) << "the allocation failed, the process lived on";
+}
+
+TEST(SimulationSandbox, AProcessKilledForItsCpuTimeIsTimeoutNamingTheLimit) {
+  // A stand-in simulation process that reads the start of the job, then gets what RLIMIT_CPU sends.
+  SimulationSandbox sandbox({"/bin/sh", "-c", "head -c 4 <&3 >/dev/null; kill -XCPU $$"});
+  const v1::Result result = sandbox.Run(Job("spender", 0.1));  // time limit 60 s: 60 + 16 s grace + 1 s
+  EXPECT_EQ(result.status(), v1::Result::TIMEOUT);
+  EXPECT_EQ(result.message(),
+            "time limit of 60 s exceeded: the simulation process used up its 77 s of CPU time (RLIMIT_CPU: the "
+            "limit, its grace and 1 s) and was killed by SIGXCPU");
+}
+
+// The simulation process bounds its own CPU time per job, even when no worker watches the clock (here: nobody reads
+// its channel; in life, a worker stopped with SIGSTOP).
+TEST(SimulationSandbox, TheSimulationProcessBoundsItsOwnCpuTimeToTheJobsLimit) {
+  int ends[2];
+  ASSERT_EQ(::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ends), 0);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, ends[1], 3);
+  const char* argv[] = {kWorker.c_str(), "--sandbox-child", nullptr};
+  pid_t pid = -1;
+  ASSERT_EQ(::posix_spawn(&pid, argv[0], &actions, nullptr, const_cast<char**>(argv), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(ends[1]);
+
+  v1::Job spinner = Job("spinner", 1.0, {{"kind", "spin"}, {"at_step", 1}});
+  spinner.set_time_limit_seconds(0.1);  // CPU: 0.1 s + 1.025 s grace, rounded up, + 1 s = 3 s
+  ASSERT_EQ(CpuSecondsFor(0.1), 3u);
+  std::string bytes;
+  spinner.SerializeToString(&bytes);
+  ASSERT_TRUE(FrameChannel(ends[0]).Write(bytes));
+
+  int status = 0;
+  rusage usage = {};
+  ASSERT_TRUE(AwaitTrue([&] { return ::wait4(pid, &status, WNOHANG, &usage) == pid; }, std::chrono::seconds(30)));
+  ::close(ends[0]);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "wait status " << status;
+  EXPECT_EQ(WTERMSIG(status), SIGXCPU);
+  const double cpu = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                     1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  // The process's whole CPU time: what it used before the job (under 1 s, counted as 1 s) and the job's 3 s; the
+  // kernel checks the limit on its timer ticks, late by up to a second here when the machine is loaded.
+  EXPECT_GE(cpu, 3.0);
+  EXPECT_LE(cpu, 6.0);
 }
 
 TEST(SimulationSandbox, TheHiddenModeTypedByHandSaysWhatItIsFor) {
