@@ -150,8 +150,9 @@ TEST(BatchClient, ForgetsAJobOnceItsResultIsHandedOut) {
   }
   EXPECT_EQ(client.stats().results, 500u);
   EXPECT_EQ(client.stats().max_outstanding, 100u);  // one round at a time, never the batch
-  // The broker too: every job answered, nothing of the batch held.
-  EXPECT_TRUE(WaitFor([&] { return broker.stats().jobs_held == 0; }));
+  // The broker too: every job answered, nothing of the batch held (within 300 ms: it would forget the idle client,
+  // and its batch with it, after 500 ms).
+  EXPECT_TRUE(WaitFor([&] { return broker.stats().jobs_held == 0; }, milliseconds(300)));
   EXPECT_EQ(broker.stats().jobs_held_peak, 100u);
 }
 
