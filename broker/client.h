@@ -91,8 +91,9 @@ class BatchClient {
   /// batch_id and protocol_version are filled in here. The client keeps a job only until Next() has returned its
   /// result, so a caller that submits in a bounded window (clients/batch/batch_session.h) keeps the client's memory
   /// bounded too; ids must still be unique over the whole batch (a result is matched to its job by id), which the
-  /// client checks only among the outstanding ones. Throws BatchClientError when the broker rejects them or none answers
-  /// (connect_timeout on a client with nothing outstanding, else reconnect_timeout).
+  /// client checks only among the outstanding ones. Throws BatchClientError when the broker rejects them or none
+  /// answers (connect_timeout, counted from when the last SUBMIT has left, on a client with nothing outstanding; else
+  /// reconnect_timeout).
   void Submit(std::vector<v1::Job> jobs);
 
   /// The next result, in arrival order; each submitted job's result comes exactly once. nullopt when none arrives

@@ -49,8 +49,9 @@ BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, Re
   // carries many jobs and the broker's queue never runs dry while the top-up travels.
   const auto top_up = [&] {
     if (next >= source.size()) return;
-    const bool room = outstanding.empty() || (window_jobs - outstanding.size() >= std::max<std::size_t>(1, window_jobs / 4) &&
-                                              outstanding_bytes + window_bytes / 4 <= window_bytes);
+    const bool room = outstanding.empty() ||
+                      (window_jobs - outstanding.size() >= std::max<std::size_t>(1, window_jobs / 4) &&
+                       outstanding_bytes + window_bytes / 4 <= window_bytes);
     if (!room) return;
     std::vector<v1::Job> submission;
     while (next < source.size() && outstanding.size() < window_jobs &&
@@ -61,7 +62,7 @@ BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, Re
       outstanding.emplace(planned.job.job_id(), Outstanding{std::move(planned.extra), bytes});
       submission.push_back(std::move(planned.job));
     }
-    client.Submit(std::move(submission));
+    if (!submission.empty()) client.Submit(std::move(submission));
   };
   const Clock::time_point start = Clock::now();
   top_up();
@@ -73,7 +74,9 @@ BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, Re
     std::optional<v1::Result> result = client.Next(kPoll);
     if (!result) continue;
     const auto job = outstanding.find(result->job_id());
-    if (job == outstanding.end()) throw std::logic_error("a result for job '" + result->job_id() + "', not outstanding");
+    if (job == outstanding.end()) {
+      throw std::logic_error("a result for job '" + result->job_id() + "', which is not outstanding");
+    }
     writer.Write(*result, job->second.extra);
     outstanding_bytes -= job->second.bytes;
     outstanding.erase(job);

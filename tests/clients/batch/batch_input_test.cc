@@ -313,7 +313,9 @@ TEST_F(BatchInputTest, ASourceRecordsTheSelectedIndices) {
   const ScenarioInput input = Scenario();
   RunJobSource source(input, genomes, {.seed = 1, .repeats = 1000});
   source.Record(ParseJobSelection("1-2,999", source.size()));
-  for (std::size_t i : {std::size_t{0}, std::size_t{3}, std::size_t{998}}) EXPECT_FALSE(source.Job(i).job.record()) << i;
+  for (std::size_t i : {std::size_t{0}, std::size_t{3}, std::size_t{998}}) {
+    EXPECT_FALSE(source.Job(i).job.record()) << i;
+  }
   for (std::size_t i : {std::size_t{1}, std::size_t{2}, std::size_t{999}}) {
     EXPECT_TRUE(source.Job(i).job.record()) << i;
     EXPECT_EQ(source.Job(i).job.record_set(), 0u) << i;
