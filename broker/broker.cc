@@ -525,12 +525,19 @@ void Broker::OnClientSubmit(const std::string& client, v1::Submit& submit) {
   for (int i = 0; i < job_count; ++i) {
     v1::Job& job = *submit.mutable_jobs(i);
     auto [entry, inserted] = batch.jobs.try_emplace(job.job_id());
+    if (inserted) NoteJobHeld();
     JobRecord& record = entry->second;
     // A job already pending stays as it is. A finished one submitted again (its client never saw the result, e.g.
     // it went to a connection that has since closed, or the broker restarted) gets its stored result when the
     // journal has one, and runs again otherwise.
     if (!inserted && record.state != JobState::kFinished) continue;
-    if (!inserted && journal_ && ResendStoredResult(client, batch_id, job.job_id())) continue;
+    if (journal_ && ResendStoredResult(client, batch_id, job.job_id())) {
+      if (inserted) {  // finished records are not kept (FinishJob): the journal has it
+        batch.jobs.erase(entry);
+        --jobs_held_;
+      }
+      continue;
+    }
     record.job = std::move(job);
     record.job.set_batch_id(batch_id);
     record.job.set_attempt(0);
@@ -690,18 +697,19 @@ void Broker::Restore() {
     auto batch = batches_.find(stored.batch_id);
     if (batch == batches_.end()) return;  // a job of a batch being dropped when the broker died
     const std::string job_id = stored.job.job_id();
-    JobRecord& record = batch->second.jobs[job_id];
+    if (stored.finished) {  // the journal keeps the result for a resubmission; the broker keeps no record
+      ++counters_.results_restored;
+      return;
+    }
+    auto [entry, inserted] = batch->second.jobs.try_emplace(job_id);
+    if (inserted) NoteJobHeld();
+    JobRecord& record = entry->second;
     record.job = std::move(stored.job);
     record.job.set_batch_id(stored.batch_id);
     record.losses = stored.losses;
     record.dispatches = stored.dispatches;
     record.lost_by = std::move(stored.lost_by);
     record.accepted_at = now_;
-    if (stored.finished) {
-      record.state = JobState::kFinished;
-      ++counters_.results_restored;
-      return;
-    }
     in_flight += stored.dispatched ? 1 : 0;
     Enqueue(stored.batch_id, record, false);
     ++counters_.jobs_restored;
@@ -835,6 +843,11 @@ void Broker::Enqueue(const std::string& batch_id, JobRecord& record, bool at_fro
   }
 }
 
+void Broker::NoteJobHeld() {
+  ++jobs_held_;
+  counters_.jobs_held_peak = std::max(counters_.jobs_held_peak, jobs_held_);
+}
+
 void Broker::SetState(JobRecord& record, JobState state) {
   if (record.state == JobState::kQueued) --queued_count_;
   if (state == JobState::kQueued) ++queued_count_;
@@ -914,6 +927,7 @@ void Broker::DropBatch(const std::string& batch_id) {
   auto batch = batches_.find(batch_id);
   if (batch == batches_.end()) return;
   for (auto& [job_id, record] : batch->second.jobs) SetState(record, JobState::kFinished);
+  jobs_held_ -= batch->second.jobs.size();
   batches_.erase(batch);
   if (journal_) journal_->DropBatch(batch_id);
   // The queue entries of the batch are now stale; compact the queue when they dominate it.
@@ -950,9 +964,13 @@ void Broker::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) {
   record.worker.clear();
   record.lease = 0;
   if (journal_) journal_->SaveFinished(record.job.batch_id(), record.job.job_id(), result);
+  // The record goes: a finished job needs nothing from the broker's memory, so a batch streamed through a window
+  // keeps the broker's memory in proportion to its pending jobs, not to every job it ever had. A late or forged
+  // result for it is refused as one for an unknown job; a resubmission of it runs again, or, with a journal,
+  // gets the stored result (OnClientSubmit).
   const std::string job_id = record.job.job_id();
-  record.job = v1::Job();  // free the scenario; a resubmission brings it back
-  record.job.set_job_id(job_id);
+  batch.jobs.erase(job_id);  // `record` dangles from here on
+  --jobs_held_;
 
   v1::BrokerToClient message;
   message.set_protocol_version(kProtocolVersion);
@@ -1041,6 +1059,7 @@ void Broker::PublishStats() {
   snapshot.batches = static_cast<int>(batches_.size());
   snapshot.queued = queued_count_;
   snapshot.in_flight = in_flight_count_;
+  snapshot.jobs_held = jobs_held_;
   if (zap_) snapshot.handshakes_refused = zap_->stats().refused;
   std::lock_guard lock(stats_mutex_);
   stats_ = snapshot;

@@ -66,6 +66,11 @@ struct BrokerStats {
   int batches = 0;                          ///< live batches now
   std::uint64_t queued = 0;                 ///< jobs waiting for a worker now
   std::uint64_t in_flight = 0;              ///< jobs held by workers now
+  /// Jobs the broker keeps a record of now: those of live batches without a result yet (queued, in flight or
+  /// waiting for their restored batch's client). A finished job is forgotten at once, so this follows the
+  /// clients' windows, not the size of their batches.
+  std::uint64_t jobs_held = 0;
+  std::uint64_t jobs_held_peak = 0;         ///< the most jobs held at once since the broker started
   std::uint64_t jobs_accepted = 0;          ///< jobs accepted from SUBMITs (a resubmitted finished job counts again)
   std::uint64_t jobs_dispatched = 0;        ///< JOB messages sent to workers
   std::uint64_t jobs_requeued = 0;          ///< jobs put back at the front of the queue after their worker left
@@ -122,7 +127,7 @@ class Broker {
   using JobKey = std::pair<std::string, std::string>;
 
   struct JobRecord {
-    v1::Job job;  ///< as accepted (cleared once finished, to free its memory)
+    v1::Job job;  ///< as accepted (the record goes once the job is finished: FinishJob)
     JobState state = JobState::kNew;
     std::string worker;               ///< routing id of the holding worker while kDispatched
     std::uint64_t ticket = 0;         ///< matches this job's live queue entry while kQueued
@@ -143,7 +148,7 @@ class Broker {
     /// (a batch restored from the journal, which does not record keys): the first client to claim it sets it.
     std::string client_key;
     std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
-    std::unordered_map<std::string, JobRecord> jobs;  ///< by job id
+    std::unordered_map<std::string, JobRecord> jobs;  ///< its jobs without a result yet, by job id
     Clock::time_point claim_deadline;  ///< restored batches: dropped unless their client is back by then
   };
   struct Worker {
@@ -214,6 +219,7 @@ class Broker {
   std::list<std::string>::iterator ReadyWorkerFor(const JobRecord& record);
   void Enqueue(const std::string& batch_id, JobRecord& record, bool at_front);
   void SetState(JobRecord& record, JobState state);  // keeps queued_count_ right
+  void NoteJobHeld();  // a record was added to a batch: counts it in jobs_held_ and its peak
   void LoseWorker(const std::string& worker, const std::string& reason, bool counts_as_loss);
   /// Forgets a client and its batches. `lost`: it vanished (silent, connection closed) rather than said goodbye.
   void DropClient(const std::string& client, const std::string& reason, bool lost);
@@ -260,6 +266,7 @@ class Broker {
   std::uint64_t next_ticket_ = 1;
   std::uint64_t queued_count_ = 0;                ///< jobs in state kQueued
   std::uint64_t in_flight_count_ = 0;             ///< the sum of the workers' holding sets' sizes
+  std::uint64_t jobs_held_ = 0;                   ///< records in batches_' job maps (BrokerStats::jobs_held)
   Clock::time_point now_;                         ///< the time of the current loop iteration
   std::unordered_set<std::string> warned_peers_;  ///< peers whose bad message was logged already
   BrokerStats counters_;                          ///< the broker thread's live counters

@@ -96,12 +96,14 @@ void BatchClient::Submit(std::vector<v1::Job> jobs) {
   std::unique_lock lock(mutex_);
   if (!error_.empty()) throw BatchClientError(error_);
   for (const v1::Job& job : jobs) {
-    if (job_ids_.count(job.job_id()) != 0) {
-      throw std::invalid_argument("job_id '" + job.job_id() + "' was submitted to batch " + batch_id_ + " before");
+    if (outstanding_ids_.count(job.job_id()) != 0) {
+      throw std::invalid_argument("job_id '" + job.job_id() + "' was submitted to batch " + batch_id_ +
+                                  " before and has no result yet");
     }
   }
-  for (const v1::Job& job : jobs) job_ids_.insert(job.job_id());
-  outstanding_count_ += jobs.size();
+  // Only the outstanding ids are kept: a set of every id ever submitted would grow with the batch.
+  for (const v1::Job& job : jobs) outstanding_ids_.insert(job.job_id());
+  stats_.max_outstanding = std::max<std::uint64_t>(stats_.max_outstanding, outstanding_ids_.size());
   const std::uint64_t submission = ++submissions_;
   to_submit_.push_back(std::move(jobs));
   lock.unlock();
@@ -119,11 +121,12 @@ void BatchClient::Submit(std::vector<v1::Job> jobs) {
 
 std::optional<v1::Result> BatchClient::Next(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
-  changed_.wait_for(lock, timeout, [this] { return !results_.empty() || !error_.empty() || outstanding_count_ == 0; });
+  changed_.wait_for(lock, timeout,
+                    [this] { return !results_.empty() || !error_.empty() || outstanding_ids_.empty(); });
   if (!results_.empty()) {
     v1::Result result = std::move(results_.front());
     results_.pop_front();
-    --outstanding_count_;
+    outstanding_ids_.erase(result.job_id());
     return result;
   }
   if (!error_.empty()) throw BatchClientError(error_);
@@ -132,7 +135,7 @@ std::optional<v1::Result> BatchClient::Next(std::chrono::milliseconds timeout) {
 
 std::size_t BatchClient::outstanding() const {
   std::lock_guard lock(mutex_);
-  return outstanding_count_;
+  return outstanding_ids_.size();
 }
 
 BatchClientStats BatchClient::stats() const {
@@ -244,6 +247,9 @@ void BatchClient::Serve() {
         sending.push_back(&(outstanding_[id] = std::move(job)));
       }
       SendJobs(sending, submission);
+      // The broker cannot answer before the last SUBMIT has left: a large submission may keep this thread busy
+      // serialising for longer than connect_timeout, which is no sign of a missing broker. Count from here.
+      if (!heard_) active_since_ = Clock::now();
     }
     taken.clear();
 
@@ -431,7 +437,17 @@ void BatchClient::OnResult(v1::Result& result) {
     return;
   }
   outstanding_.erase(job);
-  if (outstanding_.empty()) order_.clear();
+  if (outstanding_.empty()) {
+    order_.clear();
+  } else {
+    // Answered ids leave order_ lazily; drop them from the front at once, and compact the whole deque when a slow
+    // job at the front keeps them from leaving, so that order_ stays in proportion to the outstanding jobs (a
+    // batch streamed through a window would otherwise grow it by every id of the batch).
+    while (!order_.empty() && outstanding_.count(order_.front()) == 0) order_.pop_front();
+    if (order_.size() > 2 * outstanding_.size() + 1024) {
+      std::erase_if(order_, [this](const std::string& id) { return outstanding_.count(id) == 0; });
+    }
+  }
   {
     std::lock_guard lock(mutex_);
     results_.push_back(std::move(result));

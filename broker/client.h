@@ -64,6 +64,7 @@ struct BatchClientStats {
   std::uint64_t duplicates_dropped = 0;  ///< results for jobs already answered (after a resubmission), dropped
   std::uint64_t messages_dropped = 0;    ///< malformed or foreign messages from the broker, dropped
   std::uint64_t handshake_failures = 0;  ///< CURVE handshakes that failed (the broker refused the key, ...)
+  std::uint64_t max_outstanding = 0;     ///< the most jobs outstanding (submitted, result not yet returned) at once
 };
 
 /// The broker's error: no broker answering, the broker lost for good, a rejected submission. Once a client has
@@ -85,10 +86,14 @@ class BatchClient {
   BatchClient(const BatchClient&) = delete;
   BatchClient& operator=(const BatchClient&) = delete;
 
-  /// Submits jobs to the batch and returns once the broker has accepted them. job_id must be non-empty and unique
-  /// within the batch over all calls (else std::invalid_argument, and nothing is sent); batch_id and
-  /// protocol_version are filled in here. Throws BatchClientError when the broker rejects them or none answers
-  /// (connect_timeout on a client with nothing outstanding, else reconnect_timeout).
+  /// Submits jobs to the batch and returns once the broker has accepted them. job_id must be non-empty, unique
+  /// within the call and not that of a job still outstanding (else std::invalid_argument, and nothing is sent);
+  /// batch_id and protocol_version are filled in here. The client keeps a job only until Next() has returned its
+  /// result, so a caller that submits in a bounded window (clients/batch/batch_session.h) keeps the client's memory
+  /// bounded too; ids must still be unique over the whole batch (a result is matched to its job by id), which the
+  /// client checks only among the outstanding ones. Throws BatchClientError when the broker rejects them or none
+  /// answers (connect_timeout, counted from when the last SUBMIT has left, on a client with nothing outstanding; else
+  /// reconnect_timeout).
   void Submit(std::vector<v1::Job> jobs);
 
   /// The next result, in arrival order; each submitted job's result comes exactly once. nullopt when none arrives
@@ -143,7 +148,8 @@ class BatchClient {
   std::string handshake_failure_;                     ///< why the last handshake failed, for the timeout message
   std::set<std::string> warned_handshakes_;           ///< kinds of handshake failure logged already
   std::unordered_map<std::string, v1::Job> outstanding_;  ///< submitted, no result yet: what a resubmission sends
-  std::deque<std::string> order_;         ///< job ids in submission order (answered ones skipped lazily)
+  std::deque<std::string> order_;         ///< job ids in submission order (answered ones dropped lazily, so it
+                                          ///< stays within twice outstanding_ plus a constant)
   std::deque<std::uint64_t> unanswered_;  ///< per SUBMIT sent on this socket, the submission it belongs to
   std::uint64_t latest_sent_ = 0;         ///< the newest submission sent
   bool heard_ = false;                    ///< the broker has answered since the client became active
@@ -162,8 +168,7 @@ class BatchClient {
   std::deque<std::vector<v1::Job>> to_submit_;  ///< from Submit(), not yet taken by the I/O thread
   std::uint64_t submissions_ = 0;               ///< Submit() calls that got past validation
   std::uint64_t accepted_through_ = 0;          ///< submissions 1..this are accepted
-  std::unordered_set<std::string> job_ids_;     ///< every job id submitted
-  std::size_t outstanding_count_ = 0;           ///< submitted jobs not yet returned by Next()
+  std::unordered_set<std::string> outstanding_ids_;  ///< submitted jobs not yet returned by Next(): their ids
   std::deque<v1::Result> results_;              ///< arrived, not yet returned by Next()
   std::string error_;                           ///< the terminal error, once there is one
   bool stopping_ = false;

@@ -1,5 +1,6 @@
 #include "clients/batch/batch_input.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -177,55 +178,98 @@ Genome DefaultGenome(const ScenarioInput& input) {
   return Genome{input.scenario.genome, input.path + " field 'genome'", 0};
 }
 
+PlannedJob JobSource::Job(std::size_t index) const {
+  PlannedJob planned = Make(index);
+  if (recorded_ && recorded_->Contains(index)) {
+    planned.job.set_record(true);
+    planned.job.set_record_set(0);
+  }
+  return planned;
+}
+
+std::vector<PlannedJob> AllJobs(const JobSource& source) {
+  std::vector<PlannedJob> jobs;
+  jobs.reserve(source.size());
+  for (std::size_t i = 0; i < source.size(); ++i) jobs.push_back(source.Job(i));
+  return jobs;
+}
+
+RunJobSource::RunJobSource(const ScenarioInput& input, const std::vector<Genome>& genomes,
+                           const JobSettings& settings)
+    : input_(input), genomes_(genomes), settings_(settings),
+      repeats_(static_cast<std::size_t>(std::max(0, settings.repeats))) {}
+
+PlannedJob RunJobSource::Make(std::size_t index) const {
+  const std::size_t g = index / repeats_;
+  const std::size_t r = index % repeats_;
+  PlannedJob planned;
+  const std::uint64_t seed = settings_.seed + static_cast<std::uint64_t>(r);
+  planned.job = MakeJob(input_, genomes_.at(g), seed, settings_);
+  planned.job.set_job_id(NumberedId("job-", index, size()));
+  planned.extra["seed"] = seed;
+  planned.extra["genome_index"] = g;
+  planned.genome = static_cast<int>(g);
+  return planned;
+}
+
+SweepJobSource::SweepJobSource(const ScenarioInput& input, const Genome& genome,
+                               const std::vector<SweepPoint>& points, const JobSettings& settings)
+    : input_(input), genome_(genome), points_(points), settings_(settings),
+      repeats_(static_cast<std::size_t>(std::max(0, settings.repeats))) {
+  if (!points.empty()) CheckSweptPathsAreNotRedrawn(input, points.front());
+}
+
+std::vector<std::size_t> SweepJobSource::Representatives() const {
+  std::vector<std::size_t> indices;
+  if (repeats_ == 0) return indices;
+  for (std::size_t p = 0; p < points_.size(); ++p) indices.push_back(p * repeats_);
+  return indices;
+}
+
+PlannedJob SweepJobSource::Make(std::size_t index) const {
+  const std::size_t p = index / repeats_;
+  const std::size_t r = index % repeats_;
+  nlohmann::ordered_json point = nlohmann::ordered_json::object();
+  for (const auto& [path, value] : points_.at(p)) {
+    point[path] = value.categorical() ? nlohmann::ordered_json(value.text) : nlohmann::ordered_json(value.number);
+  }
+  PlannedJob planned;
+  const std::uint64_t seed = settings_.seed + static_cast<std::uint64_t>(r);
+  planned.job = MakeJob(input_, genome_, seed, settings_);
+  planned.job.set_job_id(NumberedId("point-", p, points_.size()) + "-r" + std::to_string(r));
+  for (const auto& [path, value] : points_[p]) {
+    v1::Override* override = planned.job.add_overrides();
+    override->set_path(path);
+    override->set_value(value.OverrideText());
+  }
+  planned.extra["seed"] = seed;
+  planned.extra["point"] = p;
+  planned.extra["params"] = point;
+  return planned;
+}
+
+std::vector<std::size_t> PlannedJobList::Representatives() const {
+  std::vector<std::size_t> indices(jobs_.size());
+  for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = i;
+  return indices;
+}
+
 std::vector<PlannedJob> PlanRunJobs(const ScenarioInput& input, const std::vector<Genome>& genomes,
                                     const JobSettings& settings) {
-  std::vector<PlannedJob> jobs;
-  const std::size_t count = genomes.size() * static_cast<std::size_t>(settings.repeats);
-  for (std::size_t g = 0; g < genomes.size(); ++g) {
-    for (int r = 0; r < settings.repeats; ++r) {
-      PlannedJob planned;
-      const std::uint64_t seed = settings.seed + static_cast<std::uint64_t>(r);
-      planned.job = MakeJob(input, genomes[g], seed, settings);
-      planned.job.set_job_id(NumberedId("job-", jobs.size(), count));
-      planned.extra["seed"] = seed;
-      planned.extra["genome_index"] = g;
-      planned.genome = static_cast<int>(g);
-      jobs.push_back(std::move(planned));
-    }
-  }
-  return jobs;
+  return AllJobs(RunJobSource(input, genomes, settings));
 }
 
 std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& genome,
                                       const std::vector<SweepPoint>& points, const JobSettings& settings) {
-  if (!points.empty()) CheckSweptPathsAreNotRedrawn(input, points.front());
-  std::vector<PlannedJob> jobs;
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    nlohmann::ordered_json point = nlohmann::ordered_json::object();
-    for (const auto& [path, value] : points[p]) {
-      point[path] = value.categorical() ? nlohmann::ordered_json(value.text) : nlohmann::ordered_json(value.number);
-    }
-    for (int r = 0; r < settings.repeats; ++r) {
-      PlannedJob planned;
-      const std::uint64_t seed = settings.seed + static_cast<std::uint64_t>(r);
-      planned.job = MakeJob(input, genome, seed, settings);
-      planned.job.set_job_id(NumberedId("point-", p, points.size()) + "-r" + std::to_string(r));
-      for (const auto& [path, value] : points[p]) {
-        v1::Override* override = planned.job.add_overrides();
-        override->set_path(path);
-        override->set_value(value.OverrideText());
-      }
-      planned.extra["seed"] = seed;
-      planned.extra["point"] = p;
-      planned.extra["params"] = point;
-      jobs.push_back(std::move(planned));
-    }
-  }
-  return jobs;
+  return AllJobs(SweepJobSource(input, genome, points, settings));
 }
 
 void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const std::vector<PlannedJob>& jobs) {
-  if (jobs.empty()) return;
+  CheckJobs(input, genomes, PlannedJobList(jobs));
+}
+
+void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const JobSource& source) {
+  if (source.size() == 0) return;
   // The controller first, under the scenario's name (a bad "controller" is the scenario's error, not a genome's);
   // then the genomes, so that a genome's error names its file and line rather than the scenario.
   const control::ControlTarget target = evaluation::ControlTargetOf(input.scenario);
@@ -233,10 +277,12 @@ void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, c
   for (const Genome& genome : genomes) {
     control::CheckGenome(input.scenario.controller, genome.value, target, GenomeSource(genome));
   }
-  const v1::Job& first = jobs.front().job;
-  evaluation::CheckRequest(RequestOf(input, genomes.at(jobs.front().genome), first));
-  for (const PlannedJob& planned : jobs) {
-    if (!SameOverrides(planned.job, first)) {
+  const PlannedJob first = source.Job(0);
+  evaluation::CheckRequest(RequestOf(input, genomes.at(first.genome), first.job));
+  for (const std::size_t index : source.Representatives()) {
+    if (index == 0) continue;
+    const PlannedJob planned = source.Job(index);
+    if (!SameOverrides(planned.job, first.job)) {
       evaluation::CheckRequest(RequestOf(input, genomes.at(planned.genome), planned.job));
     }
   }

@@ -3,7 +3,9 @@
 // so bad input is an error before submission (exit 2), never a batch of failed jobs.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -37,6 +39,14 @@ std::vector<Genome> ReadGenomes(const std::string& path);
 
 /// A genome given as JSON text on the command line (or "@FILE" for a file holding one). Throws InputError.
 Genome ParseGenomeOption(const std::string& text);
+
+/// The jobs `--record JOBS` names: "all", or comma-separated 0-based job indices and ranges such as "0,3-5" (a
+/// range includes both ends), in the order the batch plans its jobs.
+struct JobSelection {
+  bool all = false;
+  std::vector<std::pair<std::size_t, std::size_t>> ranges;  ///< [first, last], each first ≤ last
+  bool Contains(std::size_t index) const;
+};
 
 /// A job to submit, with what results.jsonl adds to its line.
 struct PlannedJob {
@@ -78,19 +88,97 @@ using SweepPoint = std::vector<std::pair<std::string, SweepValue>>;
 std::vector<PlannedJob> PlanSweepJobs(const ScenarioInput& input, const Genome& genome,
                                       const std::vector<SweepPoint>& points, const JobSettings& settings);
 
+/// The jobs of a batch, made one at a time from their index, so that a batch of a million jobs never holds a
+/// million jobs (each carries its scenario's text) in memory: everything a job holds — its genome, seed, sweep point,
+/// id and whether it is recorded — follows from its index and from inputs read once. RunSession submits a window
+/// of them at a time (clients/batch/batch_session.h).
+class JobSource {
+ public:
+  virtual ~JobSource() = default;
+  /// How many jobs the batch has.
+  virtual std::size_t size() const = 0;
+  /// Job `index` (0 ≤ index < size()), the same every time it is asked for.
+  PlannedJob Job(std::size_t index) const;
+  /// The jobs whose check (CheckJobs) covers every job: every job is one of these but for its genome and seed, and
+  /// every genome is checked on its own. In order, the first is job 0.
+  virtual std::vector<std::size_t> Representatives() const = 0;
+  /// Records parameter set 0 of every job `selection` names (as MarkRecorded).
+  void Record(JobSelection selection) { recorded_ = std::move(selection); }
+
+ protected:
+  virtual PlannedJob Make(std::size_t index) const = 0;
+
+ private:
+  std::optional<JobSelection> recorded_;
+};
+
+/// The jobs of `orcs-batch run`, lazily: genome g, repeat r is job g·repeats + r (as PlanRunJobs). Keeps references
+/// to `input` and `genomes`, which must outlive it.
+class RunJobSource : public JobSource {
+ public:
+  RunJobSource(const ScenarioInput& input, const std::vector<Genome>& genomes, const JobSettings& settings);
+  std::size_t size() const override { return genomes_.size() * repeats_; }
+  std::vector<std::size_t> Representatives() const override { return {0}; }
+
+ protected:
+  PlannedJob Make(std::size_t index) const override;
+
+ private:
+  const ScenarioInput& input_;
+  const std::vector<Genome>& genomes_;
+  JobSettings settings_;
+  std::size_t repeats_;
+};
+
+/// The jobs of `orcs-batch sweep`, lazily: point p, repeat r is job p·repeats + r (as PlanSweepJobs). Keeps
+/// references to `input`, `genome` and `points`, which must outlive it. Throws InputError as PlanSweepJobs.
+class SweepJobSource : public JobSource {
+ public:
+  SweepJobSource(const ScenarioInput& input, const Genome& genome, const std::vector<SweepPoint>& points,
+                 const JobSettings& settings);
+  std::size_t size() const override { return points_.size() * repeats_; }
+  /// Repeat 0 of every point: the points' overrides differ.
+  std::vector<std::size_t> Representatives() const override;
+
+ protected:
+  PlannedJob Make(std::size_t index) const override;
+
+ private:
+  const ScenarioInput& input_;
+  const Genome& genome_;
+  const std::vector<SweepPoint>& points_;
+  JobSettings settings_;
+  std::size_t repeats_;
+};
+
+/// Jobs planned in full beforehand (regress suites: a handful of cases, each with its own scenario).
+class PlannedJobList : public JobSource {
+ public:
+  explicit PlannedJobList(const std::vector<PlannedJob>& jobs) : jobs_(jobs) {}
+  std::size_t size() const override { return jobs_.size(); }
+  /// Every job: they may all differ.
+  std::vector<std::size_t> Representatives() const override;
+
+ protected:
+  PlannedJob Make(std::size_t index) const override { return jobs_.at(index); }
+
+ private:
+  const std::vector<PlannedJob>& jobs_;
+};
+
+/// Every job of `source`, in order (for small batches and tests).
+std::vector<PlannedJob> AllJobs(const JobSource& source);
+
 /// Checks the jobs as a worker would, without simulating: every genome against the controller (an error names
 /// the genome's file and line), then the first job fully (evaluation::CheckRequest: world, overrides, parameter
 /// sets, controller, fitness, log), then every job whose overrides differ from the first's. Throws the first
 /// InputError.
 void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const std::vector<PlannedJob>& jobs);
 
-/// The jobs `--record JOBS` names: "all", or comma-separated 0-based job indices and ranges such as "0,3-5" (a
-/// range includes both ends), in the order the batch plans its jobs.
-struct JobSelection {
-  bool all = false;
-  std::vector<std::pair<std::size_t, std::size_t>> ranges;  ///< [first, last], each first ≤ last
-  bool Contains(std::size_t index) const;
-};
+/// CheckJobs for a source, without making its jobs: the controller and every genome, then each of the source's
+/// Representatives() fully. Every other job differs from one of them only in genome and seed, both checked, so
+/// a batch that passes has no bad job left to find once it runs. Throws the first InputError.
+void CheckJobs(const ScenarioInput& input, const std::vector<Genome>& genomes, const JobSource& source);
 
 /// Parses `--record`'s text for a batch of `job_count` jobs. Throws InputError "--record: expected ..., found ..."
 /// for anything else, an index beyond the batch's last job, or a range whose end lies before its start.

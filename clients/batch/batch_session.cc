@@ -1,6 +1,8 @@
 #include "clients/batch/batch_session.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "model/core/text.h"
@@ -29,19 +31,41 @@ void Count(const v1::Result& result, BatchSummary& summary) {
 
 }  // namespace
 
-BatchSummary RunSession(broker::BatchClient& client, const std::vector<PlannedJob>& jobs, ResultsWriter& writer,
+BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, ResultsWriter& writer,
                         ProgressDisplay& progress, const SessionOptions& options) {
   BatchSummary summary;
-  summary.jobs = jobs.size();
-  std::unordered_map<std::string, const nlohmann::ordered_json*> extras;
-  std::vector<v1::Job> submission;
-  submission.reserve(jobs.size());
-  for (const PlannedJob& planned : jobs) {
-    extras[planned.job.job_id()] = &planned.extra;
-    submission.push_back(planned.job);
-  }
+  summary.jobs = source.size();
+  const std::size_t window_jobs = std::max<std::size_t>(1, options.window_jobs);
+  const std::size_t window_bytes = std::max<std::size_t>(1, options.window_bytes);
+  // The outstanding jobs: what their results.jsonl line adds, and their size. Bounded by the window.
+  struct Outstanding {
+    nlohmann::ordered_json extra;
+    std::size_t bytes = 0;
+  };
+  std::unordered_map<std::string, Outstanding> outstanding;
+  std::size_t outstanding_bytes = 0;
+  std::size_t next = 0;  // the next job to make
+  // Fills the window when there is room for a quarter of it (or nothing is outstanding), so that each SUBMIT
+  // carries many jobs and the broker's queue never runs dry while the top-up travels.
+  const auto top_up = [&] {
+    if (next >= source.size()) return;
+    const bool room = outstanding.empty() ||
+                      (window_jobs - outstanding.size() >= std::max<std::size_t>(1, window_jobs / 4) &&
+                       outstanding_bytes + window_bytes / 4 <= window_bytes);
+    if (!room) return;
+    std::vector<v1::Job> submission;
+    while (next < source.size() && outstanding.size() < window_jobs &&
+           (outstanding.empty() || outstanding_bytes < window_bytes)) {
+      PlannedJob planned = source.Job(next++);
+      const std::size_t bytes = planned.job.ByteSizeLong();
+      outstanding_bytes += bytes;
+      outstanding.emplace(planned.job.job_id(), Outstanding{std::move(planned.extra), bytes});
+      submission.push_back(std::move(planned.job));
+    }
+    if (!submission.empty()) client.Submit(std::move(submission));
+  };
   const Clock::time_point start = Clock::now();
-  client.Submit(std::move(submission));
+  top_up();
   while (summary.ok + summary.failed < summary.jobs) {
     if (options.stop != nullptr && options.stop->load()) {
       summary.interrupted = true;
@@ -49,7 +73,13 @@ BatchSummary RunSession(broker::BatchClient& client, const std::vector<PlannedJo
     }
     std::optional<v1::Result> result = client.Next(kPoll);
     if (!result) continue;
-    writer.Write(*result, *extras.at(result->job_id()));
+    const auto job = outstanding.find(result->job_id());
+    if (job == outstanding.end()) {
+      throw std::logic_error("a result for job '" + result->job_id() + "', which is not outstanding");
+    }
+    writer.Write(*result, job->second.extra);
+    outstanding_bytes -= job->second.bytes;
+    outstanding.erase(job);
     Count(*result, summary);
     progress.Update(summary.ok, summary.failed, Clock::now());
     if (options.keep_results) {
@@ -57,10 +87,16 @@ BatchSummary RunSession(broker::BatchClient& client, const std::vector<PlannedJo
       result->clear_recording();  // written to recordings/ already; a sweep's table needs only the numbers
       summary.results.push_back(std::move(*result));
     }
+    top_up();
   }
   summary.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   progress.Finish(summary.ok, summary.failed, Clock::now());
   return summary;
+}
+
+BatchSummary RunSession(broker::BatchClient& client, const std::vector<PlannedJob>& jobs, ResultsWriter& writer,
+                        ProgressDisplay& progress, const SessionOptions& options) {
+  return RunSession(client, PlannedJobList(jobs), writer, progress, options);
 }
 
 std::string SummaryText(const BatchSummary& summary, const std::string& results_path) {

@@ -33,14 +33,30 @@ struct BatchSummary {
   int exit_code() const { return failed == 0 && !interrupted ? 0 : 1; }
 };
 
+/// How many jobs a session keeps outstanding (submitted, result not yet written) at most, by default.
+constexpr std::size_t kDefaultWindowJobs = 10000;
+/// How many bytes of jobs (serialised; nearly all of it each job's copy of its scenario) it keeps outstanding at
+/// most, by default (one job more when a job alone is larger).
+constexpr std::size_t kDefaultWindowBytes = std::size_t{64} << 20;
+
 struct SessionOptions {
   const std::atomic<bool>* stop = nullptr;  ///< set (e.g. by SIGINT) to stop waiting and keep what arrived
   bool keep_results = false;                ///< keep every result in BatchSummary::results (sweep reports)
+  /// The window (docs/batch.md, "Large batches"): at most this many jobs outstanding at once, ≥ 1.
+  std::size_t window_jobs = kDefaultWindowJobs;
+  /// ... and at most about this many bytes of them (the window always holds at least one job), ≥ 1.
+  std::size_t window_bytes = kDefaultWindowBytes;
 };
 
-/// Submits `jobs`, waits for all results (or `stop`), writes them and returns the summary. Throws
-/// broker::BatchClientError when the broker is unreachable or lost for good, InputError when output cannot be
-/// written.
+/// Streams the jobs of `source` through the client: makes them in index order only as the window has room,
+/// submits them (first the whole window, then a top-up each time a quarter of it has room), writes each result
+/// as it arrives and forgets the job, so the client's and the broker's memory follow the window, not the batch.
+/// Waits for all results (or `stop`) and returns the summary. Throws broker::BatchClientError when the broker is
+/// unreachable or lost for good, InputError when output cannot be written.
+BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, ResultsWriter& writer,
+                        ProgressDisplay& progress, const SessionOptions& options);
+
+/// The same for jobs planned beforehand.
 BatchSummary RunSession(broker::BatchClient& client, const std::vector<PlannedJob>& jobs, ResultsWriter& writer,
                         ProgressDisplay& progress, const SessionOptions& options);
 

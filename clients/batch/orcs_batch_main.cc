@@ -52,7 +52,10 @@ struct Plan {
   std::vector<SweepAxis> axes;        // sweep only
   std::vector<SweepPoint> points;     // sweep only
   SweepSampling sampling = SweepSampling::kGrid;  // sweep only
-  std::vector<PlannedJob> jobs;
+  std::vector<PlannedJob> jobs;                   // regress only: its few cases, planned in full
+  // The batch's jobs, made one at a time as the session's window has room (docs/batch.md, "Large batches"); it
+  // refers to input, genomes, points and jobs above, so a Plan is never copied or moved once it is made.
+  std::unique_ptr<JobSource> source;
   std::string out;
   std::optional<regress::RegressPlan> regress;  // regress only
 };
@@ -71,9 +74,13 @@ Plan MakeRegressPlan(const BatchOptions& options) {
   return plan;
 }
 
-Plan MakePlan(const BatchOptions& options) {
-  if (options.command == Command::kRegress) return MakeRegressPlan(options);
-  Plan plan;
+// Fills `plan` (in place: its source refers to its other members).
+void MakePlan(const BatchOptions& options, Plan& plan) {
+  if (options.command == Command::kRegress) {
+    plan = MakeRegressPlan(options);
+    plan.source = std::make_unique<PlannedJobList>(plan.jobs);  // here, once `plan` holds the jobs for good
+    return;
+  }
   plan.input = LoadScenario(options.scenario);
   plan.genomes = GenomesOf(options, plan.input);
   const JobSettings settings{options.seed, options.jobs, options.time_limit_seconds};
@@ -84,14 +91,14 @@ Plan MakePlan(const BatchOptions& options) {
                       ? SweepGrid(plan.axes)
                       : LatinHypercube(plan.axes, options.samples,
                                        options.sample_seed_given ? options.sample_seed : options.seed);
-    plan.jobs = PlanSweepJobs(plan.input, plan.genomes.front(), plan.points, settings);
+    plan.source = std::make_unique<SweepJobSource>(plan.input, plan.genomes.front(), plan.points, settings);
   } else {
-    plan.jobs = PlanRunJobs(plan.input, plan.genomes, settings);
+    plan.source = std::make_unique<RunJobSource>(plan.input, plan.genomes, settings);
   }
-  if (!options.record.empty()) MarkRecorded(plan.jobs, ParseJobSelection(options.record, plan.jobs.size()));
-  CheckJobs(plan.input, plan.genomes, plan.jobs);
+  if (!options.record.empty()) plan.source->Record(ParseJobSelection(options.record, plan.source->size()));
+  // Everything before the first job is submitted: every job is a checked one but for its genome and seed.
+  CheckJobs(plan.input, plan.genomes, *plan.source);
   plan.out = options.out.empty() ? (std::filesystem::path("runs") / plan.input.scenario.name).string() : options.out;
-  return plan;
 }
 
 int LocalWorkerCount(const BatchOptions& options, std::size_t jobs) {
@@ -107,18 +114,18 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   client_options.curve_keys = options.curve_keys;
   client_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
   broker::BatchClient client(client_options);
-  ProgressDisplay progress(std::cerr, plan.jobs.size(), isatty(STDERR_FILENO) != 0,
+  ProgressDisplay progress(std::cerr, plan.source->size(), isatty(STDERR_FILENO) != 0,
                            ProgressDisplay::Clock::now());
   std::ostringstream discard;
-  ProgressDisplay quiet(discard, plan.jobs.size(), false, ProgressDisplay::Clock::now());
+  ProgressDisplay quiet(discard, plan.source->size(), false, ProgressDisplay::Clock::now());
   SessionOptions session;
   session.stop = &stop_requested;
   session.keep_results = options.command == Command::kSweep || plan.regress.has_value();
-  const BatchSummary summary = RunSession(client, plan.jobs, writer, options.quiet ? quiet : progress, session);
+  const BatchSummary summary = RunSession(client, *plan.source, writer, options.quiet ? quiet : progress, session);
   if (!summary.interrupted) writer.Finish();
   if (plan.regress) return regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);
   if (options.command == Command::kSweep) {
-    const std::vector<SweepRow> rows = SweepRows(plan.points, plan.jobs, summary.results);
+    const std::vector<SweepRow> rows = SweepRows(plan.points, *plan.source, summary.results);
     if (plan.sampling == SweepSampling::kGrid) std::cout << SweepTable(plan.axes, rows);  // lhs: in sweep.csv
     WriteSweepCsv(plan.out, plan.axes, rows);
     const RobustnessReport report = MakeRobustnessReport(plan.input.scenario.name, plan.sampling, plan.axes, rows);
@@ -145,19 +152,20 @@ int Execute(const BatchOptions& options) {
     return evolve::RunEvolve(options, &stop_requested);
   }
   if (options.command == Command::kResolve) return PrintResolved(options);
-  const Plan plan = MakePlan(options);
+  Plan plan;
+  MakePlan(options, plan);
   ResultsWriter writer(plan.out);
   CatchStopSignals();
   if (!options.broker.empty()) return RunAgainst(options.broker, options, plan, writer);
   LocalClusterOptions cluster_options;
-  cluster_options.workers = LocalWorkerCount(options, plan.jobs.size());
+  cluster_options.workers = LocalWorkerCount(options, plan.source->size());
   cluster_options.worker_program = WorkerProgramBesideSelf();
   cluster_options.log_path = (std::filesystem::path(plan.out) / "workers.log").string();
   cluster_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
   cluster_options.curve_keys = options.curve_keys;
   LocalCluster cluster(cluster_options);
   if (!options.quiet) {
-    std::cerr << "orcs-batch: " << plan.jobs.size() << " jobs on " << cluster_options.workers
+    std::cerr << "orcs-batch: " << plan.source->size() << " jobs on " << cluster_options.workers
               << " local workers (broker " << cluster.client_endpoint() << ")\n";
   }
   return RunAgainst(cluster.client_endpoint(), options, plan, writer);

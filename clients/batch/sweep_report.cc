@@ -36,6 +36,11 @@ std::string CsvNumber(double value) { return std::isnan(value) ? "" : text::Form
 
 std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const std::vector<PlannedJob>& jobs,
                                 const std::vector<v1::Result>& results) {
+  return SweepRows(points, PlannedJobList(jobs), results);
+}
+
+std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const JobSource& jobs,
+                                const std::vector<v1::Result>& results) {
   std::vector<SweepRow> rows(points.size());
   std::vector<double> sums(points.size(), 0.0);
   for (std::size_t p = 0; p < points.size(); ++p) {
@@ -43,7 +48,8 @@ std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const std
     rows[p].fitness = rows[p].min_fitness = rows[p].max_fitness = kNaN;
   }
   std::unordered_map<std::string, std::size_t> point_of;
-  for (const PlannedJob& planned : jobs) {
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const PlannedJob planned = jobs.Job(i);
     const std::size_t p = planned.extra.at("point").get<std::size_t>();
     point_of[planned.job.job_id()] = p;
     ++rows[p].jobs;

@@ -24,6 +24,9 @@ struct SweepRow {
 /// Collects the results (job ids "point-NNNN-rR" as PlanSweepJobs made them) into one row per point.
 std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const std::vector<PlannedJob>& jobs,
                                 const std::vector<v1::Result>& results);
+/// The same for the jobs of a source (SweepJobSource), made one at a time.
+std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const JobSource& jobs,
+                                const std::vector<v1::Result>& results);
 
 /// A fixed-width table: one column per axis (its path's last two parts), then fitness, min, max, ok/jobs.
 std::string SweepTable(const std::vector<SweepAxis>& axes, const std::vector<SweepRow>& rows);

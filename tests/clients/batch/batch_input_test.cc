@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "model/scene/scenario.h"
 #include "tests/support/input_error_of.h"
 #include "tests/support/temp_dir.h"
@@ -224,6 +226,126 @@ TEST_F(BatchInputTest, ScenarioErrorsNameTheFileAndField) {
   EXPECT_THAT(InputErrorOf([&] { Scenario(R"({"controller": {}, "fitness": {}, "genome": 5})"); }),
               HasSubstr("field 'genome'"));
   EXPECT_THAT(InputErrorOf([&] { LoadScenario(dir_.PathOf("missing.json")); }), HasSubstr("missing.json"));
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Job sources (docs/batch.md, "Large batches"): a job is made from its index, when the session's window has room.
+
+// Counts the jobs a source is asked to make, so that a test can tell a check that makes every job from one that
+// does not.
+class CountingSource : public JobSource {
+ public:
+  explicit CountingSource(const JobSource& inner) : inner_(inner) {}
+  std::size_t size() const override { return inner_.size(); }
+  std::vector<std::size_t> Representatives() const override { return inner_.Representatives(); }
+  int made() const { return made_; }
+
+ protected:
+  PlannedJob Make(std::size_t index) const override {
+    ++made_;
+    return inner_.Job(index);
+  }
+
+ private:
+  const JobSource& inner_;
+  mutable int made_ = 0;
+};
+
+TEST_F(BatchInputTest, ARunSourceMakesAnyJobOfAMillionFromItsIndexAlone) {
+  const ScenarioInput input = Scenario();
+  const std::vector<Genome> genomes = {{nlohmann::json({1}), "a", 1}, {nlohmann::json({2}), "a", 2}};
+  const RunJobSource source(input, genomes, {.seed = 7, .repeats = 500000});
+  ASSERT_EQ(source.size(), 1000000u);
+  const PlannedJob last = source.Job(999999);  // genome 1, repeat 499999
+  EXPECT_EQ(last.job.job_id(), "job-999999");
+  EXPECT_EQ(last.job.seed(), 7u + 499999u);
+  EXPECT_EQ(last.job.genome_json(), "[2]");
+  EXPECT_EQ(last.genome, 1);
+  EXPECT_EQ(last.extra["genome_index"], 1);
+  EXPECT_EQ(last.extra["seed"], 7 + 499999);
+  const PlannedJob middle = source.Job(500000);  // genome 1 meets the seeds genome 0 met
+  EXPECT_EQ(middle.job.job_id(), "job-500000");
+  EXPECT_EQ(middle.job.seed(), 7u);
+  EXPECT_EQ(source.Job(0).job.job_id(), "job-000000");
+  EXPECT_EQ(source.Job(0).job.scenario_json(), input.resolved_json);
+}
+
+TEST_F(BatchInputTest, ASourcesJobsAreThePlannedJobsInOrderAndTheSameEveryTime) {
+  const ScenarioInput input = Scenario();
+  const std::vector<Genome> genomes = {{nlohmann::json({1}), "a", 1}, {nlohmann::json({2}), "a", 2},
+                                       {nlohmann::json({3}), "a", 3}};
+  const RunJobSource source(input, genomes, {.seed = 11, .repeats = 4});
+  ASSERT_EQ(source.size(), 12u);
+  std::set<std::string> ids;
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    const PlannedJob planned = source.Job(i);
+    const PlannedJob again = source.Job(i);
+    EXPECT_EQ(planned.job.SerializeAsString(), again.job.SerializeAsString()) << i;
+    EXPECT_EQ(planned.extra, again.extra) << i;
+    // Genome-major, as docs/batch.md promises: job g·N + r is genome g, repeat r.
+    EXPECT_EQ(planned.job.genome_json(), genomes[i / 4].value.dump()) << i;
+    EXPECT_EQ(planned.job.seed(), 11u + i % 4) << i;
+    ids.insert(planned.job.job_id());
+  }
+  EXPECT_EQ(ids.size(), 12u);
+  EXPECT_EQ(*ids.begin(), "job-00");
+  EXPECT_EQ(*ids.rbegin(), "job-11");
+}
+
+TEST_F(BatchInputTest, ASweepSourceMakesPointMajorJobsAndChecksOneJobPerPoint) {
+  const ScenarioInput input = Scenario();
+  std::vector<SweepPoint> points;
+  for (int p = 0; p < 5; ++p) points.push_back({{"/AngularMotor/PID/Proportional", 10.0 + p}});
+  const SweepJobSource source(input, DefaultGenome(input), points, {.seed = 3, .repeats = 3});
+  ASSERT_EQ(source.size(), 15u);
+  EXPECT_EQ(source.Representatives(), (std::vector<std::size_t>{0, 3, 6, 9, 12}));
+  const PlannedJob job = source.Job(13);  // point 4, repeat 1
+  EXPECT_EQ(job.job.job_id(), "point-4-r1");
+  EXPECT_EQ(job.job.seed(), 4u);
+  ASSERT_EQ(job.job.overrides_size(), 1);
+  EXPECT_EQ(job.job.overrides(0).value(), "14");
+  EXPECT_EQ(job.extra["point"], 4);
+  EXPECT_EQ(job.extra["params"]["/AngularMotor/PID/Proportional"], 14.0);
+}
+
+TEST_F(BatchInputTest, ASourceRecordsTheSelectedIndices) {
+  const std::vector<Genome> genomes = {{nlohmann::json({1}), "a", 1}};
+  const ScenarioInput input = Scenario();
+  RunJobSource source(input, genomes, {.seed = 1, .repeats = 1000});
+  source.Record(ParseJobSelection("1-2,999", source.size()));
+  for (std::size_t i : {std::size_t{0}, std::size_t{3}, std::size_t{998}}) {
+    EXPECT_FALSE(source.Job(i).job.record()) << i;
+  }
+  for (std::size_t i : {std::size_t{1}, std::size_t{2}, std::size_t{999}}) {
+    EXPECT_TRUE(source.Job(i).job.record()) << i;
+    EXPECT_EQ(source.Job(i).job.record_set(), 0u) << i;
+  }
+}
+
+// The checks before submission cover a million-job batch without making a million jobs, and still find what
+// would fail only late in the batch: a bad genome on the last line, a bad value at the last sweep point.
+TEST_F(BatchInputTest, CheckingASourceMakesOnlyItsRepresentativesAndFindsALateBadJob) {
+  const ScenarioInput input = Scenario();
+  const std::vector<Genome> genomes = {DefaultGenome(input)};
+  const RunJobSource run(input, genomes, {.seed = 1, .repeats = 1000000});
+  const CountingSource counting(run);
+  EXPECT_NO_THROW(CheckJobs(input, genomes, counting));
+  EXPECT_LE(counting.made(), 2);
+
+  const std::string path = dir_.Write("g.jsonl", "[1,2,3,4,5,6,7,8]\n[1,2,3,4,5,6,7,8]\n[1,2,3]\n");
+  const std::vector<Genome> late = ReadGenomes(path);
+  const RunJobSource late_run(input, late, {.seed = 1, .repeats = 100000});
+  EXPECT_THAT(InputErrorOf([&] { CheckJobs(input, late, late_run); }),
+              HasSubstr("g.jsonl:3: field 'genome' expected 8 numbers"));
+
+  std::vector<SweepPoint> points;
+  for (int p = 0; p < 20; ++p) points.push_back({{"/AngularMotor/PID/Proportional", SweepValue(10.0 + p)}});
+  points.back() = {{"/AngularMotor/PID/Proportional", SweepValue("fast", 0)}};
+  const SweepJobSource sweep(input, genomes[0], points, {.seed = 1, .repeats = 1000});
+  const CountingSource counting_sweep(sweep);
+  EXPECT_THAT(InputErrorOf([&] { CheckJobs(input, genomes, counting_sweep); }),
+              HasSubstr("/AngularMotor/PID/Proportional"));
+  EXPECT_LE(counting_sweep.made(), 21);  // one per point (and job 0), not 20,000
 }
 
 }  // namespace
