@@ -52,6 +52,26 @@ void VariableRepository::Set(std::string_view path, std::string_view text) {
   }
 }
 
+namespace {
+
+// `text` in full with control characters escaped: a pattern (and RE2's message, which repeats part of it) may hold a
+// newline, and an error is one line.
+std::string OneLine(std::string_view text) {
+  std::string line;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      line += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xf]};
+    } else {
+      line += c;
+    }
+  }
+  return line;
+}
+
+}  // namespace
+
 std::vector<int> VariableRepository::Match(std::string_view regular_expression) const {
   // RE2 runs in time linear in the path's length whatever the pattern, so that no user's expression can hang a
   // simulator, a gateway or a viewer ((.*)*(.*)*X takes std::regex minutes).
@@ -63,7 +83,7 @@ std::vector<int> VariableRepository::Match(std::string_view regular_expression) 
   options.set_log_errors(false);
   const RE2 pattern(re2::StringPiece(regular_expression.data(), regular_expression.size()), options);
   if (!pattern.ok()) {
-    throw InputError("invalid regular expression '" + std::string(regular_expression) + "': " + pattern.error());
+    throw InputError("invalid regular expression '" + OneLine(regular_expression) + "': " + OneLine(pattern.error()));
   }
   std::vector<int> ids;
   for (int id = 0; id < size(); ++id) {
