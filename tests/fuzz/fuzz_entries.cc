@@ -442,6 +442,7 @@ std::string ReplaceAll(std::string text, std::string_view from, const std::strin
 struct HttpAnswer {
   int status = 0;
   std::string body;
+  bool head_only = false;  ///< a HEAD answer: Content-Length announced, no body sent
 };
 
 // A body as sent with Content-Encoding `encoding` (httplib compresses when the request accepts it, as browsers
@@ -501,6 +502,7 @@ HttpAnswer ParseAnswer(std::string_view bytes) {
     bytes.remove_prefix(head_end + 4);
     if (answer.status == 100) continue;
     Require(bytes.size() == length || bytes.empty(), "an answer's body is not Content-Length bytes long");
+    answer.head_only = bytes.empty() && length > 0;
     answer.body = Decoded(std::string(bytes), encoding);
     return answer;
   }
@@ -538,8 +540,13 @@ FeedResult FeedViewRequest(std::string_view data) {
     const HttpAnswer answer = ParseAnswer(bytes);
     Require((answer.status >= 200 && answer.status < 300) || (answer.status >= 400 && answer.status < 500),
             "an answer's status is neither 2xx nor 4xx");
-    if (answer.status >= 400 && result.accepted) result = {false, ErrorLine(answer)};
-    if (answer.status >= 400) ErrorLine(answer);
+    Require(answer.body.find(kOutsideMarker) == std::string::npos,
+            "a compressed answer holds a file from outside the opened folders");
+    if (answer.status < 400) continue;
+    // A HEAD answer announces its error but sends none (httplib, as HTTP says): only its status can be checked.
+    const std::string error =
+        answer.head_only ? std::to_string(answer.status) + " (an answer to HEAD, without its body)" : ErrorLine(answer);
+    if (result.accepted) result = {false, error};
   }
   return result;
 }
