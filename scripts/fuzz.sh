@@ -11,7 +11,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build-fuzz"
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(environment_xml value_file motion_record scenario_json broker_message
-                                     osp_datagram odcp_datagram measured_run)
+                                     osp_datagram odcp_datagram measured_run view_request)
 
 "$root/scripts/setup.sh"
 if [ ! -f "$build/build.ninja" ]; then

@@ -5,6 +5,7 @@
 #include <future>
 
 #include "model/core/error.h"
+#include "model/core/text.h"
 #include "model/core/value_file.h"
 #include "model/scene/world_setup.h"
 #include "proto/secure_random.h"
@@ -180,7 +181,7 @@ bool LiveSession::Controls(const std::string& token) {
 
 void LiveSession::Control(const std::string& action, bool realtime) {
   if (action != "run" && action != "pause" && action != "step" && action != "reset") {
-    throw InputError("action", 0, "expected run, pause, step or reset, found '" + action.substr(0, 40) + "'");
+    throw InputError("action", 0, "expected run, pause, step or reset, found " + text::Quote(action));
   }
   OnSimulationThread([&] {
     {
@@ -228,10 +229,18 @@ std::string LiveSession::SetValue(const std::string& path, const std::string& te
 std::string LiveSession::FilePath(const std::string& file, const char* extension) const {
   if (!IsSafeFileName(file, extension)) {
     throw InputError("file", 0, "expected a name of letters, digits, '_', '.' or '-' ending in " +
-                                    std::string(extension) + ", found '" + file.substr(0, 80) + "'");
+                                    std::string(extension) + ", found " + text::Quote(file));
   }
   std::filesystem::create_directories(options_.files_dir);
-  return (std::filesystem::path(options_.files_dir) / file).string();
+  const std::filesystem::path path = std::filesystem::path(options_.files_dir) / file;
+  // A symbolic link could name any file on the machine: reading through it (load, whose errors quote lines) would
+  // serve a file from outside the files folder. Only the folder's own files are used.
+  std::error_code error;
+  if (std::filesystem::is_symlink(path, error)) {
+    throw InputError("file", 0,
+                     text::Quote(file) + " is a symbolic link: only files in the files folder itself are used");
+  }
+  return path.string();
 }
 
 void LiveSession::Save(const std::string& file, const std::string& pattern) {
@@ -255,7 +264,8 @@ nlohmann::json LiveSession::Files() {
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(options_.files_dir, error)) {
     const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file(error) && (IsSafeFileName(name, ".val") || IsSafeFileName(name, ".csv"))) {
+    if (!entry.is_symlink(error) && entry.is_regular_file(error) &&
+        (IsSafeFileName(name, ".val") || IsSafeFileName(name, ".csv"))) {
       files.push_back(name);
     }
   }

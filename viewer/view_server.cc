@@ -2,6 +2,7 @@
 
 #include <httplib.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 
@@ -17,13 +18,16 @@ using httplib::Response;
 constexpr std::size_t kMaxBodyBytes = 1 << 20;      // POST bodies
 constexpr std::size_t kMaxPatternLength = 1000;     // RE2 patterns from the page
 constexpr std::size_t kMaxChannelsPerRequest = 4096;
+constexpr std::size_t kMaxChannelValues = std::size_t{1} << 22;  // floats per /channels answer: 16 MiB
 constexpr std::size_t kMaxValueRows = 5000;
 constexpr int kServerThreads = 12;                  // long polls hold a thread for up to 0.5 s each
-constexpr auto kLongPoll = std::chrono::milliseconds(500);
 
+// Strings from a request (a query parameter is any bytes) reach answers, error messages included: bytes that are
+// not UTF-8 are replaced (U+FFFD) instead of making dump() throw — which, from the exception handler, ended the
+// server with std::terminate.
 void SendJson(Response& response, const nlohmann::json& body, int status = 200) {
   response.status = status;
-  response.set_content(body.dump(), "application/json");
+  response.set_content(body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
 }
 
 void SendError(Response& response, int status, const std::string& message) {
@@ -50,6 +54,14 @@ std::optional<nlohmann::json> BodyObject(const Request& request, Response& respo
 std::string StringField(const nlohmann::json& body, const char* key) {
   const auto it = body.find(key);
   return it != body.end() && it->is_string() ? it->get<std::string>() : "";
+}
+
+// An optional true/false field: `fallback` when absent, an InputError (400) naming the field for anything else.
+bool BoolField(const nlohmann::json& body, const char* key, bool fallback) {
+  const auto it = body.find(key);
+  if (it == body.end()) return fallback;
+  if (!it->is_boolean()) throw InputError(key, 0, "expected true or false, found " + it->dump().substr(0, 40));
+  return it->get<bool>();
 }
 
 // "3,4,5" → channel indices, each < count; nullopt for anything else.
@@ -79,10 +91,50 @@ nlohmann::json ContactsJson(const std::vector<evaluation::ContactSample>& contac
   return list;
 }
 
+// A connection held in memory: reads come from the given bytes (then end of stream), writes are collected.
+class StringStream : public httplib::Stream {
+ public:
+  explicit StringStream(std::string_view input) : input_(input) {}
+  bool is_readable() const override { return position_ < input_.size(); }
+  bool is_writable() const override { return true; }
+  ssize_t read(char* ptr, size_t size) override {
+    const std::size_t n = std::min(size, input_.size() - position_);
+    std::memcpy(ptr, input_.data() + position_, n);
+    position_ += n;
+    return static_cast<ssize_t>(n);
+  }
+  ssize_t write(const char* ptr, size_t size) override {
+    output_.append(ptr, size);
+    return static_cast<ssize_t>(size);
+  }
+  void get_remote_ip_and_port(std::string& ip, int& port) const override {
+    ip = "127.0.0.1";
+    port = 1;
+  }
+  void get_local_ip_and_port(std::string& ip, int& port) const override {
+    ip = "127.0.0.1";
+    port = 2;
+  }
+  socket_t socket() const override { return INVALID_SOCKET; }
+  bool at_end() const { return position_ >= input_.size(); }
+  std::string& output() { return output_; }
+
+ private:
+  std::string_view input_;
+  std::size_t position_ = 0;
+  std::string output_;
+};
+
 }  // namespace
 
+// httplib's server with its per-request entry (protected there) made callable on a Stream.
+class HttpServer : public httplib::Server {
+ public:
+  using httplib::Server::process_request;
+};
+
 ViewServer::ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSession* live, RenderSink* render)
-    : assets_(assets), catalog_(catalog), live_(live), render_(render), server_(std::make_unique<httplib::Server>()) {
+    : assets_(assets), catalog_(catalog), live_(live), render_(render), server_(std::make_unique<HttpServer>()) {
   server_->new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
   server_->set_payload_max_length(kMaxBodyBytes);
   // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, which would let a second orcs-view share a port that is
@@ -127,6 +179,20 @@ int ViewServer::Bind(const std::string& address, int port) {
 
 void ViewServer::Serve() { server_->listen_after_bind(); }
 void ViewServer::Stop() { server_->stop(); }
+
+std::vector<std::string> ViewServer::Answer(std::string_view bytes, int max_requests) {
+  StringStream stream(bytes);
+  std::vector<std::string> answers;
+  for (int i = 0; i < max_requests && !stream.at_end(); ++i) {
+    bool closed = false;
+    const bool last = i + 1 == max_requests;
+    const bool kept = server_->process_request(stream, last, closed, [](Request&) {});
+    answers.push_back(std::move(stream.output()));
+    stream.output().clear();
+    if (!kept || closed) break;
+  }
+  return answers;
+}
 
 void ViewServer::AddPageRoutes() {
   server_->Get("/", [this](const Request&, Response& response) {
@@ -175,6 +241,13 @@ void ViewServer::AddFilesRoutes() {
     if (!recording) return;
     const auto ids = ParseIds(request.get_param_value("ids"), recording->channel_count());
     if (!ids) return SendError(response, 400, "ids: expected channel indices such as 3,4,5 (at most 4096)");
+    // Each id costs a column of every frame: bound the answer, not only the list (ids may repeat).
+    const std::size_t frames = static_cast<std::size_t>(recording->frame_count());
+    if (ids->size() * frames > kMaxChannelValues) {
+      return SendError(response, 400, "ids: at most " + std::to_string(kMaxChannelValues / std::max<std::size_t>(frames, 1)) +
+                                          " channels of this recording (" + std::to_string(frames) +
+                                          " frames) per request");
+    }
     std::vector<float> columns;
     columns.reserve(ids->size() * recording->frame_count());
     for (int id : *ids) {
@@ -218,7 +291,7 @@ void ViewServer::AddLiveRoutes() {
     std::int64_t since = -1;
     const std::string text = request.get_param_value("since");
     std::from_chars(text.data(), text.data() + text.size(), since);
-    const LiveFrame frame = live_->FrameAfter(since, kLongPoll);
+    const LiveFrame frame = live_->FrameAfter(since, long_poll_);
     nlohmann::json body = live_->State();
     body["serial"] = frame.serial;
     body["step"] = frame.step;
@@ -234,7 +307,7 @@ void ViewServer::AddLiveRoutes() {
     SendJson(response, {{"token", token}});
   });
   server_->Post("/api/live/control", controlled([this](const nlohmann::json& body, Response& response) {
-    live_->Control(StringField(body, "action"), body.value("realtime", true));
+    live_->Control(StringField(body, "action"), BoolField(body, "realtime", true));
     SendJson(response, live_->State());
   }));
   server_->Get("/api/live/values", [this](const Request& request, Response& response) {

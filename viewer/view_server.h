@@ -4,19 +4,20 @@
 // to 1000 characters, reads time out, a fixed pool of threads.
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "viewer/live_session.h"
 #include "viewer/render_sink.h"
 #include "viewer/view_catalog.h"
 #include "viewer/web_assets.h"
 
-namespace httplib {
-class Server;
-}
-
 namespace orcs::viewer {
+
+class HttpServer;  // httplib::Server, with its request handling reachable without a socket (Answer)
 
 class ViewServer {
  public:
@@ -32,6 +33,15 @@ class ViewServer {
   /// Makes Serve() return; safe from any thread or a signal-watching thread.
   void Stop();
 
+  /// Answers `bytes` as one connection's worth of requests, exactly as Serve() answers a socket's — the same
+  /// httplib request parsing, routes and handlers — and returns the bytes written back for each request read, in
+  /// order. Handles at most `max_requests` keep-alive requests; stops when the bytes run out or the connection
+  /// closes. For the fuzzer (tests/fuzz/view_request_fuzz.cc) and tests; needs no Bind().
+  std::vector<std::string> Answer(std::string_view bytes, int max_requests = 8);
+
+  /// How long GET /api/live/frame waits for a newer frame (default 0.5 s).
+  void SetLongPoll(std::chrono::milliseconds wait) { long_poll_ = wait; }
+
  private:
   void AddPageRoutes();
   void AddFilesRoutes();
@@ -42,7 +52,8 @@ class ViewServer {
   ViewCatalog* catalog_;
   LiveSession* live_;
   RenderSink* render_;
-  std::unique_ptr<httplib::Server> server_;
+  std::unique_ptr<HttpServer> server_;
+  std::chrono::milliseconds long_poll_{500};
 };
 
 }  // namespace orcs::viewer

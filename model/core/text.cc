@@ -139,8 +139,26 @@ std::string ValidUtf8(std::string_view text) {
 
 std::string Quote(std::string_view text) {
   constexpr size_t kMax = 40;
-  if (text.size() > kMax) return "'" + std::string(Prefix(text, kMax)) + "...'";
-  return "'" + std::string(text) + "'";
+  const bool shortened = text.size() > kMax;
+  if (shortened) text = Prefix(text, kMax);
+  // Control characters are written as escapes, so that a quoted newline cannot break an error into two lines.
+  std::string quoted = "'";
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '\n') {
+      quoted += "\\n";
+    } else if (c == '\r') {
+      quoted += "\\r";
+    } else if (c == '\t') {
+      quoted += "\\t";
+    } else if (byte < 0x20 || byte == 0x7f) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      quoted += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xf]};
+    } else {
+      quoted += c;
+    }
+  }
+  return quoted + (shortened ? "...'" : "'");
 }
 
 }  // namespace orcs::text

@@ -8,6 +8,26 @@
 
 namespace orcs {
 
+namespace {
+
+// `text` in full with control characters escaped: a path or a pattern (and RE2's message, which repeats part of it) may hold a
+// newline, and an error is one line.
+std::string OneLine(std::string_view text) {
+  std::string line;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) {
+      static constexpr char kHex[] = "0123456789abcdef";
+      line += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xf]};
+    } else {
+      line += c;
+    }
+  }
+  return line;
+}
+
+}  // namespace
+
 Value& VariableRepository::AddValue(std::string_view path, std::unique_ptr<Value> value) {
   assert(!path.empty() && path.front() == '/' && "repository paths start with '/'");
   if (const int existing = IdOf(path); existing >= 0) {
@@ -40,7 +60,7 @@ Value& VariableRepository::Get(std::string_view path) {
 
 const Value& VariableRepository::Get(std::string_view path) const {
   const Value* value = Find(path);
-  if (value == nullptr) throw InputError("unknown repository path '" + std::string(path) + "'");
+  if (value == nullptr) throw InputError("unknown repository path '" + OneLine(path) + "'");
   return *value;
 }
 
@@ -51,6 +71,7 @@ void VariableRepository::Set(std::string_view path, std::string_view text) {
     throw InputError(std::string(path) + ": expected " + expected + ", found " + text::Quote(text));
   }
 }
+
 
 std::vector<int> VariableRepository::Match(std::string_view regular_expression) const {
   // RE2 runs in time linear in the path's length whatever the pattern, so that no user's expression can hang a
@@ -63,7 +84,7 @@ std::vector<int> VariableRepository::Match(std::string_view regular_expression) 
   options.set_log_errors(false);
   const RE2 pattern(re2::StringPiece(regular_expression.data(), regular_expression.size()), options);
   if (!pattern.ok()) {
-    throw InputError("invalid regular expression '" + std::string(regular_expression) + "': " + pattern.error());
+    throw InputError("invalid regular expression '" + OneLine(regular_expression) + "': " + OneLine(pattern.error()));
   }
   std::vector<int> ids;
   for (int id = 0; id < size(); ++id) {

@@ -21,6 +21,35 @@ using tinyxml2::XMLElement;
 
 constexpr std::string_view kFormatVersion = "1.0";
 
+// Levels of nested elements an environment may have (the root is level 1; the format itself needs 3). tinyxml2
+// refuses deeper nesting on its own (TINYXML2_MAX_ELEMENT_DEPTH, 100 in Debian's 9.0, so that its recursive parser
+// cannot overflow the stack); below that, the reader enforces this documented bound (docs/formats.md, "Input
+// limits"), so the message and the limit do not depend on the tinyxml2 version.
+constexpr int kMaxElementDepth = 32;
+static_assert(kMaxElementDepth < TINYXML2_MAX_ELEMENT_DEPTH, "tinyxml2 must not refuse nesting within our bound");
+
+std::string TooDeep() { return "XML elements nested deeper than " + std::to_string(kMaxElementDepth) + " levels"; }
+
+// The first element below `root` deeper than kMaxElementDepth, or nullptr; walks without recursion.
+const XMLElement* TooDeepElement(const XMLElement& root) {
+  const XMLElement* element = &root;
+  int depth = 1;
+  while (element != nullptr) {
+    if (depth > kMaxElementDepth) return element;
+    if (const XMLElement* child = element->FirstChildElement()) {
+      element = child;
+      ++depth;
+      continue;
+    }
+    while (element != nullptr && element != &root && element->NextSiblingElement() == nullptr) {
+      element = element->Parent()->ToElement();
+      --depth;
+    }
+    element = element == nullptr || element == &root ? nullptr : element->NextSiblingElement();
+  }
+  return nullptr;
+}
+
 // Attribute access for one element, with every error naming file, line, element and attribute.
 class ElementReader {
  public:
@@ -241,11 +270,14 @@ EnvironmentDescription EnvironmentReader::ReadStringOrDefault(const std::string&
 
 EnvironmentDescription EnvironmentReader::ReadString(const std::string& xml, const std::string& source) {
   tinyxml2::XMLDocument document;
-  if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+  const tinyxml2::XMLError parsed = document.Parse(xml.c_str(), xml.size());
+  if (parsed == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED) throw InputError(source, document.ErrorLineNum(), TooDeep());
+  if (parsed != tinyxml2::XML_SUCCESS) {
     throw InputError(source, document.ErrorLineNum(), std::string("malformed XML: ") + document.ErrorStr());
   }
   const XMLElement* root = document.RootElement();
   if (root == nullptr) throw InputError(source, 0, "expected an <ORCS> element, found none");
+  if (const XMLElement* deep = TooDeepElement(*root)) FailAt(source, *deep, TooDeep());
   if (std::string_view(root->Name()) != "ORCS") {
     FailAt(source, *root, "expected root element <ORCS>, found <" + std::string(root->Name()) + ">");
   }

@@ -2,13 +2,17 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <brotli/decode.h>
 #include <google/protobuf/stubs/logging.h>
+#include <zlib.h>
 #include <nlohmann/json.hpp>
 
 #include "clients/gap/measured_run.h"
@@ -17,12 +21,19 @@
 #include "model/core/error.h"
 #include "model/core/json_node.h"
 #include "model/core/value_file.h"
+#include "model/evaluation/recorder.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/scenario.h"
 #include "model/scene/simulation.h"
 #include "model/scene/world_model.h"
+#include "model/scene/world_setup.h"
 #include "orcs/v1/broker.pb.h"
 #include "proto/envelope.h"
+#include "viewer/live_session.h"
+#include "viewer/render_sink.h"
+#include "viewer/view_catalog.h"
+#include "viewer/view_server.h"
+#include "viewer/web_assets.h"
 #include "worker/evaluation/evaluation.h"
 #include "worker/job/job_translation.h"
 #include "worker/job/result_json.h"
@@ -314,12 +325,239 @@ FeedResult FeedMeasuredRun(std::string_view data) {
   });
 }
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// Marks the file kept beside the opened folders: no answer may ever contain it.
+constexpr std::string_view kOutsideMarker = "ORCS-FUZZ-OUTSIDE-5e1c9a";
+
+void WriteText(const fs::path& file, std::string_view text) {
+  fs::create_directories(file.parent_path());
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+// The two orcs-view servers the requests go to, built once per process in a private folder:
+//   open/run.orcsrec, open/batch/{results.jsonl, recordings/job-1.orcsrec}   what files mode was given
+//   live-files/{start.val, link.val -> ../outside.val}                         the live files folder
+//   outside.val                                                                 holds kOutsideMarker
+//   web/, render/                                                               the page, the render sink's folder
+class ViewFixture {
+ public:
+  ViewFixture()
+      : root_(fs::temp_directory_path() / ("orcs-fuzz-view-" + std::to_string(static_cast<long>(getpid())))),
+        assets_(MakeFolders(root_)),
+        catalog_({(root_ / "open/run.orcsrec").string(), (root_ / "open/batch").string()}),
+        live_(LiveOptionsFor(root_)),
+        render_((root_ / "render").string(), 4),
+        files_server_(assets_, &catalog_, nullptr, nullptr),
+        live_server_(assets_, nullptr, &live_, &render_) {
+    // A long poll would make every input that asks for a frame newer than the newest wait; the route is the same.
+    files_server_.SetLongPoll(std::chrono::milliseconds(0));
+    live_server_.SetLongPoll(std::chrono::milliseconds(0));
+    token_ = live_.Claim();
+    Require(!token_.empty(), "the fixture could not take control of the live session");
+  }
+  ~ViewFixture() {
+    std::error_code ignored;
+    fs::remove_all(root_, ignored);
+  }
+
+  viewer::ViewServer& files_server() { return files_server_; }
+  viewer::ViewServer& live_server() { return live_server_; }
+  const std::string& token() const { return token_; }
+
+  // Keeps control (an input may have been slow) and brings the live session back to where every input starts:
+  // paused, no logger, reset, and no files but the fixture's in its files folder.
+  void Restore() {
+    if (!live_.Controls(token_)) token_ = live_.Claim();
+    live_.StopLogger();
+    live_.Control("reset", true);
+    std::error_code error;
+    for (const fs::directory_entry& entry : fs::directory_iterator(root_ / "live-files", error)) {
+      const std::string name = entry.path().filename().string();
+      if (name != "start.val" && name != "link.val") fs::remove_all(entry.path(), error);
+    }
+  }
+
+ private:
+  static std::string MakeFolders(const fs::path& root) {
+    fs::create_directories(root);
+    WriteText(root / "web/index.html", "<html>orcs-view</html>");
+    WriteText(root / "web/app.js", "export const app = 1;");
+    WriteText(root / "web/files.txt", "index.html -> index.html\napp.js -> app.js\n");
+    WriteText(root / "outside.val", std::string("#ORCS Values\n") + std::string(kOutsideMarker) + "\n");
+    WriteText(root / "live-files/start.val", "#ORCS Values\n/Sim/Humanoid/Right/Knee/DesiredAngle=20\n");
+    std::error_code ignored;
+    fs::create_symlink("../outside.val", root / "live-files/link.val", ignored);
+    fs::create_directories(root / "render");
+    WriteRecordingTo(root / "open/run.orcsrec");
+    WriteRecordingTo(root / "open/batch/recordings/job-1.orcsrec");
+    WriteText(root / "open/batch/results.jsonl",
+              R"({"id":"job-1","status":"ok","fitness":1.5,"seed":7,"terms":{"distance":1.5},"message":""})" "\n");
+    return (root / "web").string();
+  }
+
+  static void WriteRecordingTo(const fs::path& file) {
+    fs::create_directories(file.parent_path());
+    scene::Simulation simulation;
+    scene::SetUpWorld(simulation, "", {}, {});
+    simulation.Reset(0);
+    evaluation::Recorder recorder(simulation, evaluation::RecordingSource{});
+    for (int i = 0; i < 3; ++i) {
+      simulation.Step();
+      recorder.Sample();
+    }
+    evaluation::WriteRecording(file.string(), recorder.Finish());
+  }
+
+  static viewer::LiveOptions LiveOptionsFor(const fs::path& root) {
+    viewer::LiveOptions options;
+    options.files_dir = (root / "live-files").string();
+    return options;
+  }
+
+  fs::path root_;
+  viewer::WebAssets assets_;
+  viewer::ViewCatalog catalog_;
+  viewer::LiveSession live_;
+  viewer::RenderSink render_;
+  viewer::ViewServer files_server_;
+  viewer::ViewServer live_server_;
+  std::string token_;
+};
+
+ViewFixture& View() {
+  static ViewFixture fixture;
+  return fixture;
+}
+
+std::string ReplaceAll(std::string text, std::string_view from, const std::string& to) {
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
+struct HttpAnswer {
+  int status = 0;
+  std::string body;
+  bool head_only = false;  ///< a HEAD answer: Content-Length announced, no body sent
+};
+
+// A body as sent with Content-Encoding `encoding` (httplib compresses when the request accepts it, as browsers
+// do), decoded so that the checks see what a browser would; aborts when it does not decode.
+std::string Decoded(const std::string& body, const std::string& encoding) {
+  if (encoding.empty() || body.empty()) return body;
+  std::string out(std::size_t{4} << 20, '\0');  // the fixture's answers are far smaller
+  if (encoding == "br") {
+    std::size_t size = out.size();
+    Require(BrotliDecoderDecompress(body.size(), reinterpret_cast<const std::uint8_t*>(body.data()), &size,
+                                    reinterpret_cast<std::uint8_t*>(out.data())) == BROTLI_DECODER_RESULT_SUCCESS,
+            "a brotli answer does not decode");
+    out.resize(size);
+    return out;
+  }
+  Require(encoding == "gzip" || encoding == "deflate", "an answer has an unknown Content-Encoding");
+  z_stream stream{};
+  Require(inflateInit2(&stream, encoding == "gzip" ? 16 + MAX_WBITS : MAX_WBITS) == Z_OK, "inflateInit2 failed");
+  stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(body.data()));
+  stream.avail_in = static_cast<uInt>(body.size());
+  stream.next_out = reinterpret_cast<Bytef*>(out.data());
+  stream.avail_out = static_cast<uInt>(out.size());
+  const int result = inflate(&stream, Z_FINISH);
+  inflateEnd(&stream);
+  Require(result == Z_STREAM_END, "a compressed answer does not decode");
+  out.resize(stream.total_out);
+  return out;
+}
+
+// What the server wrote back for one request, aborting unless it is well-formed: "HTTP/1.1 DDD reason", header
+// lines, an empty line, and Content-Length bytes of body (none after a HEAD); interim 100 Continue heads first.
+HttpAnswer ParseAnswer(std::string_view bytes) {
+  while (true) {
+    const std::size_t head_end = bytes.find("\r\n\r\n");
+    Require(head_end != std::string_view::npos, "a request got no answer, or one whose head does not end");
+    const std::string_view head = bytes.substr(0, head_end);
+    const auto digit = [&](std::size_t k) { return std::isdigit(static_cast<unsigned char>(head[k])) != 0; };
+    Require(head.size() >= 13 && head.substr(0, 9) == "HTTP/1.1 " && digit(9) && digit(10) && digit(11) &&
+                head[12] == ' ',
+            "an answer does not start with an HTTP/1.1 status line");
+    HttpAnswer answer;
+    answer.status = (head[9] - '0') * 100 + (head[10] - '0') * 10 + (head[11] - '0');
+    std::size_t length = 0;
+    std::string encoding;
+    for (std::size_t at = head.find("\r\n"); at != std::string_view::npos;) {
+      const std::size_t next = head.find("\r\n", at + 2);
+      const std::string_view line = head.substr(at + 2, next == std::string_view::npos ? next : next - at - 2);
+      Require(line.find(": ") != std::string_view::npos && line.find('\n') == std::string_view::npos,
+              "an answer has a malformed header line");
+      if (line.substr(0, 16) == "Content-Length: ") {
+        const auto [end, error] = std::from_chars(line.data() + 16, line.data() + line.size(), length);
+        Require(error == std::errc() && end == line.data() + line.size(), "an answer has a bad Content-Length");
+      }
+      if (line.substr(0, 18) == "Content-Encoding: ") encoding = std::string(line.substr(18));
+      at = next;
+    }
+    bytes.remove_prefix(head_end + 4);
+    if (answer.status == 100) continue;
+    Require(bytes.size() == length || bytes.empty(), "an answer's body is not Content-Length bytes long");
+    answer.head_only = bytes.empty() && length > 0;
+    answer.body = Decoded(std::string(bytes), encoding);
+    return answer;
+  }
+}
+
+// A 4xx answer's error: a JSON {"error": "..."} or a plain line; aborts unless it is one non-empty line.
+std::string ErrorLine(const HttpAnswer& answer) {
+  std::string error = answer.body;
+  if (!error.empty() && error.front() == '{') {
+    const nlohmann::json body = nlohmann::json::parse(error, nullptr, false);
+    Require(body.is_object() && body.contains("error") && body["error"].is_string(),
+            "a JSON error answer has no \"error\" string");
+    error = body["error"].get<std::string>();
+  } else if (!error.empty() && error.back() == '\n') {
+    error.pop_back();
+  }
+  Require(!error.empty() && error.find('\n') == std::string::npos && error.find('\r') == std::string::npos,
+          "an error answer is not one non-empty line");
+  return std::to_string(answer.status) + " " + error;
+}
+
+}  // namespace
+
+FeedResult FeedViewRequest(std::string_view data) {
+  ViewFixture& fixture = View();
+  if (data.empty()) return {};
+  viewer::ViewServer& server = data[0] % 2 == 0 ? fixture.files_server() : fixture.live_server();
+  const std::string request = ReplaceAll(std::string(data.substr(1)), "@token@", fixture.token());
+  const std::vector<std::string> written = server.Answer(request);
+  fixture.Restore();
+  Require(request.empty() || !written.empty(), "a request got no answer");
+  FeedResult result;
+  for (const std::string& bytes : written) {
+    Require(bytes.find(kOutsideMarker) == std::string::npos, "an answer holds a file from outside the opened folders");
+    const HttpAnswer answer = ParseAnswer(bytes);
+    Require((answer.status >= 200 && answer.status < 300) || (answer.status >= 400 && answer.status < 500),
+            "an answer's status is neither 2xx nor 4xx");
+    Require(answer.body.find(kOutsideMarker) == std::string::npos,
+            "a compressed answer holds a file from outside the opened folders");
+    if (answer.status < 400) continue;
+    // A HEAD answer announces its error but sends none (httplib, as HTTP says): only its status can be checked.
+    const std::string error =
+        answer.head_only ? std::to_string(answer.status) + " (an answer to HEAD, without its body)" : ErrorLine(answer);
+    if (result.accepted) result = {false, error};
+  }
+  return result;
+}
+
 const std::vector<FuzzTarget>& FuzzTargets() {
   static const std::vector<FuzzTarget> targets = {
       {"environment_xml", FeedEnvironmentXml}, {"value_file", FeedValueFile},
       {"motion_record", FeedMotionRecord},     {"scenario_json", FeedScenarioJson},
       {"broker_message", FeedBrokerMessage},   {"osp_datagram", FeedOspDatagrams},
       {"odcp_datagram", FeedOdcpDatagrams},    {"measured_run", FeedMeasuredRun},
+      {"view_request", FeedViewRequest},
   };
   return targets;
 }

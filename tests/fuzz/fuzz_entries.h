@@ -53,6 +53,15 @@ FeedResult FeedOdcpDatagrams(std::string_view data);
 /// (JSON) above it and a mapped CSV below; parsed and its commands turned into a keyframe record.
 FeedResult FeedMeasuredRun(std::string_view data);
 
+/// HTTP requests to orcs-view (viewer/view_server.h): the first byte names the server (even: files mode over a
+/// recording and a batch folder; odd: live mode with a render sink), the rest is one connection's bytes, answered by
+/// ViewServer::Answer — the server's own request parsing, routes and handlers. The text "@token@" in the bytes
+/// stands for the live session's control token, so the controlled routes are reached. Every request must get a
+/// well-formed answer: status 2xx or 4xx, a 4xx with a one-line error, never a byte of the file kept beside the
+/// opened folders (a symlink in the live files folder points at it). Accepted when every answer is 2xx; otherwise
+/// the error is the first 4xx answer's status and error line.
+FeedResult FeedViewRequest(std::string_view data);
+
 /// Splits fuzz bytes into datagrams: each is a 2-byte little-endian length followed by that many bytes (fewer at
 /// the end). The length is not capped below 65535, so over-long datagrams reach the servers too.
 std::vector<std::string> SplitDatagrams(std::string_view data);

@@ -249,6 +249,40 @@ std::vector<Seed> MeasuredRuns() {
            "40;30;532;62\n"}};
 }
 
+// One connection per seed: '0' + requests to files mode, '1' + requests to live mode ("@token@" = the control
+// token). Each route of docs/viewer-api.md once, every answer 2xx.
+std::string Get(const std::string& target) { return "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"; }
+
+std::string Post(const std::string& target, const std::string& body, bool controlled) {
+  return "POST " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" + (controlled ? "X-Orcs-Token: @token@\r\n" : "") +
+         "Content-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body;
+}
+
+std::vector<Seed> ViewRequests() {
+  return {{"files_page.http", "0" + Get("/") + Get("/assets/app.js") + Get("/api/session")},
+          {"files_recording.http", "0" + Get("/api/recording/r0") + Get("/api/recording/r0/times") +
+                                       Get("/api/recording/r0/channels?ids=0,3,5") +
+                                       Get("/api/recording/r0/contacts")},
+          {"files_compressed.http",
+           "0GET /api/session HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept-Encoding: br\r\n\r\n"
+           "GET /api/batch/b0 HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept-Encoding: gzip, deflate\r\n\r\n"},
+          {"files_batch.http", "0" + Get("/api/batch/b0") + Get("/api/recording/r1/channels?ids=1")},
+          {"live_watch.http", "1" + Get("/api/session") + Get("/api/live/world") + Get("/api/live/frame?since=-1") +
+                                  Get("/api/live/values?filter=.*Knee.*") + Get("/api/live/files")},
+          {"live_control.http",
+           "1" + Post("/api/live/control", R"({"action":"step","realtime":false})", true) +
+               Post("/api/live/values", R"({"path":"/Sim/Humanoid/Right/Knee/DesiredAngle","value":"25"})", true) +
+               Post("/api/live/control", R"({"action":"run"})", true) +
+               Post("/api/live/control", R"({"action":"pause"})", true)},
+          {"live_files.http", "1" + Post("/api/live/load", R"({"file":"start.val"})", true) +
+                                  Post("/api/live/save", R"({"file":"saved.val","filter":".*Knee.*"})", true) +
+                                  Post("/api/live/logger", R"({"action":"start","filter":".*Knee/JointAngle","file":"log.csv"})", true) +
+                                  Post("/api/live/logger", R"({"action":"stop"})", true)},
+          {"live_render.http", "1" + std::string("POST /api/render/frame?index=1 HTTP/1.1\r\nHost: 127.0.0.1\r\n"
+                                                 "Content-Length: 12\r\n\r\n\x89PNG\r\n\x1a\n1234") +
+                                   Post("/api/render/done", "", false)}};
+}
+
 }  // namespace
 
 std::vector<Seed> SeedsFor(const std::string& target, const std::string& source_dir) {
@@ -265,6 +299,7 @@ std::vector<Seed> SeedsFor(const std::string& target, const std::string& source_
   if (target == "osp_datagram") return OspSessions();
   if (target == "odcp_datagram") return OdcpSessions();
   if (target == "measured_run") return MeasuredRuns();
+  if (target == "view_request") return ViewRequests();
   throw InputError("fuzz seeds", 0, "unknown target '" + target + "'");
 }
 

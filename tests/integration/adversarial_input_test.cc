@@ -197,6 +197,25 @@ TEST_F(AdversarialInputTest, AnExponentialPatternReturnsPromptlyInOrcsSimAndOrcs
   EXPECT_LT(Clock::now() - start, std::chrono::seconds(60));
 }
 
+// An environment nested 100,000 elements deep (one per line): tinyxml2's own bound stops its recursive parser
+// before the stack overflows, and the reader turns that into the documented one-line error naming file and line.
+TEST_F(AdversarialInputTest, AnEnvironmentNested100000DeepIsOneLineNotACrash) {
+  std::string xml = "<ORCS version=\"1.0\">\n<Environment>\n";
+  for (int i = 0; i < 100000; ++i) xml += "<object>\n";
+  for (int i = 0; i < 100000; ++i) xml += "</object>";
+  const std::string deep = dir_.Write("deep.xml", xml + "\n</Environment>\n</ORCS>\n");
+  for (const std::vector<std::string>& argv : std::vector<std::vector<std::string>>{
+           {kBin + "orcs-sim", "-env", deep, "--duration", "0.01"},
+           {kBin + "orcs-osp", "-env", deep, "-port", "0", "-odcp_port", "0"}}) {
+    SCOPED_TRACE(argv[0]);
+    const Clock::time_point start = Clock::now();
+    const ProcessResult result = RunBounded(argv);
+    ExpectOneLineBadInput(result);
+    EXPECT_THAT(result.err, ::testing::ContainsRegex(deep + ":[0-9]+: XML elements nested deeper than 32 levels"));
+    EXPECT_LT(Clock::now() - start, std::chrono::seconds(15));
+  }
+}
+
 TEST_F(AdversarialInputTest, AnOverLongPatternIsRefusedWithOneLine) {
   const std::string long_pattern(1001, 'a');
   const ProcessResult printed = RunBounded({kBin + "orcs-sim", "-env", kEnvironment, "--print-values", long_pattern});

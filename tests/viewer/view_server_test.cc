@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <filesystem>
 #include <thread>
 
 #include "model/evaluation/recorder.h"
@@ -23,13 +24,13 @@ using ::testing::HasSubstr;
 
 constexpr int kSteps = 40;
 
-std::string WriteRecording(const test_support::TempDir& dir, const std::string& name) {
+std::string WriteRecording(const test_support::TempDir& dir, const std::string& name, int steps = kSteps) {
   scene::Simulation simulation;
   scene::SetUpWorld(simulation, "", {}, {});
   simulation.Reset(0);
   simulation.repository().Set("/Sim/Humanoid/Right/Knee/DesiredAngle", "30");
   evaluation::Recorder recorder(simulation, evaluation::RecordingSource{});
-  for (int i = 0; i < kSteps; ++i) {
+  for (int i = 0; i < steps; ++i) {
     simulation.Step();
     recorder.Sample();
   }
@@ -72,8 +73,8 @@ class Served {
   std::thread thread_;
 };
 
-// Sends raw bytes and returns the status line of the answer ("" when the connection closed without one).
-std::string RawRequest(int port, const std::string& bytes) {
+// Sends raw bytes and returns the start of the answer, up to 4 KiB ("" when the connection closed without one).
+std::string RawAnswer(int port, const std::string& bytes) {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in address{};
   address.sin_family = AF_INET;
@@ -86,10 +87,25 @@ std::string RawRequest(int port, const std::string& bytes) {
   timeval timeout{5, 0};
   setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
   (void)!write(fd, bytes.data(), bytes.size());
-  char buffer[512] = {};
-  const ssize_t got = read(fd, buffer, sizeof buffer - 1);
+  std::string answer;
+  char buffer[4096];
+  ssize_t got = 0;
+  while (answer.size() < sizeof buffer && (got = read(fd, buffer, sizeof buffer - answer.size())) > 0) {
+    answer.append(buffer, static_cast<std::size_t>(got));
+    const std::size_t head_end = answer.find("\r\n\r\n");
+    const std::size_t length_at = answer.find("Content-Length: ");
+    if (head_end != std::string::npos && length_at != std::string::npos &&
+        answer.size() >= head_end + 4 + std::stoul(answer.substr(length_at + 16))) {
+      break;
+    }
+  }
   close(fd);
-  const std::string answer(buffer, got > 0 ? static_cast<std::size_t>(got) : 0);
+  return answer;
+}
+
+// Sends raw bytes and returns the status line of the answer ("" when the connection closed without one).
+std::string RawRequest(int port, const std::string& bytes) {
+  const std::string answer = RawAnswer(port, bytes);
   return answer.substr(0, answer.find("\r\n"));
 }
 
@@ -219,6 +235,116 @@ TEST_F(ViewServerTest, LiveModeObeysOnlyTheControllingPage) {
   const nlohmann::json traversal = {{"file", "../escape.val"}};
   EXPECT_EQ(watcher.Post("/api/live/save", headers, traversal.dump(), "application/json")->status, 400);
   EXPECT_EQ(watcher.Get("/api/live/values?filter=(.*)*(.*)*(.*)*(.*)*(.*)*X")->body, "[]") << "RE2: no hang";
+}
+
+// A "realtime" that is not a boolean made nlohmann::json throw a type_error, which the server answered as a 500
+// internal error (the input is kept in tests/fuzz/regressions/view_request/).
+TEST_F(ViewServerTest, ARealtimeThatIsNotABooleanIs400NamingTheField) {
+  LiveOptions options;
+  options.files_dir = dir_.PathOf("files");
+  LiveSession live(options);
+  Served served(web_, nullptr, &live);
+  httplib::Client client = served.Client();
+  const std::string token = nlohmann::json::parse(client.Post("/api/live/claim", "", "application/json")->body)["token"];
+  const httplib::Headers headers = {{"X-Orcs-Token", token}};
+  for (const char* body : {R"({"action":"run","realtime":"yes"})", R"({"action":"step","realtime":1})",
+                           R"({"action":"pause","realtime":null})"}) {
+    const httplib::Result result = client.Post("/api/live/control", headers, body, "application/json");
+    ASSERT_TRUE(result) << body;
+    EXPECT_EQ(result->status, 400) << body << " -> " << result->body;
+    EXPECT_THAT(result->body, HasSubstr("realtime: expected true or false")) << body;
+  }
+  EXPECT_EQ(live.State()["running"], false) << "nothing was run";
+  EXPECT_EQ(client.Post("/api/live/control", headers, R"({"action":"step","realtime":false})", "application/json")->status,
+            200);
+}
+
+// A symbolic link in the live files folder named a file anywhere on the machine, and load applied it (or quoted its
+// lines in the error): only the folder's own files are used, and links are not listed.
+TEST_F(ViewServerTest, ASymlinkInTheFilesFolderIsNeitherLoadedNorListed) {
+  const std::string outside = dir_.Write("outside.val", "#ORCS Values\n/Sim/Humanoid/Right/Knee/DesiredAngle=33\n");
+  dir_.Write("files/own.val", "#ORCS Values\n/Sim/Humanoid/Right/Knee/DesiredAngle=12\n");
+  std::filesystem::create_symlink(outside, dir_.PathOf("files/link.val"));
+  dir_.Write("secret.txt", "TOP-SECRET-LINE\n");
+  std::filesystem::create_symlink(dir_.PathOf("secret.txt"), dir_.PathOf("files/secret.val"));
+  LiveOptions options;
+  options.files_dir = dir_.PathOf("files");
+  LiveSession live(options);
+  Served served(web_, nullptr, &live);
+  httplib::Client client = served.Client();
+  const std::string token = nlohmann::json::parse(client.Post("/api/live/claim", "", "application/json")->body)["token"];
+  const httplib::Headers headers = {{"X-Orcs-Token", token}};
+  EXPECT_EQ(nlohmann::json::parse(client.Get("/api/live/files")->body), nlohmann::json::array({"own.val"}));
+  for (const char* link : {"link.val", "secret.val"}) {
+    const httplib::Result load =
+        client.Post("/api/live/load", headers, nlohmann::json{{"file", link}}.dump(), "application/json");
+    ASSERT_TRUE(load);
+    EXPECT_EQ(load->status, 400) << link << ": " << load->body;
+    EXPECT_THAT(load->body, HasSubstr("symbolic link")) << link;
+    EXPECT_THAT(load->body, ::testing::Not(HasSubstr("TOP-SECRET"))) << link;
+  }
+  const auto knee = [&] {
+    return nlohmann::json::parse(client.Get("/api/live/values?filter=.*Right/Knee/DesiredAngle")->body)[0]["value"];
+  };
+  EXPECT_NE(knee(), "33") << "the linked file was applied";
+  EXPECT_EQ(client.Post("/api/live/load", headers, R"({"file":"own.val"})", "application/json")->status, 200);
+  EXPECT_EQ(knee(), "12");
+}
+
+// ids may repeat, so ~4000 of them (as many as fit in a request line) asked for ~4000 columns of every frame: 17 MB
+// for an 1100-frame recording, 1.6 GB for 100,000 frames, per request, on each of the server's threads. The answer
+// is bounded at 2^22 values.
+TEST_F(ViewServerTest, ChannelAnswersAreBoundedEvenWhenIdsRepeat) {
+  const std::string long_run = WriteRecording(dir_, "long.orcsrec", 1100);
+  ViewCatalog catalog({long_run});
+  Served served(web_, &catalog, nullptr);
+  httplib::Client client = served.Client();
+  std::string ids = "0";
+  for (int i = 1; i < 4000; ++i) ids += ",0";
+  // Raw, so that no client library percent-encodes the commas and the line stays under httplib's 8 KiB.
+  const std::string many =
+      RawAnswer(served.port(), "GET /api/recording/r0/channels?ids=" + ids + " HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_THAT(many, ::testing::StartsWith("HTTP/1.1 400 "));
+  EXPECT_THAT(many, HasSubstr("ids: at most 3809 channels of this recording (1101 frames) per request"));
+  const httplib::Result two = client.Get("/api/recording/r0/channels?ids=0,0");
+  ASSERT_TRUE(two);
+  EXPECT_EQ(two->status, 200);
+  EXPECT_EQ(two->body.size(), 2u * 1101u * sizeof(float));
+}
+
+// A filter is any bytes after percent-decoding: one that is not UTF-8 made the error message unprintable as JSON, and
+// the exception thrown from the exception handler ended orcs-view (std::terminate). Now a 400, and it serves on.
+TEST_F(ViewServerTest, AFilterThatIsNotUtf8Is400AndTheServerServesOn) {
+  LiveOptions options;
+  options.files_dir = dir_.PathOf("files");
+  LiveSession live(options);
+  Served served(web_, nullptr, &live);
+  const std::string status = RawRequest(served.port(), "GET /api/live/values?filter=%FF( HTTP/1.1\r\nHost: x\r\n\r\n");
+  EXPECT_EQ(status, "HTTP/1.1 400 Bad Request");
+  httplib::Client client = served.Client();
+  const httplib::Result valid_but_not_utf8 = client.Get("/api/live/values?filter=%FF");
+  ASSERT_TRUE(valid_but_not_utf8);
+  EXPECT_EQ(valid_but_not_utf8->status, 400) << valid_but_not_utf8->body;
+  const httplib::Result after = client.Get("/api/session");
+  ASSERT_TRUE(after) << "the server is gone";
+  EXPECT_EQ(after->status, 200);
+}
+
+// Answer() is the server's own handling on bytes: the same routes and refusals as over a socket, one answer per
+// request of a keep-alive connection.
+TEST_F(ViewServerTest, AnswerHandlesAConnectionsRequestsAsTheSocketDoes) {
+  ViewCatalog catalog({recording_});
+  const WebAssets assets(web_);
+  ViewServer server(assets, &catalog, nullptr, nullptr);
+  const std::vector<std::string> answers = server.Answer(
+      "GET /api/session HTTP/1.1\r\nHost: x\r\n\r\nGET /../../etc/passwd HTTP/1.1\r\nHost: x\r\n\r\n"
+      "GET /api/recording/r0/channels?ids=1,x HTTP/1.1\r\nHost: x\r\n\r\n");
+  ASSERT_EQ(answers.size(), 3u);
+  EXPECT_THAT(answers[0], ::testing::StartsWith("HTTP/1.1 200 OK\r\n"));
+  EXPECT_THAT(answers[0], HasSubstr(R"("mode":"files")"));
+  EXPECT_THAT(answers[1], ::testing::StartsWith("HTTP/1.1 404 "));
+  EXPECT_THAT(answers[2], ::testing::StartsWith("HTTP/1.1 400 "));
+  EXPECT_THAT(answers[2], HasSubstr("ids: expected channel indices"));
 }
 
 // The first frame at or beyond `step`, awaited frame by frame (each wait bounded).

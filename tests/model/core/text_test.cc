@@ -168,6 +168,12 @@ TEST(TextTest, ValidUtf8KeepsCharactersAndReplacesBrokenBytes) {
   EXPECT_EQ(ValidUtf8("\xFF"), replacement);
 }
 
+TEST(TextTest, QuoteEscapesControlCharactersSoAnErrorStaysOneLine) {
+  EXPECT_EQ(Quote("a\nb\r\tc"), "'a\\nb\\r\\tc'");
+  EXPECT_EQ(Quote(std::string("x\0y\x1f\x7f", 5)), "'x\\x00y\\x1f\\x7f'");
+  EXPECT_EQ(Quote("caf\xc3\xa9"), "'caf\xc3\xa9'") << "UTF-8 is kept";
+}
+
 TEST(TextTest, QuoteShortensLongText) {
   EXPECT_EQ(Quote("abc"), "'abc'");
   EXPECT_EQ(Quote(""), "''");

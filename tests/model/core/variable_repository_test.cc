@@ -60,6 +60,15 @@ TEST(VariableRepositoryTest, ErrorsNameLongPathsInFull) {
   EXPECT_THAT(InputErrorOf([&] { repository.Match(long_regex); }), HasSubstr("'" + long_regex + "'"));
 }
 
+TEST(VariableRepositoryTest, ErrorsEscapeControlCharactersSoTheyStayOneLine) {
+  // Paths and patterns arrive from orcs-view's requests and OSP datagrams: any bytes.
+  VariableRepository repository;
+  EXPECT_EQ(InputErrorOf([&] { repository.Get("/Sim/a\nb"); }), "unknown repository path '/Sim/a\\x0ab'");
+  const std::string bad_pattern = InputErrorOf([&] { repository.Match("(\n"); });
+  EXPECT_EQ(bad_pattern.find('\n'), std::string::npos) << bad_pattern;
+  EXPECT_THAT(bad_pattern, HasSubstr("invalid regular expression '(\\x0a'"));
+}
+
 TEST(VariableRepositoryTest, SetParsesAndNotifies) {
   VariableRepository repository;
   Value& gain = repository.Add("/PID/Proportional", 1.0);

@@ -204,6 +204,34 @@ TEST(EnvironmentReaderTest, NoRootElement) {
   EXPECT_THAT(error.what(), HasSubstr("ORCS"));
 }
 
+// Nesting is bounded at 32 levels of elements (docs/formats.md, "Input limits"), with the error at the first element
+// past the bound; elements under an <object> are otherwise ignored, so 32 levels read.
+std::string NestedUnderObject(int extra_levels, bool shallow_sibling_first) {
+  std::string xml = "<ORCS version=\"1.0\">\n<Environment>\n";
+  if (shallow_sibling_first) xml += "<object type=\"box\" name=\"A\" position=\"(0,0,0)\" dimension=\"(1,1,1)\"/>\n";
+  xml += "<object type=\"box\" name=\"B\" position=\"(0,0,0)\" dimension=\"(1,1,1)\">\n";
+  for (int i = 0; i < extra_levels; ++i) xml += "<x>\n";
+  for (int i = 0; i < extra_levels; ++i) xml += "</x>";
+  return xml + "</object>\n</Environment>\n</ORCS>\n";
+}
+
+TEST(EnvironmentReaderTest, ThirtyTwoLevelsOfElementsAreReadAndTheThirtyThirdIsRefusedAtItsLine) {
+  EXPECT_EQ(EnvironmentReader::ReadString(NestedUnderObject(29, false), kSource).objects.size(), 1u);
+  EXPECT_EQ(EnvironmentReader::ReadString(NestedUnderObject(29, true), kSource).objects.size(), 2u);
+  ExpectErrorAt(NestedUnderObject(30, false), 33, {"XML elements nested deeper than 32 levels"});
+  ExpectErrorAt(NestedUnderObject(30, true), 34, {"XML elements nested deeper than 32 levels"});
+}
+
+// 100,000 levels: tinyxml2 stops parsing long before the stack would overflow; the same one-line error, at the
+// line where its own bound stopped it.
+TEST(EnvironmentReaderTest, NestingOneHundredThousandDeepIsOneLineError) {
+  const InputError error = ErrorOf(NestedUnderObject(100000, false));
+  EXPECT_THAT(error.what(), HasSubstr("XML elements nested deeper than 32 levels"));
+  EXPECT_EQ(error.source(), kSource);
+  EXPECT_GT(error.line(), 33);
+  EXPECT_EQ(std::string(error.what()).find('\n'), std::string::npos);
+}
+
 TEST(EnvironmentReaderTest, MissingVersion) {
   ExpectErrorAt(Lines({"", "<ORCS>", "</ORCS>"}), 2, {"version", "1.0"});
 }

@@ -58,12 +58,19 @@ export async function post(url, body, { raw = false } = {}) {
   try { return JSON.parse(text); } catch { return text; }
 }
 
-/** Fetches the values of many channels of a recording, at most 4096 per request. Returns id -> Float32Array. */
+/** The server answers at most this many values (channels × frames) per request (docs/viewer-api.md). */
+const MAX_CHANNEL_VALUES = 1 << 22;
+
+/**
+ * Fetches the values of many channels of a recording, in requests of at most 1000 channels (the URL stays short)
+ * and MAX_CHANNEL_VALUES values. Returns id -> Float32Array.
+ */
 export async function getChannels(rid, ids, frames) {
   const out = new Map();
   const unique = [...new Set(ids)].filter((id) => Number.isInteger(id) && id >= 0);
-  for (let start = 0; start < unique.length; start += 4096) {
-    const chunk = unique.slice(start, start + 4096);
+  const perRequest = Math.max(1, Math.min(1000, Math.floor(MAX_CHANNEL_VALUES / Math.max(frames, 1))));
+  for (let start = 0; start < unique.length; start += perRequest) {
+    const chunk = unique.slice(start, start + perRequest);
     const data = await getFloat32(`/api/recording/${encodeURIComponent(rid)}/channels?ids=${chunk.join(',')}`);
     const n = chunk.length ? Math.floor(data.length / chunk.length) : 0;
     if (n !== frames) throw new ApiError(`recording ${rid}: ${data.length} channel values for ${chunk.length} channels of ${frames} frames`);
