@@ -142,23 +142,23 @@ Broker::Broker(BrokerOptions options)
 }
 
 void Broker::EnableCurve() {
-  const proto::CurveBrokerKeys keys = proto::LoadCurveBrokerKeys(options_.curve_keys);
+  const net::CurveBrokerKeys keys = net::LoadCurveBrokerKeys(options_.curve_keys);
   // The handler first: a CURVE server socket of a context without one lets every key in.
   zap_ = std::make_unique<ZapHandler>(
       context_,
-      std::map<std::string, proto::AllowedCurveKeys>{{proto::kWorkerZapDomain, keys.allowed_workers},
-                                                     {proto::kClientZapDomain, keys.allowed_clients}},
+      std::map<std::string, net::AllowedCurveKeys>{{net::kWorkerZapDomain, keys.allowed_workers},
+                                                     {net::kClientZapDomain, keys.allowed_clients}},
       [this](const std::string& line) { Log(line); });
-  proto::MakeCurveServer(client_socket_, keys.own, proto::kClientZapDomain);
-  proto::MakeCurveServer(worker_socket_, keys.own, proto::kWorkerZapDomain);
-  client_monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, client_socket_, "client");
-  worker_monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, worker_socket_, "worker");
+  net::MakeCurveServer(client_socket_, keys.own, net::kClientZapDomain);
+  net::MakeCurveServer(worker_socket_, keys.own, net::kWorkerZapDomain);
+  client_monitor_ = std::make_unique<net::HandshakeMonitor>(context_, client_socket_, "client");
+  worker_monitor_ = std::make_unique<net::HandshakeMonitor>(context_, worker_socket_, "worker");
   Log("CURVE on (keys in " + options_.curve_keys + "): " + std::to_string(keys.allowed_workers.size()) +
       " worker keys and " + std::to_string(keys.allowed_clients.size()) + " client keys allowed");
 }
 
-void Broker::ReadHandshakeFailures(proto::HandshakeMonitor& monitor, const std::string& side) {
-  for (const proto::HandshakeFailure& failure : monitor.ReadFailures()) {
+void Broker::ReadHandshakeFailures(net::HandshakeMonitor& monitor, const std::string& side) {
+  for (const net::HandshakeFailure& failure : monitor.ReadFailures()) {
     ++counters_.handshakes_failed;
     // Refusals are logged by the ZAP handler, with the key; early closes are routine (scans, endpoint checks).
     if (failure.event == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH || failure.closed_early()) continue;

@@ -28,7 +28,7 @@
 #include "broker/broker_journal.h"
 #include "broker/zap_handler.h"
 #include "orcs/v1/broker.pb.h"
-#include "proto/handshake_monitor.h"
+#include "net/handshake_monitor.h"
 
 namespace orcs::broker {
 
@@ -96,7 +96,7 @@ struct BrokerStats {
 };
 
 /// The broker. Construct (binds both sockets, throws std::runtime_error naming the endpoint when it cannot, and
-/// proto::CurveKeyError naming the file when a CURVE key is missing or malformed), call Run() on one thread,
+/// net::CurveKeyError naming the file when a CURVE key is missing or malformed), call Run() on one thread,
 /// Stop() from any thread.
 class Broker {
  public:
@@ -174,7 +174,7 @@ class Broker {
 
   // CURVE.
   void EnableCurve();
-  void ReadHandshakeFailures(proto::HandshakeMonitor& monitor, const std::string& side);
+  void ReadHandshakeFailures(net::HandshakeMonitor& monitor, const std::string& side);
 
   // Incoming traffic.
   void ReceiveWorkerMessages();
@@ -247,8 +247,8 @@ class Broker {
   zmq::socket_t client_socket_;
   zmq::socket_t worker_socket_;
   std::unique_ptr<ZapHandler> zap_;                          ///< with CURVE: decides who may connect
-  std::unique_ptr<proto::HandshakeMonitor> client_monitor_;  ///< with CURVE: failed handshakes on client_socket_
-  std::unique_ptr<proto::HandshakeMonitor> worker_monitor_;  ///< with CURVE: failed handshakes on worker_socket_
+  std::unique_ptr<net::HandshakeMonitor> client_monitor_;  ///< with CURVE: failed handshakes on client_socket_
+  std::unique_ptr<net::HandshakeMonitor> worker_monitor_;  ///< with CURVE: failed handshakes on worker_socket_
   std::set<std::string> warned_handshakes_;                  ///< kinds of handshake failure logged already
   std::string client_key_;  ///< with CURVE, the public key (Z85) of the client whose message is being handled
   std::string client_endpoint_;

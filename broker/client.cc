@@ -57,7 +57,7 @@ BatchClient::BatchClient(BatchClientOptions options)
       batch_id_(options_.batch_id.empty() ? proto::SecureRandomHex(16) : options_.batch_id),
       owner_token_(proto::SecureRandomBytes(16)),
       context_(1) {
-  if (!options_.curve_keys.empty()) curve_ = proto::LoadCurvePeerKeys(options_.curve_keys, "client");
+  if (!options_.curve_keys.empty()) curve_ = net::LoadCurvePeerKeys(options_.curve_keys, "client");
   try {  // a malformed endpoint fails here, at once, rather than at the first Submit()
     zmq::socket_t probe(context_, zmq::socket_type::dealer);
     probe.set(zmq::sockopt::linger, 0);
@@ -298,8 +298,8 @@ void BatchClient::Connect() {
   // closed for good, leaving the socket without a pipe: a send must then fail at once, never block this thread.
   socket_->set(zmq::sockopt::sndtimeo, 0);
   if (curve_) {
-    proto::MakeCurveClient(*socket_, *curve_);
-    monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, *socket_,
+    net::MakeCurveClient(*socket_, *curve_);
+    monitor_ = std::make_unique<net::HandshakeMonitor>(context_, *socket_,
                                                          "client-" + std::to_string(++monitors_made_));
   }
   try {
@@ -315,16 +315,16 @@ void BatchClient::Connect() {
 }
 
 void BatchClient::ReadHandshakeFailures() {
-  std::vector<proto::HandshakeFailure> failures = monitor_->ReadFailures();
+  std::vector<net::HandshakeFailure> failures = monitor_->ReadFailures();
   // A connection the broker closed early (it was stopping, or it speaks plain TCP and noticed first) is no
   // refusal to count or log, but it may explain a timeout.
-  for (const proto::HandshakeFailure& failure : failures) handshake_failure_ = failure.Describe();
-  std::erase_if(failures, [](const proto::HandshakeFailure& failure) { return failure.closed_early(); });
+  for (const net::HandshakeFailure& failure : failures) handshake_failure_ = failure.Describe();
+  std::erase_if(failures, [](const net::HandshakeFailure& failure) { return failure.closed_early(); });
   {
     std::lock_guard lock(mutex_);
     stats_.handshake_failures += failures.size();
   }
-  for (const proto::HandshakeFailure& failure : failures) {
+  for (const net::HandshakeFailure& failure : failures) {
     const std::string why = failure.Describe();
     if (!warned_handshakes_.insert(why).second) continue;  // a handful of kinds at most
     Log("the CURVE handshake with the broker at " + options_.endpoint + " failed: " + why +

@@ -26,8 +26,8 @@
 #include <zmq.hpp>
 
 #include "orcs/v1/broker.pb.h"
-#include "proto/curve_keys.h"
-#include "proto/handshake_monitor.h"
+#include "net/curve_keys.h"
+#include "net/handshake_monitor.h"
 
 namespace orcs::broker {
 
@@ -79,7 +79,7 @@ class BatchClient {
  public:
   /// Starts the I/O thread; connects on the first Submit(). Throws std::invalid_argument for an empty endpoint,
   /// non-positive intervals or timeouts, a liveness below 2, or an endpoint ZeroMQ cannot parse;
-  /// proto::CurveKeyError naming the file for a missing or malformed CURVE key.
+  /// net::CurveKeyError naming the file for a missing or malformed CURVE key.
   explicit BatchClient(BatchClientOptions options);
   /// Tells the broker the client is leaving (its jobs still queued are dropped) and stops the I/O thread.
   ~BatchClient();
@@ -139,11 +139,11 @@ class BatchClient {
   const std::string owner_token_;  ///< Submit.owner_token: 128 random bits; the batch is this client's
   zmq::context_t context_;
   int wake_fd_ = -1;  ///< eventfd: Submit() and the destructor wake the I/O thread's poll through it
-  std::optional<proto::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
+  std::optional<net::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
 
   // Owned by the I/O thread.
   std::unique_ptr<zmq::socket_t> socket_;
-  std::unique_ptr<proto::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
+  std::unique_ptr<net::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
   int monitors_made_ = 0;                             ///< names each monitor uniquely
   std::string handshake_failure_;                     ///< why the last handshake failed, for the timeout message
   std::set<std::string> warned_handshakes_;           ///< kinds of handshake failure logged already

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 
 namespace {
 
@@ -35,11 +35,11 @@ int main(int argc, char** argv) {
   }
   try {
     for (const std::string& name : names) {
-      const orcs::proto::CurveKeyPair pair = orcs::proto::GenerateCurveKeyPair();
-      orcs::proto::WriteCurveKeyPair(dir, name, pair);
+      const orcs::net::CurveKeyPair pair = orcs::net::GenerateCurveKeyPair();
+      orcs::net::WriteCurveKeyPair(dir, name, pair);
       std::cout << name << ".pub " << pair.public_key << "\n";
     }
-  } catch (const orcs::proto::CurveKeyError& error) {
+  } catch (const orcs::net::CurveKeyError& error) {
     std::cerr << "orcs-keys: " << error.what() << "\n";
     return kExitBadInput;
   }

@@ -13,14 +13,14 @@ constexpr std::size_t kMaxWarned = 1024;   // bound on the "logged once" set
 constexpr int kMaxRequestsPerRound = 256;  // so that a flood of handshakes cannot starve the broker's sockets
 
 const char* RoleOf(const std::string& domain) {
-  if (domain == proto::kWorkerZapDomain) return "worker";
-  if (domain == proto::kClientZapDomain) return "client";
+  if (domain == net::kWorkerZapDomain) return "worker";
+  if (domain == net::kClientZapDomain) return "client";
   return "unknown";
 }
 
 }  // namespace
 
-ZapHandler::ZapHandler(zmq::context_t& context, std::map<std::string, proto::AllowedCurveKeys> allowed,
+ZapHandler::ZapHandler(zmq::context_t& context, std::map<std::string, net::AllowedCurveKeys> allowed,
                        std::function<void(const std::string&)> log)
     : socket_(context, zmq::socket_type::rep), allowed_(std::move(allowed)), log_(std::move(log)) {
   socket_.set(zmq::sockopt::linger, 0);
@@ -68,13 +68,13 @@ std::string ZapHandler::Decide(const std::vector<zmq::message_t>& request, std::
     auto entry = keys->second.find(key);
     if (entry != keys->second.end()) {
       ++stats_.accepted;
-      user_id = proto::CurveKeyText(key);  // the peer's identity on each of its messages (User-Id)
+      user_id = net::CurveKeyText(key);  // the peer's identity on each of its messages (User-Id)
       return "200";
     }
   }
   ++stats_.refused;
   std::string line = "refused a " + role + " connection from " + address + ": its CURVE key " +
-                     proto::CurveKeyText(key) + " is not allowed on the " + role + " socket";
+                     net::CurveKeyText(key) + " is not allowed on the " + role + " socket";
   for (const auto& [other_domain, other_keys] : allowed_) {
     auto other = other_keys.find(key);
     if (other_domain != domain && other != other_keys.end()) line += " (it is a " + std::string(RoleOf(other_domain)) +

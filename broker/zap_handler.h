@@ -15,7 +15,7 @@
 #include <string_view>
 #include <zmq.hpp>
 
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 
 namespace orcs::broker {
 
@@ -30,10 +30,10 @@ class ZapHandler {
   /// The endpoint libzmq sends ZAP requests to, fixed by the ZAP specification.
   static constexpr const char* kEndpoint = "inproc://zeromq.zap.01";
 
-  /// Binds kEndpoint on `context`. `allowed` maps a ZAP domain (proto::kWorkerZapDomain, ...) to the keys it
+  /// Binds kEndpoint on `context`. `allowed` maps a ZAP domain (net::kWorkerZapDomain, ...) to the keys it
   /// accepts; a domain not in it accepts nothing. Construct before any CURVE server socket of `context` binds:
   /// without a handler libzmq lets every CURVE peer in. Throws std::runtime_error when kEndpoint is taken.
-  ZapHandler(zmq::context_t& context, std::map<std::string, proto::AllowedCurveKeys> allowed,
+  ZapHandler(zmq::context_t& context, std::map<std::string, net::AllowedCurveKeys> allowed,
              std::function<void(const std::string&)> log);
 
   /// The socket to poll for ZMQ_POLLIN.
@@ -49,7 +49,7 @@ class ZapHandler {
   void LogRefusal(const std::string& key, const std::string& line);
 
   zmq::socket_t socket_;
-  std::map<std::string, proto::AllowedCurveKeys> allowed_;
+  std::map<std::string, net::AllowedCurveKeys> allowed_;
   std::function<void(const std::string&)> log_;
   std::set<std::string> warned_;  ///< refusals already logged (domain + key), bounded
   ZapStats stats_;

@@ -57,7 +57,7 @@ WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
     : options_(Checked(std::move(options))),
       worker_id_(options_.worker_id.empty() ? DefaultWorkerId() : options_.worker_id),
       context_(1) {
-  if (!options_.curve_keys.empty()) curve_ = proto::LoadCurvePeerKeys(options_.curve_keys, "worker");
+  if (!options_.curve_keys.empty()) curve_ = net::LoadCurvePeerKeys(options_.curve_keys, "worker");
   try {  // a malformed endpoint fails here, at once, rather than in the I/O thread
     zmq::socket_t probe(context_, zmq::socket_type::dealer);
     probe.set(zmq::sockopt::linger, 0);
@@ -259,8 +259,8 @@ void WorkerConnection::Connect() {
   // closed for good, leaving the socket without a pipe: a send must then fail at once, never block this thread.
   socket_->set(zmq::sockopt::sndtimeo, 0);
   if (curve_) {
-    proto::MakeCurveClient(*socket_, *curve_);
-    monitor_ = std::make_unique<proto::HandshakeMonitor>(context_, *socket_,
+    net::MakeCurveClient(*socket_, *curve_);
+    monitor_ = std::make_unique<net::HandshakeMonitor>(context_, *socket_,
                                                          "worker-" + std::to_string(++monitors_made_));
   }
   socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
@@ -294,14 +294,14 @@ void WorkerConnection::AnnounceCredit(int credit) {
 }
 
 void WorkerConnection::ReadHandshakeFailures() {
-  std::vector<proto::HandshakeFailure> failures = monitor_->ReadFailures();
+  std::vector<net::HandshakeFailure> failures = monitor_->ReadFailures();
   // A connection the broker closed early (it was stopping, say) is a reconnection, not a failed handshake.
-  std::erase_if(failures, [](const proto::HandshakeFailure& failure) { return failure.closed_early(); });
+  std::erase_if(failures, [](const net::HandshakeFailure& failure) { return failure.closed_early(); });
   {
     std::lock_guard lock(mutex_);
     stats_.handshake_failures += failures.size();
   }
-  for (const proto::HandshakeFailure& failure : failures) {
+  for (const net::HandshakeFailure& failure : failures) {
     const std::string why = failure.Describe();
     if (!warned_handshakes_.insert(why).second) continue;  // a handful of kinds at most
     Log("the CURVE handshake with the broker at " + options_.endpoint + " failed: " + why +

@@ -29,8 +29,8 @@
 #include <zmq.hpp>
 
 #include "orcs/v1/broker.pb.h"
-#include "proto/curve_keys.h"
-#include "proto/handshake_monitor.h"
+#include "net/curve_keys.h"
+#include "net/handshake_monitor.h"
 
 namespace orcs::worker {
 
@@ -81,7 +81,7 @@ class WorkerConnection {
 
   /// Starts the I/O thread, which connects and sends READY. Never blocks on the broker: a worker may start before
   /// its broker. Throws std::invalid_argument for an empty endpoint, a credit outside 1..1024, a non-positive
-  /// interval, a liveness below 2, or an endpoint ZeroMQ cannot parse; proto::CurveKeyError naming the file for a
+  /// interval, a liveness below 2, or an endpoint ZeroMQ cannot parse; net::CurveKeyError naming the file for a
   /// missing or malformed CURVE key.
   explicit WorkerConnection(WorkerConnectionOptions options);
   /// Says DISCONNECT to the broker (its jobs go back to the queue, not counted as a loss) and stops the I/O thread.
@@ -126,11 +126,11 @@ class WorkerConnection {
   zmq::context_t context_;
   int wake_fd_ = -1;  ///< eventfd: SendResult() and the destructor wake the I/O thread's poll through it
 
-  std::optional<proto::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
+  std::optional<net::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
 
   // Owned by the I/O thread.
   std::unique_ptr<zmq::socket_t> socket_;
-  std::unique_ptr<proto::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
+  std::unique_ptr<net::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
   int monitors_made_ = 0;                             ///< names each monitor uniquely
   std::set<std::string> warned_handshakes_;           ///< kinds of handshake failure logged already
   v1::BrokerToWorker in_;

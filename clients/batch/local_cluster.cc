@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 
 namespace orcs::batch {
 namespace {
@@ -48,7 +48,7 @@ LocalCluster::LocalCluster(LocalClusterOptions options) : options_(std::move(opt
   if (log_fd_ < 0) throw std::runtime_error("cannot open the log file " + log_path + ": " + std::strerror(errno));
 
   // The workers' keys checked here, so that a bad one is this program's error rather than workers that exit.
-  if (!options_.curve_keys.empty()) proto::LoadCurvePeerKeys(options_.curve_keys, "worker");
+  if (!options_.curve_keys.empty()) net::LoadCurvePeerKeys(options_.curve_keys, "worker");
   broker::BrokerOptions broker_options;  // loopback, ephemeral ports
   broker_options.heartbeat_interval = options_.heartbeat_interval;
   broker_options.curve_keys = options_.curve_keys;

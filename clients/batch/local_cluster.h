@@ -30,7 +30,7 @@ struct LocalClusterOptions {
 class LocalCluster {
  public:
   /// Starts the broker and the workers. Throws std::runtime_error when the broker cannot bind, the worker
-  /// program is missing, or a process cannot be started; proto::CurveKeyError for a missing or malformed key.
+  /// program is missing, or a process cannot be started; net::CurveKeyError for a missing or malformed key.
   explicit LocalCluster(LocalClusterOptions options);
   /// Stops the workers (SIGTERM; SIGKILL for any still running after a grace period) and the broker.
   ~LocalCluster();

@@ -26,7 +26,7 @@
 #include "clients/batch/sweep_report.h"
 #include "clients/evolve/evolve_command.h"
 #include "clients/regress/regress_plan.h"
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 #include "model/core/error.h"
 #include "worker/cli_style.h"
 
@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
   } catch (const orcs::InputError& error) {
     std::cerr << "orcs-batch: " << error.what() << "\n";
     return orcs::cli::kExitBadInput;
-  } catch (const orcs::proto::CurveKeyError& error) {  // a missing or malformed key file: bad input
+  } catch (const orcs::net::CurveKeyError& error) {  // a missing or malformed key file: bad input
     std::cerr << "orcs-batch: " << error.what() << "\n";
     return orcs::cli::kExitBadInput;
   } catch (const orcs::broker::BatchClientError& error) {

@@ -16,7 +16,7 @@
 
 #include "broker/broker.h"
 #include "broker/client.h"
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 #include "worker/broker_connection.h"
 
 namespace orcs {
@@ -33,7 +33,7 @@ class CurveKeyFolder {
     if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
     path_ = pattern;
     for (const char* name : {"broker", "worker", "client"}) {
-      proto::WriteCurveKeyPair(path_, name, proto::GenerateCurveKeyPair());
+      net::WriteCurveKeyPair(path_, name, net::GenerateCurveKeyPair());
     }
     std::filesystem::create_directory(path_ / "allowed_workers");
     std::filesystem::create_directory(path_ / "allowed_clients");

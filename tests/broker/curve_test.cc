@@ -8,7 +8,7 @@
 #include <set>
 
 #include "broker/broker.h"
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 #include "proto/envelope.h"
 #include "tests/broker/test_peers.h"
 #include "tests/support/temp_dir.h"
@@ -19,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using broker::BatchClient;
 using broker::BatchClientError;
-using proto::CurveKeyPair;
+using net::CurveKeyPair;
 using std::chrono::milliseconds;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
@@ -38,7 +38,7 @@ std::vector<v1::Job> MakeJobs(const std::string& prefix, int count) {
 }
 
 void WritePair(const fs::path& dir, const std::string& name, const CurveKeyPair& pair) {
-  proto::WriteCurveKeyPair(dir, name, pair);
+  net::WriteCurveKeyPair(dir, name, pair);
 }
 
 // The message of the BatchClientError `submit` ends with; fails the test when it ends without one.
@@ -59,9 +59,9 @@ class CurveTest : public ::testing::Test {
   // a stranger's (its own worker and client pairs, the right broker.pub: it knows the broker, the broker does not
   // know it), and a swapped one (the allowed worker's pair as client.*, the allowed client's pair as worker.*).
   void SetUp() override {
-    worker_pair_ = proto::GenerateCurveKeyPair();
-    client_pair_ = proto::GenerateCurveKeyPair();
-    WritePair(cluster(), "broker", proto::GenerateCurveKeyPair());
+    worker_pair_ = net::GenerateCurveKeyPair();
+    client_pair_ = net::GenerateCurveKeyPair();
+    WritePair(cluster(), "broker", net::GenerateCurveKeyPair());
     WritePair(cluster(), "worker", worker_pair_);
     WritePair(cluster(), "client", client_pair_);
     fs::create_directories(cluster() / "allowed_workers");
@@ -69,12 +69,12 @@ class CurveTest : public ::testing::Test {
     fs::copy_file(cluster() / "worker.pub", cluster() / "allowed_workers/worker.pub");
     fs::copy_file(cluster() / "client.pub", cluster() / "allowed_clients/client.pub");
 
-    WritePair(bob(), "client", proto::GenerateCurveKeyPair());
+    WritePair(bob(), "client", net::GenerateCurveKeyPair());
     fs::copy_file(cluster() / "broker.pub", bob() / "broker.pub");
     fs::copy_file(bob() / "client.pub", cluster() / "allowed_clients/bob.pub");
 
-    stranger_client_ = proto::GenerateCurveKeyPair();
-    WritePair(stranger(), "worker", proto::GenerateCurveKeyPair());
+    stranger_client_ = net::GenerateCurveKeyPair();
+    WritePair(stranger(), "worker", net::GenerateCurveKeyPair());
     WritePair(stranger(), "client", stranger_client_);
     fs::copy_file(cluster() / "broker.pub", stranger() / "broker.pub");
 
@@ -165,13 +165,13 @@ TEST_F(CurveTest, ClientWithUnknownKeyReceivesNothing) {
   heartbeat.set_protocol_version(proto::kProtocolVersion);
   heartbeat.mutable_heartbeat();
 
-  RawPeer allowed(broker.client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
+  RawPeer allowed(broker.client_endpoint(), net::LoadCurvePeerKeys(cluster(), "client"));
   allowed.Send(heartbeat);
   std::optional<v1::BrokerToClient> answer = allowed.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
   ASSERT_TRUE(answer.has_value());
   EXPECT_TRUE(answer->has_disconnect());
 
-  RawPeer unknown(broker.client_endpoint(), proto::LoadCurvePeerKeys(stranger(), "client"));
+  RawPeer unknown(broker.client_endpoint(), net::LoadCurvePeerKeys(stranger(), "client"));
   unknown.Send(heartbeat);
   unknown.Send(v1::ClientToBroker());  // garbage would be counted as dropped, had it arrived
   ASSERT_TRUE(WaitFor([&] { return broker.stats().handshakes_refused >= 1; }));
@@ -261,7 +261,7 @@ TEST_F(CurveTest, AnotherAllowedClientCannotTakeOverABatch) {
   BatchClient alice(ClientOptions(broker, cluster()));
   alice.Submit(MakeJobs("job-", 2));  // no worker yet: the jobs wait
 
-  RawPeer bob_peer(broker.client_endpoint(), proto::LoadCurvePeerKeys(bob(), "client"));
+  RawPeer bob_peer(broker.client_endpoint(), net::LoadCurvePeerKeys(bob(), "client"));
   v1::ClientToBroker takeover;
   takeover.set_protocol_version(proto::kProtocolVersion);
   takeover.mutable_submit()->set_batch_id(alice.batch_id());
@@ -291,7 +291,7 @@ TEST_F(CurveTest, ABatchRestoredFromTheJournalStaysWithTheKeyThatOpenedIt) {
   submit.mutable_submit()->set_owner_token(std::string(16, 'o'));
   *submit.mutable_submit()->add_jobs() = MakeJob("j0", 3);
   {
-    RawPeer alice(broker->client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
+    RawPeer alice(broker->client_endpoint(), net::LoadCurvePeerKeys(cluster(), "client"));
     alice.Send(submit);
     ASSERT_TRUE(WaitFor([&] { return broker->stats().jobs_accepted == 1; }));
     options.client_port = std::stoi(broker->client_endpoint().substr(broker->client_endpoint().rfind(':') + 1));
@@ -302,14 +302,14 @@ TEST_F(CurveTest, ABatchRestoredFromTheJournalStaysWithTheKeyThatOpenedIt) {
   broker = std::make_unique<BrokerThread>(options);
   ASSERT_TRUE(WaitFor([&] { return broker->stats().jobs_restored == 1; }));
 
-  RawPeer bob_peer(broker->client_endpoint(), proto::LoadCurvePeerKeys(bob(), "client"));
+  RawPeer bob_peer(broker->client_endpoint(), net::LoadCurvePeerKeys(bob(), "client"));
   bob_peer.Send(submit);  // first after the restart, with the right token, but not alice's key
   std::optional<v1::BrokerToClient> answer = bob_peer.ReceiveEnvelope<v1::BrokerToClient>(milliseconds(5000));
   ASSERT_TRUE(answer.has_value());
   ASSERT_TRUE(answer->has_error());
   EXPECT_EQ(answer->error().message(), "batch 'b' belongs to another client key");
 
-  RawPeer alice(broker->client_endpoint(), proto::LoadCurvePeerKeys(cluster(), "client"));
+  RawPeer alice(broker->client_endpoint(), net::LoadCurvePeerKeys(cluster(), "client"));
   alice.Send(submit);
   ASSERT_TRUE(WaitFor([&] { return broker->stats().clients == 1; }));
   EchoWorker worker(WorkerOptions(*broker, "allowed", cluster()));
@@ -329,19 +329,19 @@ TEST_F(CurveTest, MissingKeysAreClearErrorsNamingTheFile) {
   try {
     broker::Broker broker(options);
     ADD_FAILURE() << "the broker started without its key";
-  } catch (const proto::CurveKeyError& error) {
+  } catch (const net::CurveKeyError& error) {
     EXPECT_EQ(std::string(error.what()), (stranger() / "broker.key").string() + ": no such file");
   }
   fs::remove(stranger() / "broker.pub");
   worker::WorkerConnectionOptions worker_options = TestWorkerOptions("tcp://127.0.0.1:1", "w", 2);
   worker_options.curve_keys = stranger().string();
-  EXPECT_THROW(worker::WorkerConnection connection(worker_options), proto::CurveKeyError);
+  EXPECT_THROW(worker::WorkerConnection connection(worker_options), net::CurveKeyError);
   broker::BatchClientOptions client_options = TestClientOptions("tcp://127.0.0.1:1");
   client_options.curve_keys = (dir_.path() / "nowhere").string();
   try {
     BatchClient client(client_options);
     ADD_FAILURE() << "the client started without its key";
-  } catch (const proto::CurveKeyError& error) {
+  } catch (const net::CurveKeyError& error) {
     EXPECT_EQ(std::string(error.what()), (dir_.path() / "nowhere/client.key").string() + ": no such file");
   }
 }

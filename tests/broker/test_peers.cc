@@ -138,10 +138,10 @@ std::vector<std::string> EchoWorker::job_ids() const {
   return job_ids_;
 }
 
-RawPeer::RawPeer(const std::string& endpoint, const std::optional<proto::CurvePeerKeys>& curve)
+RawPeer::RawPeer(const std::string& endpoint, const std::optional<net::CurvePeerKeys>& curve)
     : context_(1), socket_(context_, zmq::socket_type::dealer) {
   socket_.set(zmq::sockopt::linger, 0);
-  if (curve) proto::MakeCurveClient(socket_, *curve);
+  if (curve) net::MakeCurveClient(socket_, *curve);
   socket_.connect(endpoint);
 }
 

@@ -19,7 +19,7 @@
 #include "broker/broker.h"
 #include "broker/client.h"
 #include "orcs/v1/broker.pb.h"
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 #include "worker/broker_connection.h"
 
 namespace orcs::test_support {
@@ -105,7 +105,7 @@ class EchoWorker {
 class RawPeer {
  public:
   /// Connects to `endpoint`, with CURVE when `curve` is given.
-  explicit RawPeer(const std::string& endpoint, const std::optional<proto::CurvePeerKeys>& curve = std::nullopt);
+  explicit RawPeer(const std::string& endpoint, const std::optional<net::CurvePeerKeys>& curve = std::nullopt);
   /// Sends one message made of `frames`.
   void SendFrames(const std::vector<std::string>& frames);
   /// Sends `message` serialised, as one frame.

@@ -12,7 +12,7 @@
 #include <vector>
 #include <zmq.hpp>
 
-namespace orcs::proto {
+namespace orcs::net {
 
 /// One failed handshake.
 struct HandshakeFailure {
@@ -44,4 +44,4 @@ class HandshakeMonitor {
   zmq::socket_t socket_;
 };
 
-}  // namespace orcs::proto
+}  // namespace orcs::net

@@ -1,4 +1,4 @@
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -13,7 +13,7 @@
 #include <fstream>
 #include <vector>
 
-namespace orcs::proto {
+namespace orcs::net {
 namespace {
 
 namespace fs = std::filesystem;
@@ -234,4 +234,4 @@ std::string CurveKeyText(const std::string& bytes) {
   return text;
 }
 
-}  // namespace orcs::proto
+}  // namespace orcs::net

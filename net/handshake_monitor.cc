@@ -1,4 +1,4 @@
-#include "proto/handshake_monitor.h"
+#include "net/handshake_monitor.h"
 
 #include <zmq.h>
 
@@ -7,7 +7,7 @@
 #include <iterator>
 #include <zmq_addon.hpp>
 
-namespace orcs::proto {
+namespace orcs::net {
 namespace {
 
 constexpr int kFailureEvents =
@@ -65,4 +65,4 @@ std::vector<HandshakeFailure> HandshakeMonitor::ReadFailures() {
   return failures;
 }
 
-}  // namespace orcs::proto
+}  // namespace orcs::net

@@ -1,6 +1,6 @@
 // CURVE key files: generation, the file format, and the clear one-line errors for every way a key folder can be
 // wrong (each names the file).
-#include "proto/curve_keys.h"
+#include "net/curve_keys.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -11,7 +11,7 @@
 
 #include "tests/support/temp_dir.h"
 
-namespace orcs::proto {
+namespace orcs::net {
 namespace {
 
 namespace fs = std::filesystem;
@@ -177,4 +177,4 @@ TEST(CurveKeys, PeerFolderNeedsItsPairAndTheBrokersPublicKey) {
 }
 
 }  // namespace
-}  // namespace orcs::proto
+}  // namespace orcs::net

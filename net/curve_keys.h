@@ -21,7 +21,7 @@
 #include <string>
 #include <zmq.hpp>
 
-namespace orcs::proto {
+namespace orcs::net {
 
 /// A key file that is missing, unreadable or malformed, a folder that lacks one, keys that do not fit together, or
 /// a libzmq without CURVE. what() is one line naming the file.
@@ -92,4 +92,4 @@ std::string CurveKeyBytes(const std::string& z85);
 /// The Z85 text of 32 raw key bytes.
 std::string CurveKeyText(const std::string& bytes);
 
-}  // namespace orcs::proto
+}  // namespace orcs::net
