@@ -5,7 +5,7 @@
 
 namespace orcs::broker {
 
-/// Exit codes, the same as every orcs program's (worker/cli_style.h; broker/ may not include worker/).
+/// Exit codes, the same as every orcs program's (net/cli_style.h; broker/ may not include worker/).
 constexpr int kExitOk = 0;
 constexpr int kExitRunFailed = 1;  ///< the broker failed while running
 constexpr int kExitBadInput = 2;   ///< bad option, address that cannot be bound, port in use

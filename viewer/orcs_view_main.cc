@@ -12,7 +12,7 @@
 #include "viewer/view_options.h"
 #include "viewer/view_server.h"
 #include "viewer/web_assets.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 namespace orcs::viewer {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 #ifndef ORCS_WEB_DIR
 #define ORCS_WEB_DIR "viewer/web"

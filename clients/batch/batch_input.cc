@@ -9,7 +9,7 @@
 #include "model/core/json_node.h"
 #include "model/core/text.h"
 #include "model/core/text_file.h"
-#include "worker/evaluation/evaluation.h"
+#include "model/evaluation/evaluation.h"
 
 namespace orcs::batch {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "clients/batch/batch_input.h"
 #include "model/core/error.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 namespace orcs::batch {
 namespace {

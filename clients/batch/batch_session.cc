@@ -6,7 +6,7 @@
 #include <unordered_map>
 
 #include "model/core/text.h"
-#include "worker/job/result_json.h"
+#include "proto/result_json.h"
 
 namespace orcs::batch {
 namespace {
@@ -19,7 +19,7 @@ constexpr std::chrono::milliseconds kPoll{200};
 void Count(const v1::Result& result, BatchSummary& summary) {
   if (result.status() != v1::Result::OK) {
     ++summary.failed;
-    ++summary.failures[std::string(worker::StatusName(result.status()))];
+    ++summary.failures[std::string(proto::StatusName(result.status()))];
     return;
   }
   if (summary.ok == 0 || result.fitness() > summary.best_fitness) {

@@ -5,7 +5,7 @@
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/evaluation/recorder.h"
-#include "worker/job/result_json.h"
+#include "proto/result_json.h"
 
 namespace orcs::batch {
 namespace {
@@ -52,7 +52,7 @@ std::string ResultsWriter::results_path() const {
 }
 
 void ResultsWriter::Write(const v1::Result& result, const nlohmann::ordered_json& extra) {
-  const nlohmann::ordered_json fields = worker::ResultToJson(result);
+  const nlohmann::ordered_json fields = proto::ResultToJson(result);
   nlohmann::ordered_json line;
   for (auto it = fields.begin(); it != fields.end(); ++it) {
     line[it.key()] = it.value();

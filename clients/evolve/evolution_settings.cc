@@ -6,7 +6,7 @@
 #include "model/control/controller_factory.h"
 #include "model/core/error.h"
 #include "model/core/json_node.h"
-#include "worker/evaluation/evaluation.h"
+#include "model/evaluation/evaluation.h"
 
 namespace orcs::evolve {
 namespace {

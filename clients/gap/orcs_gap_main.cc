@@ -14,7 +14,7 @@
 #include "model/aseries/motor_effects.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 namespace orcs::gap {
 namespace {

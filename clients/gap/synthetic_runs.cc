@@ -8,7 +8,7 @@
 #include "model/core/text.h"
 #include "model/core/text_file.h"
 #include "model/scene/scenario.h"
-#include "worker/evaluation/evaluation.h"
+#include "model/evaluation/evaluation.h"
 
 namespace orcs::gap {
 namespace {

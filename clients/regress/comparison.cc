@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "model/core/text.h"
-#include "worker/job/result_json.h"
+#include "proto/result_json.h"
 
 namespace orcs::regress {
 namespace {
@@ -16,7 +16,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Each term's mean over the sets, in the scenario's order: the "terms" of results.jsonl.
 std::vector<std::pair<std::string, double>> MeanTerms(const v1::Result& result) {
   std::vector<std::pair<std::string, double>> terms;
-  const nlohmann::ordered_json json = worker::ResultToJson(result);
+  const nlohmann::ordered_json json = proto::ResultToJson(result);
   for (auto it = json["terms"].begin(); it != json["terms"].end(); ++it) {
     terms.emplace_back(it.key(), it.value().get<double>());
   }
@@ -53,7 +53,7 @@ CaseComparison FromResult(const SuiteCase& entry, const v1::Result* result) {
     comparison.message = "no result: the batch was interrupted";
     return comparison;
   }
-  comparison.status = std::string(worker::StatusName(result->status()));
+  comparison.status = std::string(proto::StatusName(result->status()));
   comparison.seconds = result->timings().run_seconds();
   if (result->status() != v1::Result::OK) {
     comparison.verdict = Verdict::kJobFailed;

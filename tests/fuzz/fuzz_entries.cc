@@ -34,9 +34,9 @@
 #include "viewer/view_catalog.h"
 #include "viewer/view_server.h"
 #include "viewer/web_assets.h"
-#include "worker/evaluation/evaluation.h"
+#include "model/evaluation/evaluation.h"
 #include "worker/job/job_translation.h"
-#include "worker/job/result_json.h"
+#include "proto/result_json.h"
 #include "worker/osp/keyframe_sniffer.h"
 #include "worker/osp/odcp_server.h"
 #include "worker/osp/osp_protocol.h"
@@ -164,7 +164,7 @@ void CheckJob(const v1::Job& job) {
 }
 
 // The results.jsonl line of a result, as the client writes it.
-void WriteResult(const v1::Result& result) { [[maybe_unused]] const std::string line = worker::ResultToJson(result).dump(); }
+void WriteResult(const v1::Result& result) { [[maybe_unused]] const std::string line = proto::ResultToJson(result).dump(); }
 
 // Where the OSP server's replies go: a socket of ours that nobody reads (the kernel drops what overflows).
 osp::Endpoint ReplySink() {

@@ -4,7 +4,7 @@
 
 #include "orcs/v1/job.pb.h"
 #include "orcs/v1/result.pb.h"
-#include "worker/evaluation/evaluation.h"
+#include "model/evaluation/evaluation.h"
 
 namespace orcs::worker {
 

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "worker/broker_connection.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 #include "worker/job/job_translation.h"
 #include "worker/job/sandbox_child.h"
 #include "worker/job/simulation_sandbox.h"

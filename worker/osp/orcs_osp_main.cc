@@ -11,7 +11,7 @@
 #include <iostream>
 
 #include "model/core/error.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 #include "worker/osp/odcp_server.h"
 #include "worker/osp/osp_server.h"
 #include "model/scene/world_setup.h"

@@ -16,7 +16,7 @@
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 #include "worker/osp/keyframe_sniffer.h"
 #include "worker/osp/odcp_server.h"
 

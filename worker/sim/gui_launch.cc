@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 namespace orcs::sim {
 

@@ -16,7 +16,7 @@
 #include "model/evaluation/recorder.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 #include "worker/sim/gui_launch.h"
 #include "worker/sim/realtime.h"
 #include "worker/sim/scenario_run.h"

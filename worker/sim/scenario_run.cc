@@ -6,10 +6,10 @@
 #include "model/core/json_node.h"
 #include "model/core/text_file.h"
 #include "model/evaluation/recorder.h"
-#include "worker/cli_style.h"
-#include "worker/evaluation/evaluation.h"
+#include "net/cli_style.h"
+#include "model/evaluation/evaluation.h"
 #include "worker/job/job_translation.h"
-#include "worker/job/result_json.h"
+#include "proto/result_json.h"
 
 namespace orcs::sim {
 namespace {
@@ -47,7 +47,7 @@ int RunScenario(const SimOptions& options) {
   job.set_seed(options.seed);
   v1::Result result = worker::ToResult(job, outcome);
   result.set_worker_id("orcs-sim");
-  nlohmann::ordered_json line = worker::ResultToJson(result);
+  nlohmann::ordered_json line = proto::ResultToJson(result);
   line["seed"] = options.seed;
   std::cout << line.dump() << std::endl;
   return outcome.status == evaluation::EvaluationStatus::kOk ? cli::kExitOk : cli::kExitRunFailed;

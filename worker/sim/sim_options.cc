@@ -3,7 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 namespace orcs::sim {
 

@@ -1,6 +1,6 @@
 """JobResult: one job's result as Python values, with the wire message beside it."""
 
-# Result.Status numbers (proto/orcs/v1/result.proto) → the names results.jsonl uses (worker/job/result_json.cc).
+# Result.Status numbers (proto/orcs/v1/result.proto) → the names results.jsonl uses (proto/result_json.cc).
 STATUS_NAMES = {1: "ok", 2: "invalid_input", 3: "unstable_physics", 4: "timeout", 5: "worker_lost",
                 6: "internal_error", 7: "crashed"}
 

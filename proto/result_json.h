@@ -8,7 +8,7 @@
 
 #include "orcs/v1/result.pb.h"
 
-namespace orcs::worker {
+namespace orcs::proto {
 
 /// The status as written in results.jsonl: "ok", "invalid_input", "unstable_physics", "timeout", "worker_lost",
 /// "internal_error", "crashed" ("internal_error" also for an unset status).
@@ -19,4 +19,4 @@ std::string_view StatusName(v1::Result::Status status);
 /// message (when not ok), "drawn" (path → value) and "terms" (name → value). Logs are not included.
 nlohmann::ordered_json ResultToJson(const v1::Result& result);
 
-}  // namespace orcs::worker
+}  // namespace orcs::proto

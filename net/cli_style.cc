@@ -1,4 +1,4 @@
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 #include <algorithm>
 #include <charconv>

@@ -1,4 +1,4 @@
-#include "worker/evaluation/evaluation.h"
+#include "model/evaluation/evaluation.h"
 
 #include <chrono>
 #include <cmath>

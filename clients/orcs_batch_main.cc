@@ -28,7 +28,7 @@
 #include "clients/regress/regress_plan.h"
 #include "net/curve_keys.h"
 #include "model/core/error.h"
-#include "worker/cli_style.h"
+#include "net/cli_style.h"
 
 namespace orcs::batch {
 namespace {

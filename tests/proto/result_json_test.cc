@@ -1,9 +1,9 @@
 // A result as a results.jsonl line: field names, statuses, null fitness on failure, term means.
-#include "worker/job/result_json.h"
+#include "proto/result_json.h"
 
 #include <gtest/gtest.h>
 
-namespace orcs::worker {
+namespace orcs::proto {
 namespace {
 
 v1::Result TwoSetResult() {
@@ -81,4 +81,4 @@ TEST(ResultJsonTest, NamesEveryStatus) {
 }
 
 }  // namespace
-}  // namespace orcs::worker
+}  // namespace orcs::proto

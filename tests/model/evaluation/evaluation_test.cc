@@ -1,5 +1,5 @@
 // Whole jobs, evaluated in-process: the example scenarios, determinism, bad genomes, fitness terms' physics.
-#include "worker/evaluation/evaluation.h"
+#include "model/evaluation/evaluation.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
-#include "worker/job/result_json.h"
+#include "proto/result_json.h"
 
 #include <map>
 #include <string>
 #include <vector>
 
-namespace orcs::worker {
+namespace orcs::proto {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -77,4 +77,4 @@ Json ResultToJson(const v1::Result& result) {
   return out;
 }
 
-}  // namespace orcs::worker
+}  // namespace orcs::proto

@@ -1,0 +1,113 @@
+# orcs_check_layering(): DESIGN.md's one dependency rule, checked at configure time for every top folder.
+#
+# Each top folder may use itself and the folders listed for it below, nothing else of the project; some may not
+# use certain outside libraries at all (a broker runs on a head node with no physics; the model knows no wire).
+# Two checks per folder, both failing the configuration with one line that names the culprit:
+#   - links: every target defined under the folder, with everything it links directly or through others;
+#   - includes: every "#include" of the folder's .h/.cc files (quoted project paths and the forbidden libraries'
+#     headers), so that a header-only use cannot slip past the link check.
+# tests/ and scripts/ are outside the rule: tests may use whatever they check.
+
+# folder → the other project folders it may use.
+set(_ORCS_LAYER_USES_proto   "")
+set(_ORCS_LAYER_USES_model   "")
+set(_ORCS_LAYER_USES_net     "proto")
+set(_ORCS_LAYER_USES_broker  "net;proto")
+set(_ORCS_LAYER_USES_worker  "model;net;proto")
+set(_ORCS_LAYER_USES_viewer  "model;net;proto")
+set(_ORCS_LAYER_USES_clients "model;net;proto;broker")
+set(_ORCS_LAYER_FOLDERS proto model net broker worker viewer clients)
+
+# folder → outside libraries it may not use: a regex over link items, one over included headers.
+set(_ORCS_LAYER_PHYSICS_LINKS "^(PkgConfig::ODE|ODE::.*|.*libode.*|.*mujoco.*)$")
+set(_ORCS_LAYER_PHYSICS_HEADERS "^(ode|mujoco)/")
+set(_ORCS_LAYER_WIRE_LINKS "(zmq|protobuf)")
+set(_ORCS_LAYER_WIRE_HEADERS "^(zmq\\.h|zmq\\.hpp|zmq_addon\\.hpp|google/protobuf/|orcs/v1/)")
+foreach(folder proto net broker)
+  set(_ORCS_LAYER_FORBIDDEN_LINKS_${folder} "${_ORCS_LAYER_PHYSICS_LINKS}")
+  set(_ORCS_LAYER_FORBIDDEN_HEADERS_${folder} "${_ORCS_LAYER_PHYSICS_HEADERS}")
+endforeach()
+set(_ORCS_LAYER_FORBIDDEN_LINKS_model "${_ORCS_LAYER_WIRE_LINKS}")
+set(_ORCS_LAYER_FORBIDDEN_HEADERS_model "${_ORCS_LAYER_WIRE_HEADERS}")
+
+# The top folder (proto, model, ...) a path inside the project lies in; "" for the project's root or outside it.
+function(_orcs_top_folder path out_var)
+  file(RELATIVE_PATH rel "${PROJECT_SOURCE_DIR}" "${path}")
+  string(REGEX MATCH "^[^/]+" top "${rel}")
+  if(rel STREQUAL "" OR top STREQUAL ".." OR NOT top IN_LIST _ORCS_LAYER_FOLDERS)
+    set(top "")
+  endif()
+  set(${out_var} "${top}" PARENT_SCOPE)
+endfunction()
+
+# Every buildsystem target defined in `dir` and its subdirectories.
+function(_orcs_targets_under dir out_var)
+  get_property(targets DIRECTORY "${dir}" PROPERTY BUILDSYSTEM_TARGETS)
+  get_property(subdirs DIRECTORY "${dir}" PROPERTY SUBDIRECTORIES)
+  foreach(sub IN LISTS subdirs)
+    _orcs_targets_under("${sub}" more)
+    list(APPEND targets ${more})
+  endforeach()
+  set(${out_var} ${targets} PARENT_SCOPE)
+endfunction()
+
+function(_orcs_check_folder_links folder)
+  set(allowed ${folder} ${_ORCS_LAYER_USES_${folder}})
+  set(forbidden "${_ORCS_LAYER_FORBIDDEN_LINKS_${folder}}")
+  _orcs_targets_under("${PROJECT_SOURCE_DIR}/${folder}" targets)
+  foreach(target IN LISTS targets)
+    set(found "")
+    _orcs_collect_links(${target} found)
+    list(REMOVE_ITEM found ${target})
+    foreach(item IN LISTS found)
+      if(TARGET "${item}")
+        get_target_property(imported "${item}" IMPORTED)
+        if(NOT imported)
+          get_target_property(dir "${item}" SOURCE_DIR)
+          _orcs_top_folder("${dir}" top)
+          if(NOT top STREQUAL "" AND NOT top IN_LIST allowed)
+            message(FATAL_ERROR "orcs layering: ${target} (${folder}/) links ${item} from ${top}/; DESIGN.md lets "
+                                "${folder}/ use only: ${allowed}")
+          endif()
+          continue()
+        endif()
+      endif()
+      if(NOT forbidden STREQUAL "" AND item MATCHES "${forbidden}")
+        message(FATAL_ERROR "orcs layering: ${target} (${folder}/) links ${item}, which ${folder}/ may not use "
+                            "(DESIGN.md's dependency rule)")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
+function(_orcs_check_folder_includes folder)
+  set(allowed ${folder} ${_ORCS_LAYER_USES_${folder}})
+  set(forbidden "${_ORCS_LAYER_FORBIDDEN_HEADERS_${folder}}")
+  file(GLOB_RECURSE sources "${PROJECT_SOURCE_DIR}/${folder}/*.h" "${PROJECT_SOURCE_DIR}/${folder}/*.cc")
+  foreach(source IN LISTS sources)
+    file(STRINGS "${source}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]")
+    foreach(line IN LISTS includes)
+      string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*[<\"]([^>\"]*)[>\"].*$" "\\1" header "${line}")
+      string(REGEX MATCH "^[^/]+" first "${header}")
+      if(first STREQUAL "orcs" AND header MATCHES "^orcs/v1/")
+        set(first proto)  # the generated wire messages
+      endif()
+      file(RELATIVE_PATH shown "${PROJECT_SOURCE_DIR}" "${source}")
+      if(first IN_LIST _ORCS_LAYER_FOLDERS AND NOT first IN_LIST allowed)
+        message(FATAL_ERROR "orcs layering: ${shown} includes \"${header}\" from ${first}/; DESIGN.md lets "
+                            "${folder}/ use only: ${allowed}")
+      endif()
+      if(NOT forbidden STREQUAL "" AND header MATCHES "${forbidden}")
+        message(FATAL_ERROR "orcs layering: ${shown} includes <${header}>, which ${folder}/ may not use "
+                            "(DESIGN.md's dependency rule)")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
+function(orcs_check_layering)
+  foreach(folder IN LISTS _ORCS_LAYER_FOLDERS)
+    _orcs_check_folder_links(${folder})
+    _orcs_check_folder_includes(${folder})
+  endforeach()
+endfunction()
