@@ -96,7 +96,7 @@ class DealerConnection {
     message.SerializeToString(&out_);
     Send(out_);
   }
-  /// Sends `frame` (the side's DISCONNECT), gives it a moment to leave (kGoodbyeLinger) and closes the socket.
+  /// Sends `frame` (the side's DISCONNECT), gives it kGoodbyeLingerMs to leave and closes the socket.
   void SendGoodbye(std::string_view frame);
 
   /// Starts the heartbeat clock over: the next heartbeat is due one interval after `now`.
