@@ -1,15 +1,16 @@
 #include "broker/client.h"
 
-#include <sys/eventfd.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <utility>
 
+#include "net/envelope_check.h"
 #include "proto/envelope.h"
 #include "proto/secure_random.h"
 
@@ -17,8 +18,6 @@ namespace orcs::broker {
 namespace {
 
 using proto::kProtocolVersion;
-
-constexpr int kGoodbyeLingerMs = 200;  // how long a DISCONNECT may take to leave at destruction
 
 // "<hostname>-<pid>-<n>": unique among the processes alive at the same time, without clocks or randomness.
 std::string NewClientId() {
@@ -49,6 +48,24 @@ std::string Seconds(std::chrono::steady_clock::duration duration) {
   return text;
 }
 
+// The shared connection, set up for a client: CURVE keys named client.*, heartbeats of ClientToBroker.
+net::DealerConnectionOptions DealerOptions(const BatchClientOptions& options,
+                                           std::function<void(const std::string&)> log) {
+  v1::ClientToBroker heartbeat;
+  heartbeat.set_protocol_version(kProtocolVersion);
+  heartbeat.mutable_heartbeat();
+  net::DealerConnectionOptions dealer;
+  dealer.endpoint = options.endpoint;
+  dealer.role = "client";
+  dealer.owner = "BatchClient";
+  dealer.curve_keys = options.curve_keys;
+  dealer.heartbeat_interval = options.heartbeat_interval;
+  dealer.liveness = options.liveness;
+  dealer.heartbeat = heartbeat.SerializeAsString();
+  dealer.log = std::move(log);
+  return dealer;
+}
+
 }  // namespace
 
 BatchClient::BatchClient(BatchClientOptions options)
@@ -56,17 +73,7 @@ BatchClient::BatchClient(BatchClientOptions options)
       client_id_(NewClientId()),
       batch_id_(options_.batch_id.empty() ? proto::SecureRandomHex(16) : options_.batch_id),
       owner_token_(proto::SecureRandomBytes(16)),
-      context_(1) {
-  if (!options_.curve_keys.empty()) curve_ = net::LoadCurvePeerKeys(options_.curve_keys, "client");
-  try {  // a malformed endpoint fails here, at once, rather than at the first Submit()
-    zmq::socket_t probe(context_, zmq::socket_type::dealer);
-    probe.set(zmq::sockopt::linger, 0);
-    probe.connect(options_.endpoint);
-  } catch (const zmq::error_t& error) {
-    throw std::invalid_argument("BatchClient: cannot connect to '" + options_.endpoint + "': " + error.what());
-  }
-  wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-  if (wake_fd_ < 0) throw std::runtime_error("BatchClient: eventfd failed");
+      dealer_(DealerOptions(options_, [this](const std::string& line) { Log(line); })) {
   io_thread_ = std::thread([this] { IoLoop(); });
 }
 
@@ -76,9 +83,8 @@ BatchClient::~BatchClient() {
     stopping_ = true;
   }
   changed_.notify_all();  // the I/O thread waits on it after a failure
-  Wake();
+  dealer_.Wake();
   io_thread_.join();
-  ::close(wake_fd_);
 }
 
 void BatchClient::Submit(std::vector<v1::Job> jobs) {
@@ -107,7 +113,7 @@ void BatchClient::Submit(std::vector<v1::Job> jobs) {
   const std::uint64_t submission = ++submissions_;
   to_submit_.push_back(std::move(jobs));
   lock.unlock();
-  Wake();
+  dealer_.Wake();
   lock.lock();
   // The I/O thread answers within connect_timeout or reconnect_timeout (plus the liveness period that reveals a
   // lost broker); the bound here only guards against a bug there.
@@ -143,11 +149,6 @@ BatchClientStats BatchClient::stats() const {
   return stats_;
 }
 
-void BatchClient::Wake() {
-  const std::uint64_t one = 1;
-  [[maybe_unused]] const ssize_t written = ::write(wake_fd_, &one, sizeof one);
-}
-
 void BatchClient::Log(const std::string& line) const {
   if (options_.log) {
     options_.log(line);
@@ -180,164 +181,120 @@ void BatchClient::IoLoop() {
     std::unique_lock lock(mutex_);
     changed_.wait(lock, [this] { return stopping_; });
   }
-  if (socket_) socket_->close();
+  dealer_.Close();
 }
 
-bool BatchClient::Active() const { return socket_ != nullptr && (!outstanding_.empty() || !unanswered_.empty()); }
+bool BatchClient::Active() const {
+  return dealer_.is_open() && (!outstanding_.empty() || !unanswered_.empty());
+}
 
+// One turn: wait, take the callers' submissions, read the broker, then heartbeat and watch the broker's liveness.
 void BatchClient::Serve() {
-  const Clock::duration liveness_period = options_.heartbeat_interval * options_.liveness;
   std::deque<std::vector<v1::Job>> taken;
   while (true) {
-    int wait_ms = -1;
-    if (Active()) {
-      const Clock::time_point deadline =
-          !heard_ ? active_since_ + options_.connect_timeout : std::max(last_heard_, last_connect_) + liveness_period;
-      const auto wait = std::max(std::min(next_heartbeat_, deadline) - Clock::now(), Clock::duration{});
-      wait_ms = static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(wait).count());
-    }
-    zmq::pollitem_t items[] = {{nullptr, wake_fd_, ZMQ_POLLIN, 0},
-                               {socket_ ? socket_->handle() : nullptr, 0, ZMQ_POLLIN, 0},
-                               {monitor_ ? monitor_->socket().handle() : nullptr, 0, ZMQ_POLLIN, 0}};
-    try {
-      zmq::poll(items, !socket_ ? 1 : monitor_ ? 3 : 2, std::chrono::milliseconds(wait_ms));
-    } catch (const zmq::error_t& error) {
-      if (error.num() != EINTR) throw;
-      continue;
-    }
-    if (items[0].revents & ZMQ_POLLIN) {
-      std::uint64_t count = 0;
-      [[maybe_unused]] const ssize_t read = ::read(wake_fd_, &count, sizeof count);
-    }
-    if (socket_ && monitor_ && (items[2].revents & ZMQ_POLLIN)) ReadHandshakeFailures();
-
+    const net::DealerConnection::PollEvents events = dealer_.Poll(WakeAt());
     bool stopping = false;
     bool failed = false;
     {
       std::lock_guard lock(mutex_);
+      stats_.handshake_failures += events.handshakes_refused;
       taken.swap(to_submit_);
       stopping = stopping_;
       failed = !error_.empty();
     }
     if (stopping) {
-      if (socket_) {
-        v1::ClientToBroker goodbye;
-        goodbye.set_protocol_version(kProtocolVersion);
-        goodbye.mutable_disconnect()->set_reason("client done");
-        Send(goodbye);
-        socket_->set(zmq::sockopt::linger, kGoodbyeLingerMs);
-      }
+      SayGoodbye();
       return;
     }
-    for (std::vector<v1::Job>& jobs : taken) {
-      const std::uint64_t submission = ++latest_sent_;
-      if (failed) continue;
-      if (!socket_) Connect();
-      const Clock::time_point now = Clock::now();
-      if (!Active()) {  // from idle: a fresh start for the timeouts
-        heard_ = false;
-        active_since_ = now;
-        next_heartbeat_ = now + options_.heartbeat_interval;
-      }
-      std::vector<const v1::Job*> sending;
-      sending.reserve(jobs.size());
-      for (v1::Job& job : jobs) {
-        order_.push_back(job.job_id());
-        const std::string id = job.job_id();
-        sending.push_back(&(outstanding_[id] = std::move(job)));
-      }
-      SendJobs(sending, submission);
-      // The broker cannot answer before the last SUBMIT has left: a large submission may keep this thread busy
-      // serialising for longer than connect_timeout, which is no sign of a missing broker. Count from here.
-      if (!heard_) active_since_ = Clock::now();
-    }
+    SubmitTaken(taken, failed);
     taken.clear();
-
-    if (socket_ && (items[1].revents & ZMQ_POLLIN)) {
-      zmq::message_t payload;
-      while (socket_ && socket_->recv(payload, zmq::recv_flags::dontwait)) {
-        if (payload.more()) {  // the protocol has one frame per message: drop the whole multipart message
-          while (payload.more() && socket_->recv(payload, zmq::recv_flags::dontwait)) {
-          }
-          DropMessage("a message of several frames");
-          continue;
-        }
-        if (!OnBrokerMessage(payload)) break;
-      }
-    }
-
-    if (!Active()) continue;
-    const Clock::time_point now = Clock::now();
-    if (now >= next_heartbeat_) {
-      v1::ClientToBroker heartbeat;
-      heartbeat.set_protocol_version(kProtocolVersion);
-      heartbeat.mutable_heartbeat();
-      Send(heartbeat);
-      next_heartbeat_ = now + options_.heartbeat_interval;
-    }
-    if (!heard_) {
-      if (now - active_since_ >= options_.connect_timeout) {
-        Fail("no broker answering at " + options_.endpoint + " after " + Seconds(options_.connect_timeout) +
-             (handshake_failure_.empty() ? "" : " (the CURVE handshake failed: " + handshake_failure_ + ")"));
-      }
-    } else if (now - last_heard_ >= options_.reconnect_timeout) {
-      Fail("lost the broker at " + options_.endpoint + ": no answer for " + Seconds(now - last_heard_) + " (" +
-           std::to_string(outstanding_.size()) + " jobs without a result)");
-    } else if (now - std::max(last_heard_, last_connect_) >= liveness_period) {
-      Reconnect("no answer from the broker at " + options_.endpoint + " for " + Seconds(now - last_heard_));
-    }
+    if (events.readable) ReadBrokerMessages();
+    if (Active()) CheckBroker(Clock::now());
   }
 }
 
+// An idle client sleeps until a caller wakes it; an active one until its next heartbeat or deadline.
+std::optional<BatchClient::Clock::time_point> BatchClient::WakeAt() const {
+  if (!Active()) return std::nullopt;
+  const Clock::time_point deadline =
+      !heard_ ? active_since_ + options_.connect_timeout : dealer_.liveness_deadline();
+  return std::min(dealer_.next_heartbeat(), deadline);
+}
+
+void BatchClient::SubmitTaken(std::deque<std::vector<v1::Job>>& taken, bool failed) {
+  for (std::vector<v1::Job>& jobs : taken) {
+    const std::uint64_t submission = ++latest_sent_;
+    if (failed) continue;
+    if (!dealer_.is_open()) Connect();
+    const Clock::time_point now = Clock::now();
+    if (!Active()) {  // from idle: a fresh start for the timeouts
+      heard_ = false;
+      active_since_ = now;
+      dealer_.ScheduleHeartbeat(now);
+    }
+    std::vector<const v1::Job*> sending;
+    sending.reserve(jobs.size());
+    for (v1::Job& job : jobs) {
+      order_.push_back(job.job_id());
+      const std::string id = job.job_id();
+      sending.push_back(&(outstanding_[id] = std::move(job)));
+    }
+    SendJobs(sending, submission);
+    // The broker cannot answer before the last SUBMIT has left: a large submission may keep this thread busy
+    // serialising for longer than connect_timeout, which is no sign of a missing broker. Count from here.
+    if (!heard_) active_since_ = Clock::now();
+  }
+}
+
+void BatchClient::ReadBrokerMessages() {
+  zmq::message_t payload;
+  while (true) {
+    const net::DealerConnection::Received received = dealer_.Receive(payload);
+    if (received == net::DealerConnection::Received::kNone) return;
+    if (received == net::DealerConnection::Received::kMultipart) {
+      DropMessage("a message of several frames");
+      continue;
+    }
+    if (!OnBrokerMessage(payload)) return;  // that socket is gone
+  }
+}
+
+// A broker that never answered fails the client after connect_timeout; one that falls silent is connected to
+// again after the liveness period, and given up after reconnect_timeout.
+void BatchClient::CheckBroker(Clock::time_point now) {
+  dealer_.HeartbeatIfDue(now);
+  if (!heard_) {
+    if (now - active_since_ >= options_.connect_timeout) {
+      const std::string& handshake = dealer_.last_handshake_failure();
+      Fail("no broker answering at " + options_.endpoint + " after " + Seconds(options_.connect_timeout) +
+           (handshake.empty() ? "" : " (the CURVE handshake failed: " + handshake + ")"));
+    }
+  } else if (now - dealer_.last_heard() >= options_.reconnect_timeout) {
+    Fail("lost the broker at " + options_.endpoint + ": no answer for " + Seconds(now - dealer_.last_heard()) + " (" +
+         std::to_string(outstanding_.size()) + " jobs without a result)");
+  } else if (now >= dealer_.liveness_deadline()) {
+    Reconnect("no answer from the broker at " + options_.endpoint + " for " + Seconds(now - dealer_.last_heard()));
+  }
+}
+
+void BatchClient::SayGoodbye() {
+  if (!dealer_.is_open()) return;
+  v1::ClientToBroker goodbye;
+  goodbye.set_protocol_version(kProtocolVersion);
+  goodbye.mutable_disconnect()->set_reason("client done");
+  dealer_.SendGoodbye(goodbye.SerializeAsString());
+}
+
 void BatchClient::Connect() {
-  socket_ = std::make_unique<zmq::socket_t>(context_, zmq::socket_type::dealer);
-  socket_->set(zmq::sockopt::linger, 0);
-  socket_->set(zmq::sockopt::sndhwm, 0);  // never block the I/O thread
-  socket_->set(zmq::sockopt::rcvhwm, 0);  // never make the broker hold results back
-  // A connection that failed its handshake (the broker refused our key, or it speaks CURVE and we do not) is
-  // closed for good, leaving the socket without a pipe: a send must then fail at once, never block this thread.
-  socket_->set(zmq::sockopt::sndtimeo, 0);
-  if (curve_) {
-    net::MakeCurveClient(*socket_, *curve_);
-    monitor_ = std::make_unique<net::HandshakeMonitor>(context_, *socket_,
-                                                         "client-" + std::to_string(++monitors_made_));
-  }
-  try {
-    socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
-  } catch (const zmq::error_t& error) {
-    throw std::runtime_error("cannot connect to " + options_.endpoint + ": " + error.what());
-  }
-  last_connect_ = Clock::now();
-  warned_bad_message_ = false;
+  dealer_.Open();
   unanswered_.clear();
   std::lock_guard lock(mutex_);
   ++stats_.connections;
 }
 
-void BatchClient::ReadHandshakeFailures() {
-  std::vector<net::HandshakeFailure> failures = monitor_->ReadFailures();
-  // A connection the broker closed early (it was stopping, or it speaks plain TCP and noticed first) is no
-  // refusal to count or log, but it may explain a timeout.
-  for (const net::HandshakeFailure& failure : failures) handshake_failure_ = failure.Describe();
-  std::erase_if(failures, [](const net::HandshakeFailure& failure) { return failure.closed_early(); });
-  {
-    std::lock_guard lock(mutex_);
-    stats_.handshake_failures += failures.size();
-  }
-  for (const net::HandshakeFailure& failure : failures) {
-    const std::string why = failure.Describe();
-    if (!warned_handshakes_.insert(why).second) continue;  // a handful of kinds at most
-    Log("the CURVE handshake with the broker at " + options_.endpoint + " failed: " + why +
-        "; is client.pub in the broker's allowed_clients/ and broker.pub the broker's? (logged once per kind)");
-  }
-}
-
 void BatchClient::Reconnect(const std::string& why) {
-  if (!warned_silence_) {
-    Log(why + "; connecting again (" + std::to_string(outstanding_.size()) + " jobs to submit again)");
-    warned_silence_ = true;
-  }
-  socket_->close();
+  dealer_.ReportSilence(why + "; connecting again (" + std::to_string(outstanding_.size()) + " jobs to submit again)");
+  dealer_.Close();
   Connect();
   Resubmit();
 }
@@ -378,7 +335,7 @@ void BatchClient::SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_
       bytes += size;
       ++next;
     }
-    Send(message);
+    dealer_.SendMessage(message);
     unanswered_.push_back(submission);
     std::lock_guard lock(mutex_);
     ++stats_.submit_messages;
@@ -386,18 +343,13 @@ void BatchClient::SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_
 }
 
 bool BatchClient::OnBrokerMessage(const zmq::message_t& payload) {
-  const proto::EnvelopeCheck check = proto::ParseEnvelope(payload.data(), payload.size(), in_);
-  if (check != proto::EnvelopeCheck::kOk) {
-    DropMessage(std::string(proto::Describe(check)) +
-                (check == proto::EnvelopeCheck::kWrongVersion ? " " + std::to_string(in_.protocol_version()) : ""));
+  const std::string rejection = net::CheckEnvelope(payload, in_);
+  if (!rejection.empty()) {
+    DropMessage(rejection);
     return true;
   }
   heard_ = true;
-  last_heard_ = Clock::now();
-  if (warned_silence_) {
-    Log("the broker at " + options_.endpoint + " answers again");
-    warned_silence_ = false;
-  }
+  dealer_.MarkHeard();
   switch (in_.body_case()) {
     case v1::BrokerToClient::kAccepted: OnAccepted(); break;
     case v1::BrokerToClient::kResult: OnResult(*in_.mutable_result()); break;
@@ -406,8 +358,7 @@ bool BatchClient::OnBrokerMessage(const zmq::message_t& payload) {
       break;
     case v1::BrokerToClient::kDisconnect:
       if (!Active()) {  // nothing to lose: connect again on the next Submit()
-        socket_->close();
-        socket_.reset();
+        dealer_.Close();
         return false;
       }
       Reconnect("the broker at " + options_.endpoint + " said goodbye (" + in_.disconnect().reason() + ")");
@@ -461,16 +412,7 @@ void BatchClient::DropMessage(const std::string& why) {
     std::lock_guard lock(mutex_);
     ++stats_.messages_dropped;
   }
-  if (warned_bad_message_) return;
-  warned_bad_message_ = true;
-  Log("dropped a message from the broker at " + options_.endpoint + ": " + why +
-      " (further bad messages on this connection are dropped without a log line)");
-}
-
-void BatchClient::Send(const v1::ClientToBroker& message) {
-  out_.clear();
-  message.SerializeToString(&out_);
-  socket_->send(zmq::buffer(out_), zmq::send_flags::none);
+  dealer_.ReportDropped(why);
 }
 
 }  // namespace orcs::broker

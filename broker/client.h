@@ -27,7 +27,7 @@
 
 #include "orcs/v1/broker.pb.h"
 #include "net/curve_keys.h"
-#include "net/handshake_monitor.h"
+#include "net/dealer_connection.h"
 
 namespace orcs::broker {
 
@@ -117,6 +117,11 @@ class BatchClient {
 
   void IoLoop();
   void Serve();
+  std::optional<Clock::time_point> WakeAt() const;
+  void SubmitTaken(std::deque<std::vector<v1::Job>>& taken, bool failed);
+  void ReadBrokerMessages();
+  void CheckBroker(Clock::time_point now);
+  void SayGoodbye();
   void Connect();
   void Reconnect(const std::string& why);
   void SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_t submission);
@@ -127,26 +132,18 @@ class BatchClient {
   void OnResult(v1::Result& result);
   void Fail(const std::string& message);
   bool Active() const;
-  void Send(const v1::ClientToBroker& message);
   void DropMessage(const std::string& why);
-  void ReadHandshakeFailures();
-  void Wake();
   void Log(const std::string& line) const;
 
   const BatchClientOptions options_;
   const std::string client_id_;
   const std::string batch_id_;
   const std::string owner_token_;  ///< Submit.owner_token: 128 random bits; the batch is this client's
-  zmq::context_t context_;
-  int wake_fd_ = -1;  ///< eventfd: Submit() and the destructor wake the I/O thread's poll through it
-  std::optional<net::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
+  /// The socket, CURVE, heartbeats, the broker's liveness; its Wake() lets Submit() and the destructor wake the
+  /// I/O thread. Otherwise owned by the I/O thread.
+  net::DealerConnection dealer_;
 
   // Owned by the I/O thread.
-  std::unique_ptr<zmq::socket_t> socket_;
-  std::unique_ptr<net::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
-  int monitors_made_ = 0;                             ///< names each monitor uniquely
-  std::string handshake_failure_;                     ///< why the last handshake failed, for the timeout message
-  std::set<std::string> warned_handshakes_;           ///< kinds of handshake failure logged already
   std::unordered_map<std::string, v1::Job> outstanding_;  ///< submitted, no result yet: what a resubmission sends
   std::deque<std::string> order_;         ///< job ids in submission order (answered ones dropped lazily, so it
                                           ///< stays within twice outstanding_ plus a constant)
@@ -154,13 +151,7 @@ class BatchClient {
   std::uint64_t latest_sent_ = 0;         ///< the newest submission sent
   bool heard_ = false;                    ///< the broker has answered since the client became active
   Clock::time_point active_since_;        ///< when the client last went from idle to active
-  Clock::time_point last_heard_;          ///< when the broker was last heard
-  Clock::time_point next_heartbeat_;
-  Clock::time_point last_connect_;   ///< when the current socket was opened
-  bool warned_bad_message_ = false;  ///< a dropped message was logged on this socket
-  bool warned_silence_ = false;      ///< a reconnection was logged and the broker has not answered since
-  v1::BrokerToClient in_;
-  std::string out_;
+  v1::BrokerToClient in_;                 ///< the message being read, reused
 
   // Shared with the callers, guarded by mutex_.
   mutable std::mutex mutex_;

@@ -1,16 +1,17 @@
 #include "worker/broker_connection.h"
 
-#include <sys/eventfd.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <stdexcept>
 #include <utility>
 #include <vector>
 
+#include "net/envelope_check.h"
 #include "proto/envelope.h"
 
 namespace orcs::worker {
@@ -20,7 +21,6 @@ using Clock = std::chrono::steady_clock;
 using proto::kProtocolVersion;
 
 constexpr int kMaxCredit = 1024;
-constexpr int kGoodbyeLingerMs = 200;  // how long a DISCONNECT may take to leave at destruction
 
 std::string DefaultWorkerId() {
   char host[256] = {};
@@ -51,22 +51,30 @@ std::string Seconds(Clock::duration duration) {
   return text;
 }
 
+// The shared connection, set up for a worker: CURVE keys named worker.*, heartbeats of WorkerToBroker.
+net::DealerConnectionOptions DealerOptions(const WorkerConnectionOptions& options,
+                                           std::function<void(const std::string&)> log) {
+  v1::WorkerToBroker heartbeat;
+  heartbeat.set_protocol_version(kProtocolVersion);
+  heartbeat.mutable_heartbeat();
+  net::DealerConnectionOptions dealer;
+  dealer.endpoint = options.endpoint;
+  dealer.role = "worker";
+  dealer.owner = "WorkerConnection";
+  dealer.curve_keys = options.curve_keys;
+  dealer.heartbeat_interval = options.heartbeat_interval;
+  dealer.liveness = options.liveness;
+  dealer.heartbeat = heartbeat.SerializeAsString();
+  dealer.log = std::move(log);
+  return dealer;
+}
+
 }  // namespace
 
 WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
     : options_(Checked(std::move(options))),
       worker_id_(options_.worker_id.empty() ? DefaultWorkerId() : options_.worker_id),
-      context_(1) {
-  if (!options_.curve_keys.empty()) curve_ = net::LoadCurvePeerKeys(options_.curve_keys, "worker");
-  try {  // a malformed endpoint fails here, at once, rather than in the I/O thread
-    zmq::socket_t probe(context_, zmq::socket_type::dealer);
-    probe.set(zmq::sockopt::linger, 0);
-    probe.connect(options_.endpoint);
-  } catch (const zmq::error_t& error) {
-    throw std::invalid_argument("WorkerConnection: cannot connect to '" + options_.endpoint + "': " + error.what());
-  }
-  wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-  if (wake_fd_ < 0) throw std::runtime_error("WorkerConnection: eventfd failed");
+      dealer_(DealerOptions(options_, [this](const std::string& line) { Log(line); })) {
   wanted_credit_ = options_.credit;
   io_thread_ = std::thread([this] { IoLoop(); });
 }
@@ -77,9 +85,8 @@ WorkerConnection::~WorkerConnection() {
     stopping_ = true;
   }
   job_arrived_.notify_all();
-  Wake();
+  dealer_.Wake();
   io_thread_.join();
-  ::close(wake_fd_);
 }
 
 std::optional<v1::Job> WorkerConnection::NextJob(std::chrono::milliseconds timeout) {
@@ -119,17 +126,12 @@ void WorkerConnection::SendResult(v1::Result result) {
     }
     if (in_hand_ > 0) --in_hand_;
   }
-  Wake();
+  dealer_.Wake();
 }
 
 WorkerConnectionStats WorkerConnection::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;
-}
-
-void WorkerConnection::Wake() {
-  const std::uint64_t one = 1;
-  [[maybe_unused]] const ssize_t written = ::write(wake_fd_, &one, sizeof one);
 }
 
 void WorkerConnection::Log(const std::string& line) const {
@@ -157,114 +159,92 @@ void WorkerConnection::IoLoop() {
 }
 
 void WorkerConnection::Serve() {
-  const Clock::duration liveness_period = options_.heartbeat_interval * options_.liveness;
   Connect();
-  Clock::time_point next_heartbeat = Clock::now() + options_.heartbeat_interval;
-  Clock::time_point broker_deadline = Clock::now() + liveness_period;
+  dealer_.ScheduleHeartbeat(Clock::now());
+  while (ServeOnce()) {
+  }
+  v1::WorkerToBroker goodbye;
+  goodbye.set_protocol_version(kProtocolVersion);
+  goodbye.mutable_disconnect()->set_reason("worker shutting down");
+  dealer_.SendGoodbye(goodbye.SerializeAsString());
+}
+
+// Wait for the next heartbeat, the broker's deadline, a message or a result; then deal with each.
+bool WorkerConnection::ServeOnce() {
+  const Clock::time_point wake_at = std::min(dealer_.next_heartbeat(), dealer_.liveness_deadline());
+  const net::DealerConnection::PollEvents events = dealer_.Poll(wake_at);
+  if (events.handshakes_refused > 0) {
+    std::lock_guard lock(mutex_);
+    stats_.handshake_failures += events.handshakes_refused;
+  }
   std::deque<v1::Result> sending;
-  std::uint64_t jobs_at_last_heartbeat = 0;
-  v1::WorkerToBroker message;
-  message.set_protocol_version(kProtocolVersion);
+  if (!SendOutbox(sending)) return false;
+  if (events.readable) ReadBrokerMessages();
+  HeartbeatAndWatchBroker();
+  return true;
+}
+
+bool WorkerConnection::SendOutbox(std::deque<v1::Result>& sending) {
+  bool stopping = false;
+  int wanted_credit = 0;
+  {
+    std::lock_guard lock(mutex_);
+    sending.swap(outbox_);
+    stopping = stopping_;
+    wanted_credit = wanted_credit_;
+  }
+  for (v1::Result& result : sending) {
+    v1::WorkerToBroker message;
+    message.set_protocol_version(kProtocolVersion);
+    *message.mutable_result() = std::move(result);
+    dealer_.SendMessage(message);
+  }
+  // After the results, so that the broker frees their credit before it sees a lower one.
+  if (!stopping && wanted_credit != announced_credit_) AnnounceCredit(wanted_credit);
+  if (!sending.empty()) {
+    std::lock_guard lock(mutex_);
+    stats_.results_sent += sending.size();
+  }
+  return !stopping;
+}
+
+void WorkerConnection::ReadBrokerMessages() {
+  zmq::message_t payload;
   while (true) {
-    const Clock::time_point wake_at = std::min(next_heartbeat, broker_deadline);
-    const auto wait = std::chrono::ceil<std::chrono::milliseconds>(std::max(wake_at - Clock::now(), Clock::duration{}));
-    zmq::pollitem_t items[] = {{socket_->handle(), 0, ZMQ_POLLIN, 0},
-                               {nullptr, wake_fd_, ZMQ_POLLIN, 0},
-                               {monitor_ ? monitor_->socket().handle() : nullptr, 0, ZMQ_POLLIN, 0}};
-    try {
-      zmq::poll(items, monitor_ ? 3 : 2, wait);
-    } catch (const zmq::error_t& error) {
-      if (error.num() != EINTR) throw;
+    const net::DealerConnection::Received received = dealer_.Receive(payload);
+    if (received == net::DealerConnection::Received::kNone) return;
+    if (received == net::DealerConnection::Received::kMultipart) {
+      DropMessage("a message of several frames");
       continue;
     }
-    if (items[1].revents & ZMQ_POLLIN) {
-      std::uint64_t count = 0;
-      [[maybe_unused]] const ssize_t read = ::read(wake_fd_, &count, sizeof count);
-    }
-    if (monitor_ && (items[2].revents & ZMQ_POLLIN)) ReadHandshakeFailures();
+    if (OnBrokerMessage(payload) == Heard::kReconnected) return;  // that socket is gone
+  }
+}
 
-    bool stopping = false;
-    int wanted_credit = 0;
+void WorkerConnection::HeartbeatAndWatchBroker() {
+  const Clock::time_point now = Clock::now();
+  if (dealer_.HeartbeatIfDue(now)) {
+    // A raised credit falls back once a whole heartbeat interval brought no job: the short batch is over, and
+    // the next batch may hold long jobs, which must not pile up at one worker.
+    bool idle = false;
     {
       std::lock_guard lock(mutex_);
-      sending.swap(outbox_);
-      stopping = stopping_;
-      wanted_credit = wanted_credit_;
-    }
-    for (v1::Result& result : sending) {
-      message.set_allocated_result(new v1::Result(std::move(result)));
-      Send(message);
-    }
-    // After the results, so that the broker frees their credit before it sees a lower one.
-    if (!stopping && wanted_credit != announced_credit_) AnnounceCredit(wanted_credit);
-    if (!sending.empty()) {
-      std::lock_guard lock(mutex_);
-      stats_.results_sent += sending.size();
-    }
-    sending.clear();
-    if (stopping) break;
-
-    if (items[0].revents & ZMQ_POLLIN) {
-      zmq::message_t payload;
-      while (socket_->recv(payload, zmq::recv_flags::dontwait)) {
-        if (payload.more()) {  // the protocol has one frame per message: drop the whole multipart message
-          while (payload.more() && socket_->recv(payload, zmq::recv_flags::dontwait)) {
-          }
-          DropMessage("a message of several frames");
-          continue;
-        }
-        const Heard heard = OnBrokerMessage(payload);
-        if (heard == Heard::kNothing) continue;
-        broker_deadline = Clock::now() + liveness_period;
-        if (heard == Heard::kReconnected) break;  // that socket is gone
+      idle = stats_.jobs_received == jobs_at_last_heartbeat_ && announced_credit_ != options_.credit;
+      jobs_at_last_heartbeat_ = stats_.jobs_received;
+      if (idle) {
+        short_in_a_row_ = 0;
+        wanted_credit_ = options_.credit;
       }
     }
-
-    const Clock::time_point now = Clock::now();
-    if (now >= next_heartbeat) {
-      message.mutable_heartbeat();
-      Send(message);
-      next_heartbeat = now + options_.heartbeat_interval;
-      // A raised credit falls back once a whole heartbeat interval brought no job: the short batch is over, and
-      // the next batch may hold long jobs, which must not pile up at one worker.
-      bool idle = false;
-      {
-        std::lock_guard lock(mutex_);
-        idle = stats_.jobs_received == jobs_at_last_heartbeat && announced_credit_ != options_.credit;
-        jobs_at_last_heartbeat = stats_.jobs_received;
-        if (idle) {
-          short_in_a_row_ = 0;
-          wanted_credit_ = options_.credit;
-        }
-      }
-      if (idle) AnnounceCredit(options_.credit);
-    }
-    if (now >= broker_deadline) {
-      Reconnect("no answer from the broker at " + options_.endpoint + " for " + Seconds(liveness_period));
-      broker_deadline = now + liveness_period;
-    }
+    if (idle) AnnounceCredit(options_.credit);
   }
-  message.mutable_disconnect()->set_reason("worker shutting down");
-  Send(message);
-  socket_->set(zmq::sockopt::linger, kGoodbyeLingerMs);
-  socket_->close();
+  if (now >= dealer_.liveness_deadline()) {
+    Reconnect("no answer from the broker at " + options_.endpoint + " for " + Seconds(dealer_.liveness_period()));
+  }
 }
 
 void WorkerConnection::Connect() {
-  socket_ = std::make_unique<zmq::socket_t>(context_, zmq::socket_type::dealer);
-  socket_->set(zmq::sockopt::linger, 0);
-  socket_->set(zmq::sockopt::sndhwm, 0);  // never block the I/O thread: results and heartbeats queue instead
-  socket_->set(zmq::sockopt::rcvhwm, 0);
-  // A connection that failed its handshake (the broker refused our key, or it speaks CURVE and we do not) is
-  // closed for good, leaving the socket without a pipe: a send must then fail at once, never block this thread.
-  socket_->set(zmq::sockopt::sndtimeo, 0);
-  if (curve_) {
-    net::MakeCurveClient(*socket_, *curve_);
-    monitor_ = std::make_unique<net::HandshakeMonitor>(context_, *socket_,
-                                                         "worker-" + std::to_string(++monitors_made_));
-  }
-  socket_->connect(options_.endpoint);  // asynchronous: ZeroMQ keeps trying until a broker listens
-  warned_bad_message_ = false;
+  dealer_.Open();
   announced_credit_ = options_.credit;  // a new connection starts from the base credit
   {
     std::lock_guard lock(mutex_);
@@ -278,7 +258,7 @@ void WorkerConnection::Connect() {
   ready.set_protocol_version(kProtocolVersion);
   ready.mutable_ready()->set_worker_id(worker_id_);
   ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(options_.credit));
-  Send(ready);
+  dealer_.SendMessage(ready);
 }
 
 void WorkerConnection::AnnounceCredit(int credit) {
@@ -286,27 +266,11 @@ void WorkerConnection::AnnounceCredit(int credit) {
   ready.set_protocol_version(kProtocolVersion);
   ready.mutable_ready()->set_worker_id(worker_id_);
   ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
-  Send(ready);
+  dealer_.SendMessage(ready);
   announced_credit_ = credit;
   std::lock_guard lock(mutex_);
   stats_.credit = static_cast<std::uint32_t>(credit);
   ++stats_.credit_changes;
-}
-
-void WorkerConnection::ReadHandshakeFailures() {
-  std::vector<net::HandshakeFailure> failures = monitor_->ReadFailures();
-  // A connection the broker closed early (it was stopping, say) is a reconnection, not a failed handshake.
-  std::erase_if(failures, [](const net::HandshakeFailure& failure) { return failure.closed_early(); });
-  {
-    std::lock_guard lock(mutex_);
-    stats_.handshake_failures += failures.size();
-  }
-  for (const net::HandshakeFailure& failure : failures) {
-    const std::string why = failure.Describe();
-    if (!warned_handshakes_.insert(why).second) continue;  // a handful of kinds at most
-    Log("the CURVE handshake with the broker at " + options_.endpoint + " failed: " + why +
-        "; is worker.pub in the broker's allowed_workers/ and broker.pub the broker's? (logged once per kind)");
-  }
 }
 
 void WorkerConnection::Reconnect(const std::string& why) {
@@ -317,50 +281,29 @@ void WorkerConnection::Reconnect(const std::string& why) {
     stats_.jobs_discarded += discarded;
     jobs_.clear();
   }
-  if (!warned_silence_) {
-    std::string line = why + "; connecting again";
-    if (discarded > 0)
-      line += " (dropped " + std::to_string(discarded) + " jobs not started: the broker requeues them)";
-    Log(line);
-    warned_silence_ = true;
-  }
-  socket_->close();
+  std::string line = why + "; connecting again";
+  if (discarded > 0) line += " (dropped " + std::to_string(discarded) + " jobs not started: the broker requeues them)";
+  dealer_.ReportSilence(line);
+  dealer_.Close();
   Connect();
 }
 
 WorkerConnection::Heard WorkerConnection::OnBrokerMessage(const zmq::message_t& payload) {
-  const proto::EnvelopeCheck check = proto::ParseEnvelope(payload.data(), payload.size(), in_);
-  if (check != proto::EnvelopeCheck::kOk) {
-    DropMessage(std::string(proto::Describe(check)) +
-                (check == proto::EnvelopeCheck::kWrongVersion ? " " + std::to_string(in_.protocol_version()) : ""));
+  const std::string rejection = net::CheckEnvelope(payload, in_);
+  if (!rejection.empty()) {
+    DropMessage(rejection);
     return Heard::kNothing;
   }
-  bool first = false;
   {
     std::lock_guard lock(mutex_);
-    first = !stats_.broker_answering;
     stats_.broker_answering = true;
   }
-  if (first && warned_silence_) {
-    Log("the broker at " + options_.endpoint + " answers again");
-    warned_silence_ = false;
-  }
+  dealer_.MarkHeard();
   switch (in_.body_case()) {
     case v1::BrokerToWorker::kJob: {
       v1::Job& job = *in_.mutable_job();
       if (job.protocol_version() != kProtocolVersion) {
-        // Answer it, so that the broker gets its credit back and the client learns why.
-        v1::WorkerToBroker answer;
-        answer.set_protocol_version(kProtocolVersion);
-        v1::Result& result = *answer.mutable_result();
-        result.set_protocol_version(kProtocolVersion);
-        result.set_job_id(job.job_id());
-        result.set_batch_id(job.batch_id());
-        result.set_worker_id(worker_id_);
-        result.set_status(v1::Result::INVALID_INPUT);
-        result.set_message("job protocol version " + std::to_string(job.protocol_version()) + "; this worker speaks " +
-                           std::to_string(kProtocolVersion));
-        Send(answer);
+        AnswerWrongVersionJob(job);
         return Heard::kAlive;
       }
       {
@@ -380,21 +323,27 @@ WorkerConnection::Heard WorkerConnection::OnBrokerMessage(const zmq::message_t& 
   return Heard::kAlive;
 }
 
+// Answers a job of another protocol version, so that the broker gets its credit back and the client learns why.
+void WorkerConnection::AnswerWrongVersionJob(const v1::Job& job) {
+  v1::WorkerToBroker answer;
+  answer.set_protocol_version(kProtocolVersion);
+  v1::Result& result = *answer.mutable_result();
+  result.set_protocol_version(kProtocolVersion);
+  result.set_job_id(job.job_id());
+  result.set_batch_id(job.batch_id());
+  result.set_worker_id(worker_id_);
+  result.set_status(v1::Result::INVALID_INPUT);
+  result.set_message("job protocol version " + std::to_string(job.protocol_version()) + "; this worker speaks " +
+                     std::to_string(kProtocolVersion));
+  dealer_.SendMessage(answer);
+}
+
 void WorkerConnection::DropMessage(const std::string& why) {
   {
     std::lock_guard lock(mutex_);
     ++stats_.messages_dropped;
   }
-  if (warned_bad_message_) return;
-  warned_bad_message_ = true;
-  Log("dropped a message from the broker at " + options_.endpoint + ": " + why +
-      " (further bad messages on this connection are dropped without a log line)");
-}
-
-void WorkerConnection::Send(const v1::WorkerToBroker& message) {
-  out_.clear();
-  message.SerializeToString(&out_);
-  socket_->send(zmq::buffer(out_), zmq::send_flags::none);
+  dealer_.ReportDropped(why);
 }
 
 }  // namespace orcs::worker

@@ -30,7 +30,7 @@
 
 #include "orcs/v1/broker.pb.h"
 #include "net/curve_keys.h"
-#include "net/handshake_monitor.h"
+#include "net/dealer_connection.h"
 
 namespace orcs::worker {
 
@@ -111,33 +111,30 @@ class WorkerConnection {
 
   void IoLoop();
   void Serve();
+  /// One turn of Serve(); false when the connection is stopping.
+  bool ServeOnce();
+  /// Sends the results given to SendResult and a changed credit; false when the connection is stopping.
+  bool SendOutbox(std::deque<v1::Result>& sending);
+  void ReadBrokerMessages();
+  void HeartbeatAndWatchBroker();
   void Connect();
   void Reconnect(const std::string& why);
   Heard OnBrokerMessage(const zmq::message_t& payload);
+  void AnswerWrongVersionJob(const v1::Job& job);
   void DropMessage(const std::string& why);
-  void Send(const v1::WorkerToBroker& message);
   void AnnounceCredit(int credit);
-  void ReadHandshakeFailures();
-  void Wake();
   void Log(const std::string& line) const;
 
   const WorkerConnectionOptions options_;
   const std::string worker_id_;
-  zmq::context_t context_;
-  int wake_fd_ = -1;  ///< eventfd: SendResult() and the destructor wake the I/O thread's poll through it
-
-  std::optional<net::CurvePeerKeys> curve_;  ///< set: every connection uses CURVE with these keys
+  /// The socket, CURVE, heartbeats, the broker's liveness; its Wake() lets SendResult() and the destructor wake the
+  /// I/O thread. Otherwise owned by the I/O thread.
+  net::DealerConnection dealer_;
 
   // Owned by the I/O thread.
-  std::unique_ptr<zmq::socket_t> socket_;
-  std::unique_ptr<net::HandshakeMonitor> monitor_;  ///< with CURVE: failed handshakes of socket_
-  int monitors_made_ = 0;                             ///< names each monitor uniquely
-  std::set<std::string> warned_handshakes_;           ///< kinds of handshake failure logged already
-  v1::BrokerToWorker in_;
-  std::string out_;
-  bool warned_bad_message_ = false;  ///< a dropped message was logged on this connection
-  bool warned_silence_ = false;      ///< the broker's silence was logged and no answer has come since
-  int announced_credit_ = 0;         ///< the credit of the last READY on this connection
+  v1::BrokerToWorker in_;                    ///< the message being read, reused
+  int announced_credit_ = 0;                 ///< the credit of the last READY on this connection
+  std::uint64_t jobs_at_last_heartbeat_ = 0;  ///< stats_.jobs_received when the last heartbeat left
 
   // Shared with the caller's threads, guarded by mutex_.
   mutable std::mutex mutex_;
