@@ -73,23 +73,23 @@ class Broker {
   void Log(const std::string& line) const;
   void PublishStats();
 
-  const BrokerOptions options_;
-  zmq::context_t context_;
-  zmq::socket_t client_socket_;
-  zmq::socket_t worker_socket_;
+  const BrokerOptions options_;  ///< as constructed (checked by Validate)
+  zmq::context_t context_;       ///< owns the sockets, the ZAP handler's and the monitors'
+  zmq::socket_t client_socket_;  ///< ROUTER bound to client_endpoint_
+  zmq::socket_t worker_socket_;  ///< ROUTER bound to worker_endpoint_
   std::unique_ptr<ZapHandler> zap_;                          ///< with CURVE: decides who may connect
   std::unique_ptr<net::HandshakeMonitor> client_monitor_;  ///< with CURVE: failed handshakes on client_socket_
   std::unique_ptr<net::HandshakeMonitor> worker_monitor_;  ///< with CURVE: failed handshakes on worker_socket_
   std::set<std::string> warned_handshakes_;                  ///< kinds of handshake failure logged already
   std::uint64_t handshakes_failed_ = 0;                      ///< BrokerStats::handshakes_failed
-  std::string client_endpoint_;
-  std::string worker_endpoint_;
+  std::string client_endpoint_;  ///< where client_socket_ is bound, with the real port
+  std::string worker_endpoint_;  ///< where worker_socket_ is bound, with the real port
   int wake_fd_ = -1;  ///< eventfd Stop() writes to, so that a blocked poll returns
   std::unique_ptr<BrokerJournal> journal_;      ///< null without BrokerOptions::journal
   std::unique_ptr<BrokerTransport> transport_;  ///< the core's sends, onto the two sockets
   std::unique_ptr<BrokerCore> core_;            ///< the rules and the state
-  std::atomic<bool> stop_requested_{false};
-  bool ran_ = false;
+  std::atomic<bool> stop_requested_{false};  ///< set by Stop(), read by Run()
+  bool ran_ = false;                         ///< Run() was called: it may be called once
 
   v1::WorkerToBroker worker_in_;        ///< reused for parsing
   v1::ClientToBroker client_in_;        ///< reused for parsing
