@@ -392,6 +392,28 @@ TEST_F(BrokerCoreTest, AWorkerHoldingAJobPastItsLeaseIsLostAndToldToStartOver) {
   EXPECT_EQ(transport_.Jobs("v").size(), 1u);
 }
 
+// A worker runs its jobs one after another, so the lease of its second job starts where the first one's ends.
+TEST_F(BrokerCoreTest, TheLeasesOfAWorkersJobsFollowOneAnother) {
+  Submit("c", "b", {Job("j0", 1.0), Job("j1", 1.0)});
+  Ready("w", 2);
+  Dispatch();
+  Advance(seconds(1));
+  Answer("w", transport_.Jobs("w").at(0));
+  // j1's lease: 8.5 s after j0's, which ended 8.5 s after dispatch — due 17 s after dispatch, not 8.5 s.
+  for (int second = 2; second <= 16; ++second) {
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    ClientHeartbeat("c");
+    Tick();
+  }
+  EXPECT_EQ(Stats().leases_expired, 0u);
+  Advance(seconds(1));
+  WorkerHeartbeat("w");
+  ClientHeartbeat("c");
+  Tick();
+  EXPECT_EQ(Stats().leases_expired, 1u);
+}
+
 TEST_F(BrokerCoreTest, ABatchIsDoneWhenEveryJobIsAnsweredAndGoesWithItsClient) {
   Submit("c", "b", {Job("j0"), Job("j1")});
   Ready("w", 2);
