@@ -1,0 +1,214 @@
+// The broker's rules without its sockets (docs/protocol.md): the queue, workers' credit and leases, lost workers,
+// crashed jobs, batches and their owners, and the journal records — as events in and messages out. The ZeroMQ shell
+// (broker.h) decodes what arrives and calls one On...() per message, OnTick() per heartbeat interval and Dispatch()
+// at the end of each turn, always with the current time; the core never reads a clock nor touches a socket. What
+// it says to peers goes through a BrokerTransport, whose sends may fail as a ROUTER's do (the peer is gone).
+//
+// A state machine of small named handlers, one per incoming message kind and one per clock duty, in the style of
+// ZeroMQ's Majordomo broker. Implemented in broker_core.cc (workers, leases, dispatch) and broker_core_jobs.cc
+// (clients, batches, the queue, the journal).
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <list>
+#include <set>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <unordered_set>
+#include <utility>
+
+#include "broker/broker_journal.h"
+#include "broker/broker_settings.h"
+#include "orcs/v1/broker.pb.h"
+
+namespace orcs::broker {
+
+/// Longest worker, client or batch id a peer may send, bytes (a longer one is refused: ids appear in log lines).
+inline constexpr std::size_t kMaxIdBytes = 128;
+
+/// Where the core's messages go. A send returns false when the peer's connection is gone; the core then treats
+/// the peer as lost (a worker's jobs go elsewhere, a client is dropped) or the job as never sent.
+class BrokerTransport {
+ public:
+  virtual ~BrokerTransport() = default;
+  virtual bool SendToWorker(const std::string& worker, const v1::BrokerToWorker& message) = 0;
+  virtual bool SendToClient(const std::string& client, const v1::BrokerToClient& message) = 0;
+};
+
+/// The broker's state and rules. Single-threaded: the shell's loop alone calls it.
+class BrokerCore {
+ public:
+  using Clock = std::chrono::steady_clock;  ///< the type of the times passed in; never read here
+  using TimePoint = Clock::time_point;
+
+  /// `transport` and `journal` (null: state in memory only) must outlive the core. `options` must be valid
+  /// (the shell checks them).
+  BrokerCore(const BrokerOptions& options, BrokerTransport& transport, BrokerJournal* journal);
+
+  /// Reads the journal back after a restart (docs/protocol.md, "Restarts"). Call once, before any message.
+  void Restore(TimePoint now);
+  /// A well-formed envelope from the worker connection `worker` (its routing id).
+  void OnWorkerMessage(const std::string& worker, v1::WorkerToBroker& message, TimePoint now);
+  /// A well-formed envelope from the client connection `client`; `client_key` is its CURVE key (Z85), "" without.
+  void OnClientMessage(const std::string& client, const std::string& client_key, v1::ClientToBroker& message,
+                       TimePoint now);
+  /// Once per heartbeat interval: heartbeats out, silent peers and overdue leases lost, unclaimed batches dropped.
+  void OnTick(TimePoint now);
+  /// Hands queued jobs to workers with free credit. The shell calls it at the end of every turn.
+  void Dispatch(TimePoint now);
+  /// Tells every worker and client the broker is leaving (DISCONNECT).
+  void SayGoodbye();
+  /// Counts and logs (once per peer) a message the shell could not decode; `side` is "worker" or "client".
+  void DropMessage(std::string_view side, const std::string& peer, const std::string& why);
+  /// Counters and gauges now (handshake counters are the shell's and stay 0 here).
+  BrokerStats Stats() const;
+
+ private:
+  /// A job's place in the broker: just made, waiting, held by a worker, or answered.
+  enum class JobState { kNew, kQueued, kDispatched, kFinished };
+  /// (batch id, job id): names a job across batches.
+  using JobKey = std::pair<std::string, std::string>;
+
+  struct JobRecord {
+    v1::Job job;                      ///< as accepted (the record goes once the job is finished: FinishJob)
+    JobState state = JobState::kNew;  ///< where it is now
+    std::string worker;               ///< routing id of the holding worker while kDispatched
+    std::uint64_t ticket = 0;         ///< matches this job's live queue entry while kQueued
+    int losses = 0;                   ///< workers lost while holding it since it was accepted
+    int dispatches = 0;               ///< JOB messages sent for it since it was accepted
+    std::string lost_by;              ///< names of the workers lost while holding it, ", "-separated
+    int crashes = 0;                  ///< CRASHED results for it since it was accepted
+    std::string crashed_by;           ///< names of the workers whose simulation it crashed, ", "-separated
+    TimePoint accepted_at;            ///< when the SUBMIT holding it was accepted
+    TimePoint dispatched_at;          ///< when it was last sent to a worker
+    std::uint64_t lease = 0;          ///< the current dispatch's token (Job.lease) while kDispatched; 0 = none
+    TimePoint lease_deadline;         ///< while kDispatched: its worker is lost unless it answered by then
+  };
+  struct Batch {
+    std::string client;      ///< routing id of the owning client's connection; "" = restored, not yet claimed
+    std::string client_id;   ///< the owning client's name (Submit.client_id), stable across its reconnections
+    /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. "" = not yet known
+    /// (a batch restored from the journal, which does not record keys): the first client to claim it sets it.
+    std::string client_key;
+    std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
+    std::unordered_map<std::string, JobRecord> jobs;  ///< its jobs without a result yet, by job id
+    TimePoint claim_deadline;  ///< restored batches: dropped unless their client is back by then
+  };
+  struct Worker {
+    std::string name;            ///< Ready.worker_id (or the routing id in hex)
+    std::uint32_t credit = 0;    ///< Ready.credit: how many jobs it may hold
+    std::set<JobKey> holding;    ///< jobs sent to it and not answered
+    bool in_ready_list = false;  ///< whether ready_workers_ lists it
+    TimePoint expiry;            ///< declared lost when nothing arrived from it by then
+    /// When the jobs it holds are due at the latest: it runs them one after another, so each new lease starts
+    /// where the previous one ends.
+    TimePoint busy_until;
+  };
+  struct Client {
+    std::string client_id;                    ///< Submit.client_id of its first SUBMIT
+    std::unordered_set<std::string> batches;  ///< batch ids it owns
+    TimePoint expiry;                         ///< declared lost when nothing arrived from it by then
+  };
+  struct QueueEntry {
+    std::string batch_id;      ///< the job's batch
+    std::string job_id;        ///< the job
+    std::uint64_t ticket = 0;  ///< stale unless equal to the job's current ticket
+  };
+
+  // Worker messages (broker_core.cc).
+  void OnWorkerReady(const std::string& worker, const v1::Ready& ready);
+  void OnWorkerResult(const std::string& worker, v1::Result& result);
+  /// Why `result` is not the answer to a lease `worker` holds, or "" when it is.
+  std::string LeaseProblem(const std::string& worker, const v1::Result& result, const JobRecord* record) const;
+  void RefuseResult(const std::string& worker, const v1::Result& result, const std::string& why);
+  /// A CRASHED result for a pending job: retried at the front of the queue, or finished as poisonous.
+  void OnJobCrashed(const std::string& worker, const std::string& batch_id, Batch& batch, JobRecord& record,
+                    v1::Result& result);
+  void OnWorkerHeartbeat(const std::string& worker);
+  void OnWorkerDisconnect(const std::string& worker, const v1::Disconnect& disconnect);
+  /// Tells a connection the broker does not know (or no longer knows) to start over: `why` says what it did.
+  void TellWorkerToReconnect(const std::string& worker, const std::string& why);
+
+  // The clock (broker_core.cc).
+  void SendHeartbeats();
+  void PurgeLostWorkers();
+  /// Workers holding a job past its lease's deadline are lost (their jobs go elsewhere) and told to reconnect.
+  void ExpireLeases();
+  /// Why `worker` is overdue on one of its leases, or "" when it is not.
+  std::string OverdueLease(const Worker& worker) const;
+  /// How long a worker may hold a job with this time limit (0 = the default), from when it starts on it.
+  Clock::duration LeaseLength(double time_limit_seconds) const;
+
+  // Workers and dispatch (broker_core.cc).
+  /// The first ready worker still registered, or end() when there is none.
+  std::list<std::string>::iterator FirstReadyWorker();
+  std::list<std::string>::iterator ReadyWorkerFor(const JobRecord& record);
+  /// Sends the job to the chosen worker under a new lease; false when the send failed (the worker is then lost).
+  bool SendJob(const JobKey& key, JobRecord& record, const std::string& worker_id);
+  void MakeReady(const std::string& worker_id, Worker& worker);
+  void LoseWorker(const std::string& worker, const std::string& reason, bool counts_as_loss);
+  /// After losing a worker: back to the queue, or failed with WORKER_LOST; true when requeued.
+  bool RequeueOrFail(Batch& batch, JobRecord& record, const std::string& batch_id, const std::string& reason);
+
+  // Client messages (broker_core_jobs.cc).
+  void OnClientSubmit(const std::string& client, const std::string& client_key, v1::Submit& submit);
+  /// What forbids this SUBMIT (malformed, or someone else's batch), or "" when nothing does.
+  std::string SubmitProblem(const std::string& client, const std::string& client_key, const v1::Submit& submit) const;
+  void RejectSubmit(const std::string& client, const std::string& batch_id, const std::string& problem);
+  /// The submitted batch, opened for this client or moved to this connection of its owner.
+  Batch& ClaimBatch(const std::string& client, const std::string& client_key, const v1::Submit& submit);
+  /// Queues one submitted job (or resends its stored result); true when it was accepted anew.
+  bool AcceptJob(const std::string& client, const std::string& batch_id, Batch& batch, v1::Job& job);
+  void OnClientHeartbeat(const std::string& client);
+  void OnClientCancel(const std::string& client, const v1::Cancel& cancel);
+  void OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect);
+  void PurgeLostClients();
+  void PurgeUnclaimedBatches();
+
+  // The journal (broker_core_jobs.cc).
+  void RestoreJob(JournalJob&& stored, std::uint64_t& in_flight);
+  /// Sends the journal's stored result of a finished job to `client`; false when there is none.
+  bool ResendStoredResult(const std::string& client, const std::string& batch_id, const std::string& job_id);
+
+  // The queue and batches (broker_core_jobs.cc).
+  JobRecord* FindJob(const JobKey& key);  // null when its batch or the job is unknown
+  bool PopQueued(JobKey& key);
+  void Enqueue(const std::string& batch_id, JobRecord& record, bool at_front);
+  void SetState(JobRecord& record, JobState state);  // keeps queued_count_ right
+  void NoteJobHeld();  // a record was added to a batch: counts it in jobs_held_ and its peak
+  /// Forgets a client and its batches. `lost`: it vanished (silent, connection closed) rather than said goodbye.
+  void DropClient(const std::string& client, const std::string& reason, bool lost);
+  void DropBatch(const std::string& batch_id);
+  /// Drops the queue's stale entries when they dominate it.
+  void CompactQueue();
+  void FinishJob(Batch& batch, JobRecord& record, v1::Result& result);
+  void FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message);
+
+  // Bookkeeping (broker_core.cc).
+  void Log(const std::string& line) const;
+  std::string WorkerName(const std::string& worker) const;
+
+  const BrokerOptions options_;
+  const Clock::duration liveness_period_;  ///< heartbeat_interval × liveness
+  BrokerTransport& transport_;             ///< where messages to peers go
+  BrokerJournal* const journal_;           ///< null without BrokerOptions::journal
+
+  std::unordered_map<std::string, Worker> workers_;  ///< by routing id
+  std::unordered_map<std::string, Client> clients_;  ///< by routing id
+  std::unordered_map<std::string, Batch> batches_;   ///< by batch id
+  std::deque<QueueEntry> queue_;                     ///< jobs waiting, front first (may hold stale entries)
+  std::list<std::string> ready_workers_;             ///< workers with free credit, least recently served first
+  std::uint64_t next_ticket_ = 1;                    ///< the ticket the next Enqueue hands out
+  std::uint64_t queued_count_ = 0;                   ///< jobs in state kQueued
+  std::uint64_t in_flight_count_ = 0;                ///< the sum of the workers' holding sets' sizes
+  std::uint64_t jobs_held_ = 0;                      ///< records in batches_' job maps (BrokerStats::jobs_held)
+  TimePoint now_;                                    ///< the time of the event being handled, as passed in
+  std::unordered_set<std::string> warned_peers_;     ///< peers whose bad message was logged already
+  BrokerStats counters_;                             ///< the live counters (gauges are filled by Stats())
+};
+
+}  // namespace orcs::broker

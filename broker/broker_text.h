@@ -1,0 +1,27 @@
+// Text the broker writes about its peers: log lines (escaped and bounded, so that no peer can forge or flood one),
+// routing ids in hex and durations. Shared by the core and the ZeroMQ shell.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <string_view>
+
+namespace orcs::broker {
+
+/// Bytes of one log line, escapes included; a longer line is cut.
+inline constexpr std::size_t kMaxLogLine = 2000;
+
+/// The line with control characters and invalid bytes as \xNN, cut at kMaxLogLine bytes.
+std::string EscapeForLog(std::string_view line);
+/// Writes one escaped log line to `sink`, or to stderr prefixed "orcs-broker: " when `sink` is empty.
+void WriteLog(const std::function<void(std::string_view)>& sink, const std::string& line);
+/// "0x0080000001": a routing id for the log.
+std::string Hex(const std::string& bytes);
+/// "2.5 s".
+std::string Seconds(std::chrono::steady_clock::duration duration);
+/// `to` − `from` in seconds.
+double SecondsBetween(std::chrono::steady_clock::time_point from, std::chrono::steady_clock::time_point to);
+
+}  // namespace orcs::broker

@@ -1,0 +1,560 @@
+// The broker's rules on their own: BrokerCore fed decoded messages and a made-up clock, its messages caught by a
+// recording transport. No sockets, no threads, no sleeps — each test runs in microseconds. The same rules are
+// exercised end to end, over real sockets, in broker_test.cc.
+#include "broker/broker_core.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "broker/broker_journal.h"
+#include "proto/envelope.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs::test_support {
+namespace {
+
+using broker::BrokerCore;
+using proto::kProtocolVersion;
+using std::chrono::seconds;
+using ::testing::HasSubstr;
+
+// The seam's test double: keeps every message the core sends, and fails sends to peers marked gone, as a ROUTER
+// socket does once a peer's connection has closed.
+class RecordingTransport final : public broker::BrokerTransport {
+ public:
+  bool SendToWorker(const std::string& worker, const v1::BrokerToWorker& message) override {
+    if (gone.count(worker) != 0) return false;
+    to_workers.emplace_back(worker, message);
+    return true;
+  }
+  bool SendToClient(const std::string& client, const v1::BrokerToClient& message) override {
+    if (gone.count(client) != 0) return false;
+    to_clients.emplace_back(client, message);
+    return true;
+  }
+
+  /// The JOBs sent to `worker`, in order.
+  std::vector<v1::Job> Jobs(const std::string& worker) const {
+    std::vector<v1::Job> jobs;
+    for (const auto& [peer, message] : to_workers) {
+      if (peer == worker && message.has_job()) jobs.push_back(message.job());
+    }
+    return jobs;
+  }
+  /// The DISCONNECT reasons sent to `worker`, in order.
+  std::vector<std::string> Disconnects(const std::string& worker) const {
+    std::vector<std::string> reasons;
+    for (const auto& [peer, message] : to_workers) {
+      if (peer == worker && message.has_disconnect()) reasons.push_back(message.disconnect().reason());
+    }
+    return reasons;
+  }
+  /// The RESULTs sent to `client`, in order.
+  std::vector<v1::Result> Results(const std::string& client) const {
+    std::vector<v1::Result> results;
+    for (const auto& [peer, message] : to_clients) {
+      if (peer == client && message.has_result()) results.push_back(message.result());
+    }
+    return results;
+  }
+  /// The last message sent to `client`.
+  v1::BrokerToClient LastToClient(const std::string& client) const {
+    for (auto entry = to_clients.rbegin(); entry != to_clients.rend(); ++entry) {
+      if (entry->first == client) return entry->second;
+    }
+    return {};
+  }
+
+  std::vector<std::pair<std::string, v1::BrokerToWorker>> to_workers;  ///< (routing id, message), in order
+  std::vector<std::pair<std::string, v1::BrokerToClient>> to_clients;  ///< (routing id, message), in order
+  std::set<std::string> gone;  ///< routing ids whose connection is closed: sends to them fail
+};
+
+const std::string kToken(16, '\x42');  // the owner token of every test batch
+
+v1::Job Job(const std::string& id, double time_limit_seconds = 0) {
+  v1::Job job;
+  job.set_protocol_version(kProtocolVersion);
+  job.set_job_id(id);
+  job.set_time_limit_seconds(time_limit_seconds);
+  return job;
+}
+
+// A core, its transport, its log and its clock, with the peers' messages as one-line calls. The options are
+// BrokerOptions' defaults: heartbeat 1 s, liveness 5 (a peer silent for 5 s is lost), 3 losses, 3 crashes.
+class Harness {
+ public:
+  explicit Harness(broker::BrokerJournal* journal = nullptr) : core_(Options(), transport_, journal) {}
+
+  broker::BrokerOptions Options() {
+    broker::BrokerOptions options;
+    options.log = [this](std::string_view line) { log_.emplace_back(line); };
+    return options;
+  }
+
+  void Advance(std::chrono::steady_clock::duration by) { now_ += by; }
+
+  void Ready(const std::string& worker, int credit) {
+    v1::WorkerToBroker message;
+    message.set_protocol_version(kProtocolVersion);
+    message.mutable_ready()->set_worker_id(worker + "-name");
+    message.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
+    core_.OnWorkerMessage(worker, message, now_);
+  }
+  void WorkerHeartbeat(const std::string& worker) {
+    v1::WorkerToBroker message;
+    message.set_protocol_version(kProtocolVersion);
+    message.mutable_heartbeat();
+    core_.OnWorkerMessage(worker, message, now_);
+  }
+  void ClientHeartbeat(const std::string& client) {
+    v1::ClientToBroker message;
+    message.mutable_heartbeat();
+    ClientSays(client, message);
+  }
+  void Answer(const std::string& worker, const v1::Job& job, v1::Result::Status status = v1::Result::OK,
+              const std::string& text = "") {
+    v1::WorkerToBroker message;
+    message.set_protocol_version(kProtocolVersion);
+    v1::Result& result = *message.mutable_result();
+    result.set_protocol_version(kProtocolVersion);
+    result.set_batch_id(job.batch_id());
+    result.set_job_id(job.job_id());
+    result.set_lease(job.lease());
+    result.set_status(status);
+    result.set_message(text);
+    result.set_fitness(1.5);
+    core_.OnWorkerMessage(worker, message, now_);
+  }
+  void Submit(const std::string& client, const std::string& batch, const std::vector<v1::Job>& jobs,
+              const std::string& token = kToken) {
+    v1::ClientToBroker message;
+    message.set_protocol_version(kProtocolVersion);
+    v1::Submit& submit = *message.mutable_submit();
+    submit.set_batch_id(batch);
+    submit.set_client_id(client + "-name");
+    submit.set_owner_token(token);
+    for (const v1::Job& job : jobs) *submit.add_jobs() = job;
+    core_.OnClientMessage(client, "", message, now_);
+  }
+  void ClientSays(const std::string& client, v1::ClientToBroker message) {
+    message.set_protocol_version(kProtocolVersion);
+    core_.OnClientMessage(client, "", message, now_);
+  }
+  void Dispatch() { core_.Dispatch(now_); }
+  void Tick() { core_.OnTick(now_); }
+  broker::BrokerStats Stats() const { return core_.Stats(); }
+  bool Logged(const std::string& needle) const {
+    for (const std::string& line : log_) {
+      if (line.find(needle) != std::string::npos) return true;
+    }
+    return false;
+  }
+
+  RecordingTransport transport_;
+  std::vector<std::string> log_;
+  BrokerCore::TimePoint now_ = BrokerCore::TimePoint{} + std::chrono::hours(1);  ///< the made-up clock
+  BrokerCore core_;
+};
+
+class BrokerCoreTest : public ::testing::Test, protected Harness {};
+
+TEST_F(BrokerCoreTest, SubmitIsAcceptedAndQueuedJobsFillTheWorkersCreditAndNoMore) {
+  Submit("c", "b", {Job("j0"), Job("j1"), Job("j2")});
+  const v1::BrokerToClient accepted = transport_.LastToClient("c");
+  ASSERT_TRUE(accepted.has_accepted());
+  EXPECT_EQ(accepted.accepted().job_count(), 3u);
+  EXPECT_EQ(accepted.accepted().queued(), 3u);
+  Ready("w", 2);
+  Dispatch();
+  const std::vector<v1::Job> jobs = transport_.Jobs("w");
+  ASSERT_EQ(jobs.size(), 2u);
+  EXPECT_EQ(jobs[0].job_id(), "j0");  // in submission order
+  EXPECT_EQ(jobs[1].job_id(), "j1");
+  EXPECT_NE(jobs[0].lease(), 0u);
+  EXPECT_NE(jobs[0].lease(), jobs[1].lease());
+  EXPECT_EQ(jobs[0].batch_id(), "b");
+  EXPECT_EQ(Stats().queued, 1u);
+  EXPECT_EQ(Stats().in_flight, 2u);
+  EXPECT_EQ(Stats().jobs_dispatched, 2u);
+}
+
+TEST_F(BrokerCoreTest, JobsGoToTheLeastRecentlyServedWorkerFirst) {
+  Submit("c", "b", {Job("j0"), Job("j1"), Job("j2"), Job("j3")});
+  Ready("w1", 2);
+  Ready("w2", 2);
+  Dispatch();
+  std::vector<std::string> order;
+  for (const auto& [worker, message] : transport_.to_workers) order.push_back(worker + ":" + message.job().job_id());
+  EXPECT_THAT(order, ::testing::ElementsAre("w1:j0", "w2:j1", "w1:j2", "w2:j3"));
+}
+
+TEST_F(BrokerCoreTest, AResultWithoutAStatusIsDeliveredAsInternalError) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Dispatch();
+  Answer("w", transport_.Jobs("w").at(0), v1::Result::STATUS_UNSPECIFIED);
+  ASSERT_EQ(transport_.Results("c").size(), 1u);
+  EXPECT_EQ(transport_.Results("c")[0].status(), v1::Result::INTERNAL_ERROR);
+  EXPECT_EQ(transport_.Results("c")[0].message(), "the worker sent a result without a status");
+}
+
+TEST_F(BrokerCoreTest, AResultFromTheLeaseHolderReachesTheClientOnceAndFreesACredit) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 1);
+  Dispatch();
+  const v1::Job j0 = transport_.Jobs("w").at(0);
+  Advance(seconds(2));
+  Answer("w", j0);
+  Answer("w", j0);  // a duplicate: the job is forgotten, so it is refused
+  const std::vector<v1::Result> results = transport_.Results("c");
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results[0].job_id(), "j0");
+  EXPECT_EQ(results[0].worker_id(), "w-name");
+  EXPECT_EQ(results[0].attempts(), 1u);
+  EXPECT_EQ(Stats().results_delivered, 1u);
+  EXPECT_EQ(Stats().results_refused, 1u);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w").size(), 2u);  // the credit came back: j1 goes out
+}
+
+TEST_F(BrokerCoreTest, AResultWithoutTheLeaseTokenOrFromAnotherConnectionIsRefused) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Ready("other", 1);
+  Dispatch();
+  v1::Job job = transport_.Jobs("w").at(0);
+  Answer("other", job);
+  Answer("stranger", job);
+  job.set_lease(job.lease() + 1);
+  Answer("w", job);
+  EXPECT_TRUE(transport_.Results("c").empty());
+  EXPECT_EQ(Stats().results_refused, 3u);
+  // The stranger never sent READY: it is told to start over.
+  ASSERT_EQ(transport_.Disconnects("stranger").size(), 1u);
+  EXPECT_THAT(transport_.Disconnects("stranger")[0], HasSubstr("unknown worker"));
+}
+
+TEST_F(BrokerCoreTest, ASecondReadyChangesTheCreditAndJobsHeldBeyondItStayHeld) {
+  Submit("c", "b", {Job("j0"), Job("j1"), Job("j2"), Job("j3")});
+  Ready("w", 1);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w").size(), 1u);
+  Ready("w", 3);  // more credit: two more jobs
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w").size(), 3u);
+  Ready("w", 1);  // less credit: the three stay held, and no new job until it holds fewer than one
+  Answer("w", transport_.Jobs("w")[0]);
+  Answer("w", transport_.Jobs("w")[1]);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w").size(), 3u);
+  Answer("w", transport_.Jobs("w")[2]);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w").size(), 4u);
+  EXPECT_TRUE(Logged("sent READY again; credit now 1"));
+}
+
+TEST_F(BrokerCoreTest, ReadyWithCreditOutsideItsBoundsIsDropped) {
+  Ready("w", 0);
+  Ready("v", 1025);
+  EXPECT_EQ(Stats().workers, 0);
+  EXPECT_EQ(Stats().messages_dropped, 2u);
+}
+
+TEST_F(BrokerCoreTest, AWorkerLostMidJobPutsItsJobBackAtTheFrontAndItsLateResultIsRefused) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 1);
+  Dispatch();
+  const v1::Job held = transport_.Jobs("w").at(0);
+  Advance(seconds(4));
+  ClientHeartbeat("c");  // the client stays; the worker says nothing
+  Advance(seconds(1));   // silent for the liveness period: 5 heartbeats of 1 s
+  Tick();
+  EXPECT_EQ(Stats().workers_lost, 1u);
+  EXPECT_EQ(Stats().jobs_requeued, 1u);
+  EXPECT_EQ(Stats().in_flight, 0u);
+  EXPECT_TRUE(Logged("worker w-name lost: silent for 5.0 s; 1 jobs back to the queue"));
+  Ready("v", 1);
+  Dispatch();
+  ASSERT_EQ(transport_.Jobs("v").size(), 1u);
+  EXPECT_EQ(transport_.Jobs("v")[0].job_id(), "j0");  // ahead of j1, which never left the queue
+  EXPECT_EQ(transport_.Jobs("v")[0].attempt(), 1u);   // one worker lost on it
+  Answer("w", held);                                   // the lost worker comes back late
+  EXPECT_TRUE(transport_.Results("c").empty());
+  EXPECT_EQ(Stats().results_refused, 1u);
+}
+
+TEST_F(BrokerCoreTest, AWorkerThatSaysGoodbyeGivesItsJobsBackWithoutALoss) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Dispatch();
+  v1::WorkerToBroker bye;
+  bye.set_protocol_version(kProtocolVersion);
+  bye.mutable_disconnect()->set_reason("done");
+  core_.OnWorkerMessage("w", bye, now_);
+  EXPECT_EQ(Stats().workers_lost, 0u);
+  EXPECT_EQ(Stats().jobs_requeued, 1u);
+  Ready("v", 1);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("v").at(0).attempt(), 0u);
+}
+
+TEST_F(BrokerCoreTest, AJobThatLosesThreeWorkersFailsWithWorkerLost) {
+  Submit("c", "b", {Job("j0")});
+  for (const std::string worker : {"w1", "w2", "w3"}) {
+    Ready(worker, 1);
+    Dispatch();
+    ASSERT_EQ(transport_.Jobs(worker).size(), 1u);
+    transport_.gone.insert(worker);  // its connection closes: the next heartbeat to it fails
+    Advance(seconds(1));
+    Tick();
+  }
+  const std::vector<v1::Result> results = transport_.Results("c");
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results[0].status(), v1::Result::WORKER_LOST);
+  EXPECT_THAT(results[0].message(), HasSubstr("lost 3 workers while running (w1-name, w2-name, w3-name)"));
+  EXPECT_EQ(results[0].worker_id(), "w3-name");
+  EXPECT_EQ(results[0].attempts(), 3u);
+  EXPECT_EQ(Stats().workers_lost, 3u);
+  EXPECT_EQ(Stats().jobs_requeued, 2u);
+}
+
+TEST_F(BrokerCoreTest, ACrashedJobIsRetriedOnAWorkerItHasNotCrashedAndIsPoisonousAtTheThirdCrash) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w1", 1);
+  Ready("w2", 1);
+  Ready("w3", 1);
+  Dispatch();
+  Answer("w1", transport_.Jobs("w1").at(0), v1::Result::CRASHED, "segfault");
+  EXPECT_TRUE(transport_.Results("c").empty());  // retried, not answered
+  EXPECT_EQ(Stats().crashes, 1u);
+  EXPECT_EQ(Stats().jobs_requeued, 1u);
+  Dispatch();  // w1 is ready again, and first in line, but the job crashed it
+  EXPECT_EQ(transport_.Jobs("w1").size(), 1u);
+  ASSERT_EQ(transport_.Jobs("w2").size(), 1u);
+  Answer("w2", transport_.Jobs("w2").at(0), v1::Result::CRASHED, "abort");
+  Dispatch();
+  ASSERT_EQ(transport_.Jobs("w3").size(), 1u);
+  Answer("w3", transport_.Jobs("w3").at(0), v1::Result::CRASHED, "killed");
+  const std::vector<v1::Result> results = transport_.Results("c");
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results[0].status(), v1::Result::CRASHED);
+  EXPECT_EQ(results[0].message(), "poisonous: crashed 3 workers (w1-name, w2-name, w3-name); the last: killed");
+  EXPECT_EQ(Stats().jobs_poisoned, 1u);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w1").size(), 1u);  // never retried
+}
+
+TEST_F(BrokerCoreTest, ACrashedJobWaitsWhileOnlyWorkersItCrashedAreReady) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w1", 1);
+  Ready("w2", 1);
+  Dispatch();  // j0 to w1, j1 to w2
+  Answer("w1", transport_.Jobs("w1").at(0), v1::Result::CRASHED, "segfault");
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w1").size(), 1u);  // only w1 is free, and j0 crashed it: j0 waits for w2
+  EXPECT_EQ(Stats().queued, 1u);
+  Answer("w2", transport_.Jobs("w2").at(0));
+  Dispatch();
+  ASSERT_EQ(transport_.Jobs("w2").size(), 2u);
+  EXPECT_EQ(transport_.Jobs("w2")[1].job_id(), "j0");
+}
+
+TEST_F(BrokerCoreTest, AWorkerHoldingAJobPastItsLeaseIsLostAndToldToStartOver) {
+  Submit("c", "b", {Job("j0", 1.0)});
+  Ready("w", 1);
+  Dispatch();
+  // The lease: 1 s × 1.5 + 2 s + the liveness period of 5 s = 8.5 s. The worker heartbeats all along.
+  for (int second = 1; second <= 8; ++second) {
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    ClientHeartbeat("c");
+    Tick();
+  }
+  EXPECT_EQ(Stats().leases_expired, 0u);
+  Advance(seconds(1));
+  WorkerHeartbeat("w");
+  ClientHeartbeat("c");
+  Tick();
+  EXPECT_EQ(Stats().leases_expired, 1u);
+  EXPECT_EQ(Stats().workers_lost, 1u);
+  ASSERT_EQ(transport_.Disconnects("w").size(), 1u);
+  EXPECT_THAT(transport_.Disconnects("w")[0],
+              HasSubstr("held job b/j0 past its lease (time limit 1.0 s, leased for 8.5 s): connect again"));
+  Ready("v", 1);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("v").size(), 1u);
+}
+
+// A worker runs its jobs one after another, so the lease of its second job starts where the first one's ends.
+TEST_F(BrokerCoreTest, TheLeasesOfAWorkersJobsFollowOneAnother) {
+  Submit("c", "b", {Job("j0", 1.0), Job("j1", 1.0)});
+  Ready("w", 2);
+  Dispatch();
+  Advance(seconds(1));
+  Answer("w", transport_.Jobs("w").at(0));
+  // j1's lease: 8.5 s after j0's, which ended 8.5 s after dispatch — due 17 s after dispatch, not 8.5 s.
+  for (int second = 2; second <= 16; ++second) {
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    ClientHeartbeat("c");
+    Tick();
+  }
+  EXPECT_EQ(Stats().leases_expired, 0u);
+  Advance(seconds(1));
+  WorkerHeartbeat("w");
+  ClientHeartbeat("c");
+  Tick();
+  EXPECT_EQ(Stats().leases_expired, 1u);
+}
+
+TEST_F(BrokerCoreTest, ABatchIsDoneWhenEveryJobIsAnsweredAndGoesWithItsClient) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 2);
+  Dispatch();
+  for (const v1::Job& job : transport_.Jobs("w")) Answer("w", job);
+  EXPECT_EQ(transport_.Results("c").size(), 2u);
+  EXPECT_EQ(Stats().jobs_held, 0u);  // finished jobs are forgotten at once
+  EXPECT_EQ(Stats().jobs_held_peak, 2u);
+  EXPECT_EQ(Stats().batches, 1);
+  v1::ClientToBroker bye;
+  bye.mutable_disconnect()->set_reason("finished");
+  ClientSays("c", bye);
+  EXPECT_EQ(Stats().batches, 0);
+  EXPECT_EQ(Stats().clients, 0);
+  EXPECT_TRUE(Logged("client c-name left (finished)"));
+}
+
+TEST_F(BrokerCoreTest, ACancelledBatchsQueuedJobsAreNeverDispatched) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  v1::ClientToBroker cancel;
+  cancel.mutable_cancel()->set_batch_id("b");
+  ClientSays("c", cancel);
+  Ready("w", 2);
+  Dispatch();
+  EXPECT_TRUE(transport_.Jobs("w").empty());
+  EXPECT_EQ(Stats().queued, 0u);
+  EXPECT_EQ(Stats().batches, 0);
+}
+
+TEST_F(BrokerCoreTest, ASubmitToAnotherClientsBatchIsAnsweredWithError) {
+  Submit("c", "b", {Job("j0")});
+  Submit("intruder", "b", {Job("j1")}, std::string(16, '\x07'));
+  const v1::BrokerToClient reply = transport_.LastToClient("intruder");
+  ASSERT_TRUE(reply.has_error());
+  EXPECT_EQ(reply.error().message(), "batch 'b' belongs to another client");
+  EXPECT_EQ(Stats().submits_rejected, 1u);
+  EXPECT_EQ(Stats().queued, 1u);
+}
+
+TEST_F(BrokerCoreTest, AFailedSendOfAJobLosesTheWorkerButNotTheJob) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  transport_.gone.insert("w");
+  Dispatch();
+  EXPECT_EQ(Stats().workers_lost, 1u);
+  EXPECT_EQ(Stats().jobs_dispatched, 0u);
+  EXPECT_EQ(Stats().queued, 1u);
+  Ready("v", 1);
+  Dispatch();
+  ASSERT_EQ(transport_.Jobs("v").size(), 1u);
+  EXPECT_EQ(transport_.Jobs("v")[0].attempt(), 0u);  // it never reached w: no loss counted for the job
+}
+
+TEST_F(BrokerCoreTest, AFailedHeartbeatToAClientDropsItAndItsPendingJobs) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  transport_.gone.insert("c");
+  Advance(seconds(1));
+  Tick();
+  EXPECT_EQ(Stats().clients, 0);
+  EXPECT_EQ(Stats().clients_lost, 1u);
+  EXPECT_EQ(Stats().queued, 0u);
+  EXPECT_TRUE(Logged("client c-name lost (connection closed); dropped its 2 pending jobs"));
+}
+
+TEST_F(BrokerCoreTest, AResultThatCannotBeSentIsNotCountedAsDelivered) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Dispatch();
+  transport_.gone.insert("c");
+  Answer("w", transport_.Jobs("w").at(0));
+  EXPECT_EQ(Stats().results_delivered, 0u);
+  EXPECT_EQ(Stats().jobs_held, 0u);
+}
+
+TEST_F(BrokerCoreTest, ASilentClientIsDroppedAfterItsLivenessPeriod) {
+  Submit("c", "b", {Job("j0")});
+  Advance(seconds(4));
+  Tick();
+  EXPECT_EQ(Stats().clients, 1);
+  Advance(seconds(1));
+  Tick();
+  EXPECT_EQ(Stats().clients, 0);
+  EXPECT_EQ(Stats().clients_lost, 1u);
+}
+
+// A journal written by one core, read back by a second one on the same file (a restarted broker).
+class BrokerCoreJournalTest : public ::testing::Test {
+ protected:
+  TempDir dir_;
+  const std::string path_ = dir_.PathOf("journal.db");
+};
+
+TEST_F(BrokerCoreJournalTest, ARestoredCoreQueuesUnfinishedJobsInFlightFirstAndResendsStoredResults) {
+  {
+    broker::BrokerJournal journal(path_);
+    Harness before(&journal);
+    before.Submit("c", "b", {Job("j0"), Job("j1"), Job("j2")});
+    before.Ready("w", 2);
+    before.Dispatch();  // j0 and j1 in flight
+    before.Answer("w", before.transport_.Jobs("w").at(0));
+  }
+  broker::BrokerJournal journal(path_);
+  Harness after(&journal);
+  after.core_.Restore(after.now_);
+  EXPECT_EQ(after.Stats().batches, 1);
+  EXPECT_EQ(after.Stats().jobs_restored, 2u);
+  EXPECT_EQ(after.Stats().results_restored, 1u);
+  EXPECT_EQ(after.Stats().queued, 2u);
+  // The client comes back on a new connection and resubmits everything: j0's stored result comes back at once,
+  // j1 and j2 are pending already.
+  after.Submit("c2", "b", {Job("j0"), Job("j1"), Job("j2")});
+  const std::vector<v1::Result> resent = after.transport_.Results("c2");
+  ASSERT_EQ(resent.size(), 1u);
+  EXPECT_EQ(resent[0].job_id(), "j0");
+  EXPECT_EQ(after.Stats().results_resent, 1u);
+  EXPECT_EQ(after.Stats().jobs_accepted, 0u);
+  after.Ready("v", 1);
+  after.Dispatch();
+  ASSERT_EQ(after.transport_.Jobs("v").size(), 1u);
+  EXPECT_EQ(after.transport_.Jobs("v")[0].job_id(), "j1");  // the one in flight when the broker stopped
+  EXPECT_EQ(after.transport_.Jobs("v")[0].attempt(), 0u);
+}
+
+TEST_F(BrokerCoreJournalTest, ARestoredBatchNobodyClaimsIsDroppedAfterTwoLivenessPeriods) {
+  {
+    broker::BrokerJournal journal(path_);
+    Harness before(&journal);
+    before.Submit("c", "b", {Job("j0")});
+  }
+  broker::BrokerJournal journal(path_);
+  Harness after(&journal);
+  after.core_.Restore(after.now_);
+  after.Advance(seconds(9));
+  after.Tick();
+  EXPECT_EQ(after.Stats().batches, 1);
+  after.Advance(seconds(1));
+  after.Tick();
+  EXPECT_EQ(after.Stats().batches, 0);
+  EXPECT_EQ(after.Stats().batches_unclaimed, 1u);
+  EXPECT_EQ(after.Stats().queued, 0u);
+}
+
+}  // namespace
+}  // namespace orcs::test_support
