@@ -14,6 +14,7 @@
 #include <zmq_addon.hpp>
 
 #include "broker/broker_text.h"
+#include "net/envelope_check.h"
 #include "proto/envelope.h"
 
 namespace orcs::broker {
@@ -57,16 +58,6 @@ class ZmqTransport final : public BrokerTransport {
   zmq::socket_t& clients_;  ///< the client ROUTER socket
   std::string out_;         ///< reused for serialising
 };
-
-// Why an envelope that failed its check was dropped; a wrong version names the one found and the one expected.
-template <typename Envelope>
-std::string EnvelopeProblem(proto::EnvelopeCheck check, const Envelope& envelope) {
-  std::string why(proto::Describe(check));
-  if (check == proto::EnvelopeCheck::kWrongVersion) {
-    why += " " + std::to_string(envelope.protocol_version()) + " (expected " + std::to_string(kProtocolVersion) + ")";
-  }
-  return why;
-}
 
 void Configure(zmq::socket_t& socket) {
   socket.set(zmq::sockopt::router_mandatory, 1);  // a send to a vanished peer fails instead of vanishing
@@ -248,7 +239,7 @@ void Broker::ReceiveClientMessages(Clock::time_point now) {
 void Broker::OnWorkerMessage(const std::string& worker, zmq::message_t& payload, Clock::time_point now) {
   const proto::EnvelopeCheck check = proto::ParseEnvelope(payload.data(), payload.size(), worker_in_);
   if (check != proto::EnvelopeCheck::kOk) {
-    core_->DropMessage("worker", worker, EnvelopeProblem(check, worker_in_));
+    core_->DropMessage("worker", worker, net::DescribeRejection(check, worker_in_.protocol_version()));
     return;
   }
   core_->OnWorkerMessage(worker, worker_in_, now);
@@ -257,7 +248,7 @@ void Broker::OnWorkerMessage(const std::string& worker, zmq::message_t& payload,
 void Broker::OnClientMessage(const std::string& client, zmq::message_t& payload, Clock::time_point now) {
   const proto::EnvelopeCheck check = proto::ParseEnvelope(payload.data(), payload.size(), client_in_);
   if (check != proto::EnvelopeCheck::kOk) {
-    core_->DropMessage("client", client, EnvelopeProblem(check, client_in_));
+    core_->DropMessage("client", client, net::DescribeRejection(check, client_in_.protocol_version()));
     return;
   }
   // With CURVE, the ZAP handler named the sender's key as its User-Id: the key a batch belongs to.

@@ -214,16 +214,16 @@ TEST(DealerConnectionTest, ConnectsAgainToABrokerThatWentAwayAndCameBack) {
 }
 
 TEST(DealerConnectionTest, DescribesAWrongVersionWithTheVersionFound) {
-  EXPECT_EQ(DescribeRejection(proto::EnvelopeCheck::kWrongVersion, 7), "wrong protocol version 7");
+  EXPECT_EQ(DescribeRejection(proto::EnvelopeCheck::kWrongVersion, 7), "wrong protocol version 7 (expected " + std::to_string(proto::kProtocolVersion) + ")");
   EXPECT_EQ(DescribeRejection(proto::EnvelopeCheck::kOk, 1), "");
   EXPECT_EQ(DescribeRejection(proto::EnvelopeCheck::kNoBody, 1), "message without a body");
 
   const zmq::message_t wrong(BrokerHeartbeat(7));
   v1::BrokerToClient client_side;
-  EXPECT_EQ(CheckEnvelope(wrong, client_side), "wrong protocol version 7");
+  EXPECT_EQ(CheckEnvelope(wrong, client_side), "wrong protocol version 7 (expected " + std::to_string(proto::kProtocolVersion) + ")");
   v1::BrokerToWorker worker_side;
-  EXPECT_EQ(CheckEnvelope(wrong, worker_side), "wrong protocol version 7");
-  EXPECT_EQ(CheckEnvelope(zmq::message_t(BrokerHeartbeat(0)), worker_side), "wrong protocol version 0");
+  EXPECT_EQ(CheckEnvelope(wrong, worker_side), "wrong protocol version 7 (expected " + std::to_string(proto::kProtocolVersion) + ")");
+  EXPECT_EQ(CheckEnvelope(zmq::message_t(BrokerHeartbeat(0)), worker_side), "wrong protocol version 0 (expected " + std::to_string(proto::kProtocolVersion) + ")");
   EXPECT_EQ(CheckEnvelope(zmq::message_t(std::string("\xff\xff\xff")), worker_side),
             "not a protocol message (failed to parse)");
   EXPECT_EQ(CheckEnvelope(zmq::message_t(BrokerHeartbeat()), worker_side), "");
@@ -262,7 +262,8 @@ TEST(DealerConnectionTest, DropsMultipartAndBadMessagesWithOneLogLinePerConnecti
   dealer.Reopen();  // a new connection logs its first bad message again
   dealer.ReportDropped(DescribeRejection(proto::EnvelopeCheck::kWrongVersion, 7));
   ASSERT_EQ(log.size(), 2u);
-  EXPECT_THAT(log[1], HasSubstr(": wrong protocol version 7 (further bad messages"));
+  EXPECT_THAT(log[1], HasSubstr(": wrong protocol version 7 (expected " + std::to_string(proto::kProtocolVersion) +
+                                    ") (further bad messages"));
 }
 
 TEST(DealerConnectionTest, WakeEndsAPollAtOnce) {
