@@ -125,6 +125,18 @@ class StringStream : public httplib::Stream {
   std::string output_;
 };
 
+// A mutating live route: it needs the control token (X-Orcs-Token), else it answers 403, and a JSON object body.
+template <typename Handler>
+httplib::Server::Handler Controlled(LiveSession* live, Handler handler) {
+  return [live, handler](const Request& request, Response& response) {
+    if (!live->Controls(request.get_header_value("X-Orcs-Token"))) {
+      return SendError(response, 403, "this page does not hold control: take control first");
+    }
+    const std::optional<nlohmann::json> body = BodyObject(request, response);
+    if (body) handler(*body, response);
+  };
+}
+
 }  // namespace
 
 // httplib's server with its per-request entry (protected there) made callable on a Stream.
@@ -275,17 +287,8 @@ void ViewServer::AddFilesRoutes() {
   table_route(R"(/api/gap/([A-Za-z0-9]+))", &ViewCatalog::GapJson);
 }
 
+// The simulation: its world, its frames (long-polled), control and the run/pause/step/reset commands.
 void ViewServer::AddLiveRoutes() {
-  // Mutating routes need the control token (X-Orcs-Token); without it they answer 403.
-  const auto controlled = [this](auto handler) {
-    return [this, handler](const Request& request, Response& response) {
-      if (!live_->Controls(request.get_header_value("X-Orcs-Token"))) {
-        return SendError(response, 403, "this page does not hold control: take control first");
-      }
-      const std::optional<nlohmann::json> body = BodyObject(request, response);
-      if (body) handler(*body, response);
-    };
-  };
   server_->Get("/api/live/world", [this](const Request&, Response& response) { SendJson(response, live_->world()); });
   server_->Get("/api/live/frame", [this](const Request& request, Response& response) {
     std::int64_t since = -1;
@@ -306,31 +309,36 @@ void ViewServer::AddLiveRoutes() {
     if (token.empty()) return SendError(response, 409, "another page holds control");
     SendJson(response, {{"token", token}});
   });
-  server_->Post("/api/live/control", controlled([this](const nlohmann::json& body, Response& response) {
+  server_->Post("/api/live/control", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
     live_->Control(StringField(body, "action"), BoolField(body, "realtime", true));
     SendJson(response, live_->State());
   }));
+  AddLiveValueRoutes();
+}
+
+// The repository (Simulation Properties), value files and the Logger.
+void ViewServer::AddLiveValueRoutes() {
   server_->Get("/api/live/values", [this](const Request& request, Response& response) {
     const std::string filter = request.has_param("filter") ? request.get_param_value("filter") : ".*";
     if (filter.size() > kMaxPatternLength) return SendError(response, 400, "filter: at most 1000 characters");
     SendJson(response, live_->Values(filter, kMaxValueRows));
   });
-  server_->Post("/api/live/values", controlled([this](const nlohmann::json& body, Response& response) {
+  server_->Post("/api/live/values", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
     const std::string path = StringField(body, "path");
     const std::string value = live_->SetValue(path, StringField(body, "value"));
     SendJson(response, {{"path", path}, {"value", value}});
   }));
   server_->Get("/api/live/files", [this](const Request&, Response& response) { SendJson(response, live_->Files()); });
-  server_->Post("/api/live/save", controlled([this](const nlohmann::json& body, Response& response) {
+  server_->Post("/api/live/save", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
     const std::string filter = body.contains("filter") ? StringField(body, "filter") : ".*";
     live_->Save(StringField(body, "file"), filter);
     SendJson(response, {{"saved", StringField(body, "file")}});
   }));
-  server_->Post("/api/live/load", controlled([this](const nlohmann::json& body, Response& response) {
+  server_->Post("/api/live/load", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
     live_->Load(StringField(body, "file"));
     SendJson(response, {{"loaded", StringField(body, "file")}});
   }));
-  server_->Post("/api/live/logger", controlled([this](const nlohmann::json& body, Response& response) {
+  server_->Post("/api/live/logger", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
     const std::string action = StringField(body, "action");
     if (action == "start") {
       live_->StartLogger(StringField(body, "filter"), StringField(body, "file"));

@@ -46,6 +46,7 @@ class ViewServer {
   void AddPageRoutes();
   void AddFilesRoutes();
   void AddLiveRoutes();
+  void AddLiveValueRoutes();
   void AddRenderRoutes();
 
   const WebAssets& assets_;

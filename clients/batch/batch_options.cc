@@ -106,6 +106,46 @@ CLI::App* AddRegressCommand(CLI::App& app, BatchOptions& o) {
   return regress;
 }
 
+CLI::App* AddSubmitCommand(CLI::App& app, BatchOptions& o) {
+  CLI::App* submit = app.add_subcommand("submit", "run a batch on a running broker");
+  AddJobOptions(*submit, o, true);
+  submit->add_option("--broker", o.broker, "the broker's client endpoint, e.g. tcp://127.0.0.1:5555")
+      ->required()
+      ->check(cli::Endpoint());
+  return submit;
+}
+
+CLI::App* AddSweepCommand(CLI::App& app, BatchOptions& o) {
+  CLI::App* sweep = app.add_subcommand(
+      "sweep", "evaluate one genome over a grid or a Latin hypercube sample of repository values: a robustness report");
+  AddJobOptions(*sweep, o, false);
+  sweep->add_option("--param", o.params,
+                    "PATH=LOW:HIGH:STEPS (grid), PATH=LOW:HIGH (lhs) or PATH=V1,V2,... (categories): one axis "
+                    "(repeatable)")
+      ->required()
+      ->allow_extra_args(false);
+  sweep->add_option("--sample", o.sample, "grid: every combination (default); lhs: a Latin hypercube sample")
+      ->check(CLI::IsMember({"grid", "lhs"}));
+  sweep->add_option("--samples", o.samples, "points of the Latin hypercube (--sample lhs)")->check(CLI::Range(1, 1000000));
+  sweep->add_option("--sample-seed", o.sample_seed, "seed of the Latin hypercube (default: --seed)")->check(cli::Seed());
+  CLI::Option* workers = sweep->add_option("--workers", o.workers, "local worker processes (default: one per core)")
+                             ->check(CLI::Range(1, 4096));
+  sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
+      ->check(cli::Endpoint())
+      ->excludes(workers);
+  return sweep;
+}
+
+// The sweep's sampling options that only go together (CLI11 cannot say "needs --sample lhs").
+void CheckSampling(const CLI::App& sweep, BatchOptions& o) {
+  const std::size_t samples = sweep.get_option("--samples")->count();
+  o.sample_seed_given = sweep.get_option("--sample-seed")->count() > 0;
+  if (o.sample == "lhs" && samples == 0) throw CLI::ValidationError("--sample lhs", "needs --samples N");
+  if (o.sample != "lhs" && (samples > 0 || o.sample_seed_given)) {
+    throw CLI::ValidationError(samples > 0 ? "--samples" : "--sample-seed", "needs --sample lhs");
+  }
+}
+
 }  // namespace
 
 ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
@@ -117,31 +157,8 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   CLI::App* run = app.add_subcommand("run", "run a batch on an embedded broker with local workers");
   AddJobOptions(*run, o, true);
   AddWorkersOption(*run, o);
-  CLI::App* submit = app.add_subcommand("submit", "run a batch on a running broker");
-  AddJobOptions(*submit, o, true);
-  submit->add_option("--broker", o.broker, "the broker's client endpoint, e.g. tcp://127.0.0.1:5555")
-      ->required()
-      ->check(cli::Endpoint());
-  CLI::App* sweep = app.add_subcommand(
-      "sweep", "evaluate one genome over a grid or a Latin hypercube sample of repository values: a robustness report");
-  AddJobOptions(*sweep, o, false);
-  sweep->add_option("--param", o.params,
-                    "PATH=LOW:HIGH:STEPS (grid), PATH=LOW:HIGH (lhs) or PATH=V1,V2,... (categories): one axis "
-                    "(repeatable)")
-      ->required()
-      ->allow_extra_args(false);
-  sweep->add_option("--sample", o.sample, "grid: every combination (default); lhs: a Latin hypercube sample")
-      ->check(CLI::IsMember({"grid", "lhs"}));
-  CLI::Option* samples = sweep->add_option("--samples", o.samples, "points of the Latin hypercube (--sample lhs)")
-                             ->check(CLI::Range(1, 1000000));
-  CLI::Option* sample_seed =
-      sweep->add_option("--sample-seed", o.sample_seed, "seed of the Latin hypercube (default: --seed)")
-          ->check(cli::Seed());
-  CLI::Option* sweep_workers = sweep->add_option("--workers", o.workers, "local worker processes (default: one per core)")
-                                   ->check(CLI::Range(1, 4096));
-  sweep->add_option("--broker", o.broker, "a running broker's client endpoint instead of local workers")
-      ->check(cli::Endpoint())
-      ->excludes(sweep_workers);
+  CLI::App* submit = AddSubmitCommand(app, o);
+  CLI::App* sweep = AddSweepCommand(app, o);
   CLI::App* evolve = AddEvolveCommand(app, o);
   CLI::App* regress = AddRegressCommand(app, o);
   CLI::App* resolve =
@@ -157,11 +174,7 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
                 : regress->parsed() ? Command::kRegress
                                     : Command::kRun;
     o.seed_given = evolve->parsed() && evolve->count("--seed") > 0;
-    o.sample_seed_given = sample_seed->count() > 0;
-    if (o.sample == "lhs" && samples->count() == 0) throw CLI::ValidationError("--sample lhs", "needs --samples N");
-    if (o.sample != "lhs" && (samples->count() > 0 || o.sample_seed_given)) {
-      throw CLI::ValidationError(samples->count() > 0 ? "--samples" : "--sample-seed", "needs --sample lhs");
-    }
+    CheckSampling(*sweep, o);
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     parsed.exit_code = cli::kExitOk;

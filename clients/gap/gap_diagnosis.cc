@@ -187,15 +187,14 @@ std::vector<FitParameter> BaseParameters(const Rig& rig, const std::vector<Value
   return parameters;
 }
 
-Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRun>& fit_given,
-                   const std::vector<ReplayRun>& holdout_given, const std::vector<ValueAssignment>& model,
-                   const DiagnosisOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
-  const std::uint64_t jobs_before = runner.jobs_run();
-  const std::vector<const aseries::EffectDescription*> candidates = Candidates(options.candidates);
-  Diagnosis d;
-  std::vector<ReplayRun> fit = fit_given;
-  std::vector<ReplayRun> holdout = holdout_given;
+namespace {
+
+// The runs fitted on and the runs scored on: the last fitted run is held out when none is given; a single run
+// serves as both (recorded as holdout_in_sample).
+void SplitRuns(const std::vector<ReplayRun>& fit_given, const std::vector<ReplayRun>& holdout_given,
+               std::vector<ReplayRun>& fit, std::vector<ReplayRun>& holdout, Diagnosis& d) {
+  fit = fit_given;
+  holdout = holdout_given;
   if (holdout.empty() && fit.size() >= 2) {
     holdout.push_back(fit.back());
     fit.pop_back();
@@ -205,6 +204,57 @@ Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRu
   }
   for (const ReplayRun& run : fit) d.fit_runs.push_back(run.source);
   for (const ReplayRun& run : holdout) d.holdout_runs.push_back(run.source);
+}
+
+// One candidate effect fitted together with the (refitted) base parameters, scored with its penalty.
+ModelScore ScoreCandidate(JobRunner& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+                          const std::vector<FitParameter>& refitted, const aseries::EffectDescription& effect,
+                          const DiagnosisOptions& options) {
+  std::vector<FitParameter> parameters = refitted;
+  for (const aseries::FittedParameter& p : effect.parameters) {
+    // Effects start weak: the geometric middle between the bottom of the range and its middle.
+    const double start = std::sqrt(p.lower * std::sqrt(p.lower * p.upper));
+    parameters.push_back({std::string(p.path), std::string(p.unit), p.lower, p.upper, p.log_scale, start});
+  }
+  const std::vector<Override> enabled{{"/Effects/" + std::string(effect.name) + "/Enabled", "T"}};
+  ModelScore score = ScoreFit(runner, fit, holdout, parameters, enabled, options.fit);
+  score.label = std::string(effect.name);
+  score.summary = std::string(effect.summary);
+  score.quantity = std::string(effect.quantity);
+  score.added_parameters = static_cast<int>(effect.parameters.size());
+  score.score =
+      score.holdout_rms * score.holdout_rms * (1.0 + options.penalty_per_parameter * score.added_parameters);
+  return score;
+}
+
+// Every candidate effect, fitted with the base parameters started from the refit, all at once; best first.
+std::vector<ModelScore> ScoreCandidates(JobRunner& runner, const std::vector<ReplayRun>& fit,
+                                        const std::vector<ReplayRun>& holdout, const std::vector<FitParameter>& base,
+                                        const ModelScore& refit, const DiagnosisOptions& options) {
+  std::vector<FitParameter> refitted = base;
+  for (std::size_t i = 0; i < base.size(); ++i) refitted[i].start = refit.fit.values[i];
+  std::vector<std::future<ModelScore>> fits;
+  for (const aseries::EffectDescription* effect : Candidates(options.candidates)) {
+    fits.push_back(std::async(std::launch::async, [&, effect] {
+      return ScoreCandidate(runner, fit, holdout, refitted, *effect, options);
+    }));
+  }
+  std::vector<ModelScore> scores;
+  for (auto& future : fits) scores.push_back(future.get());
+  std::stable_sort(scores.begin(), scores.end(), [](const ModelScore& a, const ModelScore& b) { return a.score < b.score; });
+  return scores;
+}
+
+}  // namespace
+
+Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRun>& fit_given,
+                   const std::vector<ReplayRun>& holdout_given, const std::vector<ValueAssignment>& model,
+                   const DiagnosisOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  const std::uint64_t jobs_before = runner.jobs_run();
+  Diagnosis d;
+  std::vector<ReplayRun> fit, holdout;
+  SplitRuns(fit_given, holdout_given, fit, holdout, d);
 
   // 1. The model as given.
   d.before = Snapshot(runner, fit, holdout, {}, rig.step, /*record=*/true);
@@ -215,32 +265,8 @@ Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRu
   d.base.label = "refit";
   d.base.score = d.base.holdout_rms * d.base.holdout_rms;
 
-  // 3. Every candidate effect, fitted with the base parameters (from the refit), all at once.
-  std::vector<FitParameter> refitted = base;
-  for (std::size_t i = 0; i < base.size(); ++i) refitted[i].start = d.base.fit.values[i];
-  std::vector<std::future<ModelScore>> fits;
-  for (const aseries::EffectDescription* effect : candidates) {
-    fits.push_back(std::async(std::launch::async, [&, effect] {
-      std::vector<FitParameter> parameters = refitted;
-      for (const aseries::FittedParameter& p : effect->parameters) {
-        // Effects start weak: the geometric middle between the bottom of the range and its middle.
-        const double start = std::sqrt(p.lower * std::sqrt(p.lower * p.upper));
-        parameters.push_back({std::string(p.path), std::string(p.unit), p.lower, p.upper, p.log_scale, start});
-      }
-      const std::vector<Override> enabled{{"/Effects/" + std::string(effect->name) + "/Enabled", "T"}};
-      ModelScore score = ScoreFit(runner, fit, holdout, parameters, enabled, options.fit);
-      score.label = std::string(effect->name);
-      score.summary = std::string(effect->summary);
-      score.quantity = std::string(effect->quantity);
-      score.added_parameters = static_cast<int>(effect->parameters.size());
-      score.score = score.holdout_rms * score.holdout_rms *
-                    (1.0 + options.penalty_per_parameter * score.added_parameters);
-      return score;
-    }));
-  }
-  for (auto& future : fits) d.candidates.push_back(future.get());
-  std::stable_sort(d.candidates.begin(), d.candidates.end(),
-                   [](const ModelScore& a, const ModelScore& b) { return a.score < b.score; });
+  // 3. Every candidate effect.
+  d.candidates = ScoreCandidates(runner, fit, holdout, base, d.base, options);
 
   // 4. The verdict, and the gap of the model it leaves.
   const bool won = !d.candidates.empty() && d.candidates[0].score < options.win_ratio * d.base.score;

@@ -249,12 +249,9 @@ int ASeriesMorphology::FindBoard(std::string_view name) const {
   return -1;
 }
 
-ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::string& source) {
-  const Json document = ParseJson(json, source);
+namespace {
 
-  const Node root(document, "", source);
-  root.ExpectOnly({"format", "version", "lift", "root_body", "bodies", "geoms", "boards", "motors", "fixed_joints",
-                   "contact_exclusions"});
+void CheckFormatAndVersion(const Node& root) {
   const Node format = root.At("format");
   if (format.String("\"" + std::string(kFormat) + "\"") != kFormat) {
     format.Fail("\"" + std::string(kFormat) + "\"", "\"" + format.String("a string") + "\"");
@@ -263,10 +260,44 @@ ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::str
   if (version.Integer("the integer " + std::to_string(kVersion)) != kVersion) {
     version.Fail("version " + std::to_string(kVersion), std::to_string(version.Integer("an integer")));
   }
+}
 
-  ASeriesMorphology morphology;
-  morphology.lift = NonNegativeNumber(root.At("lift"), "lift in m");
+// Geom and board names share one namespace per host body (they become geoms of one physics body).
+void CheckGeomNamesPerHost(const ASeriesMorphology& morphology, const Node& geoms, const Node& boards) {
+  std::set<std::pair<std::string, std::string>> seen;
+  const std::vector<Node> geom_nodes = geoms.Elements();
+  for (std::size_t i = 0; i < morphology.geoms.size(); ++i) {
+    const MorphologyGeom& g = morphology.geoms[i];
+    if (!seen.emplace(g.host, g.name).second) {
+      geom_nodes[i].At("name").Fail("a name unique within its host body", "\"" + g.name + "\" used twice");
+    }
+  }
+  const std::vector<Node> board_nodes = boards.Elements();
+  for (std::size_t i = 0; i < morphology.boards.size(); ++i) {
+    const MorphologyBoard& b = morphology.boards[i];
+    if (!seen.emplace(b.host, b.name).second) {
+      board_nodes[i].At("name").Fail("a name unique among the geoms of its host body", "\"" + b.name + "\"");
+    }
+  }
+}
 
+// Motors and fixed joints become joints of one world: one namespace.
+void CheckJointNames(const ASeriesMorphology& morphology, const Node& motors, const Node& fixed) {
+  std::set<std::string> seen;
+  auto check = [&seen](const std::string& name, const Node& node) {
+    if (!seen.insert(name).second) {
+      node.At("name").Fail("a joint name unique among motors and fixed joints", "\"" + name + "\" used twice");
+    }
+  };
+  const std::vector<Node> motor_nodes = motors.Elements();
+  for (std::size_t i = 0; i < morphology.motors.size(); ++i) check(morphology.motors[i].name, motor_nodes[i]);
+  const std::vector<Node> fixed_nodes = fixed.Elements();
+  for (std::size_t i = 0; i < morphology.fixed_joints.size(); ++i) {
+    check(morphology.fixed_joints[i].name, fixed_nodes[i]);
+  }
+}
+
+void ParseBodies(const Node& root, ASeriesMorphology& morphology) {
   const Node bodies = root.At("bodies");
   for (const Node& node : bodies.Elements()) morphology.bodies.push_back(ParseBody(node));
   CheckUnique(morphology.bodies, bodies, [](const MorphologyBody& b) { return b.name; }, "a body name");
@@ -276,54 +307,38 @@ ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::str
   } else if (!morphology.bodies.empty()) {
     morphology.root_body = morphology.bodies.front().name;
   }
+}
 
+void ParseGeomsAndBoards(const Node& root, ASeriesMorphology& morphology) {
   const Node geoms = root.At("geoms");
   for (const Node& node : geoms.Elements()) morphology.geoms.push_back(ParseGeom(node, morphology));
   const Node boards = root.At("boards");
   for (const Node& node : boards.Elements()) morphology.boards.push_back(ParseBoard(node, morphology));
   CheckUnique(morphology.boards, boards, [](const MorphologyBoard& b) { return b.name; }, "a board name");
-  // Geom and board names share one namespace per host body (they become geoms of one physics body).
-  {
-    std::set<std::pair<std::string, std::string>> seen;
-    const std::vector<Node> geom_nodes = geoms.Elements();
-    for (std::size_t i = 0; i < morphology.geoms.size(); ++i) {
-      const MorphologyGeom& g = morphology.geoms[i];
-      if (!seen.emplace(g.host, g.name).second) {
-        geom_nodes[i].At("name").Fail("a name unique within its host body", "\"" + g.name + "\" used twice");
-      }
-    }
-    const std::vector<Node> board_nodes = boards.Elements();
-    for (std::size_t i = 0; i < morphology.boards.size(); ++i) {
-      const MorphologyBoard& b = morphology.boards[i];
-      if (!seen.emplace(b.host, b.name).second) {
-        board_nodes[i].At("name").Fail("a name unique among the geoms of its host body", "\"" + b.name + "\"");
-      }
-    }
-  }
+  CheckGeomNamesPerHost(morphology, geoms, boards);
+}
 
+void ParseJoints(const Node& root, ASeriesMorphology& morphology) {
   const Node motors = root.At("motors");
   for (const Node& node : motors.Elements()) morphology.motors.push_back(ParseMotor(node, morphology));
   const Node fixed = root.At("fixed_joints");
   for (const Node& node : fixed.Elements()) morphology.fixed_joints.push_back(ParseFixedJoint(node, morphology));
-  // Motors and fixed joints become joints of one world: one namespace.
-  {
-    std::set<std::string> seen;
-    const std::vector<Node> motor_nodes = motors.Elements();
-    for (std::size_t i = 0; i < morphology.motors.size(); ++i) {
-      if (!seen.insert(morphology.motors[i].name).second) {
-        motor_nodes[i].At("name").Fail("a joint name unique among motors and fixed joints",
-                                       "\"" + morphology.motors[i].name + "\" used twice");
-      }
-    }
-    const std::vector<Node> fixed_nodes = fixed.Elements();
-    for (std::size_t i = 0; i < morphology.fixed_joints.size(); ++i) {
-      if (!seen.insert(morphology.fixed_joints[i].name).second) {
-        fixed_nodes[i].At("name").Fail("a joint name unique among motors and fixed joints",
-                                       "\"" + morphology.fixed_joints[i].name + "\" used twice");
-      }
-    }
-  }
+  CheckJointNames(morphology, motors, fixed);
+}
 
+}  // namespace
+
+ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::string& source) {
+  const Json document = ParseJson(json, source);
+  const Node root(document, "", source);
+  root.ExpectOnly({"format", "version", "lift", "root_body", "bodies", "geoms", "boards", "motors", "fixed_joints",
+                   "contact_exclusions"});
+  CheckFormatAndVersion(root);
+  ASeriesMorphology morphology;
+  morphology.lift = NonNegativeNumber(root.At("lift"), "lift in m");
+  ParseBodies(root, morphology);
+  ParseGeomsAndBoards(root, morphology);
+  ParseJoints(root, morphology);
   for (const Node& node : root.At("contact_exclusions").Elements()) {
     morphology.contact_exclusions.push_back(ParseExclusion(node, morphology));
   }

@@ -1,6 +1,7 @@
 #include "model/evaluation/recording_layout.h"
 
 #include <cassert>
+#include <functional>
 #include <unordered_map>
 
 #include "model/core/rotation.h"
@@ -101,39 +102,35 @@ void RecordingLayout::AddChannels() {
   header_["constants"] = std::move(constants);
 }
 
-// Bodies with geoms and colours, joints with anchors and axes, agents with motors: what the viewer draws.
-void RecordingLayout::DescribeWorld() {
-  const scene::WorldModel& model = simulation_.model();
-  const physics::PhysicsModel& physics = *model.physics();
-  const VariableRepository& repository = simulation_.repository();
-  // Channel index of a repository value's first component.
-  std::unordered_map<const Value*, int> channel_of;
-  for (size_t c = 0; c < channels_.size(); ++c) channel_of.try_emplace(channels_[c].value, static_cast<int>(c));
-  const auto channel = [&](const std::string& path) {
-    const Value* value = repository.Find(path);
-    const auto it = channel_of.find(value);
-    return value != nullptr && it != channel_of.end() ? it->second : -1;
-  };
+namespace {
 
+// The channel index of a repository value's first component; -1 when the value is not recorded.
+using ChannelOf = std::function<int(const std::string& path)>;
+
+nlohmann::json GeomsJson(const physics::BodyDescription& body) {
+  nlohmann::json geoms = nlohmann::json::array();
+  for (const physics::GeomDescription& geom : body.geoms) {
+    geoms.push_back({{"name", geom.name},
+                     {"shape", ShapeName(geom.shape)},
+                     {"size", GeomSizeJson(geom)},
+                     {"offset", Array(geom.offset)},
+                     {"rotation", Array(geom.rotation)},
+                     {"color", geom.rgba},
+                     {"material", geom.material},
+                     {"collides", geom.collides}});
+  }
+  return geoms;
+}
+
+nlohmann::json BodiesJson(const physics::PhysicsModel& physics, const ChannelOf& channel) {
   nlohmann::json bodies = nlohmann::json::array();
   for (int b = 0; b < physics.body_count(); ++b) {
     const physics::BodyDescription& body = physics.body(b);
-    nlohmann::json geoms = nlohmann::json::array();
-    for (const physics::GeomDescription& geom : body.geoms) {
-      geoms.push_back({{"name", geom.name},
-                       {"shape", ShapeName(geom.shape)},
-                       {"size", GeomSizeJson(geom)},
-                       {"offset", Array(geom.offset)},
-                       {"rotation", Array(geom.rotation)},
-                       {"color", geom.rgba},
-                       {"material", geom.material},
-                       {"collides", geom.collides}});
-    }
     nlohmann::json entry = {{"name", body.name},
                             {"dynamic", body.dynamic},
                             {"position", Array(body.position)},
                             {"quaternion", Array(body.orientation)},
-                            {"geoms", geoms}};
+                            {"geoms", GeomsJson(body)}};
     const int position = channel("/Sim/" + body.name + "/Position");
     const int quaternion = channel("/Sim/" + body.name + "/OrientationQuaternion");
     if (body.dynamic && position >= 0 && quaternion >= 0) {
@@ -142,13 +139,15 @@ void RecordingLayout::DescribeWorld() {
     }
     bodies.push_back(std::move(entry));
   }
+  return bodies;
+}
 
-  nlohmann::json joints = nlohmann::json::array();
-  std::vector<nlohmann::json> motor_of(physics.joint_count());
+// The agents with their motors; `motor_of[j]` gets the motor fields of joint j when a motor drives it.
+nlohmann::json AgentsJson(const scene::WorldModel& model, const ChannelOf& channel,
+                          std::vector<nlohmann::json>& motor_of) {
   nlohmann::json agents = nlohmann::json::array();
   for (int a = 0; a < static_cast<int>(model.agents().size()); ++a) {
     const aseries::ASeriesLayout& layout = model.agents()[a];
-    const scene::AgentDescription& agent = model.environment().agents[a];
     nlohmann::json motors = nlohmann::json::array();
     for (size_t m = 0; m < layout.motors.size(); ++m) {
       const std::string& motor = model.morphology(a).motors[m].name;
@@ -157,8 +156,13 @@ void RecordingLayout::DescribeWorld() {
                                     {"agent", layout.agent_name},
                                     {"angle_channel", channel("/Sim/" + layout.agent_name + "/" + motor + "/JointAngle")}};
     }
-    agents.push_back({{"name", layout.agent_name}, {"type", agent.type}, {"motors", motors}});
+    agents.push_back({{"name", layout.agent_name}, {"type", model.environment().agents[a].type}, {"motors", motors}});
   }
+  return agents;
+}
+
+nlohmann::json JointsJson(const physics::PhysicsModel& physics, const std::vector<nlohmann::json>& motor_of) {
+  nlohmann::json joints = nlohmann::json::array();
   for (int j = 0; j < physics.joint_count(); ++j) {
     const physics::JointDescription& joint = physics.joint(j);
     nlohmann::json entry = {{"name", joint.name},
@@ -171,9 +175,27 @@ void RecordingLayout::DescribeWorld() {
     if (!motor_of[j].is_null()) entry.update(motor_of[j]);
     joints.push_back(std::move(entry));
   }
-  header_["bodies"] = std::move(bodies);
-  header_["joints"] = std::move(joints);
-  header_["agents"] = std::move(agents);
+  return joints;
+}
+
+}  // namespace
+
+// Bodies with geoms and colours, joints with anchors and axes, agents with motors: what the viewer draws.
+void RecordingLayout::DescribeWorld() {
+  const scene::WorldModel& model = simulation_.model();
+  const physics::PhysicsModel& physics = *model.physics();
+  const VariableRepository& repository = simulation_.repository();
+  std::unordered_map<const Value*, int> channel_of;
+  for (size_t c = 0; c < channels_.size(); ++c) channel_of.try_emplace(channels_[c].value, static_cast<int>(c));
+  const ChannelOf channel = [&](const std::string& path) {
+    const Value* value = repository.Find(path);
+    const auto it = channel_of.find(value);
+    return value != nullptr && it != channel_of.end() ? it->second : -1;
+  };
+  std::vector<nlohmann::json> motor_of(physics.joint_count());
+  header_["bodies"] = BodiesJson(physics, channel);
+  header_["agents"] = AgentsJson(model, channel, motor_of);
+  header_["joints"] = JointsJson(physics, motor_of);
 }
 
 void RecordingLayout::ReadValues(float* out) const {

@@ -7,10 +7,10 @@
 
 namespace orcs::sim {
 
-ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
-  ParsedOptions parsed;
-  SimOptions& o = parsed.options;
-  CLI::App app{"orcs-sim: headless simulation of an ORCS environment", "orcs-sim"};
+namespace {
+
+// What the world is and how it runs: the original's -env/-ival/-val/-play, duration, seed and the log.
+void AddWorldOptions(CLI::App& app, SimOptions& o) {
   app.add_option("--env", o.environment, "ORCS XML environment file (-env also accepted)");  // checked as it is read
   app.add_option("--ival", o.initial_value_files, "value file loaded before the world is built (repeatable)")
       ->allow_extra_args(false);
@@ -25,6 +25,10 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
                  "AGENT RECORD: play a keyframe record into the agent's inputs (repeatable, one per agent; "
                  "-play also accepted)")
       ->allow_extra_args(false);
+}
+
+// What the program does with the world: record, open in the GUI, print, describe, evaluate a scenario, serve ODCP.
+void AddModeOptions(CLI::App& app, SimOptions& o) {
   app.add_option("--record", o.record,
                  "write the run's recording (docs/recording.md) to this file, for orcs-view; with --scenario, "
                  "parameter set --record-set's run");
@@ -49,28 +53,40 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
                           ->needs(realtime);
   app.add_option("--bind", o.bind_address, "interface the ODCP servers listen on (default 127.0.0.1; * = every one)")
       ->needs(port);
+}
 
-  const auto validate = [&] {
-    if (!o.log.empty() && o.out.empty()) throw CLI::ValidationError("--log", "needs --out FILE.csv");
-    if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
-    const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
-                               !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
-                               app.count("--duration") > 0 || o.realtime;
-    const bool run_options = !o.play.empty() || !o.log.empty() || !o.record.empty() || !o.scenario.empty() ||
-                             !o.print_values.empty() || o.describe || o.realtime || app.count("--duration") > 0;
-    if (o.gui && run_options) {
-      throw CLI::ValidationError("-gui", "opens the world (-env, -ival, -val, --seed) in orcs-view --live; run, log, "
-                                         "play or record without -gui, or use orcs-view --live --port P for another "
-                                         "port");
-    }
-    if (app.count("--record-set") > 0 && (o.scenario.empty() || o.record.empty())) {
-      throw CLI::ValidationError("--record-set", "needs --scenario and --record FILE");
-    }
-    if (!o.scenario.empty() && world_options) {
-      throw CLI::ValidationError("--scenario", "takes only --genome and --seed: the scenario gives the world, the "
-                                               "duration and what to log, and runs as fast as it can");
-    }
-  };
+// The combinations CLI11 cannot express.
+void CheckCombinations(const CLI::App& app, const SimOptions& o) {
+  if (!o.log.empty() && o.out.empty()) throw CLI::ValidationError("--log", "needs --out FILE.csv");
+  if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
+  const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
+                             !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
+                             app.count("--duration") > 0 || o.realtime;
+  const bool run_options = !o.play.empty() || !o.log.empty() || !o.record.empty() || !o.scenario.empty() ||
+                           !o.print_values.empty() || o.describe || o.realtime || app.count("--duration") > 0;
+  if (o.gui && run_options) {
+    throw CLI::ValidationError("-gui", "opens the world (-env, -ival, -val, --seed) in orcs-view --live; run, log, "
+                                       "play or record without -gui, or use orcs-view --live --port P for another "
+                                       "port");
+  }
+  if (app.count("--record-set") > 0 && (o.scenario.empty() || o.record.empty())) {
+    throw CLI::ValidationError("--record-set", "needs --scenario and --record FILE");
+  }
+  if (!o.scenario.empty() && world_options) {
+    throw CLI::ValidationError("--scenario", "takes only --genome and --seed: the scenario gives the world, the "
+                                             "duration and what to log, and runs as fast as it can");
+  }
+}
+
+}  // namespace
+
+ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
+  ParsedOptions parsed;
+  SimOptions& o = parsed.options;
+  CLI::App app{"orcs-sim: headless simulation of an ORCS environment", "orcs-sim"};
+  AddWorldOptions(app, o);
+  AddModeOptions(app, o);
+  const auto validate = [&] { CheckCombinations(app, o); };
   parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port", "gui"}, validate);
   return parsed;
 }

@@ -61,10 +61,8 @@ export class World {
     this.fixedSize = fixedSize;
     // Multisampling quadruples the fill cost of software GL (measured: 40 → 27 frames/s at full resolution in
     // headless chromium); there the interactive view goes without it. Rendered clips (fixedSize) keep it.
-    // Only render mode reads the canvas back, right after drawing; the interactive view need not keep its
-    // buffer (keeping it costs a copy of every frame).
     const antialias = !!fixedSize || !softwareGL();
-    this.renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer: !!fixedSize });
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias, preserveDrawingBuffer: true });
     this.antialias = antialias;
     this.basePixelRatio = fixedSize ? 1 : Math.min(window.devicePixelRatio || 1, 2);
     this.scale = 1;  // resolution scale while playing (1 = full); see setScale
