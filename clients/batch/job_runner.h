@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "broker/client.h"
+#include "clients/batch/job_evaluator.h"
 #include "clients/batch/local_cluster.h"
 
 namespace orcs::batch {
@@ -29,21 +30,21 @@ struct RunnerOptions {
   std::chrono::milliseconds heartbeat_interval{1000};  ///< the client's and the local cluster's heartbeat
 };
 
-class JobRunner {
+class JobRunner : public JobEvaluator {
  public:
   /// Starts the local cluster (when no broker is given) and the client. Throws std::runtime_error when the
   /// cluster cannot start.
   explicit JobRunner(const RunnerOptions& options);
-  ~JobRunner();
+  ~JobRunner() override;
   JobRunner(const JobRunner&) = delete;
   JobRunner& operator=(const JobRunner&) = delete;
 
   /// Runs `jobs` (job ids are assigned here) and returns their results in the same order. Thread-safe. Throws
   /// broker::BatchClientError when the broker is unreachable or lost.
-  std::vector<v1::Result> Run(std::vector<v1::Job> jobs);
+  std::vector<v1::Result> Run(std::vector<v1::Job> jobs) override;
 
   /// Jobs run so far.
-  std::uint64_t jobs_run() const;
+  std::uint64_t jobs_run() const override;
   /// The number of local workers started (0 with an external broker).
   int local_workers() const { return local_workers_; }
 

@@ -34,7 +34,7 @@ std::vector<ReplayRun> Concatenate(const std::vector<ReplayRun>& a, const std::v
 
 double Rms(double mse) { return std::sqrt(mse); }
 
-double MeanSquaredError(JobRunner& runner, const std::vector<ReplayRun>& runs, const std::vector<Override>& model) {
+double MeanSquaredError(JobEvaluator& runner, const std::vector<ReplayRun>& runs, const std::vector<Override>& model) {
   return ReplayObjective(runner, runs, {}).MeanSquaredErrors({model})[0];
 }
 
@@ -48,7 +48,7 @@ std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, con
 
 // The replays of one model with logs, as per-run channel traces: measured, simulated, desired, motor torque. With
 // `recordings`, the replays are recorded too (recording changes no bits) and their recordings kept by run name.
-std::vector<std::vector<ChannelTrace>> Traces(JobRunner& runner, const std::vector<ReplayRun>& runs,
+std::vector<std::vector<ChannelTrace>> Traces(JobEvaluator& runner, const std::vector<ReplayRun>& runs,
                                               const std::vector<Override>& model,
                                               std::map<std::string, std::string>* recordings) {
   std::vector<v1::Job> jobs;
@@ -93,7 +93,7 @@ std::vector<std::vector<ChannelTrace>> Traces(JobRunner& runner, const std::vect
 }
 
 // `record`: keep the replays' recordings (GapSnapshot::recordings).
-GapSnapshot Snapshot(JobRunner& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+GapSnapshot Snapshot(JobEvaluator& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
                      const std::vector<Override>& model, double step, bool record) {
   GapSnapshot snapshot;
   snapshot.fit_rms = Rms(MeanSquaredError(runner, fit, model));
@@ -111,7 +111,7 @@ GapSnapshot Snapshot(JobRunner& runner, const std::vector<ReplayRun>& fit, const
   return snapshot;
 }
 
-ModelScore ScoreFit(JobRunner& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+ModelScore ScoreFit(JobEvaluator& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
                     const std::vector<FitParameter>& parameters, const std::vector<Override>& fixed,
                     const FitOptions& options) {
   ModelScore score;
@@ -207,7 +207,7 @@ void SplitRuns(const std::vector<ReplayRun>& fit_given, const std::vector<Replay
 }
 
 // One candidate effect fitted together with the (refitted) base parameters, scored with its penalty.
-ModelScore ScoreCandidate(JobRunner& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+ModelScore ScoreCandidate(JobEvaluator& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
                           const std::vector<FitParameter>& refitted, const aseries::EffectDescription& effect,
                           const DiagnosisOptions& options) {
   std::vector<FitParameter> parameters = refitted;
@@ -228,7 +228,7 @@ ModelScore ScoreCandidate(JobRunner& runner, const std::vector<ReplayRun>& fit, 
 }
 
 // Every candidate effect, fitted with the base parameters started from the refit, all at once; best first.
-std::vector<ModelScore> ScoreCandidates(JobRunner& runner, const std::vector<ReplayRun>& fit,
+std::vector<ModelScore> ScoreCandidates(JobEvaluator& runner, const std::vector<ReplayRun>& fit,
                                         const std::vector<ReplayRun>& holdout, const std::vector<FitParameter>& base,
                                         const ModelScore& refit, const DiagnosisOptions& options) {
   std::vector<FitParameter> refitted = base;
@@ -247,7 +247,7 @@ std::vector<ModelScore> ScoreCandidates(JobRunner& runner, const std::vector<Rep
 
 }  // namespace
 
-Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRun>& fit_given,
+Diagnosis Diagnose(JobEvaluator& runner, const Rig& rig, const std::vector<ReplayRun>& fit_given,
                    const std::vector<ReplayRun>& holdout_given, const std::vector<ValueAssignment>& model,
                    const DiagnosisOptions& options) {
   const auto started = std::chrono::steady_clock::now();

@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "clients/gap/gap_statistics.h"
-#include "clients/batch/job_runner.h"
+#include "clients/batch/job_evaluator.h"
 #include "clients/gap/model_fit.h"
 #include "clients/gap/replay.h"
 
 namespace orcs::gap {
 
-using batch::JobRunner;  // the broker back end the fits evaluate through
+using batch::JobEvaluator;  // what runs the fits' jobs: the broker (batch::JobRunner) or a test's stand-in
 
 struct DiagnosisOptions {
   FitOptions fit;                        ///< optimiser budget and seed of every fit
@@ -75,7 +75,7 @@ struct Diagnosis {
 
 /// Runs the whole workflow. `holdout` may be empty: then the last fit run is held out (when there are two or
 /// more), else scores are in-sample. Throws InputError for unknown candidate names.
-Diagnosis Diagnose(JobRunner& runner, const Rig& rig, const std::vector<ReplayRun>& fit,
+Diagnosis Diagnose(JobEvaluator& runner, const Rig& rig, const std::vector<ReplayRun>& fit,
                    const std::vector<ReplayRun>& holdout, const std::vector<ValueAssignment>& model,
                    const DiagnosisOptions& options);
 

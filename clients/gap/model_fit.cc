@@ -15,9 +15,6 @@
 namespace orcs::gap {
 namespace {
 
-// A converged population lies within this share of every parameter's (normalised) range of its best point.
-constexpr double kConvergedSpread = 0.02;
-
 double FromUnit(const FitParameter& p, double u) {
   u = std::clamp(u, 0.0, 1.0);
   return p.log_scale ? std::exp(std::log(p.lower) + u * (std::log(p.upper) - std::log(p.lower)))
@@ -65,7 +62,7 @@ constexpr unsigned kPolishBudgetPerDimension = 40;
 
 }  // namespace
 
-ReplayObjective::ReplayObjective(JobRunner& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed)
+ReplayObjective::ReplayObjective(JobEvaluator& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed)
     : runner_(runner), runs_(runs), fixed_(std::move(fixed)) {}
 
 std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::vector<Override>>& points) const {

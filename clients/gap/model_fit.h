@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "clients/batch/job_runner.h"
+#include "clients/batch/job_evaluator.h"
 #include "clients/gap/replay.h"
 
 namespace orcs::gap {
 
-using batch::JobRunner;  // the broker back end the fits evaluate through
+using batch::JobEvaluator;  // what runs the fits' jobs: the broker (batch::JobRunner) or a test's stand-in
 
 /// One fitted repository value.
 struct FitParameter {
@@ -28,7 +28,7 @@ struct FitParameter {
 class ReplayObjective {
  public:
   /// `fixed` is applied to every job after the model (e.g. an effect's Enabled switch).
-  ReplayObjective(JobRunner& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed);
+  ReplayObjective(JobEvaluator& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed);
 
   /// The pooled mean squared error (deg²) of every point, in order. A point whose replay fails (unstable physics)
   /// scores kFailedPoint.
@@ -37,7 +37,7 @@ class ReplayObjective {
   static constexpr double kFailedPoint = 1e6;
 
  private:
-  JobRunner& runner_;
+  JobEvaluator& runner_;
   const std::vector<ReplayRun>& runs_;
   std::vector<Override> fixed_;
 };
@@ -53,7 +53,8 @@ struct FitOutcome {
   double mse = 0.0;              ///< its objective, deg²
   int generations = 0;           ///< generations run
   int evaluations = 0;           ///< points evaluated (each = one job per run)
-  bool converged = false;        ///< the final population has contracted (see convergence)
+  bool converged = false;        ///< the local polish stopped because its step fell below 0.2 % of every
+                                 ///< parameter's range, not because its budget ran out (see convergence)
   std::string convergence;       ///< why it counts as converged or not, one line
 };
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "clients/batch/job_runner.h"
 #include "clients/gap/gap_diagnosis.h"
 #include "clients/gap/gap_report.h"
 #include "clients/gap/synthetic_runs.h"
@@ -112,7 +113,7 @@ int Diagnose(const GapOptions& o) {
   runner_options.broker = o.broker;
   runner_options.workers = o.workers;
   runner_options.log_path = (std::filesystem::path(o.out) / "workers.log").string();
-  JobRunner runner(runner_options);
+  batch::JobRunner runner(runner_options);
   std::cerr << "orcs-gap: " << fit.size() << " fit run(s), " << holdout.size() << " held-out run(s); "
             << (o.broker.empty() ? std::to_string(runner.local_workers()) + " local workers" : "broker " + o.broker)
             << "\n";
