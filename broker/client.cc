@@ -48,24 +48,6 @@ std::string Seconds(std::chrono::steady_clock::duration duration) {
   return text;
 }
 
-// The shared connection, set up for a client: CURVE keys named client.*, heartbeats of ClientToBroker.
-net::DealerConnectionOptions DealerOptions(const BatchClientOptions& options,
-                                           std::function<void(const std::string&)> log) {
-  v1::ClientToBroker heartbeat;
-  heartbeat.set_protocol_version(kProtocolVersion);
-  heartbeat.mutable_heartbeat();
-  net::DealerConnectionOptions dealer;
-  dealer.endpoint = options.endpoint;
-  dealer.role = "client";
-  dealer.owner = "BatchClient";
-  dealer.curve_keys = options.curve_keys;
-  dealer.heartbeat_interval = options.heartbeat_interval;
-  dealer.liveness = options.liveness;
-  dealer.heartbeat = heartbeat.SerializeAsString();
-  dealer.log = std::move(log);
-  return dealer;
-}
-
 }  // namespace
 
 BatchClient::BatchClient(BatchClientOptions options)
@@ -73,7 +55,8 @@ BatchClient::BatchClient(BatchClientOptions options)
       client_id_(NewClientId()),
       batch_id_(options_.batch_id.empty() ? proto::SecureRandomHex(16) : options_.batch_id),
       owner_token_(proto::SecureRandomBytes(16)),
-      dealer_(DealerOptions(options_, [this](const std::string& line) { Log(line); })) {
+      dealer_(net::DealerOptionsFor<v1::ClientToBroker>(options_, "client", "BatchClient",
+                                                         [this](const std::string& line) { Log(line); })) {
   io_thread_ = std::thread([this] { IoLoop(); });
 }
 

@@ -20,6 +20,7 @@
 
 #include "net/curve_keys.h"
 #include "net/handshake_monitor.h"
+#include "proto/envelope.h"
 
 namespace orcs::net {
 
@@ -43,6 +44,27 @@ struct DealerConnectionOptions {
   /// Where connection events go, one line each without a newline. Must be set.
   std::function<void(const std::string&)> log;
 };
+
+/// The options of one side (`side`: BatchClientOptions or WorkerConnectionOptions, whose endpoint, curve_keys,
+/// heartbeat_interval and liveness it copies). Its heartbeat is an empty HEARTBEAT `Envelope` (ClientToBroker or
+/// WorkerToBroker) of this build's protocol version.
+template <typename Envelope, typename SideOptions>
+DealerConnectionOptions DealerOptionsFor(const SideOptions& side, std::string role, std::string owner,
+                                         std::function<void(const std::string&)> log) {
+  Envelope heartbeat;
+  heartbeat.set_protocol_version(proto::kProtocolVersion);
+  heartbeat.mutable_heartbeat();
+  DealerConnectionOptions dealer;
+  dealer.endpoint = side.endpoint;
+  dealer.role = std::move(role);
+  dealer.owner = std::move(owner);
+  dealer.curve_keys = side.curve_keys;
+  dealer.heartbeat_interval = side.heartbeat_interval;
+  dealer.liveness = side.liveness;
+  dealer.heartbeat = heartbeat.SerializeAsString();
+  dealer.log = std::move(log);
+  return dealer;
+}
 
 /// One reconnecting DEALER socket to the broker, with its heartbeat clock and the broker's liveness.
 class DealerConnection {

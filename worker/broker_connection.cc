@@ -51,30 +51,13 @@ std::string Seconds(Clock::duration duration) {
   return text;
 }
 
-// The shared connection, set up for a worker: CURVE keys named worker.*, heartbeats of WorkerToBroker.
-net::DealerConnectionOptions DealerOptions(const WorkerConnectionOptions& options,
-                                           std::function<void(const std::string&)> log) {
-  v1::WorkerToBroker heartbeat;
-  heartbeat.set_protocol_version(kProtocolVersion);
-  heartbeat.mutable_heartbeat();
-  net::DealerConnectionOptions dealer;
-  dealer.endpoint = options.endpoint;
-  dealer.role = "worker";
-  dealer.owner = "WorkerConnection";
-  dealer.curve_keys = options.curve_keys;
-  dealer.heartbeat_interval = options.heartbeat_interval;
-  dealer.liveness = options.liveness;
-  dealer.heartbeat = heartbeat.SerializeAsString();
-  dealer.log = std::move(log);
-  return dealer;
-}
-
 }  // namespace
 
 WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
     : options_(Checked(std::move(options))),
       worker_id_(options_.worker_id.empty() ? DefaultWorkerId() : options_.worker_id),
-      dealer_(DealerOptions(options_, [this](const std::string& line) { Log(line); })) {
+      dealer_(net::DealerOptionsFor<v1::WorkerToBroker>(options_, "worker", "WorkerConnection",
+                                                         [this](const std::string& line) { Log(line); })) {
   wanted_credit_ = options_.credit;
   io_thread_ = std::thread([this] { IoLoop(); });
 }

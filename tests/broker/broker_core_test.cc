@@ -149,6 +149,16 @@ class Harness {
   }
   void Dispatch() { core_.Dispatch(now_); }
   void Tick() { core_.OnTick(now_); }
+
+  // `n` seconds, one at a time, with worker "w" and client "c" heartbeating each second, then the clock duties.
+  void PassSecondsWithEveryoneAlive(int n) {
+    for (int second = 0; second < n; ++second) {
+      Advance(std::chrono::seconds(1));
+      WorkerHeartbeat("w");
+      ClientHeartbeat("c");
+      Tick();
+    }
+  }
   broker::BrokerStats Stats() const { return core_.Stats(); }
   bool Logged(const std::string& needle) const {
     for (const std::string& line : log_) {
@@ -371,17 +381,9 @@ TEST_F(BrokerCoreTest, AWorkerHoldingAJobPastItsLeaseIsLostAndToldToStartOver) {
   Ready("w", 1);
   Dispatch();
   // The lease: 1 s × 1.5 + 2 s + the liveness period of 5 s = 8.5 s. The worker heartbeats all along.
-  for (int second = 1; second <= 8; ++second) {
-    Advance(seconds(1));
-    WorkerHeartbeat("w");
-    ClientHeartbeat("c");
-    Tick();
-  }
+  PassSecondsWithEveryoneAlive(8);
   EXPECT_EQ(Stats().leases_expired, 0u);
-  Advance(seconds(1));
-  WorkerHeartbeat("w");
-  ClientHeartbeat("c");
-  Tick();
+  PassSecondsWithEveryoneAlive(1);
   EXPECT_EQ(Stats().leases_expired, 1u);
   EXPECT_EQ(Stats().workers_lost, 1u);
   ASSERT_EQ(transport_.Disconnects("w").size(), 1u);
@@ -400,17 +402,9 @@ TEST_F(BrokerCoreTest, TheLeasesOfAWorkersJobsFollowOneAnother) {
   Advance(seconds(1));
   Answer("w", transport_.Jobs("w").at(0));
   // j1's lease: 8.5 s after j0's, which ended 8.5 s after dispatch — due 17 s after dispatch, not 8.5 s.
-  for (int second = 2; second <= 16; ++second) {
-    Advance(seconds(1));
-    WorkerHeartbeat("w");
-    ClientHeartbeat("c");
-    Tick();
-  }
+  PassSecondsWithEveryoneAlive(15);
   EXPECT_EQ(Stats().leases_expired, 0u);
-  Advance(seconds(1));
-  WorkerHeartbeat("w");
-  ClientHeartbeat("c");
-  Tick();
+  PassSecondsWithEveryoneAlive(1);
   EXPECT_EQ(Stats().leases_expired, 1u);
 }
 
