@@ -14,6 +14,7 @@
 #include "model/core/text.h"
 #include "model/core/value_logger.h"
 #include "model/evaluation/recorder.h"
+#include "model/evaluation/step_loop.h"
 #include "model/fitness/fitness_function.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/parameter_sets.h"
@@ -64,14 +65,29 @@ void ApplyStructureValues(const std::vector<ValueAssignment>& assignments, Varia
   ValueFile::ApplyAssignments(structure, values);
 }
 
-// A fresh world from the scenario's environment with the scenario's values and the job's overrides applied.
+// The scenario's values and the job's overrides, in that order, on a built world.
+void ApplyJobValues(const EvaluationRequest& request, scene::Simulation& simulation) {
+  ValueFile::ApplyAssignments(request.scenario.values, simulation.repository());
+  ValueFile::ApplyAssignments(request.overrides, simulation.repository());
+}
+
+// A fresh world compiled from the scenario's environment, with the structure values the scenario and the job
+// set, then all their values applied.
 void BuildWorld(const EvaluationRequest& request, scene::Simulation& simulation) {
   simulation.LoadEnvironment(EnvironmentOf(request.scenario));
   ApplyStructureValues(request.scenario.values, simulation.repository());
   ApplyStructureValues(request.overrides, simulation.repository());
   simulation.Build();
-  ValueFile::ApplyAssignments(request.scenario.values, simulation.repository());
-  ValueFile::ApplyAssignments(request.overrides, simulation.repository());
+  ApplyJobValues(request, simulation);
+}
+
+// A fresh world on the job's compiled model: what BuildWorld gives, without reading and compiling the
+// environment again. Parameter sets apply their values after this, so they never change the structure and
+// every set shares the one model.
+void AttachWorld(const EvaluationRequest& request, std::shared_ptr<const scene::WorldModel> model,
+                 scene::Simulation& simulation) {
+  simulation.Attach(std::move(model));
+  ApplyJobValues(request, simulation);
 }
 
 // Everything a set's run needs, built and configured; throws InputError for bad input.
@@ -83,10 +99,11 @@ struct SetRun {
   std::unique_ptr<ValueLogger> logger;
 };
 
-void Configure(const EvaluationRequest& request, const scene::ParameterSet* set, SetRun& run, SetOutcome& outcome) {
+void Configure(const EvaluationRequest& request, std::shared_ptr<const scene::WorldModel> model,
+               const scene::ParameterSet* set, SetRun& run, SetOutcome& outcome) {
   const scene::Scenario& scenario = request.scenario;
   scene::Simulation& simulation = run.simulation;
-  BuildWorld(request, simulation);
+  AttachWorld(request, std::move(model), simulation);
   if (set != nullptr) {
     if (set->parameter_file >= 0) {
       const scene::NamedParameterFile& file = scenario.randomisation.parameter_files[set->parameter_file];
@@ -179,14 +196,12 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
   const double dt = simulation.StepDuration();
   const auto steps = static_cast<std::int64_t>(std::llround(request.scenario.duration / dt));
   const bool fault = request.inject_faults && request.scenario.fault.kind != scene::FaultInjection::Kind::kNone;
-  for (std::int64_t i = 0; i < steps; ++i) {
+  StepHooks hooks;
+  hooks.drive = [&](std::int64_t i, double time) {
     if (fault && static_cast<std::uint64_t>(i) == request.scenario.fault.at_step) InjectFault(request.scenario.fault);
-    run.controller->Update(simulation.time());
-    if (simulation.Step() != scene::SimulationStatus::kOk) {
-      outcome.status = EvaluationStatus::kUnstablePhysics;
-      outcome.message = "parameter set " + std::to_string(k) + ": " + simulation.message();
-      break;
-    }
+    run.controller->Update(time);
+  };
+  hooks.observe = [&](std::int64_t i) {
     run.fitness->Sample(simulation, dt);
     if (run.logger) run.logger->Sample(simulation.time());
     if (recorder && recorder->frame_count() < kMaxRecordedFrames) recorder->Sample();
@@ -195,8 +210,14 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
       outcome.message = "time limit of " + text::FormatDouble(request.time_limit_seconds) +
                         " s exceeded in parameter set " + std::to_string(k) + " at simulated time " +
                         text::FormatDouble(simulation.time()) + " s";
-      break;
+      return false;
     }
+    return true;
+  };
+  RunSteps(simulation, steps, hooks);
+  if (simulation.status() != scene::SimulationStatus::kOk) {
+    outcome.status = EvaluationStatus::kUnstablePhysics;
+    outcome.message = "parameter set " + std::to_string(k) + ": " + simulation.message();
   }
   outcome.simulated_seconds = simulation.time();
   outcome.terms = run.fitness->terms();
@@ -212,16 +233,23 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
   if (recorder) outcome.recording = recorder->Finish();
 }
 
-// The sets to run: drawn against the nominal world (scenario values and overrides applied).
-std::vector<scene::ParameterSet> DrawSets(const EvaluationRequest& request) {
+// The job's world, compiled once, and its parameter sets, drawn against the nominal world (scenario values and
+// overrides applied).
+struct JobWorld {
+  std::shared_ptr<const scene::WorldModel> model;  ///< compiled from the environment and the structure values
+  std::vector<scene::ParameterSet> sets;            ///< one per parameter set, in order
+};
+
+JobWorld PrepareJob(const EvaluationRequest& request) {
   scene::Simulation nominal;
   BuildWorld(request, nominal);
   // A missing agent draws no motor angles here and fails in Configure, with the scenario's field named.
   const int agent = nominal.FindAgent(request.scenario.agent);
   const std::vector<aseries::MorphologyMotor> no_motors;
-  return scene::DrawParameterSets(request.scenario.randomisation, request.seed, nominal.repository(),
-                                  agent < 0 ? no_motors : nominal.model().morphology(agent).motors,
-                                  request.scenario.source);
+  return {nominal.shared_model(),
+          scene::DrawParameterSets(request.scenario.randomisation, request.seed, nominal.repository(),
+                                   agent < 0 ? no_motors : nominal.model().morphology(agent).motors,
+                                   request.scenario.source)};
 }
 
 }  // namespace
@@ -238,10 +266,10 @@ std::string_view EvaluationStatusName(EvaluationStatus status) {
 }
 
 void CheckRequest(const EvaluationRequest& request) {
-  const std::vector<scene::ParameterSet> sets = DrawSets(request);
+  const JobWorld job = PrepareJob(request);
   SetRun run;
   SetOutcome outcome;
-  Configure(request, sets.empty() ? nullptr : &sets.front(), run, outcome);
+  Configure(request, job.model, job.sets.empty() ? nullptr : &job.sets.front(), run, outcome);
 }
 
 control::ControlTarget ControlTargetOf(const scene::Scenario& scenario) {
@@ -265,14 +293,14 @@ EvaluationOutcome Evaluate(const EvaluationRequest& request) {
                        "expected seconds from 0 (none) to " + text::FormatDouble(kMaxJobTimeLimitSeconds) +
                            ", found " + text::FormatDouble(limit));
     }
-    const std::vector<scene::ParameterSet> sets = DrawSets(request);
+    const JobWorld job = PrepareJob(request);
     std::size_t log_bytes = request.max_log_bytes;
-    for (int k = 0; k < static_cast<int>(sets.size()); ++k) {
+    for (int k = 0; k < static_cast<int>(job.sets.size()); ++k) {
       SetOutcome set_outcome;
       set_outcome.index = k;
       SetRun run;
-      Configure(request, &sets[k], run, set_outcome);
-      Simulate(request, k, &sets[k], run, set_outcome, deadline, log_bytes);
+      Configure(request, job.model, &job.sets[k], run, set_outcome);
+      Simulate(request, k, &job.sets[k], run, set_outcome, deadline, log_bytes);
       log_bytes -= std::min(log_bytes, set_outcome.log_csv.size());
       outcome.sets.push_back(std::move(set_outcome));
       if (outcome.sets.back().status != EvaluationStatus::kOk) {

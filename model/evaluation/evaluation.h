@@ -1,9 +1,10 @@
 // One job, evaluated: a scenario with a genome and a seed, under the scenario's K randomised parameter sets.
 // This is the model's view of a job (no protobuf): orcs-worker translates wire jobs into EvaluationRequests
-// and outcomes into results; orcs-sim and orcs-batch run use it directly.
+// and outcomes into results; orcs-sim and the clients' input checks use it directly.
 //
-// For every parameter set k: a fresh world from the scenario's environment (built with the structure values —
-// /Sim/Floor/Material, /Sim/<object>/... — that the scenario's values and the job's overrides set); the
+// The job's world is compiled once, from the scenario's environment with the structure values — /Sim/Floor/Material,
+// /Sim/<object>/... — that the scenario's values and the job's overrides set (parameter sets cannot change the
+// structure: their values come after it). For every parameter set k: a fresh state on that model; the
 // scenario's values, the job's overrides, the set's value file and drawn values, in that order; Reset with the
 // set's seed; the start pose; then duration / step steps of: controller → step → fitness sample (→ log row). Set
 // k's noise seed and draws come from the job's seed alone, so the outcome is the same bits on any worker.

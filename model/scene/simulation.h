@@ -80,6 +80,8 @@ class Simulation {
   const VariableRepository& repository() const { return repository_; }
   EventManager& events() { return events_; }
   const WorldModel& model() const { return *model_; }
+  /// The compiled model, to Attach() further simulations to (a job's parameter sets share one).
+  std::shared_ptr<const WorldModel> shared_model() const { return model_; }
   bool built() const { return model_ != nullptr; }
   const physics::PhysicsWorld& physics() const { return *world_; }
   /// The robots, in environment order.

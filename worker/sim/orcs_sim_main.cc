@@ -14,6 +14,7 @@
 #include "model/core/value_file.h"
 #include "model/core/value_logger.h"
 #include "model/evaluation/recorder.h"
+#include "model/evaluation/step_loop.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
 #include "net/cli_style.h"
@@ -164,13 +165,17 @@ int Run(const SimOptions& options) {
     realtime->PrintEndpoints(std::cout);
   }
   const auto start = std::chrono::steady_clock::now();
-  for (std::int64_t i = 0; i < steps; ++i) {
+  evaluation::StepHooks hooks;
+  hooks.drive = [&](std::int64_t i, double time) {
     if (realtime) realtime->WaitForStep(i, simulation.StepDuration());
-    for (control::KeyframePlayer& player : players) player.Apply(simulation.time());
-    if (simulation.Step() != scene::SimulationStatus::kOk) break;
+    for (control::KeyframePlayer& player : players) player.Apply(time);
+  };
+  hooks.observe = [&](std::int64_t) {
     if (logger) logger->Sample(simulation.time());
     if (recorder) recorder->Sample();
-  }
+    return true;
+  };
+  evaluation::RunSteps(simulation, steps, hooks);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (logger) logger->Finish();
   if (recorder) evaluation::WriteRecording(options.record, recorder->Finish());
