@@ -1,5 +1,7 @@
-// The pagmo2 problem of orcs-batch evolve: genomes in the unit box, minimising −fitness, where every fitness comes
-// from a batch of jobs run through the broker.
+// The one pagmo2 problem of orcs: decision vectors in the unit box, one objective to minimise, every value from a
+// batch of jobs run through the broker. orcs-batch evolve minimises −fitness of genomes; orcs-gap's fits
+// (clients/gap/model_fit.cc) minimise the replays' squared error, calling batch_fitness through pagmo's member_bfe,
+// so that each generation is one batch in lookup mode.
 //
 // pagmo 2.18's CMA-ES, xNES, SGA and DE ask for fitness values one at a time, but within a generation what they
 // ask for does not depend on the answers: they sample the whole generation, then evaluate it. So each generation

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <pagmo/algorithm.hpp>
 #include <pagmo/algorithms/compass_search.hpp>
 #include <pagmo/algorithms/pso_gen.hpp>
@@ -10,6 +11,7 @@
 #include <pagmo/population.hpp>
 #include <pagmo/problem.hpp>
 
+#include "clients/evolve/batch_problem.h"
 #include "model/core/text.h"
 
 namespace orcs::gap {
@@ -34,26 +36,17 @@ std::vector<double> Values(const std::vector<FitParameter>& parameters, const do
   return values;
 }
 
-// The pagmo problem: the unit box, scored in batches through the broker (member_bfe calls batch_fitness).
-struct ReplayProblem {
-  const ReplayObjective* objective = nullptr;
-  const std::vector<FitParameter>* parameters = nullptr;
-
-  pagmo::vector_double fitness(const pagmo::vector_double& x) const { return batch_fitness(x); }
-  pagmo::vector_double batch_fitness(const pagmo::vector_double& xs) const {
-    const std::size_t n = parameters->size();
+// The pagmo problem: evolve's unit-box BatchProblem, whose cache evaluates what pagmo asks for as one batch of
+// replay jobs through the broker (member_bfe calls batch_fitness; every generation is one call).
+pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::vector<FitParameter>& parameters) {
+  auto cache = std::make_shared<evolve::GenerationCache>();
+  cache->evaluate = [&objective, &parameters](const std::vector<pagmo::vector_double>& xs) {
     std::vector<std::vector<Override>> points;
-    for (std::size_t start = 0; start + n <= xs.size(); start += n) {
-      points.push_back(OverridesOf(*parameters, Values(*parameters, xs.data() + start)));
-    }
-    return objective->MeanSquaredErrors(points);
-  }
-  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
-    return {pagmo::vector_double(parameters->size(), 0.0), pagmo::vector_double(parameters->size(), 1.0)};
-  }
-  bool has_batch_fitness() const { return true; }
-  std::string get_name() const { return "orcs-gap replay fit"; }
-};
+    for (const pagmo::vector_double& x : xs) points.push_back(OverridesOf(parameters, Values(parameters, x.data())));
+    return objective.MeanSquaredErrors(points);
+  };
+  return pagmo::problem{evolve::BatchProblem(parameters.size(), std::move(cache))};
+}
 
 // The polish stops when its step has shrunk below kPolishStop of the (normalised) range, or after its budget.
 constexpr double kPolishStart = 0.05;
@@ -105,7 +98,7 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   const int size = options.population > 0
                        ? options.population
                        : std::max(16, 8 + static_cast<int>(std::floor(6.0 * std::log(dimension))));
-  pagmo::problem problem{ReplayProblem{&objective, &parameters}};
+  pagmo::problem problem = ReplayProblem(objective, parameters);
   const pagmo::bfe batch{pagmo::member_bfe{}};
   pagmo::population population(problem, batch, static_cast<pagmo::population::size_type>(size), options.seed);
   // The search starts from the given point: it replaces the worst of the random initial individuals.
