@@ -230,16 +230,8 @@ void BatchClient::SubmitTaken(std::deque<std::vector<v1::Job>>& taken, bool fail
 }
 
 void BatchClient::ReadBrokerMessages() {
-  zmq::message_t payload;
-  while (true) {
-    const net::DealerConnection::Received received = dealer_.Receive(payload);
-    if (received == net::DealerConnection::Received::kNone) return;
-    if (received == net::DealerConnection::Received::kMultipart) {
-      DropMessage("a message of several frames");
-      continue;
-    }
-    if (!OnBrokerMessage(payload)) return;  // that socket is gone
-  }
+  dealer_.ReceiveAll([this](const zmq::message_t& payload) { return OnBrokerMessage(payload); },  // false: socket gone
+                     [this](const std::string& why) { DropMessage(why); });
 }
 
 // A broker that never answered fails the client after connect_timeout; one that falls silent is connected to

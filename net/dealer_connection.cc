@@ -127,6 +127,20 @@ DealerConnection::Received DealerConnection::Receive(zmq::message_t& frame) {
   return Received::kMultipart;
 }
 
+void DealerConnection::ReceiveAll(const std::function<bool(const zmq::message_t&)>& on_frame,
+                                  const std::function<void(const std::string&)>& on_dropped) {
+  zmq::message_t frame;
+  while (true) {
+    const Received received = Receive(frame);
+    if (received == Received::kNone) return;
+    if (received == Received::kMultipart) {
+      on_dropped("a message of several frames");
+      continue;
+    }
+    if (!on_frame(frame)) return;
+  }
+}
+
 void DealerConnection::Send(std::string_view frame) {
   socket_->send(zmq::buffer(frame), zmq::send_flags::none);
 }

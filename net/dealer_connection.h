@@ -109,6 +109,11 @@ class DealerConnection {
   PollEvents Poll(std::optional<Clock::time_point> wake_at);
   /// The next message, without blocking.
   Received Receive(zmq::message_t& frame);
+  /// Reads every waiting message without blocking: each single frame goes to `on_frame`, which returns false to
+  /// stop reading (it replaced the socket); a message of several frames is dropped whole and named to
+  /// `on_dropped`.
+  void ReceiveAll(const std::function<bool(const zmq::message_t&)>& on_frame,
+                  const std::function<void(const std::string&)>& on_dropped);
   /// Sends one frame; never blocks (a socket without a connection drops it). Needs an open socket.
   void Send(std::string_view frame);
   /// Serialises a protobuf message and sends it as one frame.

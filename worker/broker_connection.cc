@@ -192,16 +192,9 @@ bool WorkerConnection::SendOutbox(std::deque<v1::Result>& sending) {
 }
 
 void WorkerConnection::ReadBrokerMessages() {
-  zmq::message_t payload;
-  while (true) {
-    const net::DealerConnection::Received received = dealer_.Receive(payload);
-    if (received == net::DealerConnection::Received::kNone) return;
-    if (received == net::DealerConnection::Received::kMultipart) {
-      DropMessage("a message of several frames");
-      continue;
-    }
-    if (OnBrokerMessage(payload) == Heard::kReconnected) return;  // that socket is gone
-  }
+  dealer_.ReceiveAll(
+      [this](const zmq::message_t& payload) { return OnBrokerMessage(payload) != Heard::kReconnected; },
+      [this](const std::string& why) { DropMessage(why); });
 }
 
 void WorkerConnection::HeartbeatAndWatchBroker() {

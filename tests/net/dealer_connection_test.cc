@@ -91,6 +91,14 @@ DealerConnectionOptions Options(const std::string& endpoint, std::vector<std::st
   return options;
 }
 
+// Opens `dealer` and says hello: the broker's routing id for it, or "" when the broker heard nothing.
+std::string Introduce(DealerConnection& dealer, FakeBroker& broker) {
+  dealer.Open();
+  dealer.Send("hello");
+  const std::optional<FakeBroker::Message> hello = broker.Receive();
+  return hello ? hello->peer : "";
+}
+
 int CountContaining(const std::vector<std::string>& log, const std::string& part) {
   int count = 0;
   for (const std::string& line : log) count += line.find(part) != std::string::npos ? 1 : 0;
@@ -233,13 +241,11 @@ TEST(DealerConnectionTest, DropsMultipartAndBadMessagesWithOneLogLinePerConnecti
   FakeBroker broker;
   std::vector<std::string> log;
   DealerConnection dealer(Options(broker.endpoint(), log));
-  dealer.Open();
-  dealer.Send("hello");
-  const std::optional<FakeBroker::Message> hello = broker.Receive();
-  ASSERT_TRUE(hello);
-  broker.Send(hello->peer, {"one", "two"});
-  broker.Send(hello->peer, {BrokerHeartbeat(7)});
-  broker.Send(hello->peer, {BrokerHeartbeat()});
+  const std::string peer = Introduce(dealer, broker);
+  ASSERT_FALSE(peer.empty());
+  broker.Send(peer, {"one", "two"});
+  broker.Send(peer, {BrokerHeartbeat(7)});
+  broker.Send(peer, {BrokerHeartbeat()});
 
   std::vector<DealerConnection::Received> seen;
   zmq::message_t frame;
@@ -264,6 +270,36 @@ TEST(DealerConnectionTest, DropsMultipartAndBadMessagesWithOneLogLinePerConnecti
   ASSERT_EQ(log.size(), 2u);
   EXPECT_THAT(log[1], HasSubstr(": wrong protocol version 7 (expected " + std::to_string(proto::kProtocolVersion) +
                                     ") (further bad messages"));
+}
+
+TEST(DealerConnectionTest, ReceiveAllReadsUntilItsHandlerStopsAndNamesAMultipartMessage) {
+  FakeBroker broker;
+  std::vector<std::string> log;
+  DealerConnection dealer(Options(broker.endpoint(), log));
+  const std::string peer = Introduce(dealer, broker);
+  ASSERT_FALSE(peer.empty());
+  for (const char* frame : {"a", "stop", "c"}) {
+    broker.Send(peer, {frame});
+    if (std::string(frame) == "a") broker.Send(peer, {"one", "two"});
+  }
+
+  std::vector<std::string> frames;
+  std::vector<std::string> dropped;
+  const auto on_frame = [&frames](const zmq::message_t& frame) {
+    frames.push_back(frame.to_string());
+    return frames.back() != "stop";  // the handler replaced its socket: reading stops here
+  };
+  const auto on_dropped = [&dropped](const std::string& why) { dropped.push_back(why); };
+  const Clock::time_point give_up = Clock::now() + milliseconds(5000);
+  while (frames.size() < 2 && Clock::now() < give_up) {
+    if (dealer.Poll(give_up).readable) dealer.ReceiveAll(on_frame, on_dropped);
+  }
+  EXPECT_THAT(frames, ::testing::ElementsAre("a", "stop"));
+  EXPECT_THAT(dropped, ::testing::ElementsAre("a message of several frames"));
+  while (frames.size() < 3 && Clock::now() < give_up) {  // "c" waits for the next read
+    if (dealer.Poll(give_up).readable) dealer.ReceiveAll(on_frame, on_dropped);
+  }
+  EXPECT_THAT(frames, ::testing::ElementsAre("a", "stop", "c"));
 }
 
 TEST(DealerConnectionTest, WakeEndsAPollAtOnce) {
