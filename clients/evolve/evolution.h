@@ -14,10 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "clients/evolve/batch_problem.h"
+#include "model/identify/batch_problem.h"
 #include "clients/evolve/evolution_settings.h"
 
 namespace orcs::evolve {
+
+using identify::BatchProblem;     // the unit-box pagmo problem evolve shares with the gap workflow
+using identify::GenerationCache;  // its record / lookup cache
 
 /// What one genome's evaluation gave.
 struct Evaluation {

@@ -11,6 +11,8 @@
 #include "model/evaluation/recorder.h"
 
 namespace orcs::gap {
+
+using namespace identify;  // the analysis this command drives (model/identify/)
 namespace {
 
 namespace fs = std::filesystem;

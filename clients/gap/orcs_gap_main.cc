@@ -9,15 +9,18 @@
 #include <iostream>
 
 #include "clients/batch/job_runner.h"
-#include "clients/gap/gap_diagnosis.h"
+#include "clients/gap/broker_replays.h"
+#include "model/identify/gap_diagnosis.h"
 #include "clients/gap/gap_report.h"
 #include "clients/gap/synthetic_runs.h"
-#include "model/aseries/motor_effects.h"
+#include "model/identify/effect_catalogue.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 #include "net/cli_style.h"
 
 namespace orcs::gap {
+
+using namespace identify;  // the analysis this command drives (model/identify/)
 namespace {
 
 struct GapOptions {
@@ -57,7 +60,7 @@ std::vector<ValueAssignment> ReadModel(const std::string& file) {
 std::vector<Override> HiddenValues(const GapOptions& o) {
   std::vector<Override> hidden;
   for (const std::string& name : o.effect_switches) {
-    if (aseries::FindEffect(name) == nullptr) throw InputError("--effect: no effect '" + name + "' (docs/gap.md)");
+    if (identify::FindEffect(name) == nullptr) throw InputError("--effect: no effect '" + name + "' (docs/gap.md)");
     hidden.emplace_back("/Effects/" + name + "/Enabled", "T");
   }
   for (const std::string& set : o.sets) {
@@ -117,7 +120,8 @@ int Diagnose(const GapOptions& o) {
   std::cerr << "orcs-gap: " << fit.size() << " fit run(s), " << holdout.size() << " held-out run(s); "
             << (o.broker.empty() ? std::to_string(runner.local_workers()) + " local workers" : "broker " + o.broker)
             << "\n";
-  const Diagnosis diagnosis = Diagnose(runner, rig, fit, holdout, model, options);
+  BrokerReplays replays(runner);
+  const Diagnosis diagnosis = Diagnose(replays, rig, fit, holdout, model, options);
   std::vector<ReplayRun> runs = fit;
   runs.insert(runs.end(), holdout.begin(), holdout.end());
   WriteReplays(o.out, diagnosis, rig, model, runs);

@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "clients/gap/replay.h"
+#include "model/identify/replay.h"
 
 namespace orcs::gap {
 
 struct SynthOptions {
   std::vector<std::string> motions;  ///< keyframe records (docs/formats.md) to play, one run each
-  std::vector<Override> hidden;      ///< values applied after the model: the truth the workflow must find
+  std::vector<identify::Override> hidden;      ///< values applied after the model: the truth the workflow must find
   std::uint64_t seed = 1;            ///< noise seed of the first run; run k uses seed + k
   double duration = 0.0;             ///< simulated seconds per run; ≤ 0 = each record's last keyframe
   std::string out;                   ///< folder for <motion stem>.csv
@@ -22,7 +22,7 @@ struct SynthOptions {
 
 /// Writes one run per motion and returns the files written. Throws InputError for unreadable records, unknown
 /// paths or values, and when a run does not complete (unstable physics).
-std::vector<std::string> WriteSyntheticRuns(const Rig& rig, const std::vector<ValueAssignment>& model,
+std::vector<std::string> WriteSyntheticRuns(const identify::Rig& rig, const std::vector<ValueAssignment>& model,
                                             const SynthOptions& options);
 
 }  // namespace orcs::gap

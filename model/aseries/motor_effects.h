@@ -1,7 +1,8 @@
-// The effect catalogue (docs/gap.md): switchable physical extensions of the Dynamixel motor model that the
+// The motor effects (docs/gap.md): switchable physical extensions of the Dynamixel motor model that the
 // original's model lacks, each off by default and controlled by repository values under /Effects/<Name>/...,
 // so that a model fitted by orcs-gap is just a value file. Pure computation like dynamixel_motor.h: the caller
-// keeps one MotorEffectState per motor and calls ApplyEffects around the base controller step.
+// keeps one MotorEffectState per motor and calls ApplyEffects around the base controller step. What orcs-gap fits
+// of each effect, and in which range, is its catalogue (model/identify/effect_catalogue.h).
 //
 //   TransportDelay  the command reaches the motor `Delay` s late (linear interpolation between steps)
 //   DeadBand        the controller ignores position errors within ±`Margin` (the AX-12's compliance margin)
@@ -15,7 +16,6 @@
 #pragma once
 
 #include <array>
-#include <string_view>
 #include <vector>
 
 #include "model/aseries/dynamixel_motor.h"
@@ -68,28 +68,6 @@ inline constexpr std::array<ParameterField<MotorEffects>, 18> kMotorEffectsTable
     {"/Effects/RotorInertia/Enabled", &MotorEffects::rotor_inertia},
     {"/Effects/RotorInertia/Inertia", &MotorEffects::inertia},
 }};
-
-/// One parameter the gap workflow fits, with its search range.
-struct FittedParameter {
-  std::string_view path;   ///< repository path
-  std::string_view unit;   ///< for reports
-  double lower = 0.0;      ///< search range, in the unit
-  double upper = 0.0;
-  bool log_scale = true;   ///< search log(value) (positive scale parameters)
-};
-
-/// One entry of the catalogue: what orcs-gap adds, fits and reports.
-struct EffectDescription {
-  std::string_view name;       ///< "Backlash": /Effects/<name>/Enabled switches it
-  std::string_view summary;    ///< one line for reports
-  std::string_view quantity;   ///< the signal its residual shows against (plot_gap.py): speed, velocity, load, ...
-  std::vector<FittedParameter> parameters;  ///< what a fit adjusts (other parameters keep their values)
-};
-
-/// The catalogue, in a fixed order.
-const std::vector<EffectDescription>& EffectCatalogue();
-/// The catalogue entry called `name`, or nullptr.
-const EffectDescription* FindEffect(std::string_view name);
 
 /// What the motor stage knows about a joint before the step.
 struct JointReading {

@@ -15,7 +15,7 @@
 #include <zlib.h>
 #include <nlohmann/json.hpp>
 
-#include "clients/gap/measured_run.h"
+#include "model/identify/measured_run.h"
 #include "model/control/keyframe_player.h"
 #include "model/control/keyframe_record.h"
 #include "model/core/error.h"
@@ -314,14 +314,14 @@ FeedResult FeedOdcpDatagrams(std::string_view data) {
 
 FeedResult FeedMeasuredRun(std::string_view data) {
   return Guarded([&] {
-    std::optional<gap::ColumnMapping> mapping;
+    std::optional<identify::ColumnMapping> mapping;
     std::string_view csv = data;
     if (const std::size_t split = data.find("\n---\n"); split != std::string_view::npos) {
-      mapping = gap::ParseColumnMapping(ParseJson(std::string(data.substr(0, split)), "fuzz.json"), "fuzz.json");
+      mapping = identify::ParseColumnMapping(ParseJson(std::string(data.substr(0, split)), "fuzz.json"), "fuzz.json");
       csv = data.substr(split + 5);
     }
-    const gap::MeasuredRun run = gap::ParseMeasuredRun(csv, "fuzz.csv", mapping ? &*mapping : nullptr);
-    gap::CommandsAsRecord(run, run.commanded);
+    const identify::MeasuredRun run = identify::ParseMeasuredRun(csv, "fuzz.csv", mapping ? &*mapping : nullptr);
+    identify::CommandsAsRecord(run, run.commanded);
   });
 }
 

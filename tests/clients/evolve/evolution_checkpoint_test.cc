@@ -132,6 +132,13 @@ TEST_F(EvolutionCheckpointTest, ReadsBackWhatWasWrittenExactly) {
   EXPECT_EQ(Bits(resumed.history().back().best), Bits(evolution->history().back().best));
 }
 
+TEST_F(EvolutionCheckpointTest, ThePagmoStateNamesTheProblemByTheKeyOlderCheckpointsUse) {
+  // boost files the problem under its export key; BatchProblem moved from clients/evolve to model/identify and
+  // kept the key it had, so that checkpoints written before the move still load (model/identify/batch_problem.h).
+  const std::unique_ptr<Evolution> evolution = RunAndCheckpoint();
+  EXPECT_NE(evolution->SaveState().find("udp orcs::evolve::BatchProblem"), std::string::npos);
+}
+
 TEST_F(EvolutionCheckpointTest, AFolderWithoutACheckpointIsNamed) {
   EXPECT_THAT(InputErrorOf([&] { ReadCheckpoint(folder_, Fingerprint(input_, settings_)); }),
               AllOf(HasSubstr("--resume " + folder_), HasSubstr("no checkpoint.json")));

@@ -1,5 +1,5 @@
 // Evolution without a broker: analytic evaluators (fitness = −Σ(g_i − c_i)² in the genes' own units) stand in for
-// the batches of jobs. The central claim of clients/evolve/batch_problem.h is checked for every algorithm: the
+// the batches of jobs. The central claim of model/identify/batch_problem.h is checked for every algorithm: the
 // two-pass rehearsal evaluates each generation as one batch and still runs, bit for bit, the search plain pagmo runs
 // with direct evaluations. Also: failed jobs, the champion, the history, resuming from SaveState(), the gene mapping.
 #include "clients/evolve/evolution.h"

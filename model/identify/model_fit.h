@@ -1,34 +1,23 @@
 // Fitting model parameters to measured runs with the simulation in the loop (docs/gap.md, "How a fit works"):
 // pagmo2's generational particle swarm (pso_gen) searches a box in normalised coordinates (log-scaled where a parameter is a positive scale),
-// and every generation's population is one batch of replay jobs through the broker, so a fit scales from two
+// and every generation's population is one batch of replays (ReplayEvaluator: in orcs-gap, jobs through the broker), so a fit scales from two
 // cores to a cluster. The objective is the mean squared joint-angle error over all fit runs and channels.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "clients/batch/job_evaluator.h"
-#include "clients/gap/replay.h"
+#include "model/identify/fit_parameter.h"
+#include "model/identify/replay.h"
+#include "model/identify/replay_evaluator.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 
-using batch::JobEvaluator;  // what runs the fits' jobs: the broker (batch::JobRunner) or a test's stand-in
-
-/// One fitted repository value.
-struct FitParameter {
-  std::string path;        ///< repository path
-  std::string unit;        ///< for reports
-  double lower = 0.0;      ///< search range, in the unit
-  double upper = 0.0;
-  bool log_scale = true;   ///< search log(value)
-  double start = 0.0;      ///< where the search starts (clamped into the range)
-};
-
-/// The replay jobs of a set of runs, evaluated as one batch per call.
+/// The replays of a set of runs, evaluated as one batch per call.
 class ReplayObjective {
  public:
-  /// `fixed` is applied to every job after the model (e.g. an effect's Enabled switch).
-  ReplayObjective(JobEvaluator& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed);
+  /// `fixed` is applied to every replay after the model (e.g. an effect's Enabled switch).
+  ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs, std::vector<Override> fixed);
 
   /// The pooled mean squared error (deg²) of every point, in order. A point whose replay fails (unstable physics)
   /// scores kFailedPoint.
@@ -37,7 +26,7 @@ class ReplayObjective {
   static constexpr double kFailedPoint = 1e6;
 
  private:
-  JobEvaluator& runner_;
+  ReplayEvaluator& replays_;
   const std::vector<ReplayRun>& runs_;
   std::vector<Override> fixed_;
 };
@@ -52,7 +41,7 @@ struct FitOutcome {
   std::vector<double> values;    ///< the best point found, in each parameter's unit
   double mse = 0.0;              ///< its objective, deg²
   int generations = 0;           ///< generations run
-  int evaluations = 0;           ///< points evaluated (each = one job per run)
+  int evaluations = 0;           ///< points evaluated (each = one replay per run)
   bool converged = false;        ///< the local polish stopped because its step fell below 0.2 % of every
                                  ///< parameter's range, not because its budget ran out (see convergence)
   std::string convergence;       ///< why it counts as converged or not, one line
@@ -61,8 +50,9 @@ struct FitOutcome {
 /// The assignments of `values` to `parameters`' paths.
 std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values);
 
-/// Minimises the objective over `parameters` (≥ 1). Throws broker::BatchClientError when the broker is lost.
+/// Minimises the objective over `parameters` (≥ 1). Passes on what the evaluator throws (orcs-gap's: broker::BatchClientError
+/// when the broker is lost).
 FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
                const FitOptions& options);
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

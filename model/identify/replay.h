@@ -1,7 +1,7 @@
 // Replaying measured runs in simulation (docs/gap.md): the rig a run was recorded on, and one job per run and
 // model that plays the run's commands into the rig and scores the simulated joint angles against the measured
-// ones (fitness term "measured_error", degrees RMS). The jobs are ordinary scenario jobs, so any worker of any
-// broker runs them.
+// ones (fitness term "measured_error", degrees RMS). The replays are ordinary scenarios, so any worker of any
+// broker runs them (clients/gap/broker_replays.h makes them jobs).
 #pragma once
 
 #include <cstddef>
@@ -10,11 +10,10 @@
 #include <utility>
 #include <vector>
 
-#include "clients/gap/measured_run.h"
+#include "model/identify/measured_run.h"
 #include "model/core/value_file.h"
-#include "orcs/v1/job.pb.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 
 /// A value assignment for a job: repository path and value text.
 using Override = std::pair<std::string, std::string>;
@@ -59,19 +58,10 @@ struct ReplayRun {
 /// run's agent, motors or time step do not fit the rig.
 ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model);
 
-/// A job replaying `replay` with `overrides` applied after the model; with `log`, the result carries the
-/// simulated JointAngle and MotorTorque of every motor.
-v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log);
-
 /// The measured run as a recording (docs/recording.md) for orcs-view: the rig under `model` (noise off), posed
 /// kinematically at every row — Reset(), the measured joint angles set (each clamped to its motor's range; motors
 /// the run does not measure stay at 0), a frame stamped with the row's time. No physics runs: it shows where the
 /// real robot's joints were. Returns the file's bytes.
 std::string MeasuredRecording(const Rig& rig, const std::vector<ValueAssignment>& model, const ReplayRun& replay);
 
-/// A simulated log (the CSV the worker returns) as columns: path → values per row. Throws InputError when it
-/// has no "# columns:" line.
-std::vector<std::pair<std::string, std::vector<double>>> ParseLogColumns(const std::string& csv,
-                                                                         const std::string& source);
-
-}  // namespace orcs::gap
+}  // namespace orcs::identify

@@ -1,4 +1,4 @@
-#include "clients/gap/measured_run.h"
+#include "model/identify/measured_run.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include "model/core/text.h"
 #include "model/core/text_file.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 constexpr double kTimeZeroTolerance = 1e-9;      // s: the first row's time counts as 0 within this
@@ -606,4 +606,4 @@ control::KeyframeRecord CommandsAsRecord(const MeasuredRun& run, const std::vect
   return record;
 }
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

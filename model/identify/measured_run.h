@@ -18,7 +18,7 @@
 
 #include "model/control/keyframe_record.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 
 /// One run of the real (or synthetic) robot: commanded inputs and measured joint angles, per step.
 struct MeasuredRun {
@@ -93,4 +93,4 @@ control::KeyframeRecord CommandsAsRecord(const MeasuredRun& run, const std::vect
 /// "/Sim/Humanoid/Right/Knee/JointAngle".
 std::string MotorColumn(const std::string& agent, const std::string& motor, const std::string& quantity);
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

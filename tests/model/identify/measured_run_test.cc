@@ -1,4 +1,4 @@
-#include "clients/gap/measured_run.h"
+#include "model/identify/measured_run.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 #include "tests/support/input_error_of.h"
 #include "tests/support/temp_dir.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 using test_support::InputErrorOf;
@@ -579,4 +579,4 @@ TEST(MeasuredRunTest, MotorColumnJoinsAgentMotorAndQuantity) {
 }
 
 }  // namespace
-}  // namespace orcs::gap
+}  // namespace orcs::identify

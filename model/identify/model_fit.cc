@@ -1,4 +1,4 @@
-#include "clients/gap/model_fit.h"
+#include "model/identify/model_fit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +11,10 @@
 #include <pagmo/population.hpp>
 #include <pagmo/problem.hpp>
 
-#include "clients/evolve/batch_problem.h"
+#include "model/identify/batch_problem.h"
 #include "model/core/text.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 double FromUnit(const FitParameter& p, double u) {
@@ -37,15 +37,15 @@ std::vector<double> Values(const std::vector<FitParameter>& parameters, const do
 }
 
 // The pagmo problem: evolve's unit-box BatchProblem, whose cache evaluates what pagmo asks for as one batch of
-// replay jobs through the broker (member_bfe calls batch_fitness; every generation is one call).
+// replays (member_bfe calls batch_fitness; every generation is one call).
 pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::vector<FitParameter>& parameters) {
-  auto cache = std::make_shared<evolve::GenerationCache>();
+  auto cache = std::make_shared<GenerationCache>();
   cache->evaluate = [&objective, &parameters](const std::vector<pagmo::vector_double>& xs) {
     std::vector<std::vector<Override>> points;
     for (const pagmo::vector_double& x : xs) points.push_back(OverridesOf(parameters, Values(parameters, x.data())));
     return objective.MeanSquaredErrors(points);
   };
-  return pagmo::problem{evolve::BatchProblem(parameters.size(), std::move(cache))};
+  return pagmo::problem{BatchProblem(parameters.size(), std::move(cache))};
 }
 
 // The polish stops when its step has shrunk below kPolishStop of the (normalised) range, or after its budget.
@@ -55,17 +55,18 @@ constexpr unsigned kPolishBudgetPerDimension = 40;
 
 }  // namespace
 
-ReplayObjective::ReplayObjective(JobEvaluator& runner, const std::vector<ReplayRun>& runs, std::vector<Override> fixed)
-    : runner_(runner), runs_(runs), fixed_(std::move(fixed)) {}
+ReplayObjective::ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs,
+                                 std::vector<Override> fixed)
+    : replays_(replays), runs_(runs), fixed_(std::move(fixed)) {}
 
 std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::vector<Override>>& points) const {
-  std::vector<v1::Job> jobs;
+  std::vector<ReplayRequest> requests;
   for (const std::vector<Override>& point : points) {
     std::vector<Override> overrides = fixed_;
     overrides.insert(overrides.end(), point.begin(), point.end());
-    for (const ReplayRun& run : runs_) jobs.push_back(MakeReplayJob(run, overrides, false));
+    for (const ReplayRun& run : runs_) requests.push_back({&run, overrides});
   }
-  const std::vector<v1::Result> results = runner_.Run(std::move(jobs));
+  const std::vector<ReplayOutcome> outcomes = replays_.Replay(requests);
   std::vector<double> errors;
   std::size_t next = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
@@ -73,10 +74,9 @@ std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::ve
     double samples = 0.0;
     bool failed = false;
     for (const ReplayRun& run : runs_) {
-      const v1::Result& result = results[next++];
-      failed = failed || result.status() != v1::Result::OK || !std::isfinite(result.fitness());
-      const double rms = result.fitness();
-      sum += rms * rms * static_cast<double>(run.samples);
+      const ReplayOutcome& outcome = outcomes[next++];
+      failed = failed || !outcome.ok || !std::isfinite(outcome.rms);
+      sum += outcome.rms * outcome.rms * static_cast<double>(run.samples);
       samples += static_cast<double>(run.samples);
     }
     errors.push_back(failed || samples == 0.0 ? kFailedPoint : sum / samples);
@@ -136,4 +136,4 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   return outcome;
 }
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

@@ -1,4 +1,4 @@
-#include "clients/gap/gap_diagnosis.h"
+#include "model/identify/gap_diagnosis.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,21 +6,15 @@
 #include <future>
 #include <sstream>
 
-#include "model/aseries/motor_effects.h"
+#include "model/identify/effect_catalogue.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 // The model's own parameters: what a mistuned model gets wrong before anything is missing (spec §6e).
-struct BaseSpec {
-  const char* path;
-  const char* unit;
-  double lower;
-  double upper;
-};
-constexpr BaseSpec kBase[] = {
+const std::vector<FitParameter> kBase = {
     {"/AngularMotor/PID/Proportional", "1/s", 2.0, 100.0},
     {"/AngularMotor/FMaxFactor", "N·m", 0.3, 3.0},
     {"/AngularMotor/DynamicFriction", "N·m·s/rad", 0.005, 1.0},
@@ -34,8 +28,8 @@ std::vector<ReplayRun> Concatenate(const std::vector<ReplayRun>& a, const std::v
 
 double Rms(double mse) { return std::sqrt(mse); }
 
-double MeanSquaredError(JobEvaluator& runner, const std::vector<ReplayRun>& runs, const std::vector<Override>& model) {
-  return ReplayObjective(runner, runs, {}).MeanSquaredErrors({model})[0];
+double MeanSquaredError(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs, const std::vector<Override>& model) {
+  return ReplayObjective(replays, runs, {}).MeanSquaredErrors({model})[0];
 }
 
 std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
@@ -48,26 +42,19 @@ std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, con
 
 // The replays of one model with logs, as per-run channel traces: measured, simulated, desired, motor torque. With
 // `recordings`, the replays are recorded too (recording changes no bits) and their recordings kept by run name.
-std::vector<std::vector<ChannelTrace>> Traces(JobEvaluator& runner, const std::vector<ReplayRun>& runs,
+std::vector<std::vector<ChannelTrace>> Traces(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs,
                                               const std::vector<Override>& model,
                                               std::map<std::string, std::string>* recordings) {
-  std::vector<v1::Job> jobs;
-  for (const ReplayRun& run : runs) {
-    jobs.push_back(MakeReplayJob(run, model, true));
-    if (recordings != nullptr) jobs.back().set_record(true);
-  }
-  std::vector<v1::Result> results = runner.Run(std::move(jobs));
+  std::vector<ReplayRequest> requests;
+  for (const ReplayRun& run : runs) requests.push_back({&run, model, /*log=*/true, /*record=*/recordings != nullptr});
+  std::vector<ReplayOutcome> outcomes = replays.Replay(requests);
   std::vector<std::vector<ChannelTrace>> traces;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     const MeasuredRun& measured = *runs[r].run;
-    if (recordings != nullptr && !results[r].recording().empty()) {
-      (*recordings)[runs[r].name] = std::move(*results[r].mutable_recording());
+    if (recordings != nullptr && !outcomes[r].recording.empty()) {
+      (*recordings)[runs[r].name] = std::move(outcomes[r].recording);
     }
-    const std::vector<v1::Result>::value_type& result = results[r];
-    std::vector<std::pair<std::string, std::vector<double>>> columns;
-    if (result.status() == v1::Result::OK && result.logs_size() > 0) {
-      columns = ParseLogColumns(result.logs(0).csv(), runs[r].name);
-    }
+    const auto& columns = outcomes[r].columns;
     const auto column = [&columns](const std::string& path) -> std::vector<double> {
       for (const auto& [name, values] : columns) {
         if (name == path) return values;
@@ -93,12 +80,12 @@ std::vector<std::vector<ChannelTrace>> Traces(JobEvaluator& runner, const std::v
 }
 
 // `record`: keep the replays' recordings (GapSnapshot::recordings).
-GapSnapshot Snapshot(JobEvaluator& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+GapSnapshot Snapshot(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
                      const std::vector<Override>& model, double step, bool record) {
   GapSnapshot snapshot;
-  snapshot.fit_rms = Rms(MeanSquaredError(runner, fit, model));
-  snapshot.holdout_rms = Rms(MeanSquaredError(runner, holdout, model));
-  snapshot.traces = Traces(runner, Concatenate(fit, holdout), model, record ? &snapshot.recordings : nullptr);
+  snapshot.fit_rms = Rms(MeanSquaredError(replays, fit, model));
+  snapshot.holdout_rms = Rms(MeanSquaredError(replays, holdout, model));
+  snapshot.traces = Traces(replays, Concatenate(fit, holdout), model, record ? &snapshot.recordings : nullptr);
   std::vector<ChannelTrace> all;  // a replay that failed (unstable physics) has no trace to analyse
   for (const auto& run : snapshot.traces) {
     for (const ChannelTrace& trace : run) {
@@ -111,17 +98,17 @@ GapSnapshot Snapshot(JobEvaluator& runner, const std::vector<ReplayRun>& fit, co
   return snapshot;
 }
 
-ModelScore ScoreFit(JobEvaluator& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+ModelScore ScoreFit(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
                     const std::vector<FitParameter>& parameters, const std::vector<Override>& fixed,
                     const FitOptions& options) {
   ModelScore score;
-  score.fit = Fit(ReplayObjective(runner, fit, fixed), parameters, options);
+  score.fit = Fit(ReplayObjective(replays, fit, fixed), parameters, options);
   score.values = Report(parameters, score.fit.values);
   score.fit_rms = Rms(score.fit.mse);
   std::vector<Override> model = fixed;
   const std::vector<Override> fitted = OverridesOf(parameters, score.fit.values);
   model.insert(model.end(), fitted.begin(), fitted.end());
-  score.holdout_rms = Rms(MeanSquaredError(runner, holdout, model));
+  score.holdout_rms = Rms(MeanSquaredError(replays, holdout, model));
   return score;
 }
 
@@ -132,14 +119,14 @@ std::vector<Override> ModelOf(const ModelScore& score, const std::string& effect
   return model;
 }
 
-std::vector<const aseries::EffectDescription*> Candidates(const std::vector<std::string>& names) {
-  std::vector<const aseries::EffectDescription*> candidates;
+std::vector<const EffectDescription*> Candidates(const std::vector<std::string>& names) {
+  std::vector<const EffectDescription*> candidates;
   if (names.empty()) {
-    for (const aseries::EffectDescription& effect : aseries::EffectCatalogue()) candidates.push_back(&effect);
+    for (const EffectDescription& effect : EffectCatalogue()) candidates.push_back(&effect);
     return candidates;
   }
   for (const std::string& name : names) {
-    const aseries::EffectDescription* effect = aseries::FindEffect(name);
+    const EffectDescription* effect = FindEffect(name);
     if (effect == nullptr) throw InputError("--effects: no effect '" + name + "' in the catalogue (docs/gap.md)");
     candidates.push_back(effect);
   }
@@ -178,12 +165,10 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
 
 std::vector<FitParameter> BaseParameters(const Rig& rig, const std::vector<ValueAssignment>& model) {
   std::vector<std::string> paths;
-  for (const BaseSpec& spec : kBase) paths.emplace_back(spec.path);
+  for (const FitParameter& parameter : kBase) paths.push_back(parameter.path);
   const std::vector<double> start = ModelValues(rig, model, paths);
-  std::vector<FitParameter> parameters;
-  for (std::size_t i = 0; i < paths.size(); ++i) {
-    parameters.push_back({kBase[i].path, kBase[i].unit, kBase[i].lower, kBase[i].upper, true, start[i]});
-  }
+  std::vector<FitParameter> parameters = kBase;
+  for (std::size_t i = 0; i < parameters.size(); ++i) parameters[i].start = start[i];
   return parameters;
 }
 
@@ -207,17 +192,17 @@ void SplitRuns(const std::vector<ReplayRun>& fit_given, const std::vector<Replay
 }
 
 // One candidate effect fitted together with the (refitted) base parameters, scored with its penalty.
-ModelScore ScoreCandidate(JobEvaluator& runner, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
-                          const std::vector<FitParameter>& refitted, const aseries::EffectDescription& effect,
+ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+                          const std::vector<FitParameter>& refitted, const EffectDescription& effect,
                           const DiagnosisOptions& options) {
   std::vector<FitParameter> parameters = refitted;
-  for (const aseries::FittedParameter& p : effect.parameters) {
+  for (FitParameter p : effect.parameters) {
     // Effects start weak: the geometric middle between the bottom of the range and its middle.
-    const double start = std::sqrt(p.lower * std::sqrt(p.lower * p.upper));
-    parameters.push_back({std::string(p.path), std::string(p.unit), p.lower, p.upper, p.log_scale, start});
+    p.start = std::sqrt(p.lower * std::sqrt(p.lower * p.upper));
+    parameters.push_back(std::move(p));
   }
   const std::vector<Override> enabled{{"/Effects/" + std::string(effect.name) + "/Enabled", "T"}};
-  ModelScore score = ScoreFit(runner, fit, holdout, parameters, enabled, options.fit);
+  ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, options.fit);
   score.label = std::string(effect.name);
   score.summary = std::string(effect.summary);
   score.quantity = std::string(effect.quantity);
@@ -228,15 +213,15 @@ ModelScore ScoreCandidate(JobEvaluator& runner, const std::vector<ReplayRun>& fi
 }
 
 // Every candidate effect, fitted with the base parameters started from the refit, all at once; best first.
-std::vector<ModelScore> ScoreCandidates(JobEvaluator& runner, const std::vector<ReplayRun>& fit,
+std::vector<ModelScore> ScoreCandidates(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit,
                                         const std::vector<ReplayRun>& holdout, const std::vector<FitParameter>& base,
                                         const ModelScore& refit, const DiagnosisOptions& options) {
   std::vector<FitParameter> refitted = base;
   for (std::size_t i = 0; i < base.size(); ++i) refitted[i].start = refit.fit.values[i];
   std::vector<std::future<ModelScore>> fits;
-  for (const aseries::EffectDescription* effect : Candidates(options.candidates)) {
+  for (const EffectDescription* effect : Candidates(options.candidates)) {
     fits.push_back(std::async(std::launch::async, [&, effect] {
-      return ScoreCandidate(runner, fit, holdout, refitted, *effect, options);
+      return ScoreCandidate(replays, fit, holdout, refitted, *effect, options);
     }));
   }
   std::vector<ModelScore> scores;
@@ -247,26 +232,26 @@ std::vector<ModelScore> ScoreCandidates(JobEvaluator& runner, const std::vector<
 
 }  // namespace
 
-Diagnosis Diagnose(JobEvaluator& runner, const Rig& rig, const std::vector<ReplayRun>& fit_given,
+Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<ReplayRun>& fit_given,
                    const std::vector<ReplayRun>& holdout_given, const std::vector<ValueAssignment>& model,
                    const DiagnosisOptions& options) {
   const auto started = std::chrono::steady_clock::now();
-  const std::uint64_t jobs_before = runner.jobs_run();
+  const std::uint64_t replays_before = replays.replays_run();
   Diagnosis d;
   std::vector<ReplayRun> fit, holdout;
   SplitRuns(fit_given, holdout_given, fit, holdout, d);
 
   // 1. The model as given.
-  d.before = Snapshot(runner, fit, holdout, {}, rig.step, /*record=*/true);
+  d.before = Snapshot(replays, fit, holdout, {}, rig.step, /*record=*/true);
 
   // 2. Its own parameters refitted.
   const std::vector<FitParameter> base = BaseParameters(rig, model);
-  d.base = ScoreFit(runner, fit, holdout, base, {}, options.fit);
+  d.base = ScoreFit(replays, fit, holdout, base, {}, options.fit);
   d.base.label = "refit";
   d.base.score = d.base.holdout_rms * d.base.holdout_rms;
 
   // 3. Every candidate effect.
-  d.candidates = ScoreCandidates(runner, fit, holdout, base, d.base, options);
+  d.candidates = ScoreCandidates(replays, fit, holdout, base, d.base, options);
 
   // 4. The verdict, and the gap of the model it leaves.
   const bool won = !d.candidates.empty() && d.candidates[0].score < options.win_ratio * d.base.score;
@@ -274,12 +259,12 @@ Diagnosis Diagnose(JobEvaluator& runner, const Rig& rig, const std::vector<Repla
   d.quantity = won ? d.candidates[0].quantity : "speed";
   d.model_values = won ? ModelOf(d.candidates[0], d.effect) : ModelOf(d.base, "");
   // The fitted model's replays are recorded for replays/<run>.orcsrec: the winner's, else the refit's.
-  d.refit = Snapshot(runner, fit, holdout, ModelOf(d.base, ""), rig.step, /*record=*/!won);
-  d.after = won ? Snapshot(runner, fit, holdout, d.model_values, rig.step, /*record=*/true) : d.refit;
+  d.refit = Snapshot(replays, fit, holdout, ModelOf(d.base, ""), rig.step, /*record=*/!won);
+  d.after = won ? Snapshot(replays, fit, holdout, d.model_values, rig.step, /*record=*/true) : d.refit;
   d.verdict = Verdict(d, options);
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  d.jobs = runner.jobs_run() - jobs_before;
+  d.jobs = replays.replays_run() - replays_before;
   return d;
 }
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

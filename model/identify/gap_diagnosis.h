@@ -1,5 +1,5 @@
 // The gap workflow (docs/gap.md): replay the measured runs under the current model, refit the model's own
-// parameters, then try every effect of the catalogue (model/aseries/motor_effects.h) — each fitted together with
+// parameters, then try every effect of the catalogue (model/identify/effect_catalogue.h) — each fitted together with
 // the base parameters, each scored on held-out runs with a penalty per added parameter — and name the winner only
 // when it clearly beats "nothing missing".
 #pragma once
@@ -8,14 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "clients/gap/gap_statistics.h"
-#include "clients/batch/job_evaluator.h"
-#include "clients/gap/model_fit.h"
-#include "clients/gap/replay.h"
+#include "model/identify/gap_statistics.h"
+#include "model/identify/model_fit.h"
+#include "model/identify/replay.h"
+#include "model/identify/replay_evaluator.h"
 
-namespace orcs::gap {
-
-using batch::JobEvaluator;  // what runs the fits' jobs: the broker (batch::JobRunner) or a test's stand-in
+namespace orcs::identify {
 
 struct DiagnosisOptions {
   FitOptions fit;                        ///< optimiser budget and seed of every fit
@@ -70,16 +68,16 @@ struct Diagnosis {
   std::string quantity;                   ///< the quantity its residual is plotted against ("speed" when none)
   std::vector<Override> model_values;     ///< the fitted model: refit base values, winner's switch and values
   double seconds = 0.0;                   ///< wall clock
-  std::uint64_t jobs = 0;                 ///< replay jobs run
+  std::uint64_t jobs = 0;                 ///< replays run (in orcs-gap each is one job)
 };
 
 /// Runs the whole workflow. `holdout` may be empty: then the last fit run is held out (when there are two or
 /// more), else scores are in-sample. Throws InputError for unknown candidate names.
-Diagnosis Diagnose(JobEvaluator& runner, const Rig& rig, const std::vector<ReplayRun>& fit,
+Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<ReplayRun>& fit,
                    const std::vector<ReplayRun>& holdout, const std::vector<ValueAssignment>& model,
                    const DiagnosisOptions& options);
 
 /// The base parameters every diagnosis refits first, with the model's values as start.
 std::vector<FitParameter> BaseParameters(const Rig& rig, const std::vector<ValueAssignment>& model);
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

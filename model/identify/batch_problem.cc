@@ -1,9 +1,9 @@
-#include "clients/evolve/batch_problem.h"
+#include "model/identify/batch_problem.h"
 
 #include <algorithm>
 #include <cassert>
 
-namespace orcs::evolve {
+namespace orcs::identify {
 
 void GenerationCache::EvaluateRecorded() {
   if (recorded.empty()) return;
@@ -48,6 +48,6 @@ std::vector<double> BatchProblem::Answer(const std::vector<pagmo::vector_double>
   return objectives;
 }
 
-}  // namespace orcs::evolve
+}  // namespace orcs::identify
 
-PAGMO_S11N_PROBLEM_IMPLEMENT(orcs::evolve::BatchProblem)
+PAGMO_S11N_PROBLEM_IMPLEMENT(orcs::identify::BatchProblem)

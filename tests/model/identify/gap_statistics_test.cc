@@ -1,6 +1,6 @@
 // The gap workflow's residual statistics, on synthetic traces whose answers are known: offsets, delays,
 // dead-band errors at rest, errors at reversals, under load and while accelerating.
-#include "clients/gap/gap_statistics.h"
+#include "model/identify/gap_statistics.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@
 #include <random>
 #include <stdexcept>
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 using ::testing::HasSubstr;
@@ -377,4 +377,4 @@ TEST(GapStatisticsTest, GapRmsPoolsAllSamplesOfAllChannels) {
 }
 
 }  // namespace
-}  // namespace orcs::gap
+}  // namespace orcs::identify

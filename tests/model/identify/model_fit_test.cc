@@ -1,7 +1,7 @@
-// The fitter on a cheap analytic system instead of simulations: a JobEvaluator stand-in answers each replay job
-// with an RMS error (degrees) computed from the job's overrides, so the tests check the optimiser, the unit-box
+// The fitter on a cheap analytic system instead of simulations: a ReplayEvaluator stand-in answers each replay
+// with an RMS error (degrees) computed from its overrides, so the tests check the optimiser, the unit-box
 // mapping (log-scaled and linear) and the pooling of runs without a broker or a physics engine.
-#include "clients/gap/model_fit.h"
+#include "model/identify/model_fit.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <map>
 #include <string>
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 // The hidden truth: /A = 2.0 (searched on a log scale over 0.1…10), /B = 0.3 (linear over −1…1).
@@ -18,34 +18,32 @@ constexpr double kTrueA = 2.0;
 constexpr double kTrueB = 0.3;
 
 // A run's RMS error: 10° per unit of log-distance in A and per unit of distance in B, plus the run's own floor
-// (what no parameter can explain). A job whose /A is negative "goes unstable".
-class AnalyticEvaluator : public batch::JobEvaluator {
+// (what no parameter can explain). A replay whose /A is negative "goes unstable".
+class AnalyticEvaluator : public ReplayEvaluator {
  public:
-  std::vector<v1::Result> Run(std::vector<v1::Job> jobs) override {
-    std::vector<v1::Result> results;
-    for (const v1::Job& job : jobs) {
+  std::vector<ReplayOutcome> Replay(const std::vector<ReplayRequest>& requests) override {
+    std::vector<ReplayOutcome> outcomes;
+    for (const ReplayRequest& request : requests) {
       std::map<std::string, double> values;
-      for (const v1::Override& o : job.overrides()) values[o.path()] = std::stod(o.value());
+      for (const auto& [path, value] : request.overrides) values[path] = std::stod(value);
       const double a = values.count("/A") ? values["/A"] : 1.0;
       const double b = values.count("/B") ? values["/B"] : 0.0;
-      const double floor = nlohmann::json::parse(job.scenario_json()).value("floor_deg", 0.0);
-      v1::Result result;
-      if (a < 0) {
-        result.set_status(v1::Result::UNSTABLE_PHYSICS);
-      } else {
-        result.set_status(v1::Result::OK);
+      const double floor = request.run->scenario.value("floor_deg", 0.0);
+      ReplayOutcome outcome;
+      outcome.ok = a >= 0;
+      if (outcome.ok) {
         const double da = 10.0 * std::log(a / kTrueA), db = 10.0 * (b - kTrueB);
-        result.set_fitness(std::sqrt(da * da + db * db + floor * floor));
+        outcome.rms = std::sqrt(da * da + db * db + floor * floor);
       }
-      results.push_back(result);
+      outcomes.push_back(outcome);
     }
-    jobs_ += jobs.size();
-    return results;
+    replays_ += requests.size();
+    return outcomes;
   }
-  std::uint64_t jobs_run() const override { return jobs_; }
+  std::uint64_t replays_run() const override { return replays_; }
 
  private:
-  std::atomic<std::uint64_t> jobs_{0};
+  std::atomic<std::uint64_t> replays_{0};
 };
 
 ReplayRun AnalyticRun(const std::string& name, std::size_t samples, double floor_deg) {
@@ -69,8 +67,8 @@ TEST(ModelFitTest, FindsTheAnalyticOptimumFromAFarStartAndSaysItConverged) {
   EXPECT_NEAR(outcome.values[1], kTrueB, 0.02);
   EXPECT_LT(outcome.mse, 0.05);  // deg²
   EXPECT_TRUE(outcome.converged) << outcome.convergence;
-  // One run: one job per point (a point asked for twice would be answered from the cache; none is here).
-  EXPECT_EQ(static_cast<std::uint64_t>(outcome.evaluations), evaluator.jobs_run());
+  // One run: one replay per point (a point asked for twice would be answered from the cache; none is here).
+  EXPECT_EQ(static_cast<std::uint64_t>(outcome.evaluations), evaluator.replays_run());
 }
 
 TEST(ModelFitTest, TheSameInputsGiveTheSameFitAndAnotherSeedSearchesElsewhere) {
@@ -98,8 +96,8 @@ TEST(ModelFitTest, TheObjectivePoolsRunsBySamplesAndScoresAFailedReplayAsFailed)
   ASSERT_EQ(errors.size(), 2u);
   EXPECT_DOUBLE_EQ(errors[0], 7.0);
   EXPECT_EQ(errors[1], ReplayObjective::kFailedPoint);
-  EXPECT_EQ(evaluator.jobs_run(), 4u);  // two points × two runs, one batch
+  EXPECT_EQ(evaluator.replays_run(), 4u);  // two points × two runs, one batch
 }
 
 }  // namespace
-}  // namespace orcs::gap
+}  // namespace orcs::identify

@@ -31,7 +31,7 @@
 #include <string_view>
 #include <vector>
 
-namespace orcs::gap {
+namespace orcs::identify {
 
 /// One joint's traces on a common time base (row k at k·step), all the same length.
 struct ChannelTrace {
@@ -92,4 +92,4 @@ double GapRms(const std::vector<ChannelTrace>& traces);
 /// The channels sorted by rms, worst first (equal rms keep the traces' order).
 std::vector<ChannelStatistics> AnalyseChannels(const std::vector<ChannelTrace>& traces, double step);
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

@@ -1,4 +1,4 @@
-#include "clients/gap/replay.h"
+#include "model/identify/replay.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include "model/scene/scenario.h"
 #include "model/scene/simulation.h"
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 std::string PendulumXml(const RigOptions& options, const std::string& agent) {
@@ -130,22 +130,6 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
   return replay;
 }
 
-v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log) {
-  nlohmann::json scenario = replay.scenario;
-  if (log) scenario["log"] = {"/Sim/" + scenario["agent"].get<std::string>() + "/.*/(JointAngle|MotorTorque)"};
-  v1::Job job;
-  job.set_scenario_json(scenario.dump());
-  job.set_genome_json("[]");
-  job.set_seed(0);
-  job.set_time_limit_seconds(scene::DefaultTimeLimitSeconds(scenario["duration"].get<double>()));
-  for (const Override& entry : overrides) {
-    v1::Override* override_value = job.add_overrides();
-    override_value->set_path(entry.first);
-    override_value->set_value(entry.second);
-  }
-  return job;
-}
-
 std::string MeasuredRecording(const Rig& rig, const std::vector<ValueAssignment>& model, const ReplayRun& replay) {
   const MeasuredRun& run = *replay.run;
   scene::Simulation simulation;
@@ -182,27 +166,4 @@ std::string MeasuredRecording(const Rig& rig, const std::vector<ValueAssignment>
   return recorder.Finish();
 }
 
-std::vector<std::pair<std::string, std::vector<double>>> ParseLogColumns(const std::string& csv,
-                                                                         const std::string& source) {
-  std::vector<std::pair<std::string, std::vector<double>>> columns;
-  std::istringstream lines(csv);
-  std::string line;
-  while (std::getline(lines, line)) {
-    if (line.rfind("# columns: ", 0) == 0) {
-      for (std::string_view name : text::Split(std::string_view(line).substr(11), ',')) {
-        columns.emplace_back(std::string(text::Trim(name)), std::vector<double>{});
-      }
-      continue;
-    }
-    if (line.empty() || line[0] == '#') continue;
-    if (columns.empty()) throw InputError(source + ": no '# columns:' line before the data");
-    const std::vector<std::string_view> fields = text::Split(line, ',');
-    for (std::size_t c = 0; c < columns.size() && c < fields.size(); ++c) {
-      columns[c].second.push_back(text::ParseDouble(fields[c]).value_or(std::nan("")));
-    }
-  }
-  if (columns.empty()) throw InputError(source + ": no '# columns:' line");
-  return columns;
-}
-
-}  // namespace orcs::gap
+}  // namespace orcs::identify

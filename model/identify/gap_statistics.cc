@@ -1,11 +1,11 @@
-#include "clients/gap/gap_statistics.h"
+#include "model/identify/gap_statistics.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
 
-namespace orcs::gap {
+namespace orcs::identify {
 namespace {
 
 constexpr std::size_t kSlopeHalfWindow = 5;    // samples each side of the least-squares slope
@@ -285,4 +285,4 @@ std::vector<ChannelStatistics> AnalyseChannels(const std::vector<ChannelTrace>& 
   return statistics;
 }
 
-}  // namespace orcs::gap
+}  // namespace orcs::identify

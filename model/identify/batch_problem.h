@@ -1,6 +1,6 @@
 // The one pagmo2 problem of orcs: decision vectors in the unit box, one objective to minimise, every value from a
-// batch of jobs run through the broker. orcs-batch evolve minimises −fitness of genomes; orcs-gap's fits
-// (clients/gap/model_fit.cc) minimise the replays' squared error, calling batch_fitness through pagmo's member_bfe,
+// batch of jobs run through the broker. orcs-batch evolve (clients/evolve/evolution.h) minimises −fitness of
+// genomes; the gap workflow's fits (model/identify/model_fit.cc) minimise the replays' squared error, calling batch_fitness through pagmo's member_bfe,
 // so that each generation is one batch in lookup mode.
 //
 // pagmo 2.18's CMA-ES, xNES, SGA and DE ask for fitness values one at a time, but within a generation what they
@@ -24,7 +24,7 @@
 #include <utility>
 #include <vector>
 
-namespace orcs::evolve {
+namespace orcs::identify {
 
 /// Shared by every copy pagmo makes of a BatchProblem.
 struct GenerationCache {
@@ -72,6 +72,9 @@ class BatchProblem {
   std::shared_ptr<GenerationCache> cache_;  ///< shared with Evolution
 };
 
-}  // namespace orcs::evolve
+}  // namespace orcs::identify
 
-PAGMO_S11N_PROBLEM_EXPORT_KEY(orcs::evolve::BatchProblem)
+// pagmo's PAGMO_S11N_PROBLEM_EXPORT_KEY, with the key the class had when it lived in clients/evolve: evolve's
+// checkpoints store the key, and checkpoints written before the move must still load.
+BOOST_CLASS_EXPORT_KEY2(pagmo::detail::prob_inner<orcs::identify::BatchProblem>, "udp orcs::evolve::BatchProblem")
+BOOST_CLASS_TRACKING(pagmo::detail::prob_inner<orcs::identify::BatchProblem>, boost::serialization::track_never)

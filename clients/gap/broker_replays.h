@@ -1,0 +1,37 @@
+// orcs-gap's replays as jobs: the gap workflow's ReplayEvaluator (model/identify/replay_evaluator.h) on top of a
+// batch::JobEvaluator, the broker in use. Each replay is one ordinary scenario job whose fitness term
+// "measured_error" is the replay's RMS error; its log carries the simulated joint angles and motor torques.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "clients/batch/job_evaluator.h"
+#include "model/identify/replay_evaluator.h"
+#include "orcs/v1/job.pb.h"
+
+namespace orcs::gap {
+
+class BrokerReplays : public identify::ReplayEvaluator {
+ public:
+  explicit BrokerReplays(batch::JobEvaluator& jobs) : jobs_(jobs) {}
+
+  std::vector<identify::ReplayOutcome> Replay(const std::vector<identify::ReplayRequest>& requests) override;
+  std::uint64_t replays_run() const override { return jobs_.jobs_run(); }
+
+ private:
+  batch::JobEvaluator& jobs_;
+};
+
+/// The job of one replay: the run's scenario with the overrides; with `log`, the scenario logs the simulated
+/// JointAngle and MotorTorque of every motor of the run's agent.
+v1::Job MakeReplayJob(const identify::ReplayRun& replay, const std::vector<identify::Override>& overrides, bool log);
+
+/// A simulated log (the CSV the worker returns) as columns: path → values per row. Throws InputError naming
+/// `source` when it has no "# columns:" line.
+std::vector<std::pair<std::string, std::vector<double>>> ParseLogColumns(const std::string& csv,
+                                                                         const std::string& source);
+
+}  // namespace orcs::gap

@@ -1,0 +1,35 @@
+#include "model/identify/effect_catalogue.h"
+
+namespace orcs::identify {
+
+const std::vector<EffectDescription>& EffectCatalogue() {
+  static const std::vector<EffectDescription> catalogue{
+      {"TransportDelay", "the command reaches the motor late", "velocity",
+       {{"/Effects/TransportDelay/Delay", "s", 0.005, 0.15, true}}},
+      {"DeadBand", "position errors within a margin are ignored", "command_error",
+       {{"/Effects/DeadBand/Margin", "deg", 0.1, 6.0, true}}},
+      {"BackEmf", "available torque falls with speed", "speed",
+       {{"/Effects/BackEmf/NoLoadSpeed", "rad/s", 1.0, 50.0, true}}},
+      {"Stribeck", "extra friction at low speed", "speed",
+       {{"/Effects/Stribeck/BreakawayTorque", "N·m", 0.005, 0.5, true},
+        {"/Effects/Stribeck/Velocity", "rad/s", 0.01, 1.0, true}}},
+      {"LoadFriction", "gearbox friction grows with the transmitted torque", "load",
+       {{"/Effects/LoadFriction/Coefficient", "1", 0.01, 1.0, true}}},
+      {"Backlash", "the output turns freely within a gap", "load",
+       {{"/Effects/Backlash/Width", "deg", 0.1, 8.0, true}}},
+      {"Elasticity", "the gear train is a torsional spring", "acceleration",
+       {{"/Effects/Elasticity/Stiffness", "N·m/rad", 0.5, 200.0, true}}},
+      {"RotorInertia", "the reflected rotor inertia adds to the joint's", "acceleration",
+       {{"/Effects/RotorInertia/Inertia", "kg·m²", 1e-4, 0.05, true}}},
+  };
+  return catalogue;
+}
+
+const EffectDescription* FindEffect(std::string_view name) {
+  for (const EffectDescription& effect : EffectCatalogue()) {
+    if (effect.name == name) return &effect;
+  }
+  return nullptr;
+}
+
+}  // namespace orcs::identify

@@ -1,0 +1,45 @@
+// The seam between the gap workflow's analysis and whatever runs its replays: the fits and the diagnosis ask a
+// ReplayEvaluator to replay measured runs under candidate models, so that the same analysis runs through a broker
+// (orcs-gap's BrokerReplays, clients/gap/broker_replays.h) and on a cheap analytic stand-in in unit tests.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/identify/replay.h"
+
+namespace orcs::identify {
+
+/// One replay to run: a measured run under the model with `overrides` applied after it.
+struct ReplayRequest {
+  const ReplayRun* run = nullptr;   ///< the run and its rig (owned by the caller)
+  std::vector<Override> overrides;  ///< repository path → value text, applied in order
+  bool log = false;                 ///< return the simulated JointAngle and MotorTorque of every motor
+  bool record = false;              ///< return the replay's recording (docs/recording.md)
+};
+
+/// What one replay gave.
+struct ReplayOutcome {
+  bool ok = false;  ///< the replay ran to its end (false: unstable physics, a timeout, a refused model)
+  double rms = std::numeric_limits<double>::quiet_NaN();  ///< RMS joint-angle error against the run, degrees
+  /// With ReplayRequest::log: the simulated columns by repository path ("/Sim/<agent>/<motor>/JointAngle"), one
+  /// value per measured row; empty when the replay failed.
+  std::vector<std::pair<std::string, std::vector<double>>> columns;
+  std::string recording;  ///< with ReplayRequest::record: the recording's bytes ("" when none was made)
+};
+
+class ReplayEvaluator {
+ public:
+  virtual ~ReplayEvaluator() = default;
+
+  /// Runs every request and returns the outcomes in the same order. Thread-safe: several fits call it at once.
+  virtual std::vector<ReplayOutcome> Replay(const std::vector<ReplayRequest>& requests) = 0;
+
+  /// Replays run so far.
+  virtual std::uint64_t replays_run() const = 0;
+};
+
+}  // namespace orcs::identify
