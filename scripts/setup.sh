@@ -5,6 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libode-dev            # ODE 0.16, double precision
+  libmujoco-dev         # MuJoCo 2.2.2: the second physics backend (model/physics/mujoco/)
   libeigen3-dev         # Eigen 3.4
   libzmq3-dev cppzmq-dev
   protobuf-compiler libprotobuf-dev

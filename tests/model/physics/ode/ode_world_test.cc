@@ -11,83 +11,13 @@
 #include <vector>
 
 #include "model/physics/physics_model.h"
+#include "tests/model/physics/test_worlds.h"
 
 namespace orcs::physics {
 namespace {
 
 using ::testing::HasSubstr;
-
-constexpr double kDt = 0.01;
-constexpr double kG = 9.81;
-constexpr double kPi = std::numbers::pi;
-
-GeomDescription MakeGeom(Shape shape, const Eigen::Vector3d& size, const std::string& material) {
-  GeomDescription geom;
-  geom.shape = shape;
-  geom.size = size;
-  geom.material = material;
-  return geom;
-}
-
-BodyDescription Floor(const std::string& material = "PVC") {
-  BodyDescription floor;
-  floor.name = "Floor";
-  floor.dynamic = false;
-  floor.geoms.push_back(MakeGeom(Shape::kPlane, Eigen::Vector3d::Zero(), material));
-  return floor;
-}
-
-BodyDescription Sphere(const std::string& name, double radius, double mass, const std::string& material,
-                       const Eigen::Vector3d& position) {
-  BodyDescription body;
-  body.name = name;
-  body.mass = mass;
-  body.position = position;
-  body.geoms.push_back(MakeGeom(Shape::kSphere, {radius, 0, 0}, material));
-  return body;
-}
-
-BodyDescription Box(const std::string& name, const Eigen::Vector3d& size, double mass, const std::string& material,
-                    const Eigen::Vector3d& position) {
-  BodyDescription body;
-  body.name = name;
-  body.mass = mass;
-  body.position = position;
-  body.geoms.push_back(MakeGeom(Shape::kBox, size, material));
-  return body;
-}
-
-BodyDescription StaticBox(const std::string& name, const Eigen::Vector3d& size, const Eigen::Vector3d& position) {
-  BodyDescription body = Box(name, size, 0.0, "PVC", position);
-  body.dynamic = false;
-  return body;
-}
-
-std::shared_ptr<const PhysicsModel> Compile(PhysicsDescription description) {
-  return std::make_shared<const PhysicsModel>(std::move(description));
-}
-
-// Steps for `seconds`; fails the test at the first step that is not kOk.
-void RunFor(PhysicsWorld& world, double seconds, const PhysicsParameters& parameters = {}) {
-  const int steps = static_cast<int>(std::lround(seconds / kDt));
-  for (int i = 0; i < steps; ++i) {
-    ASSERT_EQ(world.Step(kDt, parameters), StepStatus::kOk) << "step " << i << ": " << world.last_error();
-  }
-}
-
-PhysicsParameters ZeroGravity() {
-  PhysicsParameters p;
-  p.gravity = Eigen::Vector3d::Zero();
-  return p;
-}
-
-// Gravity tilted by `degrees` about z: the floor becomes a slope going down towards +x.
-PhysicsParameters TiltedGravity(double degrees) {
-  PhysicsParameters p;
-  const double angle = degrees * kPi / 180.0;
-  p.gravity = kG * Eigen::Vector3d(std::sin(angle), -std::cos(angle), 0.0);
-  return p;
-}
+using namespace test_worlds;  // NOLINT: the shared small worlds
 
 TEST(OdeWorldTest, SphereDroppedOnFloorComesToRest) {
   PhysicsDescription d;
@@ -223,27 +153,6 @@ TEST(OdeWorldTest, FrictionScalingScalesOnlyTheDynamicCoefficient) {
   EXPECT_NEAR(v2 - v1, expected, 0.02 * expected);
 }
 
-// A 0.1 kg bob whose centre is 0.2 m from a hinge at the origin about +z, hinged to the world.
-PhysicsDescription Pendulum(bool limited, bool motorised) {
-  PhysicsDescription d;
-  d.bodies = {Box("Bob", {0.1, 0.02, 0.02}, 0.1, "ABS", {0.2, 0, 0})};
-  JointDescription hinge;
-  hinge.name = "Pivot";
-  hinge.body1 = "Bob";
-  hinge.axis = {0, 0, 1};
-  hinge.limited = limited;
-  hinge.lo = -0.5;
-  hinge.hi = 0.5;
-  hinge.motorised = motorised;
-  d.joints.push_back(hinge);
-  return d;
-}
-
-double BobAngle(const PhysicsWorld& world) {
-  const Eigen::Vector3d p = world.body_state(0).position;
-  return std::atan2(p.y(), p.x());
-}
-
 TEST(OdeWorldTest, HingeAngleFollowsTheAxisRightHandRule) {
   auto world = MakeOdeWorld(Compile(Pendulum(false, false)));
   RunFor(*world, 0.2);
@@ -337,13 +246,6 @@ TEST(OdeWorldTest, FixedJointWeldsToTheWorld) {
   RunFor(*world, 1.0);
   EXPECT_NEAR(world->body_state(0).position.y(), 1.0, 1e-4);
   EXPECT_EQ(world->joint_angle(0), 0.0);
-}
-
-// A ball dropped on a static shelf at 0.3 m (top at 0.31 m) above the floor.
-PhysicsDescription BallAboveShelf() {
-  PhysicsDescription d;
-  d.bodies = {Floor(), StaticBox("Shelf", {1, 0.02, 1}, {0, 0.3, 0}), Sphere("Ball", 0.05, 0.1, "ABS", {0, 0.6, 0})};
-  return d;
 }
 
 TEST(OdeWorldTest, ShelfStopsTheBall) {

@@ -1,0 +1,44 @@
+// The MJCF (MuJoCo's XML) of a PhysicsModel: how the MuJoCo backend compiles a world, and what
+// `--export-mjcf` writes for users and for benchmarks against raw MuJoCo. Generated, never hand-written: the
+// PhysicsDescription stays the single source.
+//
+// Mapping (docs/model.md, "The MuJoCo backend"):
+//   - static bodies' geoms sit in <worldbody> at their world pose; a plane's normal (the body's +y) becomes the
+//     MuJoCo plane's local +z;
+//   - dynamic bodies form trees: a body joined to the world is a root with that joint (or welded: no joint), any
+//     other component's first body is a root with a <freejoint>, and every other body is nested under the body it
+//     is joined to, with the joint in the child: hinges keep their axis, limits and anchor (the axis flipped when
+//     the child is the joint's body2, so that the angle still measures body1 against body2), fixed joints weld by
+//     nesting. A joint that would close a loop is refused (InputError naming it);
+//   - inertia is the original's rule (uniform solid of geoms[0]'s shape with the total mass, centred at the body
+//     origin), given explicitly; extra geoms only collide;
+//   - every motorised hinge gets a velocity actuator (force = gain·(ctrl − rate), force-limited) named
+//     "motor:<joint>";
+//   - parent and child bodies collide (as in ODE); the exclusion list is applied per contact by the world,
+//     which still reports excluded contacts.
+#pragma once
+
+#include <string>
+
+#include "model/physics/physics_model.h"
+
+namespace orcs::physics {
+
+/// Options of the generated model that the world sets at compile time.
+struct MjcfOptions {
+  double timestep = 0.01;          ///< s; the world overrides it per step
+  bool implicit_integrator = true;  ///< MuJoCo's implicit-in-velocity integrator (else Euler)
+  double motor_gain = 1000.0;      ///< N·m·s/rad: a velocity actuator's gain (how stiffly it holds its rate)
+  int max_contacts = 1000;         ///< MuJoCo's contact buffer (nconmax)
+  int max_constraint_rows = 5000;  ///< MuJoCo's constraint buffer (njmax)
+};
+
+/// The MJCF text of `model`. Throws InputError for a joint that closes a kinematic loop.
+std::string ExportMjcf(const PhysicsModel& model, const MjcfOptions& options = {});
+
+/// The MJCF names the export gives: a dynamic or static body's geom `index_in_body` of body `body`.
+std::string MjcfGeomName(const PhysicsModel& model, int geom);
+/// A motorised hinge's actuator.
+std::string MjcfMotorName(const PhysicsModel& model, int joint);
+
+}  // namespace orcs::physics

@@ -1,0 +1,415 @@
+#include "model/physics/mujoco/mujoco_world.h"
+
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Eigenvalues>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "model/core/error.h"
+#include "model/physics/material_table.h"
+#include "model/physics/mujoco/mjcf_export.h"
+
+namespace orcs::physics {
+namespace {
+
+// MuJoCo prints warnings itself unless told otherwise; the world turns them into a step status instead.
+void IgnoreWarning(const char*) {}
+
+void InstallHandlersOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] { mju_user_warning = IgnoreWarning; });
+}
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+using DataPtr = std::unique_ptr<mjData, DataDeleter>;
+
+ModelPtr CompileMjcf(const std::string& xml) {
+  InstallHandlersOnce();
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* kFile = "orcs.xml";
+  if (mj_makeEmptyFileVFS(vfs.get(), kFile, static_cast<int>(xml.size())) != 0) {
+    throw InputError("MuJoCo: cannot hold the generated model in memory");
+  }
+  std::memcpy(vfs->filedata[vfs->nfile - 1], xml.data(), xml.size());
+  char error[1000] = "";
+  ModelPtr model(mj_loadXML(kFile, vfs.get(), error, sizeof error));
+  mj_deleteVFS(vfs.get());
+  if (!model) throw InputError(std::string("MuJoCo cannot compile the world: ") + error);
+  return model;
+}
+
+int Id(const mjModel* m, mjtObj type, const std::string& name) {
+  const int id = mj_name2id(m, type, name.c_str());
+  if (id < 0) throw std::logic_error("generated MJCF lacks '" + name + "'");
+  return id;
+}
+
+Eigen::Vector3d Vec(const mjtNum* v) { return {v[0], v[1], v[2]}; }
+
+constexpr std::array<const char*, mjNWARNING> kWarningNames = {
+    "(near) singular inertia matrix", "too many contacts in the contact list", "too many constraints",
+    "too many visual geoms", "bad number in qpos", "bad number in qvel", "bad number in qacc", "bad number in ctrl"};
+
+class MujocoWorld : public PhysicsWorld {
+ public:
+  explicit MujocoWorld(std::shared_ptr<const PhysicsModel> model)
+      : model_(std::move(model)), pristine_(CompileMjcf(ExportMjcf(*model_))) {
+    m_.reset(mj_copyModel(nullptr, pristine_.get()));
+    d_.reset(mj_makeData(m_.get()));
+    MapIndices();
+    material_of_body_.resize(model_->body_count());
+    for (int b = 0; b < model_->body_count(); ++b) {
+      const BodyDescription& body = model_->body(b);
+      material_of_body_[b] = {body.static_friction, body.dynamic_friction, body.elasticity};
+    }
+    jacobian_.resize(6 * m_->nv);
+    Reset();
+  }
+
+  void Reset() override {
+    mj_copyModel(m_.get(), pristine_.get());
+    mj_resetData(m_.get(), d_.get());
+    gain_.assign(m_->nu, 0.0);
+    saturated_.assign(m_->nu, false);
+    steps_ = 0;
+    for (int a = 0; a < m_->nu; ++a) {
+      m_->actuator_forcerange[2 * a] = m_->actuator_forcerange[2 * a + 1] = 0.0;
+      gain_[a] = pristine_->actuator_gainprm[a * mjNGAIN];
+    }
+    applied_.assign(m_->nv, 0.0);
+    contacts_.clear();
+    status_ = StepStatus::kOk;
+    last_error_.clear();
+    UpdateKinematics();
+  }
+
+  StepStatus Step(double dt, const PhysicsParameters& parameters) override {
+    if (status_ != StepStatus::kOk) return status_;
+    parameters_ = &parameters;
+    m_->opt.timestep = dt;
+    for (int i = 0; i < 3; ++i) m_->opt.gravity[i] = parameters.gravity[i];
+    std::copy(applied_.begin(), applied_.end(), d_->qfrc_applied);
+    const std::array<int, mjNWARNING> warnings_before = WarningCounts();
+    PositionStages();
+    mj_sensorPos(m_.get(), d_.get());
+    mj_energyPos(m_.get(), d_.get());
+    mj_fwdVelocity(m_.get(), d_.get());
+    mj_sensorVel(m_.get(), d_.get());
+    mj_energyVel(m_.get(), d_.get());
+    ChooseMotorModes();
+    mj_step2(m_.get(), d_.get());
+    ++steps_;
+    std::fill(applied_.begin(), applied_.end(), 0.0);
+    std::fill(d_->qfrc_applied, d_->qfrc_applied + m_->nv, 0.0);
+    UpdateKinematics();
+    status_ = CheckWarnings(warnings_before);
+    if (status_ == StepStatus::kOk) status_ = CheckStability(parameters);
+    return status_;
+  }
+
+  const std::vector<Contact>& contacts() const override { return contacts_; }
+
+  BodyState body_state(int body) const override {
+    BodyState state;
+    if (mj_body_[body] < 0) {
+      state.position = model_->body(body).position;
+      state.orientation = model_->body(body).orientation.normalized();
+      return state;
+    }
+    const int id = mj_body_[body];
+    state.position = Vec(d_->xpos + 3 * id);
+    const mjtNum* q = d_->xquat + 4 * id;
+    state.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+    mjtNum velocity[6];
+    mj_objectVelocity(m_.get(), d_.get(), mjOBJ_BODY, id, velocity, 0);
+    state.angular_velocity = Vec(velocity);
+    state.linear_velocity = Vec(velocity + 3);
+    return state;
+  }
+
+  void SetBodyState(int body, const BodyState& state) override {
+    const int id = mj_body_[body];
+    const int joint = id < 0 ? -1 : m_->body_jntadr[id];
+    if (joint < 0 || m_->jnt_type[joint] != mjJNT_FREE) {
+      throw std::logic_error("the MuJoCo backend sets the state of free bodies only, not of '" +
+                             model_->body(body).name + "'");
+    }
+    mjtNum* qpos = d_->qpos + m_->jnt_qposadr[joint];
+    mjtNum* qvel = d_->qvel + m_->jnt_dofadr[joint];
+    const Eigen::Quaterniond q = state.orientation.normalized();
+    const Eigen::Vector3d local_spin = q.conjugate() * state.angular_velocity;  // a free joint's ω is local
+    for (int i = 0; i < 3; ++i) {
+      qpos[i] = state.position[i];
+      qvel[i] = state.linear_velocity[i];
+      qvel[3 + i] = local_spin[i];
+    }
+    qpos[3] = q.w(), qpos[4] = q.x(), qpos[5] = q.y(), qpos[6] = q.z();
+    UpdateKinematics();
+  }
+
+  double joint_angle(int joint) const override {
+    return hinge_qpos_[joint] < 0 ? 0.0 : d_->qpos[hinge_qpos_[joint]];
+  }
+  double joint_rate(int joint) const override { return hinge_dof_[joint] < 0 ? 0.0 : d_->qvel[hinge_dof_[joint]]; }
+  // A servo's torque is what the implicit step applied, gain·(ctrl − rate after the step); a saturated motor's is
+  // its limit.
+  double joint_motor_torque(int joint) const override {
+    const int a = motor_[joint];
+    if (a < 0 || steps_ == 0) return 0.0;
+    if (saturated_[a]) return m_->actuator_biasprm[a * mjNBIAS];
+    return gain_[a] * (d_->ctrl[a] - joint_rate(joint));
+  }
+
+  void SetJointMotor(int joint, double velocity, double max_torque) override {
+    const int a = motor_[joint];
+    if (a < 0) return;
+    d_->ctrl[a] = velocity;
+    m_->actuator_forcerange[2 * a] = -max_torque;
+    m_->actuator_forcerange[2 * a + 1] = max_torque;
+  }
+  void ChooseMotorModes();
+  void SetJointFriction(int joint, double max_torque) override {
+    if (hinge_dof_[joint] >= 0) m_->dof_frictionloss[hinge_dof_[joint]] = max_torque;
+  }
+  void AddJointTorque(int joint, double torque) override {
+    if (hinge_dof_[joint] >= 0) applied_[hinge_dof_[joint]] += torque;
+  }
+  // The actuator's force is gain·(ctrl − rate): under load τ the rate settles at ctrl − τ/gain, the compliance
+  // 1/gain exactly; 0 restores the stiff gain of the generated model.
+  void SetJointMotorCompliance(int joint, double compliance) override {
+    const int a = motor_[joint];
+    if (a < 0) return;
+    gain_[a] = compliance > 0.0 ? 1.0 / compliance : pristine_->actuator_gainprm[a * mjNGAIN];
+  }
+  void AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) override;
+
+  const std::string& last_error() const override { return last_error_; }
+
+ private:
+  void MapIndices();
+  void PositionStages();
+  void RewriteContacts();
+  double ChooseFriction(const mjContact& contact, const ContactMaterial& material);
+  void UpdateKinematics() {
+    mj_kinematics(m_.get(), d_.get());
+    mj_comPos(m_.get(), d_.get());
+    mj_comVel(m_.get(), d_.get());
+  }
+  std::array<int, mjNWARNING> WarningCounts() const {
+    std::array<int, mjNWARNING> counts{};
+    for (int i = 0; i < mjNWARNING; ++i) counts[i] = d_->warning[i].number;
+    return counts;
+  }
+  StepStatus CheckWarnings(const std::array<int, mjNWARNING>& before);
+  StepStatus CheckStability(const PhysicsParameters& parameters);
+
+  std::shared_ptr<const PhysicsModel> model_;
+  ModelPtr pristine_;                         ///< as compiled: Reset() restores m_ from it
+  ModelPtr m_;                                ///< this world's model, with the run's motor and friction settings
+  DataPtr d_;                                 ///< this world's state
+  std::vector<int> mj_body_;                  ///< orcs body → MuJoCo body id, −1 for a static body
+  std::vector<int> orcs_geom_;                ///< MuJoCo geom id → orcs geom
+  std::vector<int> hinge_qpos_;               ///< orcs joint → qpos address of its hinge, −1 for fixed joints
+  std::vector<int> hinge_dof_;                ///< orcs joint → dof address of its hinge, −1 for fixed joints
+  std::vector<int> motor_;                    ///< orcs joint → actuator id, −1 for unmotorised joints
+  std::vector<BodyFrictionParameters> material_of_body_;  ///< the fallback friction of unknown materials, per body
+  std::vector<double> gain_;                  ///< per actuator: its servo gain, N·m·s/rad (1 / compliance)
+  std::vector<bool> saturated_;               ///< per actuator: in the last step, a constant torque at its limit
+  long steps_ = 0;                            ///< steps since Reset (no motor torque before the first)
+  std::vector<double> applied_;               ///< per dof: torques added for the next step (AddJointTorque)
+  std::vector<mjtNum> jacobian_;              ///< scratch: 3 × nv translation and 3 × nv rotation rows
+  std::vector<Contact> contacts_;             ///< found in the last step
+  const PhysicsParameters* parameters_ = nullptr;  ///< the running step's parameters
+  StepStatus status_ = StepStatus::kOk;
+  std::string last_error_;
+};
+
+// MuJoCo 2.2.2's implicit integrator treats an actuator's velocity gain as damping even while its force is
+// clamped, which would make a torque-limited motor accelerate far too slowly. So each step a motor is either a
+// servo (force = gain·(ctrl − rate)) or a constant torque at its limit towards the target, with no velocity term.
+// The servo is chosen when the force it would apply in this step stays within the limit: for the joint's own
+// inertia I (the diagonal of M) and the other forces f on its dof, the implicit step gives
+// gain·I/(I + dt·gain)·(ctrl − rate − dt·f/I). Runs after the velocity stages, when M and f are known.
+void MujocoWorld::ChooseMotorModes() {
+  const double dt = m_->opt.timestep;
+  for (int a = 0; a < m_->nu; ++a) {
+    const int dof = m_->jnt_dofadr[m_->actuator_trnid[2 * a]];
+    const double gear = m_->actuator_gear[6 * a];
+    const double limit = m_->actuator_forcerange[2 * a + 1];
+    const double inertia = d_->qM[m_->dof_Madr[dof]];
+    const double other = gear * (d_->qfrc_applied[dof] + d_->qfrc_passive[dof] - d_->qfrc_bias[dof]);
+    const double needed = d_->ctrl[a] - gear * d_->qvel[dof] - dt * other / inertia;
+    const double servo = gain_[a] * inertia / (inertia + dt * gain_[a]) * needed;
+    mjtNum* gain = m_->actuator_gainprm + a * mjNGAIN;
+    mjtNum* bias = m_->actuator_biasprm + a * mjNBIAS;
+    saturated_[a] = std::abs(servo) > limit;
+    // The servo's explicit force gain·(ctrl − rate) may lie far beyond the limit although the implicit step's
+    // force does not: only the constant torque is clamped.
+    m_->actuator_forcelimited[a] = saturated_[a] ? 1 : 0;
+    gain[0] = saturated_[a] ? 0.0 : gain_[a];
+    bias[0] = saturated_[a] ? (servo > 0.0 ? limit : -limit) : 0.0;
+    bias[2] = saturated_[a] ? 0.0 : -gain_[a];
+  }
+}
+
+void MujocoWorld::MapIndices() {
+  const mjModel* m = m_.get();
+  mj_body_.assign(model_->body_count(), -1);
+  for (int b = 0; b < model_->body_count(); ++b) {
+    if (model_->body(b).dynamic) mj_body_[b] = Id(m, mjOBJ_BODY, model_->body(b).name);
+  }
+  orcs_geom_.assign(m->ngeom, -1);
+  for (int g = 0; g < model_->geom_count(); ++g) orcs_geom_[Id(m, mjOBJ_GEOM, MjcfGeomName(*model_, g))] = g;
+  hinge_qpos_.assign(model_->joint_count(), -1);
+  hinge_dof_.assign(model_->joint_count(), -1);
+  motor_.assign(model_->joint_count(), -1);
+  for (int j = 0; j < model_->joint_count(); ++j) {
+    const JointDescription& joint = model_->joint(j);
+    if (joint.type != JointType::kHinge) continue;
+    const int id = Id(m, mjOBJ_JOINT, joint.name);
+    hinge_qpos_[j] = m->jnt_qposadr[id];
+    hinge_dof_[j] = m->jnt_dofadr[id];
+    if (joint.motorised) motor_[j] = Id(m, mjOBJ_ACTUATOR, MjcfMotorName(*model_, j));
+  }
+}
+
+// mj_fwdPosition's stages, with the contacts rewritten between collision and constraint making.
+void MujocoWorld::PositionStages() {
+  mjModel* m = m_.get();
+  mjData* d = d_.get();
+  mj_checkPos(m, d);
+  mj_checkVel(m, d);
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  mj_camlight(m, d);
+  mj_tendon(m, d);
+  mj_crb(m, d);
+  mj_factorM(m, d);
+  mj_collision(m, d);
+  RewriteContacts();
+  mj_makeConstraint(m, d);
+  mj_transmission(m, d);
+}
+
+void MujocoWorld::RewriteContacts() {
+  const PhysicsParameters& p = *parameters_;
+  contacts_.clear();
+  for (int i = 0; i < d_->ncon; ++i) {
+    mjContact& con = d_->contact[i];
+    const int g1 = orcs_geom_[con.geom1];
+    const int g2 = orcs_geom_[con.geom2];
+    const GeomInfo& info1 = model_->geom(g1);
+    const GeomInfo& info2 = model_->geom(g2);
+    const double depth = -con.dist;
+    if (std::abs(depth) < p.min_contact_depth) {
+      con.exclude = 1;  // no constraint, not reported: as ODE drops it
+      continue;
+    }
+    Contact& contact = contacts_.emplace_back();
+    contact.geom1 = g1;
+    contact.geom2 = g2;
+    contact.body1 = info1.body;
+    contact.body2 = info2.body;
+    contact.position = Vec(con.pos);
+    contact.normal = -Vec(con.frame);  // MuJoCo's normal points from geom1 to geom2; ours into geom1
+    contact.depth = depth;
+    contact.excluded = model_->contact_excluded(info1.body, info2.body);
+    if (contact.excluded) {
+      con.exclude = 1;
+      continue;
+    }
+    const ContactMaterial material =
+        MaterialTable::Lookup(info1.material, info2.material, material_of_body_[info1.body],
+                              material_of_body_[info2.body], p.custom1, p.custom2);
+    con.friction[0] = con.friction[1] = ChooseFriction(con, material);
+    con.mu = con.friction[0];
+  }
+}
+
+// Static coefficient while the surfaces do not slide at the contact point, else the scaled dynamic one (the
+// ODE backend's rule, docs/model.md).
+double MujocoWorld::ChooseFriction(const mjContact& con, const ContactMaterial& material) {
+  const PhysicsParameters& p = *parameters_;
+  Eigen::Vector3d relative = Eigen::Vector3d::Zero();
+  const int bodies[2] = {m_->geom_bodyid[con.geom1], m_->geom_bodyid[con.geom2]};
+  for (int k = 0; k < 2; ++k) {
+    if (bodies[k] == 0) continue;  // the world does not move
+    mj_jac(m_.get(), d_.get(), jacobian_.data(), nullptr, con.pos, bodies[k]);
+    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+    for (int row = 0; row < 3; ++row) {
+      for (int dof = 0; dof < m_->nv; ++dof) velocity[row] += jacobian_[row * m_->nv + dof] * d_->qvel[dof];
+    }
+    relative += k == 0 ? velocity : Eigen::Vector3d(-velocity);
+  }
+  const Eigen::Vector3d normal = Vec(con.frame);
+  const Eigen::Vector3d tangential = relative - relative.dot(normal) * normal;
+  return tangential.squaredNorm() < p.static_friction_speed * p.static_friction_speed
+             ? material.static_friction
+             : material.dynamic_friction * p.friction_scaling;
+}
+
+StepStatus MujocoWorld::CheckWarnings(const std::array<int, mjNWARNING>& before) {
+  for (int i = 0; i < mjNWARNING; ++i) {
+    if (d_->warning[i].number == before[i]) continue;
+    last_error_ = std::string("MuJoCo: ") + kWarningNames[i] + " (at " + std::to_string(d_->warning[i].lastinfo) + ")";
+    return StepStatus::kEngineError;
+  }
+  return StepStatus::kOk;
+}
+
+StepStatus MujocoWorld::CheckStability(const PhysicsParameters& parameters) {
+  for (int i = 0; i < m_->nq; ++i) {
+    if (!std::isfinite(d_->qpos[i])) return StepStatus::kUnstable;
+  }
+  for (int b = 0; b < model_->body_count(); ++b) {
+    if (mj_body_[b] < 0) continue;
+    const BodyState state = body_state(b);
+    if (!state.linear_velocity.allFinite() || !state.angular_velocity.allFinite() ||
+        state.linear_velocity.norm() > parameters.max_linear_speed ||
+        state.angular_velocity.norm() > parameters.max_angular_speed) {
+      return StepStatus::kUnstable;
+    }
+  }
+  return StepStatus::kOk;
+}
+
+// I' = I + inertia·a·aᵀ in the body frame, diagonalised again into MuJoCo's principal inertia and its frame.
+void MujocoWorld::AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) {
+  const int id = mj_body_[body];
+  if (id < 0) return;
+  const mjtNum* q = m_->body_iquat + 4 * id;
+  const Eigen::Matrix3d frame = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  const Eigen::Vector3d principal = Vec(m_->body_inertia + 3 * id);
+  const Eigen::Vector3d a = axis_in_body.normalized();
+  const Eigen::Matrix3d full = frame * principal.asDiagonal() * frame.transpose() + inertia * a * a.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(full);
+  Eigen::Matrix3d axes = solver.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);  // a rotation, not a reflection
+  const Eigen::Quaterniond turned(axes);
+  for (int i = 0; i < 3; ++i) m_->body_inertia[3 * id + i] = solver.eigenvalues()[i];
+  mjtNum* iq = m_->body_iquat + 4 * id;
+  iq[0] = turned.w(), iq[1] = turned.x(), iq[2] = turned.y(), iq[3] = turned.z();
+  mj_setConst(m_.get(), d_.get());
+}
+
+}  // namespace
+
+std::unique_ptr<PhysicsWorld> MakeMujocoWorld(std::shared_ptr<const PhysicsModel> model) {
+  return std::make_unique<MujocoWorld>(std::move(model));
+}
+
+}  // namespace orcs::physics
