@@ -137,6 +137,14 @@ std::optional<Value::Data> Value::Parse(ValueType type, std::string_view text, s
 }
 
 std::string Value::CheckRange(const Data& data) const {
+  if (const auto* chosen = std::get_if<std::string>(&data); chosen != nullptr && !choices_.empty()) {
+    for (const std::string& choice : choices_) {
+      if (text::ToLower(*chosen) == text::ToLower(choice)) return "";
+    }
+    std::string expected = "one of ";
+    for (std::size_t i = 0; i < choices_.size(); ++i) expected += (i > 0 ? ", " : "") + choices_[i];
+    return expected;
+  }
   if (!range_) return "";
   double number = 0.0;
   if (const auto* integer = std::get_if<std::int64_t>(&data)) {
@@ -155,6 +163,11 @@ std::string Value::SetFromString(std::string_view text) {
   std::optional<Data> parsed = Parse(type(), text, expected);
   if (!parsed) return expected;
   if (std::string out_of_range = CheckRange(*parsed); !out_of_range.empty()) return out_of_range;
+  if (auto* chosen = std::get_if<std::string>(&*parsed)) {
+    for (const std::string& choice : choices_) {
+      if (text::ToLower(*chosen) == text::ToLower(choice)) *chosen = choice;  // the choice's own spelling
+    }
+  }
   if (!(*parsed == data_)) {
     data_ = std::move(*parsed);
     Notify();

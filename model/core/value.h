@@ -72,6 +72,13 @@ class Value {
     return *this;
   }
 
+  /// Restricts a string value to `choices`, matched without regard to case and stored in the choice's spelling:
+  /// SetFromString and CheckString refuse anything else, saying "one of A, B".
+  Value& SetChoices(std::vector<std::string> choices) {
+    choices_ = std::move(choices);
+    return *this;
+  }
+
   // Typed access; the type must match (asserted).
   bool as_bool() const { return std::get<bool>(data_); }
   std::int64_t as_int() const { return std::get<std::int64_t>(data_); }
@@ -111,6 +118,7 @@ class Value {
 
   Data data_;
   std::optional<std::pair<double, double>> range_;  // SetRange()
+  std::vector<std::string> choices_;                 // SetChoices()
   std::vector<std::pair<int, Observer>> observers_;
   int next_observer_id_ = 0;
 };

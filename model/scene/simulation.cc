@@ -7,6 +7,7 @@
 #include "model/core/error.h"
 #include "model/core/rotation.h"
 #include "model/core/text.h"
+#include "model/physics/mujoco/mujoco_world.h"
 #include "model/physics/ode/ode_world.h"
 
 namespace orcs::scene {
@@ -47,6 +48,7 @@ constexpr CustomMaterialParameter kCustomMaterialParameters[] = {
     {"/MaterialProperties/Custom2/Restitution", &PhysicsParameters::custom2, &physics::CustomMaterial::restitution},
 };
 
+constexpr const char* kEngine = "/Simulation/Engine";
 constexpr const char* kTimeStep = "/Simulation/TimeStepSize";
 constexpr const char* kIterations = "/Simulation/IterationsPerStep";
 constexpr const char* kGravitation = "/Simulation/Gravitation";
@@ -78,6 +80,8 @@ void Simulation::RegisterSimulationValues() {
   // outside (a value file, a job, OSP) is refused where it is written, naming the path, not at the next step.
   time_step_ = &repository_.Add(kTimeStep, 0.01).SetRange(kMinTimeStep, kMaxTimeStep);
   iterations_ = &repository_.Add(kIterations, 1).SetRange(1, kMaxIterationsPerStep);
+  // The physics engine (docs/model.md): a world is made on it at Build/Attach and again at a Reset after it changed.
+  watch(repository_.Add(kEngine, std::string("ODE")).SetChoices({"ODE", "MuJoCo"}));
   watch(*time_step_);
   watch(*iterations_);
   watch(repository_.Add(kGravitation, -defaults.gravity.y()));
@@ -114,8 +118,14 @@ void Simulation::Attach(std::shared_ptr<const WorldModel> model) {
   BindModel();
 }
 
+void Simulation::MakeWorld() {
+  world_engine_ = repository_.Get(kEngine).as_string();
+  world_ = world_engine_ == "MuJoCo" ? physics::MakeMujocoWorld(model_->physics())
+                                     : physics::MakeOdeWorld(model_->physics());
+}
+
 void Simulation::BindModel() {
-  world_ = physics::MakeOdeWorld(model_->physics());
+  MakeWorld();
   const physics::PhysicsModel& physics = *model_->physics();
   agents_.clear();
   for (int a = 0; a < static_cast<int>(model_->agents().size()); ++a) {
@@ -149,6 +159,10 @@ void Simulation::ReadParameters() {
   positive(kIterations);
   time_base_ = time_;  // the step size may have changed: count time from here
   steps_base_ = steps_;
+  if (repository_.Get(kEngine).as_string() != world_engine_) {
+    throw InputError(kEngine, 0, "the engine changes only at a reset: set it before the run starts (a value file, "
+                                 "the scenario's values or the job's overrides)");
+  }
   parameters_.gravity = {0.0, -repository_.Get(kGravitation).as_double(), 0.0};
   parameters_.solver =
       repository_.Get(kUseQuickStep).as_bool() ? physics::Solver::kQuickStep : physics::Solver::kWorldStep;
@@ -164,6 +178,7 @@ void Simulation::ReadParameters() {
 
 void Simulation::Reset(std::uint64_t seed) {
   assert(built() && "Reset() before Build()");
+  if (repository_.Get(kEngine).as_string() != world_engine_) MakeWorld();
   world_->Reset();
   for (auto& agent : agents_) agent->Reset(*world_, seed);
   time_ = 0.0;

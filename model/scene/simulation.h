@@ -84,6 +84,8 @@ class Simulation {
   std::shared_ptr<const WorldModel> shared_model() const { return model_; }
   bool built() const { return model_ != nullptr; }
   const physics::PhysicsWorld& physics() const { return *world_; }
+  /// The engine the world runs on, "ODE" or "MuJoCo" (/Simulation/Engine when the world was made).
+  const std::string& engine() const { return world_engine_; }
   /// The robots, in environment order.
   int agent_count() const { return static_cast<int>(agents_.size()); }
   aseries::ASeriesAgent& agent(int index) { return *agents_[index]; }
@@ -97,6 +99,7 @@ class Simulation {
 
  private:
   void RegisterSimulationValues();
+  void MakeWorld();
   void BindModel();
   void ReadParameters();
   void PhysicsStage();
@@ -110,6 +113,7 @@ class Simulation {
   EnvironmentDescription environment_;  // loaded, not yet built
   std::shared_ptr<const WorldModel> model_;
   std::unique_ptr<physics::PhysicsWorld> world_;
+  std::string world_engine_;  ///< the engine world_ runs on: /Simulation/Engine when it was made
   std::vector<std::unique_ptr<aseries::ASeriesAgent>> agents_;  // their observers point into them: not movable
   physics::PhysicsParameters parameters_;
   bool parameters_changed_ = true;  // set by observers of the /Simulation/... values

@@ -60,7 +60,7 @@ class ForestBuilder {
       AddRoot(body, j);
     }
     for (int b = 0; b < model_.body_count(); ++b) {
-      if (model_.body(b).dynamic && !reached_[b]) AddRoot(b, -1);
+      if (model_.body(b).dynamic && !reached_[b]) AddRoot(HeaviestJoinedTo(b), -1);
     }
     return std::move(forest_);
   }
@@ -86,6 +86,32 @@ class ForestBuilder {
       forest_.children[body].push_back(other);
       Grow(other);
     }
+  }
+
+  // The heaviest body of `body`'s group (ties: the first): a free robot hangs from its trunk, not from a foot,
+  // which keeps MuJoCo's joint-space inertia well conditioned.
+  int HeaviestJoinedTo(int body) const {
+    std::vector<bool> seen(model_.body_count(), false);
+    std::vector<int> stack{body};
+    seen[body] = true;
+    int heaviest = body;
+    while (!stack.empty()) {
+      const int b = stack.back();
+      stack.pop_back();
+      if (model_.total_mass(b) > model_.total_mass(heaviest) ||
+          (model_.total_mass(b) == model_.total_mass(heaviest) && b < heaviest)) {
+        heaviest = b;
+      }
+      for (int j : joints_of_[b]) {
+        for (int other : {model_.joint_body1(j), model_.joint_body2(j)}) {
+          if (other >= 0 && !seen[other]) {
+            seen[other] = true;
+            stack.push_back(other);
+          }
+        }
+      }
+    }
+    return heaviest;
   }
 
   [[noreturn]] void Loop(int joint) const {
@@ -222,8 +248,6 @@ class MjcfWriter {
       const double lo = sign > 0 ? joint.lo : -joint.hi, hi = sign > 0 ? joint.hi : -joint.lo;
       hinge->SetAttribute("range", (Number(lo) + " " + Number(hi)).c_str());
     }
-    signs_.resize(model_.joint_count(), 1.0);
-    signs_[j] = sign;
   }
 
   // `position` / `orientation`: the world pose of the frame the geoms are written in (identity: world).
@@ -276,8 +300,8 @@ class MjcfWriter {
     }
   }
 
-  // A velocity servo per motorised hinge: force = gain·(ctrl − gear·qvel), gear = the hinge's sign, so that ctrl
-  // and the force are in the ORCS joint's sense.
+  // A velocity servo per motorised hinge: force = gain·(ctrl − qvel); the hinge's axis already gives qvel the
+  // orcs joint's sense (WriteHinge), so ctrl and the force have it too.
   void WriteActuators(tinyxml2::XMLElement* root) {
     tinyxml2::XMLElement* actuators = nullptr;
     for (int j = 0; j < model_.joint_count(); ++j) {
@@ -288,7 +312,6 @@ class MjcfWriter {
       const std::string gain = Number(options_.motor_gain);
       motor->SetAttribute("name", MjcfMotorName(model_, j).c_str());
       motor->SetAttribute("joint", joint.name.c_str());
-      motor->SetAttribute("gear", Number(j < static_cast<int>(signs_.size()) ? signs_[j] : 1.0).c_str());
       motor->SetAttribute("gaintype", "fixed");
       motor->SetAttribute("gainprm", gain.c_str());
       motor->SetAttribute("biastype", "affine");
@@ -301,7 +324,6 @@ class MjcfWriter {
   const PhysicsModel& model_;
   const MjcfOptions& options_;
   Forest forest_;
-  std::vector<double> signs_;  ///< joint → +1 when its child body is body1, −1 when body2
   tinyxml2::XMLDocument document_;
 };
 

@@ -3,7 +3,9 @@
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <array>
+#include <map>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -64,6 +66,9 @@ constexpr std::array<const char*, mjNWARNING> kWarningNames = {
     "(near) singular inertia matrix", "too many contacts in the contact list", "too many constraints",
     "too many visual geoms", "bad number in qpos", "bad number in qvel", "bad number in qacc", "bad number in ctrl"};
 
+constexpr int kTwoWayRounds = 4;  // motor mode rounds before the clamped servo (IntegrateWithMotorModes)
+constexpr int kClampedServo = 2;  // saturated_'s value for MuJoCo's clamped servo
+
 class MujocoWorld : public PhysicsWorld {
  public:
   explicit MujocoWorld(std::shared_ptr<const PhysicsModel> model)
@@ -84,13 +89,14 @@ class MujocoWorld : public PhysicsWorld {
     mj_copyModel(m_.get(), pristine_.get());
     mj_resetData(m_.get(), d_.get());
     gain_.assign(m_->nu, 0.0);
-    saturated_.assign(m_->nu, false);
+    saturated_.assign(m_->nu, 0);
     steps_ = 0;
     for (int a = 0; a < m_->nu; ++a) {
       m_->actuator_forcerange[2 * a] = m_->actuator_forcerange[2 * a + 1] = 0.0;
       gain_[a] = pristine_->actuator_gainprm[a * mjNGAIN];
     }
     applied_.assign(m_->nv, 0.0);
+    pending_.clear();
     contacts_.clear();
     status_ = StepStatus::kOk;
     last_error_.clear();
@@ -99,6 +105,7 @@ class MujocoWorld : public PhysicsWorld {
 
   StepStatus Step(double dt, const PhysicsParameters& parameters) override {
     if (status_ != StepStatus::kOk) return status_;
+    PoseBodies();
     parameters_ = &parameters;
     m_->opt.timestep = dt;
     for (int i = 0; i < 3; ++i) m_->opt.gravity[i] = parameters.gravity[i];
@@ -110,8 +117,7 @@ class MujocoWorld : public PhysicsWorld {
     mj_fwdVelocity(m_.get(), d_.get());
     mj_sensorVel(m_.get(), d_.get());
     mj_energyVel(m_.get(), d_.get());
-    ChooseMotorModes();
-    mj_step2(m_.get(), d_.get());
+    IntegrateWithMotorModes();
     ++steps_;
     std::fill(applied_.begin(), applied_.end(), 0.0);
     std::fill(d_->qfrc_applied, d_->qfrc_applied + m_->nv, 0.0);
@@ -124,6 +130,7 @@ class MujocoWorld : public PhysicsWorld {
   const std::vector<Contact>& contacts() const override { return contacts_; }
 
   BodyState body_state(int body) const override {
+    if (const auto found = pending_.find(body); found != pending_.end()) return found->second;
     BodyState state;
     if (mj_body_[body] < 0) {
       state.position = model_->body(body).position;
@@ -141,36 +148,30 @@ class MujocoWorld : public PhysicsWorld {
     return state;
   }
 
+  // Poses are kept until the next step or joint reading and then applied root first (PoseBodies): a jointed
+  // body's pose becomes its joint's angle, which needs its parent's new pose. Until then body_state reads them
+  // back, so that a caller moving several bodies rigidly (a whole agent, the far side of a hinge) reads each
+  // body where it was and sets it where it goes, as on an engine with independent bodies.
   void SetBodyState(int body, const BodyState& state) override {
-    const int id = mj_body_[body];
-    const int joint = id < 0 ? -1 : m_->body_jntadr[id];
-    if (joint < 0 || m_->jnt_type[joint] != mjJNT_FREE) {
-      throw std::logic_error("the MuJoCo backend sets the state of free bodies only, not of '" +
-                             model_->body(body).name + "'");
-    }
-    mjtNum* qpos = d_->qpos + m_->jnt_qposadr[joint];
-    mjtNum* qvel = d_->qvel + m_->jnt_dofadr[joint];
-    const Eigen::Quaterniond q = state.orientation.normalized();
-    const Eigen::Vector3d local_spin = q.conjugate() * state.angular_velocity;  // a free joint's ω is local
-    for (int i = 0; i < 3; ++i) {
-      qpos[i] = state.position[i];
-      qvel[i] = state.linear_velocity[i];
-      qvel[3 + i] = local_spin[i];
-    }
-    qpos[3] = q.w(), qpos[4] = q.x(), qpos[5] = q.y(), qpos[6] = q.z();
-    UpdateKinematics();
+    if (mj_body_[body] < 0) return;  // static: never moves
+    pending_[body] = state;
   }
 
   double joint_angle(int joint) const override {
+    PoseBodies();
     return hinge_qpos_[joint] < 0 ? 0.0 : d_->qpos[hinge_qpos_[joint]];
   }
-  double joint_rate(int joint) const override { return hinge_dof_[joint] < 0 ? 0.0 : d_->qvel[hinge_dof_[joint]]; }
+  double joint_rate(int joint) const override {
+    PoseBodies();
+    return hinge_dof_[joint] < 0 ? 0.0 : d_->qvel[hinge_dof_[joint]];
+  }
   // A servo's torque is what the implicit step applied, gain·(ctrl − rate after the step); a saturated motor's is
   // its limit.
   double joint_motor_torque(int joint) const override {
     const int a = motor_[joint];
     if (a < 0 || steps_ == 0) return 0.0;
-    if (saturated_[a]) return m_->actuator_biasprm[a * mjNBIAS];
+    if (saturated_[a] == kClampedServo) return d_->actuator_force[a];
+    if (saturated_[a] != 0) return saturated_[a] * m_->actuator_forcerange[2 * a + 1];
     return gain_[a] * (d_->ctrl[a] - joint_rate(joint));
   }
 
@@ -181,7 +182,9 @@ class MujocoWorld : public PhysicsWorld {
     m_->actuator_forcerange[2 * a] = -max_torque;
     m_->actuator_forcerange[2 * a + 1] = max_torque;
   }
-  void ChooseMotorModes();
+  void IntegrateWithMotorModes();
+  void ApplyMotorModes();
+  bool ReviseMotorModes(bool final);
   void SetJointFriction(int joint, double max_torque) override {
     if (hinge_dof_[joint] >= 0) m_->dof_frictionloss[hinge_dof_[joint]] = max_torque;
   }
@@ -201,6 +204,8 @@ class MujocoWorld : public PhysicsWorld {
 
  private:
   void MapIndices();
+  void PoseBodies() const;
+  void PoseBody(int body, const BodyState& state) const;
   void PositionStages();
   void RewriteContacts();
   double ChooseFriction(const mjContact& contact, const ContactMaterial& material);
@@ -228,42 +233,133 @@ class MujocoWorld : public PhysicsWorld {
   std::vector<int> motor_;                    ///< orcs joint → actuator id, −1 for unmotorised joints
   std::vector<BodyFrictionParameters> material_of_body_;  ///< the fallback friction of unknown materials, per body
   std::vector<double> gain_;                  ///< per actuator: its servo gain, N·m·s/rad (1 / compliance)
-  std::vector<bool> saturated_;               ///< per actuator: in the last step, a constant torque at its limit
+  /// per actuator, its mode in the last step: 0 a servo, ±1 a constant torque at ± its limit
+  std::vector<int> saturated_;
+  std::vector<mjtNum> start_qpos_, start_qvel_, start_act_, start_warmstart_;  ///< a step's start, to repeat it
   long steps_ = 0;                            ///< steps since Reset (no motor torque before the first)
   std::vector<double> applied_;               ///< per dof: torques added for the next step (AddJointTorque)
   std::vector<mjtNum> jacobian_;              ///< scratch: 3 × nv translation and 3 × nv rotation rows
   std::vector<Contact> contacts_;             ///< found in the last step
+  /// SetBodyState's poses not yet applied, by orcs body; mutable: a const reading applies them first
+  mutable std::map<int, BodyState> pending_;
   const PhysicsParameters* parameters_ = nullptr;  ///< the running step's parameters
   StepStatus status_ = StepStatus::kOk;
   std::string last_error_;
 };
 
-// MuJoCo 2.2.2's implicit integrator treats an actuator's velocity gain as damping even while its force is
-// clamped, which would make a torque-limited motor accelerate far too slowly. So each step a motor is either a
-// servo (force = gain·(ctrl − rate)) or a constant torque at its limit towards the target, with no velocity term.
-// The servo is chosen when the force it would apply in this step stays within the limit: for the joint's own
-// inertia I (the diagonal of M) and the other forces f on its dof, the implicit step gives
-// gain·I/(I + dt·gain)·(ctrl − rate − dt·f/I). Runs after the velocity stages, when M and f are known.
-void MujocoWorld::ChooseMotorModes() {
-  const double dt = m_->opt.timestep;
+// MuJoCo 2.2.2's implicit integrator keeps an actuator's velocity gain as damping even while its force is
+// clamped, which would make a torque-limited motor accelerate far too slowly. So a motor is, in each step, either
+// a servo (force = gain·(ctrl − rate), unclamped, solved implicitly) or a constant torque at its limit towards
+// the target. Like the active set of ODE's constraint solver: the step is integrated with the modes the motors
+// had in the last step; a servo whose force came out beyond its limit becomes a constant torque, a constant
+// torque that carried its joint past the target becomes a servo, and the integration (mj_step2 alone: the
+// position and velocity stages do not depend on the modes) is repeated from the saved start. Coupled joints can
+// make two modes chase each other: after kTwoWayRounds rounds a motor still in the wrong mode becomes MuJoCo's
+// own clamped servo (stable and within its limit, but damped while clamped), which ends the search
+// (docs/model.md, "The MuJoCo backend").
+
+void MujocoWorld::IntegrateWithMotorModes() {
+  mjData* d = d_.get();
+  const int nq = m_->nq, nv = m_->nv, na = m_->na;
+  start_qpos_.assign(d->qpos, d->qpos + nq);
+  start_qvel_.assign(d->qvel, d->qvel + nv);
+  start_act_.assign(d->act, d->act + na);
+  start_warmstart_.assign(d->qacc_warmstart, d->qacc_warmstart + nv);
+  const mjtNum start_time = d->time;
   for (int a = 0; a < m_->nu; ++a) {
-    const int dof = m_->jnt_dofadr[m_->actuator_trnid[2 * a]];
-    const double gear = m_->actuator_gear[6 * a];
+    if (saturated_[a] == kClampedServo) saturated_[a] = 0;  // each step starts from the plain modes
+  }
+  for (int round = 1;; ++round) {
+    ApplyMotorModes();
+    mj_step2(m_.get(), d);
+    if (round > kTwoWayRounds || !ReviseMotorModes(/*final=*/round == kTwoWayRounds)) return;
+    std::copy(start_qpos_.begin(), start_qpos_.end(), d->qpos);
+    std::copy(start_qvel_.begin(), start_qvel_.end(), d->qvel);
+    std::copy(start_act_.begin(), start_act_.end(), d->act);
+    std::copy(start_warmstart_.begin(), start_warmstart_.end(), d->qacc_warmstart);
+    d->time = start_time;
+  }
+}
+
+void MujocoWorld::ApplyMotorModes() {
+  for (int a = 0; a < m_->nu; ++a) {
     const double limit = m_->actuator_forcerange[2 * a + 1];
-    const double inertia = d_->qM[m_->dof_Madr[dof]];
-    const double other = gear * (d_->qfrc_applied[dof] + d_->qfrc_passive[dof] - d_->qfrc_bias[dof]);
-    const double needed = d_->ctrl[a] - gear * d_->qvel[dof] - dt * other / inertia;
-    const double servo = gain_[a] * inertia / (inertia + dt * gain_[a]) * needed;
+    const bool clamped = saturated_[a] == kClampedServo;
+    const bool saturated = !clamped && (saturated_[a] != 0 || limit <= 0.0);
     mjtNum* gain = m_->actuator_gainprm + a * mjNGAIN;
     mjtNum* bias = m_->actuator_biasprm + a * mjNBIAS;
-    saturated_[a] = std::abs(servo) > limit;
-    // The servo's explicit force gain·(ctrl − rate) may lie far beyond the limit although the implicit step's
-    // force does not: only the constant torque is clamped.
-    m_->actuator_forcelimited[a] = saturated_[a] ? 1 : 0;
-    gain[0] = saturated_[a] ? 0.0 : gain_[a];
-    bias[0] = saturated_[a] ? (servo > 0.0 ? limit : -limit) : 0.0;
-    bias[2] = saturated_[a] ? 0.0 : -gain_[a];
+    m_->actuator_forcelimited[a] = saturated || clamped ? 1 : 0;
+    gain[0] = saturated ? 0.0 : gain_[a];
+    bias[0] = saturated ? saturated_[a] * limit : 0.0;
+    bias[2] = saturated ? 0.0 : -gain_[a];
   }
+}
+
+// After an integration: true when some motor's mode was wrong (and is now changed).
+// `final`: a motor in the wrong mode becomes a clamped servo instead of switching.
+bool MujocoWorld::ReviseMotorModes(bool final) {
+  bool changed = false;
+  for (int a = 0; a < m_->nu; ++a) {
+    const double limit = m_->actuator_forcerange[2 * a + 1];
+    if (limit <= 0.0 || saturated_[a] == kClampedServo) continue;
+    const int dof = m_->jnt_dofadr[m_->actuator_trnid[2 * a]];
+    const double shortfall = d_->ctrl[a] - d_->qvel[dof];
+    int wanted = saturated_[a];
+    if (saturated_[a] == 0 && std::abs(gain_[a] * shortfall) > limit) wanted = shortfall > 0.0 ? 1 : -1;
+    if (saturated_[a] != 0 && saturated_[a] * shortfall < 0.0) wanted = 0;  // carried past the target
+    if (wanted == saturated_[a]) continue;
+    saturated_[a] = final ? kClampedServo : wanted;
+    changed = true;
+  }
+  return changed;
+}
+
+// Root first (MuJoCo numbers bodies parent before child), each after its parent is in place: a free body takes
+// its pose and velocities, a hinged one the angle and rate that put it closest (its rotation about the axis
+// relative to its parent), a welded one follows its parent.
+void MujocoWorld::PoseBodies() const {
+  if (pending_.empty()) return;
+  std::vector<std::pair<int, int>> order;  // MuJoCo id, orcs body
+  for (const auto& [body, state] : pending_) order.emplace_back(mj_body_[body], body);
+  std::sort(order.begin(), order.end());
+  for (const auto& [id, body] : order) PoseBody(body, pending_.at(body));
+  pending_.clear();
+}
+
+void MujocoWorld::PoseBody(int body, const BodyState& state) const {
+  const int id = mj_body_[body];
+  const int joint = m_->body_jntnum[id] > 0 ? m_->body_jntadr[id] : -1;
+  mjData* d = d_.get();
+  if (joint >= 0 && m_->jnt_type[joint] == mjJNT_FREE) {
+    mjtNum* qpos = d->qpos + m_->jnt_qposadr[joint];
+    mjtNum* qvel = d->qvel + m_->jnt_dofadr[joint];
+    const Eigen::Quaterniond q = state.orientation.normalized();
+    const Eigen::Vector3d local_spin = q.conjugate() * state.angular_velocity;  // a free joint's ω is local
+    for (int i = 0; i < 3; ++i) {
+      qpos[i] = state.position[i];
+      qvel[i] = state.linear_velocity[i];
+      qvel[3 + i] = local_spin[i];
+    }
+    qpos[3] = q.w(), qpos[4] = q.x(), qpos[5] = q.y(), qpos[6] = q.z();
+  } else if (joint >= 0 && m_->jnt_type[joint] == mjJNT_HINGE) {
+    // The child's orientation with its hinge at 0 (parent × the body's fixed offset) against the wanted one.
+    const int parent = m_->body_parentid[id];
+    const mjtNum* pq = d->xquat + 4 * parent;
+    const mjtNum* bq = m_->body_quat + 4 * id;
+    const Eigen::Quaterniond at_zero = Eigen::Quaterniond(pq[0], pq[1], pq[2], pq[3]) *
+                                       Eigen::Quaterniond(bq[0], bq[1], bq[2], bq[3]);
+    const Eigen::Quaterniond turn = at_zero.conjugate() * state.orientation.normalized();  // in the child frame
+    const Eigen::Vector3d axis = Vec(m_->jnt_axis + 3 * joint).normalized();
+    const Eigen::Vector3d vector_part(turn.x(), turn.y(), turn.z());
+    d->qpos[m_->jnt_qposadr[joint]] = 2.0 * std::atan2(vector_part.dot(axis), turn.w());
+    mjtNum parent_velocity[6];
+    mj_objectVelocity(m_.get(), d, mjOBJ_BODY, parent, parent_velocity, 0);
+    const Eigen::Vector3d world_axis = state.orientation.normalized() * axis;
+    d->qvel[m_->jnt_dofadr[joint]] = (state.angular_velocity - Vec(parent_velocity)).dot(world_axis);
+  }
+  mj_kinematics(m_.get(), d);
+  mj_comPos(m_.get(), d);
+  mj_comVel(m_.get(), d);
 }
 
 void MujocoWorld::MapIndices() {

@@ -265,5 +265,19 @@ TEST(ValueTest, RemoveObserverStopsOnlyThatObserver) {
   EXPECT_EQ(value.as_int(), 3);
 }
 
+TEST(ValueTest, ChoicesRefuseOtherTextAndKeepTheirOwnSpelling) {
+  Value engine(std::string("ODE"));
+  engine.SetChoices({"ODE", "MuJoCo"});
+  EXPECT_EQ(engine.CheckString("Bullet"), "one of ODE, MuJoCo");
+  EXPECT_EQ(engine.SetFromString("Bullet"), "one of ODE, MuJoCo");
+  EXPECT_EQ(engine.as_string(), "ODE");  // unchanged
+  int heard = 0;
+  engine.AddObserver([&heard](const Value&) { ++heard; });
+  EXPECT_EQ(engine.SetFromString("mujoco"), "");
+  EXPECT_EQ(engine.as_string(), "MuJoCo");
+  EXPECT_EQ(engine.SetFromString("MUJOCO"), "");  // the same choice: no change, no notice
+  EXPECT_EQ(heard, 1);
+}
+
 }  // namespace
 }  // namespace orcs

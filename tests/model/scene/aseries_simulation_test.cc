@@ -8,14 +8,16 @@
 namespace orcs::scene {
 namespace {
 
-// One A-Series named Humanoid on the floor: what orcs-sim runs without -env.
-class ASeriesSimulationTest : public ::testing::Test {
+// One A-Series named Humanoid on the floor: what orcs-sim runs without -env, on each engine (/Simulation/Engine).
+class ASeriesSimulationTest : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
     EnvironmentDescription environment;
     environment.agents.push_back(AgentDescription{});
     simulation_.LoadEnvironment(environment);
+    simulation_.repository().Set("/Simulation/Engine", GetParam());
     simulation_.Build();
+    ASSERT_EQ(simulation_.engine(), GetParam());
   }
   double Value(const std::string& path) { return simulation_.repository().Get(path).as_double(); }
   double HeadHeight() { return simulation_.repository().Get("/Sim/Humanoid/Middle/Head/Position").as_vector3().y(); }
@@ -26,14 +28,14 @@ class ASeriesSimulationTest : public ::testing::Test {
   Simulation simulation_;
 };
 
-TEST_F(ASeriesSimulationTest, StandsForTenSecondsWithoutInput) {
+TEST_P(ASeriesSimulationTest, StandsForTenSecondsWithoutInput) {
   const double start = HeadHeight();
   EXPECT_NEAR(start, 0.4037, 1e-9);  // spec §2a: head centre, lift included
   Run(10.0);
   EXPECT_NEAR(HeadHeight(), start, 0.01);
 }
 
-TEST_F(ASeriesSimulationTest, RegistersTheInterfaceValuesOfEveryMotorAndBoard) {
+TEST_P(ASeriesSimulationTest, RegistersTheInterfaceValuesOfEveryMotorAndBoard) {
   const VariableRepository& values = simulation_.repository();
   EXPECT_EQ(values.Match("/Sim/Humanoid/.*/DesiredAngle").size(), 21u);
   EXPECT_EQ(values.Match("/Sim/Humanoid/.*/DesiredTorque").size(), 21u);
@@ -43,7 +45,7 @@ TEST_F(ASeriesSimulationTest, RegistersTheInterfaceValuesOfEveryMotorAndBoard) {
   EXPECT_DOUBLE_EQ(Value("/AngularMotor/PID/Proportional"), 20.0);
 }
 
-TEST_F(ASeriesSimulationTest, AccelerometersReadGravityAtRest) {
+TEST_P(ASeriesSimulationTest, AccelerometersReadGravityAtRest) {
   Run(1.0);
   // spec §5 expected readings at rest: ABHR Axis2 = −9.81, ABHL Axis2 = +9.81, ABAR/ABAL Axis1 = −9.81.
   EXPECT_NEAR(Value("/Sim/Humanoid/ABHR/AccelAxis2"), -9.81, 0.05);
@@ -52,7 +54,7 @@ TEST_F(ASeriesSimulationTest, AccelerometersReadGravityAtRest) {
   EXPECT_NEAR(Value("/Sim/Humanoid/ABFR/AccelAxis1"), 0.0, 0.05);
 }
 
-TEST_F(ASeriesSimulationTest, ADesiredAngleMovesItsJointAtMostAtMaxVelocity) {
+TEST_P(ASeriesSimulationTest, ADesiredAngleMovesItsJointAtMostAtMaxVelocity) {
   simulation_.repository().Set("/Sim/Humanoid/Right/ShoulderYaw/DesiredAngle", "60");
   Run(0.1);
   // The PID asks for 20·(60° in rad) ≈ 21 rad/s, clipped to MaxVelocity 3.5 rad/s: after 0.1 s at most ~20°.
@@ -64,7 +66,7 @@ TEST_F(ASeriesSimulationTest, ADesiredAngleMovesItsJointAtMostAtMaxVelocity) {
   EXPECT_NEAR(Value("/Sim/Humanoid/Right/ShoulderYaw/JointAngle"), 60.0, 2.0);
 }
 
-TEST_F(ASeriesSimulationTest, SameSeedSameSensorNoiseDifferentSeedDifferentNoise) {
+TEST_P(ASeriesSimulationTest, SameSeedSameSensorNoiseDifferentSeedDifferentNoise) {
   const auto trace = [this](std::uint64_t seed) {
     simulation_.Reset(seed);
     std::vector<double> angles;
@@ -78,6 +80,11 @@ TEST_F(ASeriesSimulationTest, SameSeedSameSensorNoiseDifferentSeedDifferentNoise
   EXPECT_EQ(trace(7), first);
   EXPECT_NE(trace(8), first);
 }
+
+// MuJoCo joins when the A-Series stands on it: today its servos chatter and the robot goes unstable within
+// seconds (issue 20, docs/model.md "The MuJoCo backend").
+INSTANTIATE_TEST_SUITE_P(Engines, ASeriesSimulationTest, ::testing::Values("ODE"),
+                         [](const ::testing::TestParamInfo<std::string>& engine) { return engine.param; });
 
 }  // namespace
 }  // namespace orcs::scene

@@ -288,6 +288,35 @@ TEST_F(SimulationTest, ATimeStepOutsideItsRangeIsRefusedWhereItIsWrittenNamingTh
   EXPECT_EQ(simulation_.steps(), 9);
 }
 
+TEST_F(SimulationTest, TheEngineIsChosenByValueAndChangesOnlyAtAReset) {
+  for (const char* bad : {"Bullet", ""}) {
+    try {
+      simulation_.repository().Set("/Simulation/Engine", bad);
+      FAIL() << "expected an InputError for '" << bad << "'";
+    } catch (const InputError& error) {
+      EXPECT_THAT(error.what(), HasSubstr("/Simulation/Engine: expected one of ODE, MuJoCo, found '"));
+    }
+  }
+  simulation_.repository().Set("/Simulation/Engine", "mujoco");  // any case; stored as spelled in the list
+  EXPECT_EQ(simulation_.repository().Get("/Simulation/Engine").as_string(), "MuJoCo");
+  simulation_.Build();
+  EXPECT_EQ(simulation_.engine(), "MuJoCo");
+  Steps(200);
+  EXPECT_NEAR(PositionOf(simulation_, "Ball").y(), kRadius, 0.002);  // fell and rests on MuJoCo too
+
+  simulation_.repository().Set("/Simulation/Engine", "ODE");
+  try {
+    simulation_.Step();
+    FAIL() << "expected an InputError: the engine cannot change within a run";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("/Simulation/Engine: the engine changes only at a reset"));
+  }
+  simulation_.Reset(0);
+  EXPECT_EQ(simulation_.engine(), "ODE");
+  EXPECT_NEAR(PositionOf(simulation_, "Ball").y(), 0.5, 1e-12);  // a new world from the start
+  Steps(1);
+}
+
 TEST_F(SimulationTest, NonPositiveIterationsAreRefusedNamingThePath) {
   simulation_.Build();
   try {

@@ -263,11 +263,24 @@ TEST(MujocoWorldTest, SetBodyStateMovesAFreeBody) {
   state.linear_velocity = {0.5, 0, 0};
   state.angular_velocity = {0, 0, 2};
   world->SetBodyState(0, state);
+  ASSERT_EQ(world->Step(kDt, ZeroGravity()), StepStatus::kOk);  // no force: it coasts
   const BodyState read = world->body_state(0);
-  EXPECT_TRUE(read.position.isApprox(state.position, 1e-12));
-  EXPECT_TRUE(read.orientation.isApprox(state.orientation, 1e-12));
+  EXPECT_TRUE(read.position.isApprox(state.position + kDt * state.linear_velocity, 1e-12));
   EXPECT_TRUE(read.linear_velocity.isApprox(state.linear_velocity, 1e-12));
   EXPECT_TRUE(read.angular_velocity.isApprox(state.angular_velocity, 1e-12));
+}
+
+TEST(MujocoWorldTest, PosingAHingedBodyTurnsItsHinge) {
+  // The bob turned rigidly by 0.3 rad about the pivot, as Simulation::SetAgentJointAngles poses a limb.
+  auto world = MakeMujocoWorld(Compile(Pendulum(false, false)));
+  const Eigen::AngleAxisd turn(0.3, Eigen::Vector3d::UnitZ());
+  BodyState bob = world->body_state(0);
+  bob.position = turn * bob.position;
+  bob.orientation = turn * bob.orientation;
+  world->SetBodyState(0, bob);
+  EXPECT_EQ(world->body_state(0).position, bob.position);  // read back before it is applied
+  EXPECT_NEAR(world->joint_angle(0), 0.3, 1e-12);
+  EXPECT_TRUE(world->body_state(0).position.isApprox(bob.position, 1e-12));
 }
 
 TEST(MujocoWorldTest, HugeVelocityIsUnstable) {
