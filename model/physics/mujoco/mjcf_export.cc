@@ -14,6 +14,10 @@
 namespace orcs::physics {
 namespace {
 
+// The stiffest constraint impedance MuJoCo allows, for the friction brake and the motor: softer ones let a held
+// joint creep.
+constexpr const char* kStiffImpedance = "0.9999 0.9999 0.001";
+
 // Numbers printed so that MuJoCo reads back the same double.
 std::string Number(double value) {
   char buffer[32];
@@ -169,7 +173,7 @@ class MjcfWriter {
       if (!model_.body(b).dynamic) WriteGeoms(world, b, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
     }
     for (int body : forest_.roots) WriteBody(world, body, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
-    WriteActuators(root);
+    WriteMotors(root);
     tinyxml2::XMLPrinter printer;
     document_.Print(&printer);
     return printer.CStr();
@@ -240,7 +244,7 @@ class MjcfWriter {
     hinge->SetAttribute("name", joint.name.c_str());
     hinge->SetAttribute("type", "hinge");
     // A friction brake (frictionloss) as stiff as MuJoCo allows: soft constraints let a held joint creep.
-    hinge->SetAttribute("solimpfriction", "0.9999 0.9999 0.001");
+    hinge->SetAttribute("solimpfriction", kStiffImpedance);
     hinge->SetAttribute("pos", Vector(to_body * (joint.anchor - body.position)).c_str());
     hinge->SetAttribute("axis", Vector(sign * (to_body * joint.axis.normalized())).c_str());
     if (joint.limited) {
@@ -300,24 +304,22 @@ class MjcfWriter {
     }
   }
 
-  // A velocity servo per motorised hinge: force = gain·(ctrl − qvel); the hinge's axis already gives qvel the
-  // orcs joint's sense (WriteHinge), so ctrl and the force have it too.
-  void WriteActuators(tinyxml2::XMLElement* root) {
-    tinyxml2::XMLElement* actuators = nullptr;
+  // A motorised hinge's motor is a fixed tendon on it with friction loss: MuJoCo's bounded velocity constraint,
+  // which the world turns towards the motor's target velocity each step (mujoco_world.cc, ServoReferences).
+  // Its bound, the motor's torque limit, is set per step; 0 (no constraint row) until then.
+  void WriteMotors(tinyxml2::XMLElement* root) {
+    tinyxml2::XMLElement* tendons = nullptr;
     for (int j = 0; j < model_.joint_count(); ++j) {
       const JointDescription& joint = model_.joint(j);
       if (joint.type != JointType::kHinge || !joint.motorised) continue;
-      if (actuators == nullptr) actuators = Child(root, "actuator");
-      tinyxml2::XMLElement* motor = Child(actuators, "general");
-      const std::string gain = Number(options_.motor_gain);
+      if (tendons == nullptr) tendons = Child(root, "tendon");
+      tinyxml2::XMLElement* motor = Child(tendons, "fixed");
       motor->SetAttribute("name", MjcfMotorName(model_, j).c_str());
-      motor->SetAttribute("joint", joint.name.c_str());
-      motor->SetAttribute("gaintype", "fixed");
-      motor->SetAttribute("gainprm", gain.c_str());
-      motor->SetAttribute("biastype", "affine");
-      motor->SetAttribute("biasprm", ("0 0 -" + gain).c_str());
-      motor->SetAttribute("forcelimited", "true");
-      motor->SetAttribute("forcerange", "-1 1");  // the world sets each motor's limit per step
+      motor->SetAttribute("frictionloss", "0");
+      motor->SetAttribute("solimpfriction", kStiffImpedance);
+      tinyxml2::XMLElement* on = Child(motor, "joint");
+      on->SetAttribute("joint", joint.name.c_str());
+      on->SetAttribute("coef", "1");
     }
   }
 

@@ -12,8 +12,8 @@
 //     nesting. A joint that would close a loop is refused (InputError naming it);
 //   - inertia is the original's rule (uniform solid of geoms[0]'s shape with the total mass, centred at the body
 //     origin), given explicitly; extra geoms only collide;
-//   - every motorised hinge gets a velocity actuator (force = gain·(ctrl − rate), force-limited) named
-//     "motor:<joint>";
+//   - every motorised hinge gets a motor: a fixed tendon on it named "motor:<joint>" whose friction loss (a
+//     bounded velocity constraint) the world aims at the motor's target velocity;
 //   - parent and child bodies collide (as in ODE); the exclusion list is applied per contact by the world,
 //     which still reports excluded contacts.
 #pragma once
@@ -28,7 +28,6 @@ namespace orcs::physics {
 struct MjcfOptions {
   double timestep = 0.01;          ///< s; the world overrides it per step
   bool implicit_integrator = true;  ///< MuJoCo's implicit-in-velocity integrator (else Euler)
-  double motor_gain = 1000.0;      ///< N·m·s/rad: a velocity actuator's gain (how stiffly it holds its rate)
   int max_contacts = 1000;         ///< MuJoCo's contact buffer (nconmax)
   int max_constraint_rows = 5000;  ///< MuJoCo's constraint buffer (njmax)
 };
@@ -38,7 +37,7 @@ std::string ExportMjcf(const PhysicsModel& model, const MjcfOptions& options = {
 
 /// The MJCF names the export gives: a dynamic or static body's geom `index_in_body` of body `body`.
 std::string MjcfGeomName(const PhysicsModel& model, int geom);
-/// A motorised hinge's actuator.
+/// A motorised hinge's motor tendon.
 std::string MjcfMotorName(const PhysicsModel& model, int joint);
 
 }  // namespace orcs::physics

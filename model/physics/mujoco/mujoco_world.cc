@@ -66,9 +66,6 @@ constexpr std::array<const char*, mjNWARNING> kWarningNames = {
     "(near) singular inertia matrix", "too many contacts in the contact list", "too many constraints",
     "too many visual geoms", "bad number in qpos", "bad number in qvel", "bad number in qacc", "bad number in ctrl"};
 
-constexpr int kTwoWayRounds = 4;  // motor mode rounds before the clamped servo (IntegrateWithMotorModes)
-constexpr int kClampedServo = 2;  // saturated_'s value for MuJoCo's clamped servo
-
 class MujocoWorld : public PhysicsWorld {
  public:
   explicit MujocoWorld(std::shared_ptr<const PhysicsModel> model)
@@ -88,13 +85,11 @@ class MujocoWorld : public PhysicsWorld {
   void Reset() override {
     mj_copyModel(m_.get(), pristine_.get());
     mj_resetData(m_.get(), d_.get());
-    gain_.assign(m_->nu, 0.0);
-    saturated_.assign(m_->nu, 0);
+    target_.assign(m_->ntendon, 0.0);
+    compliance_.assign(m_->ntendon, 0.0);
+    torque_.assign(m_->ntendon, 0.0);
+    motor_row_.assign(m_->ntendon, -1);
     steps_ = 0;
-    for (int a = 0; a < m_->nu; ++a) {
-      m_->actuator_forcerange[2 * a] = m_->actuator_forcerange[2 * a + 1] = 0.0;
-      gain_[a] = pristine_->actuator_gainprm[a * mjNGAIN];
-    }
     applied_.assign(m_->nv, 0.0);
     pending_.clear();
     contacts_.clear();
@@ -115,9 +110,11 @@ class MujocoWorld : public PhysicsWorld {
     mj_sensorPos(m_.get(), d_.get());
     mj_energyPos(m_.get(), d_.get());
     mj_fwdVelocity(m_.get(), d_.get());
+    ServoReferences();
     mj_sensorVel(m_.get(), d_.get());
     mj_energyVel(m_.get(), d_.get());
-    IntegrateWithMotorModes();
+    mj_step2(m_.get(), d_.get());
+    ReadMotorTorques();
     ++steps_;
     std::fill(applied_.begin(), applied_.end(), 0.0);
     std::fill(d_->qfrc_applied, d_->qfrc_applied + m_->nv, 0.0);
@@ -165,38 +162,24 @@ class MujocoWorld : public PhysicsWorld {
     PoseBodies();
     return hinge_dof_[joint] < 0 ? 0.0 : d_->qvel[hinge_dof_[joint]];
   }
-  // A servo's torque is what the implicit step applied, gain·(ctrl − rate after the step); a saturated motor's is
-  // its limit.
   double joint_motor_torque(int joint) const override {
-    const int a = motor_[joint];
-    if (a < 0 || steps_ == 0) return 0.0;
-    if (saturated_[a] == kClampedServo) return d_->actuator_force[a];
-    if (saturated_[a] != 0) return saturated_[a] * m_->actuator_forcerange[2 * a + 1];
-    return gain_[a] * (d_->ctrl[a] - joint_rate(joint));
+    return motor_[joint] < 0 || steps_ == 0 ? 0.0 : torque_[motor_[joint]];
   }
 
   void SetJointMotor(int joint, double velocity, double max_torque) override {
-    const int a = motor_[joint];
-    if (a < 0) return;
-    d_->ctrl[a] = velocity;
-    m_->actuator_forcerange[2 * a] = -max_torque;
-    m_->actuator_forcerange[2 * a + 1] = max_torque;
+    const int t = motor_[joint];
+    if (t < 0) return;
+    target_[t] = velocity;
+    m_->tendon_frictionloss[t] = max_torque;
   }
-  void IntegrateWithMotorModes();
-  void ApplyMotorModes();
-  bool ReviseMotorModes(bool final);
   void SetJointFriction(int joint, double max_torque) override {
     if (hinge_dof_[joint] >= 0) m_->dof_frictionloss[hinge_dof_[joint]] = max_torque;
   }
   void AddJointTorque(int joint, double torque) override {
     if (hinge_dof_[joint] >= 0) applied_[hinge_dof_[joint]] += torque;
   }
-  // The actuator's force is gain·(ctrl − rate): under load τ the rate settles at ctrl − τ/gain, the compliance
-  // 1/gain exactly; 0 restores the stiff gain of the generated model.
   void SetJointMotorCompliance(int joint, double compliance) override {
-    const int a = motor_[joint];
-    if (a < 0) return;
-    gain_[a] = compliance > 0.0 ? 1.0 / compliance : pristine_->actuator_gainprm[a * mjNGAIN];
+    if (motor_[joint] >= 0) compliance_[motor_[joint]] = compliance;
   }
   void AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) override;
 
@@ -204,6 +187,8 @@ class MujocoWorld : public PhysicsWorld {
 
  private:
   void MapIndices();
+  void ServoReferences();
+  void ReadMotorTorques();
   void PoseBodies() const;
   void PoseBody(int body, const BodyState& state) const;
   void PositionStages();
@@ -230,12 +215,12 @@ class MujocoWorld : public PhysicsWorld {
   std::vector<int> orcs_geom_;                ///< MuJoCo geom id → orcs geom
   std::vector<int> hinge_qpos_;               ///< orcs joint → qpos address of its hinge, −1 for fixed joints
   std::vector<int> hinge_dof_;                ///< orcs joint → dof address of its hinge, −1 for fixed joints
-  std::vector<int> motor_;                    ///< orcs joint → actuator id, −1 for unmotorised joints
+  std::vector<int> motor_;                    ///< orcs joint → its motor tendon, −1 for unmotorised joints
   std::vector<BodyFrictionParameters> material_of_body_;  ///< the fallback friction of unknown materials, per body
-  std::vector<double> gain_;                  ///< per actuator: its servo gain, N·m·s/rad (1 / compliance)
-  /// per actuator, its mode in the last step: 0 a servo, ±1 a constant torque at ± its limit
-  std::vector<int> saturated_;
-  std::vector<mjtNum> start_qpos_, start_qvel_, start_act_, start_warmstart_;  ///< a step's start, to repeat it
+  std::vector<double> target_;                ///< per motor tendon: target joint rate, rad/s
+  std::vector<double> compliance_;            ///< per motor tendon: rad/s per N·m (0 = stiff)
+  std::vector<double> torque_;                ///< per motor tendon: torque its row applied in the last step, N·m
+  std::vector<int> motor_row_;                ///< per motor tendon: its constraint row in this step, −1 for none
   long steps_ = 0;                            ///< steps since Reset (no motor torque before the first)
   std::vector<double> applied_;               ///< per dof: torques added for the next step (AddJointTorque)
   std::vector<mjtNum> jacobian_;              ///< scratch: 3 × nv translation and 3 × nv rotation rows
@@ -247,71 +232,26 @@ class MujocoWorld : public PhysicsWorld {
   std::string last_error_;
 };
 
-// MuJoCo 2.2.2's implicit integrator keeps an actuator's velocity gain as damping even while its force is
-// clamped, which would make a torque-limited motor accelerate far too slowly. So a motor is, in each step, either
-// a servo (force = gain·(ctrl − rate), unclamped, solved implicitly) or a constant torque at its limit towards
-// the target. Like the active set of ODE's constraint solver: the step is integrated with the modes the motors
-// had in the last step; a servo whose force came out beyond its limit becomes a constant torque, a constant
-// torque that carried its joint past the target becomes a servo, and the integration (mj_step2 alone: the
-// position and velocity stages do not depend on the modes) is repeated from the saved start. Coupled joints can
-// make two modes chase each other: after kTwoWayRounds rounds a motor still in the wrong mode becomes MuJoCo's
-// own clamped servo (stable and within its limit, but damped while clamped), which ends the search
-// (docs/model.md, "The MuJoCo backend").
-
-void MujocoWorld::IntegrateWithMotorModes() {
-  mjData* d = d_.get();
-  const int nq = m_->nq, nv = m_->nv, na = m_->na;
-  start_qpos_.assign(d->qpos, d->qpos + nq);
-  start_qvel_.assign(d->qvel, d->qvel + nv);
-  start_act_.assign(d->act, d->act + na);
-  start_warmstart_.assign(d->qacc_warmstart, d->qacc_warmstart + nv);
-  const mjtNum start_time = d->time;
-  for (int a = 0; a < m_->nu; ++a) {
-    if (saturated_[a] == kClampedServo) saturated_[a] = 0;  // each step starts from the plain modes
-  }
-  for (int round = 1;; ++round) {
-    ApplyMotorModes();
-    mj_step2(m_.get(), d);
-    if (round > kTwoWayRounds || !ReviseMotorModes(/*final=*/round == kTwoWayRounds)) return;
-    std::copy(start_qpos_.begin(), start_qpos_.end(), d->qpos);
-    std::copy(start_qvel_.begin(), start_qvel_.end(), d->qvel);
-    std::copy(start_act_.begin(), start_act_.end(), d->act);
-    std::copy(start_warmstart_.begin(), start_warmstart_.end(), d->qacc_warmstart);
-    d->time = start_time;
+// A motor is its tendon's friction-loss row: MuJoCo makes it a bounded constraint towards zero velocity with the
+// reference acceleration −B·v. Shifted to −B·(v − target), the same row drives the joint towards the motor's
+// target with at most its torque limit: ODE's angular motor. Compliance c yields as ODE's does, u = target − c·τ,
+// with τ the motor's torque in the last step. Runs after the velocity stages, which compute the references.
+void MujocoWorld::ServoReferences() {
+  std::fill(motor_row_.begin(), motor_row_.end(), -1);
+  for (int i = 0; i < d_->nefc; ++i) {
+    if (d_->efc_type[i] != mjCNSTR_FRICTION_TENDON) continue;
+    const int t = d_->efc_id[i];
+    motor_row_[t] = i;
+    const double target = target_[t] - compliance_[t] * torque_[t];
+    d_->efc_aref[i] += d_->efc_KBIP[4 * i + 1] * target;
   }
 }
 
-void MujocoWorld::ApplyMotorModes() {
-  for (int a = 0; a < m_->nu; ++a) {
-    const double limit = m_->actuator_forcerange[2 * a + 1];
-    const bool clamped = saturated_[a] == kClampedServo;
-    const bool saturated = !clamped && (saturated_[a] != 0 || limit <= 0.0);
-    mjtNum* gain = m_->actuator_gainprm + a * mjNGAIN;
-    mjtNum* bias = m_->actuator_biasprm + a * mjNBIAS;
-    m_->actuator_forcelimited[a] = saturated || clamped ? 1 : 0;
-    gain[0] = saturated ? 0.0 : gain_[a];
-    bias[0] = saturated ? saturated_[a] * limit : 0.0;
-    bias[2] = saturated ? 0.0 : -gain_[a];
+// The force each motor's row applied in the step just taken (0 when its limit was 0: no row).
+void MujocoWorld::ReadMotorTorques() {
+  for (std::size_t t = 0; t < torque_.size(); ++t) {
+    torque_[t] = motor_row_[t] < 0 ? 0.0 : d_->efc_force[motor_row_[t]];
   }
-}
-
-// After an integration: true when some motor's mode was wrong (and is now changed).
-// `final`: a motor in the wrong mode becomes a clamped servo instead of switching.
-bool MujocoWorld::ReviseMotorModes(bool final) {
-  bool changed = false;
-  for (int a = 0; a < m_->nu; ++a) {
-    const double limit = m_->actuator_forcerange[2 * a + 1];
-    if (limit <= 0.0 || saturated_[a] == kClampedServo) continue;
-    const int dof = m_->jnt_dofadr[m_->actuator_trnid[2 * a]];
-    const double shortfall = d_->ctrl[a] - d_->qvel[dof];
-    int wanted = saturated_[a];
-    if (saturated_[a] == 0 && std::abs(gain_[a] * shortfall) > limit) wanted = shortfall > 0.0 ? 1 : -1;
-    if (saturated_[a] != 0 && saturated_[a] * shortfall < 0.0) wanted = 0;  // carried past the target
-    if (wanted == saturated_[a]) continue;
-    saturated_[a] = final ? kClampedServo : wanted;
-    changed = true;
-  }
-  return changed;
 }
 
 // Root first (MuJoCo numbers bodies parent before child), each after its parent is in place: a free body takes
@@ -379,7 +319,7 @@ void MujocoWorld::MapIndices() {
     const int id = Id(m, mjOBJ_JOINT, joint.name);
     hinge_qpos_[j] = m->jnt_qposadr[id];
     hinge_dof_[j] = m->jnt_dofadr[id];
-    if (joint.motorised) motor_[j] = Id(m, mjOBJ_ACTUATOR, MjcfMotorName(*model_, j));
+    if (joint.motorised) motor_[j] = Id(m, mjOBJ_TENDON, MjcfMotorName(*model_, j));
   }
 }
 

@@ -81,9 +81,7 @@ TEST_P(ASeriesSimulationTest, SameSeedSameSensorNoiseDifferentSeedDifferentNoise
   EXPECT_NE(trace(8), first);
 }
 
-// MuJoCo joins when the A-Series stands on it: today its servos chatter and the robot goes unstable within
-// seconds (issue 20, docs/model.md "The MuJoCo backend").
-INSTANTIATE_TEST_SUITE_P(Engines, ASeriesSimulationTest, ::testing::Values("ODE"),
+INSTANTIATE_TEST_SUITE_P(Engines, ASeriesSimulationTest, ::testing::Values("ODE", "MuJoCo"),
                          [](const ::testing::TestParamInfo<std::string>& engine) { return engine.param; });
 
 }  // namespace
