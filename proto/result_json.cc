@@ -68,6 +68,7 @@ Json ResultToJson(const v1::Result& result) {
   Json sets = Json::array();
   for (const v1::Result::ParameterSetResult& set : result.parameter_sets()) sets.push_back(SetToJson(set));
   out["sets"] = std::move(sets);
+  if (!result.engine().empty()) out["engine"] = result.engine();
   out["worker"] = result.worker_id();
   out["attempts"] = result.attempts();
   out["timings"] = {{"queued_seconds", result.timings().queued_seconds()},

@@ -92,7 +92,12 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
 CLI::App* AddRegressCommand(CLI::App& app, BatchOptions& o) {
   CLI::App* regress = app.add_subcommand("regress", "run a regression suite and compare it with its baseline");
   regress->add_option("suite", o.suite, "the suite file (docs/regress.md)")->required();
-  regress->add_option("--baseline", o.baseline, "the baseline file (default: SUITE.baseline.json beside the suite)");
+  regress->add_option("--baseline", o.baseline,
+                      "the baseline file (default: SUITE.baseline.json beside the suite; SUITE.mujoco.baseline.json "
+                      "with --engine MuJoCo)");
+  regress->add_option("--engine", o.engine,
+                      "run every case on this physics engine (/Simulation/Engine), against that engine's baseline")
+      ->transform(CLI::IsMember({"ODE", "MuJoCo"}, CLI::ignore_case));
   regress->add_flag("--update-baseline", o.update_baseline, "record the baseline from this run instead of comparing");
   regress->add_option("--junit", o.junit, "write a JUnit XML report here");
   regress->add_option("--set", o.sets, "PATH=VALUE: override a value in every case, like a model change (repeatable)")

@@ -7,6 +7,7 @@
 
 #include "model/core/error.h"
 #include "model/core/json_node.h"
+#include "model/core/text.h"
 #include "model/core/text_file.h"
 
 namespace orcs::regress {
@@ -130,9 +131,10 @@ Suite ReadSuite(const std::string& path) {
   return suite;
 }
 
-std::string DefaultBaselinePath(const std::string& suite_path) {
+std::string DefaultBaselinePath(const std::string& suite_path, const std::string& engine) {
   fs::path path(suite_path);
   if (path.extension() == ".json") path.replace_extension();
+  if (engine != "ODE") path += "." + text::ToLower(engine);
   path += ".baseline.json";
   return path.string();
 }

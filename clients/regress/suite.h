@@ -45,7 +45,8 @@ struct Suite {
 /// empty, malformed or duplicate case name, a case whose scenario or genome does not load.
 Suite ReadSuite(const std::string& path);
 
-/// Where a suite's baseline is when --baseline is not given: beside it, "x.json" → "x.baseline.json".
-std::string DefaultBaselinePath(const std::string& suite_path);
+/// Where a suite's baseline is when --baseline is not given: beside it, "x.json" → "x.baseline.json" for ODE
+/// (the default engine) and "x.mujoco.baseline.json" for MuJoCo: each engine keeps its own.
+std::string DefaultBaselinePath(const std::string& suite_path, const std::string& engine = "ODE");
 
 }  // namespace orcs::regress

@@ -301,6 +301,7 @@ EvaluationOutcome Evaluate(const EvaluationRequest& request) {
       SetRun run;
       Configure(request, job.model, &job.sets[k], run, set_outcome);
       Simulate(request, k, &job.sets[k], run, set_outcome, deadline, log_bytes);
+      outcome.engine = run.simulation.engine();  // after its reset: the engine the job's values chose
       log_bytes -= std::min(log_bytes, set_outcome.log_csv.size());
       outcome.sets.push_back(std::move(set_outcome));
       if (outcome.sets.back().status != EvaluationStatus::kOk) {

@@ -71,6 +71,7 @@ struct EvaluationOutcome {
   std::string message;                              ///< the first failing set's message
   double fitness = 0.0;                             ///< aggregate over the sets (only when ok)
   std::vector<SetOutcome> sets;
+  std::string engine;  ///< /Simulation/Engine of the job's world ("ODE", "MuJoCo"); "" when it was not built
   double wall_seconds = 0.0;                        ///< time the evaluation took (not part of the bits)
 };
 

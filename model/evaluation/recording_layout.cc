@@ -70,7 +70,7 @@ RecordingLayout::RecordingLayout(const scene::Simulation& simulation, const Reco
     : simulation_(simulation) {
   header_ = {{"format", "orcs-recording"},
              {"version", 1},
-             {"engine", "ode"},
+             {"engine", simulation.engine()},
              {"program", source.program},
              {"source",
               {{"environment", source.environment},

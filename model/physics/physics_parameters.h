@@ -16,6 +16,22 @@ enum class Solver {
   kQuickStep,  ///< iterative solver, dWorldQuickStep, with `quickstep_iterations`
 };
 
+/// MuJoCo's constraint solver (mjtSolver).
+enum class MujocoSolver { kPGS, kCG, kNewton };
+
+/// The MuJoCo engine's solver settings, /Simulation/MuJoCo/... (docs/model.md, "The MuJoCo backend"); ODE
+/// ignores them. The defaults are MuJoCo's own except where docs/benchmarks.md measured a faster choice of
+/// the same accuracy.
+struct MujocoSettings {
+  MujocoSolver solver = MujocoSolver::kNewton;  ///< /Simulation/MuJoCo/Solver ("Newton" | "CG" | "PGS")
+  int iterations = 100;                         ///< most solver iterations per step, /Simulation/MuJoCo/Iterations
+  double tolerance = 1e-8;                      ///< relative cost decrease that ends the solve, -, .../Tolerance
+  bool implicit_integrator = true;              ///< .../Integrator: "Implicit" (in velocity) or "Euler"
+  bool elliptic_cone = false;                   ///< .../Cone: "Pyramidal" or "Elliptic" friction cones
+  double contact_time_constant = 0.02;          ///< s, contact softness: solref[0], .../ContactTimeConstant
+  double contact_damping_ratio = 1.0;           ///< -, solref[1], /Simulation/MuJoCo/ContactDampingRatio
+};
+
 struct PhysicsParameters {
   Eigen::Vector3d gravity{0.0, -9.81, 0.0};  ///< m/s², /Simulation/Gravitation (magnitude along −y)
   double erp = 0.2;                   ///< world error reduction parameter, -, /Simulation/ODE/ERP
@@ -42,6 +58,7 @@ struct PhysicsParameters {
   double min_contact_depth = 1e-6;    ///< contact points shallower than this are dropped, m
   double max_linear_speed = 1e3;      ///< a body faster than this makes the step unstable, m/s
   double max_angular_speed = 1e4;     ///< a body spinning faster than this makes the step unstable, rad/s
+  MujocoSettings mujoco;              ///< /Simulation/MuJoCo/...: the MuJoCo engine's solver
   CustomMaterial custom1;             ///< /MaterialProperties/Custom1/...
   CustomMaterial custom2;             ///< /MaterialProperties/Custom2/...
 

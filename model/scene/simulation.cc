@@ -55,6 +55,22 @@ constexpr const char* kGravitation = "/Simulation/Gravitation";
 constexpr const char* kUseQuickStep = "/Simulation/ODE/UseQuickStep";
 constexpr const char* kQuickStepIterations = "/Simulation/ODE/QuickStepIterations";
 constexpr const char* kMaxContactPoints = "/Simulation/ODE/MaxContactPoints";
+constexpr const char* kMujocoSolver = "/Simulation/MuJoCo/Solver";
+constexpr const char* kMujocoIterations = "/Simulation/MuJoCo/Iterations";
+constexpr const char* kMujocoTolerance = "/Simulation/MuJoCo/Tolerance";
+constexpr const char* kMujocoIntegrator = "/Simulation/MuJoCo/Integrator";
+constexpr const char* kMujocoCone = "/Simulation/MuJoCo/Cone";
+constexpr const char* kMujocoTimeConstant = "/Simulation/MuJoCo/ContactTimeConstant";
+constexpr const char* kMujocoDampingRatio = "/Simulation/MuJoCo/ContactDampingRatio";
+// What only ODE reads. FrictionScaling and StaticFrictionSpeed keep the original's /Simulation/ODE/ path but
+// are the material model's, read by both engines.
+constexpr const char* kOdeOnlyValues[] = {
+    kUseQuickStep, kQuickStepIterations, kMaxContactPoints, "/Simulation/ODE/ERP",
+    "/Simulation/ODE/ConstraintForceMixing", "/Simulation/ODE/ContactSurfaceLayer",
+    "/Simulation/ODE/ContactMaxCorrectingVelocity", "/Simulation/ODE/SoftERP", "/Simulation/ODE/SoftCFM",
+    "/Simulation/ODE/ContactSlip", "/Simulation/ODE/MinimumBouncingVelocity"};
+constexpr const char* kMujocoOnlyValues[] = {kMujocoSolver, kMujocoIterations,   kMujocoTolerance,   kMujocoIntegrator,
+                                             kMujocoCone,   kMujocoTimeConstant, kMujocoDampingRatio};
 constexpr double kMaxIterationsPerStep = 1000;
 constexpr double kMaxQuickStepIterations = 100000;
 constexpr double kMaxContactPointsValue = 1e6;  // used up to PhysicsParameters::kMaxContactPoints
@@ -92,11 +108,29 @@ void Simulation::RegisterSimulationValues() {
   for (const CustomMaterialParameter& p : kCustomMaterialParameters) {
     watch(repository_.Add(p.path, defaults.*p.material.*p.member));
   }
+  RegisterMujocoValues();
+  for (const char* path : kOdeOnlyValues) engine_only_values_.push_back({path, "ODE", repository_.Get(path).ToString()});
+  for (const char* path : kMujocoOnlyValues) {
+    engine_only_values_.push_back({path, "MuJoCo", repository_.Get(path).ToString()});
+  }
   current_time_ = &repository_.Add("/Simulation/CurrentSimulationTime", 0.0);
   current_step_ = &repository_.Add("/Simulation/CurrentStep", 0);
   repository_.Add("/Simulation/Seed", 0);
   step_event_ = events_.Register("/Simulation/Step");
   reset_event_ = events_.Register("/Simulation/Reset");
+}
+
+// The MuJoCo engine's solver (docs/orcs-sim.md): read at every step like the rest, no recompiling needed.
+void Simulation::RegisterMujocoValues() {
+  const physics::MujocoSettings defaults;
+  const auto watch = [this](Value& value) { value.AddObserver([this](const Value&) { parameters_changed_ = true; }); };
+  watch(repository_.Add(kMujocoSolver, std::string("Newton")).SetChoices({"Newton", "CG", "PGS"}));
+  watch(repository_.Add(kMujocoIterations, defaults.iterations).SetRange(1, kMaxQuickStepIterations));
+  watch(repository_.Add(kMujocoTolerance, defaults.tolerance).SetRange(0, 1));
+  watch(repository_.Add(kMujocoIntegrator, std::string("Implicit")).SetChoices({"Implicit", "Euler"}));
+  watch(repository_.Add(kMujocoCone, std::string("Pyramidal")).SetChoices({"Pyramidal", "Elliptic"}));
+  watch(repository_.Add(kMujocoTimeConstant, defaults.contact_time_constant).SetRange(1e-6, 10));
+  watch(repository_.Add(kMujocoDampingRatio, defaults.contact_damping_ratio).SetRange(1e-3, 100));
 }
 
 void Simulation::LoadEnvironment(const EnvironmentDescription& environment) {
@@ -163,6 +197,7 @@ void Simulation::ReadParameters() {
     throw InputError(kEngine, 0, "the engine changes only at a reset: set it before the run starts (a value file, "
                                  "the scenario's values or the job's overrides)");
   }
+  CheckEngineOnlyValues();
   parameters_.gravity = {0.0, -repository_.Get(kGravitation).as_double(), 0.0};
   parameters_.solver =
       repository_.Get(kUseQuickStep).as_bool() ? physics::Solver::kQuickStep : physics::Solver::kWorldStep;
@@ -173,7 +208,31 @@ void Simulation::ReadParameters() {
   for (const CustomMaterialParameter& p : kCustomMaterialParameters) {
     parameters_.*p.material.*p.member = repository_.Get(p.path).as_double();
   }
+  ReadMujocoSettings();
   parameters_changed_ = false;
+}
+
+void Simulation::ReadMujocoSettings() {
+  physics::MujocoSettings& settings = parameters_.mujoco;
+  const std::string solver = repository_.Get(kMujocoSolver).as_string();
+  settings.solver = solver == "PGS"  ? physics::MujocoSolver::kPGS
+                    : solver == "CG" ? physics::MujocoSolver::kCG
+                                     : physics::MujocoSolver::kNewton;
+  settings.iterations = static_cast<int>(repository_.Get(kMujocoIterations).as_int());
+  settings.tolerance = repository_.Get(kMujocoTolerance).as_double();
+  settings.implicit_integrator = repository_.Get(kMujocoIntegrator).as_string() == "Implicit";
+  settings.elliptic_cone = repository_.Get(kMujocoCone).as_string() == "Elliptic";
+  settings.contact_time_constant = repository_.Get(kMujocoTimeConstant).as_double();
+  settings.contact_damping_ratio = repository_.Get(kMujocoDampingRatio).as_double();
+}
+
+void Simulation::CheckEngineOnlyValues() const {
+  for (const EngineOnlyValue& only : engine_only_values_) {
+    if (only.engine == world_engine_ || repository_.Get(only.path).ToString() == only.default_text) continue;
+    throw InputError(only.path, 0, "applies to the " + only.engine + " engine only, and /Simulation/Engine is " +
+                                       world_engine_ + ": set /Simulation/Engine=" + only.engine + " or leave " +
+                                       only.path + " at its default " + only.default_text);
+  }
 }
 
 void Simulation::Reset(std::uint64_t seed) {

@@ -99,9 +99,12 @@ class Simulation {
 
  private:
   void RegisterSimulationValues();
+  void RegisterMujocoValues();
   void MakeWorld();
   void BindModel();
   void ReadParameters();
+  void ReadMujocoSettings();
+  void CheckEngineOnlyValues() const;
   void PhysicsStage();
   void PublishBodiesStage();
   void CollisionEventsStage();
@@ -114,6 +117,14 @@ class Simulation {
   std::shared_ptr<const WorldModel> model_;
   std::unique_ptr<physics::PhysicsWorld> world_;
   std::string world_engine_;  ///< the engine world_ runs on: /Simulation/Engine when it was made
+  /// A value only one engine reads (/Simulation/ODE/ERP, /Simulation/MuJoCo/Solver, ...): moved from its default
+  /// while the other engine runs, it is refused rather than silently ignored.
+  struct EngineOnlyValue {
+    std::string path;
+    std::string engine;        ///< the engine that reads it
+    std::string default_text;  ///< its registered default, as Value::ToString prints it
+  };
+  std::vector<EngineOnlyValue> engine_only_values_;
   std::vector<std::unique_ptr<aseries::ASeriesAgent>> agents_;  // their observers point into them: not movable
   physics::PhysicsParameters parameters_;
   bool parameters_changed_ = true;  // set by observers of the /Simulation/... values

@@ -40,6 +40,7 @@
 #include "model/physics/physics_model.h"
 #include "model/physics/physics_parameters.h"
 #include "model/scene/simulation.h"
+#include "tests/bench/rate_reporter.h"
 
 namespace orcs::scene {
 namespace {
@@ -412,26 +413,9 @@ bool CheckStanding() {
   return ok;
 }
 
-// The console output, plus the steps/s of every benchmark (the mean when there are repetitions) for the summary.
-class SummaryReporter : public benchmark::ConsoleReporter {
+// The steps/s of every benchmark, and after the run the ratios issue 3 asks for.
+class SummaryReporter : public bench::RateReporter {
  public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& run : runs) {
-      if (run.error_occurred) continue;
-      const bool mean = run.run_type == Run::RT_Aggregate && run.aggregate_name == "mean";
-      if (run.run_type == Run::RT_Aggregate && !mean) continue;
-      const auto rate = run.counters.find("items_per_second");
-      if (rate == run.counters.end()) continue;
-      Rate& entry = rates_[run.run_name.str()];
-      if (mean) {
-        entry = {rate->second.value, 1, true};
-      } else if (!entry.mean) {  // average single runs until a mean arrives
-        entry.steps_per_second += (rate->second.value - entry.steps_per_second) / ++entry.runs;
-      }
-    }
-  }
-
   void PrintSummary() const {
     const double standing = Get("BM_ASeriesStanding");
     const double raw = Get("BM_ASeriesRawOde");
@@ -453,18 +437,6 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       }
     }
   }
-
- private:
-  struct Rate {
-    double steps_per_second = 0.0;
-    int runs = 0;
-    bool mean = false;
-  };
-  double Get(const std::string& name) const {
-    const auto it = rates_.find(name);
-    return it == rates_.end() ? 0.0 : it->second.steps_per_second;
-  }
-  std::map<std::string, Rate> rates_;
 };
 
 }  // namespace

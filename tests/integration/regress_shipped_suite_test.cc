@@ -19,12 +19,16 @@ using test_support::ProcessResult;
 using test_support::RunProcess;
 using ::testing::HasSubstr;
 
-TEST(RegressShippedSuite, PassesAgainstItsBaseline) {
+// Each engine keeps its own baseline beside the suite: suite.baseline.json (ODE) and suite.mujoco.baseline.json.
+class RegressShippedSuite : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RegressShippedSuite, PassesAgainstItsBaseline) {
   test_support::TempDir dir;
   const std::string suite = ORCS_SOURCE_DIR "/scenarios/regress/suite.json";
   const std::string junit = dir.PathOf("junit.xml");
-  const ProcessResult result = RunProcess({ORCS_BINARY_DIR "/bin/orcs-batch", "regress", suite, "--junit", junit,
-                                           "--workers", "2", "--out", dir.PathOf("out")});
+  const ProcessResult result =
+      RunProcess({ORCS_BINARY_DIR "/bin/orcs-batch", "regress", suite, "--engine", GetParam(), "--junit", junit,
+                  "--workers", "2", "--out", dir.PathOf("out")});
   std::cout << result.out;  // the table, in the CTest log
   ASSERT_EQ(result.exit_code, 0) << result.out << result.err;
 
@@ -47,6 +51,9 @@ TEST(RegressShippedSuite, PassesAgainstItsBaseline) {
   for (const nlohmann::json& entry : suite_json["cases"]) expected.insert(entry["name"].get<std::string>());
   EXPECT_EQ(names, expected);
 }
+
+INSTANTIATE_TEST_SUITE_P(Engines, RegressShippedSuite, ::testing::Values("ODE", "MuJoCo"),
+                         [](const ::testing::TestParamInfo<std::string>& engine) { return engine.param; });
 
 }  // namespace
 }  // namespace orcs

@@ -23,17 +23,19 @@ constexpr double kDegrees = 180.0 / M_PI;
 
 std::string SourcePath(const std::string& relative) { return std::string(ORCS_SOURCE_DIR) + "/" + relative; }
 
-// One motion: the world of `environment` (a path below the source tree, or "" for the default A-Series standing
-// on the floor) with `record` played into agent `agent`.
+// One motion on one engine (/Simulation/Engine): the world of `environment` (a path below the source tree, or ""
+// for the default A-Series standing on the floor) with `record` played into agent `agent`.
 class MotionRun {
  public:
-  MotionRun(const std::string& environment, const std::string& record, const std::string& agent = "Humanoid")
+  MotionRun(const std::string& engine, const std::string& environment, const std::string& record,
+            const std::string& agent = "Humanoid")
       : agent_(agent) {
     if (environment.empty()) {
       environment_.agents.push_back(scene::AgentDescription{});
     } else {
       environment_ = scene::EnvironmentReader::ReadFile(SourcePath(environment));
     }
+    simulation_.repository().Set("/Simulation/Engine", engine);
     simulation_.LoadEnvironment(environment_);
     simulation_.Build();
     simulation_.Reset(0);
@@ -100,6 +102,9 @@ class MotionRun {
   std::unique_ptr<control::KeyframePlayer> player_;
 };
 
+// Every motion keeps its physical fact on each engine (docs/model.md, "The MuJoCo backend").
+class MotionsTest : public ::testing::TestWithParam<std::string> {};
+
 // Angle of a body axis above the horizontal, degrees.
 double Elevation(const Eigen::Vector3d& axis) { return std::asin(std::clamp(axis.y(), -1.0, 1.0)) * kDegrees; }
 
@@ -113,8 +118,8 @@ double Crossing(const std::vector<double>& times, const std::vector<double>& val
   return NAN;
 }
 
-TEST(MotionsTest, WaistBendReachesItsForwardAngleAndTheRobotStaysOnItsFeet) {
-  MotionRun run("", "scenarios/motions/waist_bend.csv");
+TEST_P(MotionsTest, WaistBendReachesItsForwardAngleAndTheRobotStaysOnItsFeet) {
+  MotionRun run(GetParam(), "", "scenarios/motions/waist_bend.csv");
   double forward = 0.0;  // the record's deepest bend
   for (size_t row = 0; row < run.record().frames.size(); ++row) forward = std::max(forward, run.Recorded(row, "Waist"));
   ASSERT_GT(forward, 60.0);
@@ -134,8 +139,8 @@ TEST(MotionsTest, WaistBendReachesItsForwardAngleAndTheRobotStaysOnItsFeet) {
   EXPECT_NEAR(run.Position("Middle/Head").y(), head_start, 0.01);  // straight again at the end
 }
 
-TEST(MotionsTest, LegSwingLagsTheCommandAtTheVelocityLimitOrTheTorqueLimit) {
-  MotionRun run("scenarios/environments/leg_swing.xml", "scenarios/motions/leg_swing.csv");
+TEST_P(MotionsTest, LegSwingLagsTheCommandAtTheVelocityLimitOrTheTorqueLimit) {
+  MotionRun run(GetParam(), "scenarios/environments/leg_swing.xml", "scenarios/motions/leg_swing.csv");
   const double max_velocity = run.Number("/AngularMotor/MaxVelocity");  // rad/s
   const double dt = run.Number("/Simulation/TimeStepSize");
   // The weight moment G of the leg below the hip (femur, tibia, ankle box, foot) once it is held level: from
@@ -185,8 +190,8 @@ TEST(MotionsTest, LegSwingLagsTheCommandAtTheVelocityLimitOrTheTorqueLimit) {
   EXPECT_LT(up_rate, 0.5 * max_velocity);
 }
 
-TEST(MotionsTest, ArmMotorsArriveInTheOrderOfTheirSpeeds) {
-  MotionRun run("", "scenarios/motions/arm_movement.csv");
+TEST_P(MotionsTest, ArmMotorsArriveInTheOrderOfTheirSpeeds) {
+  MotionRun run(GetParam(), "", "scenarios/motions/arm_movement.csv");
   const std::vector<std::string> arms = {"Right/ShoulderPitch", "Left/ShoulderPitch", "Right/Elbow", "Left/Elbow"};
   // From the record: each motor's target, when its ramp starts and ends, hence its speed.
   struct Ramp {
@@ -229,8 +234,8 @@ TEST(MotionsTest, ArmMotorsArriveInTheOrderOfTheirSpeeds) {
   for (size_t i = 0; i < ramps.size(); ++i) EXPECT_EQ(by_arrival[i].motor, by_speed[i].motor) << i;
 }
 
-TEST(MotionsTest, SitUpRaisesTheTrunkFromLyingToUpright) {
-  MotionRun run("scenarios/environments/lying_on_back.xml", "scenarios/motions/sit_up.csv");
+TEST_P(MotionsTest, SitUpRaisesTheTrunkFromLyingToUpright) {
+  MotionRun run(GetParam(), "scenarios/environments/lying_on_back.xml", "scenarios/motions/sit_up.csv");
   // Lying on its back, the trunk's long axis (the UpperBody's y) is level.
   EXPECT_LT(std::abs(Elevation(run.Axis("Middle/UpperBody", Eigen::Vector3d::UnitY()))), 1.0);
   run.RunUntil(run.record().frames.back().time_ms / 1000.0);
@@ -243,8 +248,8 @@ TEST(MotionsTest, SitUpRaisesTheTrunkFromLyingToUpright) {
   EXPECT_GT(run.Position("Middle/Head").y(), 0.2);
 }
 
-TEST(MotionsTest, StandUpGetsFromLyingOnTheBackToStanding) {
-  MotionRun run("scenarios/environments/lying_on_back.xml", "scenarios/motions/stand_up.csv");
+TEST_P(MotionsTest, StandUpGetsFromLyingOnTheBackToStanding) {
+  MotionRun run(GetParam(), "scenarios/environments/lying_on_back.xml", "scenarios/motions/stand_up.csv");
   // Lying on its back the head's centre is 0.14 m up (the face points up); standing it is 0.40 m up.
   ASSERT_LT(run.Position("Middle/Head").y(), 0.2);
   const double end = run.record().frames.back().time_ms / 1000.0;
@@ -268,8 +273,8 @@ TEST(MotionsTest, StandUpGetsFromLyingOnTheBackToStanding) {
   EXPECT_GT(run.Position("Middle/InvisiblePart").y(), 0.24);
 }
 
-TEST(MotionsTest, PendulumHoldsThePoleLevelAtFullTorqueAndSagsAtTheDefaultTorque) {
-  MotionRun run("scenarios/environments/pendulum.xml", "scenarios/motions/pendulum_steps.csv", "Pendulum");
+TEST_P(MotionsTest, PendulumHoldsThePoleLevelAtFullTorqueAndSagsAtTheDefaultTorque) {
+  MotionRun run(GetParam(), "scenarios/environments/pendulum.xml", "scenarios/motions/pendulum_steps.csv", "Pendulum");
   const scene::AgentDescription& rig = run.environment().agents.at(0);
   // The pole's weight moment when level: m·g·L/2 (a uniform pole hinged at one end).
   const double level_moment = rig.pole_mass * run.Number("/Simulation/Gravitation") * rig.pole_length / 2;
@@ -293,6 +298,9 @@ TEST(MotionsTest, PendulumHoldsThePoleLevelAtFullTorqueAndSagsAtTheDefaultTorque
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Engines, MotionsTest, ::testing::Values("ODE", "MuJoCo"),
+                         [](const ::testing::TestParamInfo<std::string>& engine) { return engine.param; });
 
 }  // namespace
 }  // namespace orcs

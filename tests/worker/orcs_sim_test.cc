@@ -231,6 +231,25 @@ TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
   EXPECT_NEAR(agents[0]["mass"].get<double>(), 2.3844, 0.01 * 2.3844);
 }
 
+// --export-mjcf writes what the MuJoCo engine compiles: every body, joint and motor of the world, by name.
+TEST_F(OrcsSimTest, ExportMjcfWritesTheWorldAsAMujocoModel) {
+  const std::string out = dir_.PathOf("world.xml");
+  const ProcessResult result = Run({"-env", kExample, "--export-mjcf", out});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::ifstream file(out);
+  const std::string mjcf((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(mjcf, HasSubstr("<mujoco model=\"orcs\">"));
+  EXPECT_THAT(mjcf, HasSubstr("<body name=\"SecondSphere\""));
+  EXPECT_THAT(mjcf, HasSubstr("<body name=\"SecondASeries/Right/Foot\""));
+  EXPECT_THAT(mjcf, HasSubstr("<joint name=\"SecondASeries/Waist\""));
+  EXPECT_THAT(mjcf, HasSubstr("name=\"motor:SecondASeries/Head/Tilt\""));
+  EXPECT_THAT(mjcf, HasSubstr("name=\"Box#0\""));  // a static object's geom in the world body
+}
+
+TEST_F(OrcsSimTest, ExportMjcfToAnUnwritablePathIsOneLine) {
+  ExpectBadInput(Run({"-env", kExample, "--export-mjcf", dir_.PathOf("no/such/dir/world.xml")}));
+}
+
 TEST_F(OrcsSimTest, DescribeShowsInitialValueChanges) {
   const std::string ival = dir_.Write("heavy.val", "/Sim/SecondSphere/Mass=2.5\n/Sim/Box/Width=0.4\n");
   const ProcessResult result = Run({"-env", kExample, "-ival", ival, "--describe"});
@@ -384,6 +403,26 @@ TEST_F(OrcsSimTest, BadPhysicsParameterDuringTheRunIsOneLine) {
   const ProcessResult result = Run({"-env", kExample, "-val", val, "--duration", "0.1"});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr("/Simulation/ODE/QuickStepIterations"));
+}
+
+TEST_F(OrcsSimTest, UnknownEngineInValueFile) {
+  const std::string val = dir_.Write("engine.val", "/Simulation/Engine=Bullet\n");
+  const ProcessResult result = Run({"-env", kExample, "-val", val});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr(val + ":1: /Simulation/Engine: expected one of ODE, MuJoCo, found 'Bullet'"));
+}
+
+TEST_F(OrcsSimTest, AMujocoSettingOnTheOdeEngineAndTheReverse) {
+  const std::string mujoco_on_ode = dir_.Write("a.val", "/Simulation/MuJoCo/Solver=PGS\n");
+  ProcessResult result = Run({"-env", kExample, "-val", mujoco_on_ode, "--duration", "0.1"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("/Simulation/MuJoCo/Solver: applies to the MuJoCo engine only, and "
+                                    "/Simulation/Engine is ODE"));
+  const std::string ode_on_mujoco =
+      dir_.Write("b.val", "/Simulation/Engine=MuJoCo\n/Simulation/ODE/QuickStepIterations=50\n");
+  result = Run({"-env", kExample, "-val", ode_on_mujoco, "--duration", "0.1"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("/Simulation/ODE/QuickStepIterations: applies to the ODE engine only"));
 }
 
 TEST_F(OrcsSimTest, NonexistentEnvironment) {

@@ -99,6 +99,7 @@ v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& out
       log->set_csv(set.log_csv);
     }
   }
+  result.set_engine(outcome.engine);
   result.mutable_timings()->set_run_seconds(outcome.wall_seconds);
   result.mutable_timings()->set_simulated_seconds(simulated);
   result.set_attempts(job.attempt() + 1);

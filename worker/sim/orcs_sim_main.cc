@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "model/control/keyframe_player.h"
+#include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/rotation.h"
 #include "model/core/text.h"
@@ -15,6 +16,7 @@
 #include "model/core/value_logger.h"
 #include "model/evaluation/recorder.h"
 #include "model/evaluation/step_loop.h"
+#include "model/physics/mujoco/mjcf_export.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
 #include "net/cli_style.h"
@@ -136,6 +138,12 @@ int Run(const SimOptions& options) {
   }
   if (options.describe) {
     std::cout << Describe(simulation).dump(2) << "\n";
+    return cli::kExitOk;
+  }
+  if (!options.export_mjcf.empty()) {
+    AtomicFile file(options.export_mjcf);
+    file.stream() << physics::ExportMjcf(*simulation.model().physics());
+    file.Commit();
     return cli::kExitOk;
   }
 

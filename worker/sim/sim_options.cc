@@ -39,6 +39,9 @@ void AddModeOptions(CLI::App& app, SimOptions& o) {
                "(-gui also accepted)");
   app.add_option("--print-values", o.print_values, "print matching repository values as path=value and exit");
   app.add_flag("--describe", o.describe, "print the bodies, joints and agents as JSON and exit");
+  app.add_option("--export-mjcf", o.export_mjcf,
+                 "write the world as the MJCF model the MuJoCo engine compiles (docs/model.md) to this file and "
+                 "exit; for raw MuJoCo (simulate, benchmarks)");
   CLI::Option* scenario =
       app.add_option("--scenario", o.scenario, "evaluate one job of this scenario (docs/scenarios.md) with --seed and "
                                                "print its result as one JSON line, as orcs-batch writes it");
@@ -61,9 +64,10 @@ void CheckCombinations(const CLI::App& app, const SimOptions& o) {
   if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
   const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
                              !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
-                             app.count("--duration") > 0 || o.realtime;
+                             !o.export_mjcf.empty() || app.count("--duration") > 0 || o.realtime;
   const bool run_options = !o.play.empty() || !o.log.empty() || !o.record.empty() || !o.scenario.empty() ||
-                           !o.print_values.empty() || o.describe || o.realtime || app.count("--duration") > 0;
+                           !o.print_values.empty() || o.describe || !o.export_mjcf.empty() || o.realtime ||
+                           app.count("--duration") > 0;
   if (o.gui && run_options) {
     throw CLI::ValidationError("-gui", "opens the world (-env, -ival, -val, --seed) in orcs-view --live; run, log, "
                                        "play or record without -gui, or use orcs-view --live --port P for another "

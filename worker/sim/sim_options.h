@@ -23,6 +23,7 @@ struct SimOptions {
   bool gui = false;                              ///< -gui: orcs-view --live on this world instead of a headless run
   std::string print_values;                      ///< --print-values REGEX: print matching values and exit
   bool describe = false;                         ///< --describe: print the world as JSON and exit
+  std::string export_mjcf;                       ///< --export-mjcf FILE: write the world's MuJoCo model and exit
   std::string scenario;                          ///< --scenario FILE.json: evaluate one job and print its result
   std::string genome;                            ///< --genome JSON or @FILE: the job's genome ("" = the scenario's)
   bool realtime = false;                         ///< --realtime: steps paced to the wall clock

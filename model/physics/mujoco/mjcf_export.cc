@@ -2,6 +2,7 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
@@ -158,6 +159,18 @@ Eigen::Matrix3d MainGeomInertia(const GeomDescription& geom, double mass) {
   return rotation * diagonal.asDiagonal() * rotation.transpose();
 }
 
+}  // namespace
+
+int MjcfContactBuffer(const PhysicsModel& model) { return std::max(200, 8 * model.geom_count()); }
+
+int MjcfConstraintRows(const PhysicsModel& model) {
+  int bodies = 0;
+  for (int b = 0; b < model.body_count(); ++b) bodies += model.body(b).dynamic ? 1 : 0;
+  return std::max(500, 28 * bodies);
+}
+
+namespace {
+
 class MjcfWriter {
  public:
   MjcfWriter(const PhysicsModel& model, const MjcfOptions& options)
@@ -196,8 +209,9 @@ class MjcfWriter {
     option->SetAttribute("integrator", options_.implicit_integrator ? "implicit" : "Euler");
     Child(option, "flag")->SetAttribute("filterparent", "disable");  // jointed bodies collide, as in ODE
     tinyxml2::XMLElement* size = Child(root, "size");
-    size->SetAttribute("nconmax", options_.max_contacts);
-    size->SetAttribute("njmax", options_.max_constraint_rows);
+    size->SetAttribute("nconmax", options_.max_contacts > 0 ? options_.max_contacts : MjcfContactBuffer(model_));
+    size->SetAttribute("njmax",
+                       options_.max_constraint_rows > 0 ? options_.max_constraint_rows : MjcfConstraintRows(model_));
     tinyxml2::XMLElement* geom_default = Child(Child(root, "default"), "geom");
     geom_default->SetAttribute("condim", 3);
   }

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
+#include <list>
 #include <map>
 #include <cmath>
 #include <cstring>
@@ -54,6 +55,26 @@ ModelPtr CompileMjcf(const std::string& xml) {
   return model;
 }
 
+// Compiled models by their MJCF text, shared read-only: a worker runs many jobs of one world, and compiling is
+// most of what making a world costs. Bounded to the last few texts; a world copies its model, so a model
+// dropped from the cache lives on in the worlds made from it.
+std::shared_ptr<const mjModel> CompiledModel(const std::string& xml) {
+  constexpr size_t kCachedModels = 4;
+  static std::mutex mutex;
+  static std::list<std::pair<std::string, std::shared_ptr<const mjModel>>> cache;  // most recent first
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto found =
+      std::find_if(cache.begin(), cache.end(), [&](const auto& entry) { return entry.first == xml; });
+  if (found != cache.end()) {
+    cache.splice(cache.begin(), cache, found);
+    return cache.front().second;
+  }
+  std::shared_ptr<const mjModel> model(CompileMjcf(xml).release(), ModelDeleter());
+  cache.emplace_front(xml, model);
+  if (cache.size() > kCachedModels) cache.pop_back();
+  return model;
+}
+
 int Id(const mjModel* m, mjtObj type, const std::string& name) {
   const int id = mj_name2id(m, type, name.c_str());
   if (id < 0) throw std::logic_error("generated MJCF lacks '" + name + "'");
@@ -69,7 +90,7 @@ constexpr std::array<const char*, mjNWARNING> kWarningNames = {
 class MujocoWorld : public PhysicsWorld {
  public:
   explicit MujocoWorld(std::shared_ptr<const PhysicsModel> model)
-      : model_(std::move(model)), pristine_(CompileMjcf(ExportMjcf(*model_))) {
+      : model_(std::move(model)), pristine_(CompiledModel(ExportMjcf(*model_))) {
     m_.reset(mj_copyModel(nullptr, pristine_.get()));
     d_.reset(mj_makeData(m_.get()));
     MapIndices();
@@ -102,8 +123,7 @@ class MujocoWorld : public PhysicsWorld {
     if (status_ != StepStatus::kOk) return status_;
     PoseBodies();
     parameters_ = &parameters;
-    m_->opt.timestep = dt;
-    for (int i = 0; i < 3; ++i) m_->opt.gravity[i] = parameters.gravity[i];
+    SetOptions(dt, parameters);
     std::copy(applied_.begin(), applied_.end(), d_->qfrc_applied);
     const std::array<int, mjNWARNING> warnings_before = WarningCounts();
     PositionStages();
@@ -187,6 +207,7 @@ class MujocoWorld : public PhysicsWorld {
 
  private:
   void MapIndices();
+  void SetOptions(double dt, const PhysicsParameters& parameters);
   void ServoReferences();
   void ReadMotorTorques();
   void PoseBodies() const;
@@ -208,7 +229,7 @@ class MujocoWorld : public PhysicsWorld {
   StepStatus CheckStability(const PhysicsParameters& parameters);
 
   std::shared_ptr<const PhysicsModel> model_;
-  ModelPtr pristine_;                         ///< as compiled: Reset() restores m_ from it
+  std::shared_ptr<const mjModel> pristine_;   ///< as compiled (shared): Reset() restores m_ from it
   ModelPtr m_;                                ///< this world's model, with the run's motor and friction settings
   DataPtr d_;                                 ///< this world's state
   std::vector<int> mj_body_;                  ///< orcs body → MuJoCo body id, −1 for a static body
@@ -323,6 +344,22 @@ void MujocoWorld::MapIndices() {
   }
 }
 
+void MujocoWorld::SetOptions(double dt, const PhysicsParameters& parameters) {
+  const MujocoSettings& settings = parameters.mujoco;
+  mjOption& opt = m_->opt;
+  opt.timestep = dt;
+  for (int i = 0; i < 3; ++i) opt.gravity[i] = parameters.gravity[i];
+  switch (settings.solver) {
+    case MujocoSolver::kPGS: opt.solver = mjSOL_PGS; break;
+    case MujocoSolver::kCG: opt.solver = mjSOL_CG; break;
+    case MujocoSolver::kNewton: opt.solver = mjSOL_NEWTON; break;
+  }
+  opt.iterations = settings.iterations;
+  opt.tolerance = settings.tolerance;
+  opt.integrator = settings.implicit_integrator ? mjINT_IMPLICIT : mjINT_EULER;
+  opt.cone = settings.elliptic_cone ? mjCONE_ELLIPTIC : mjCONE_PYRAMIDAL;
+}
+
 // mj_fwdPosition's stages, with the contacts rewritten between collision and constraint making.
 void MujocoWorld::PositionStages() {
   mjModel* m = m_.get();
@@ -373,6 +410,8 @@ void MujocoWorld::RewriteContacts() {
                               material_of_body_[info2.body], p.custom1, p.custom2);
     con.friction[0] = con.friction[1] = ChooseFriction(con, material);
     con.mu = con.friction[0];
+    con.solref[0] = p.mujoco.contact_time_constant;
+    con.solref[1] = p.mujoco.contact_damping_ratio;
   }
 }
 

@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -47,6 +49,20 @@ TEST(EvaluationTest, SameJobSameBitsDifferentSeedDifferentDraws) {
   }
   EXPECT_GE(a.fitness, low);
   EXPECT_LE(a.fitness, high);
+}
+
+// /Simulation/Engine as a job override: the job runs on MuJoCo, says so, and gives the same bits every time.
+TEST(EvaluationTest, AJobNamesItsEngineAndMujocoJobsRepeatBitForBit) {
+  EvaluationRequest on_mujoco = Request("swing_oscillator.json", kSwingGenome, 11);
+  on_mujoco.overrides.push_back({"/Simulation/Engine", "MuJoCo", "job", 0});
+  const EvaluationOutcome ode = Evaluate(Request("swing_oscillator.json", kSwingGenome, 11));
+  const EvaluationOutcome a = Evaluate(on_mujoco);
+  const EvaluationOutcome b = Evaluate(on_mujoco);
+  ASSERT_EQ(a.status, EvaluationStatus::kOk) << a.message;
+  EXPECT_EQ(ode.engine, "ODE");
+  EXPECT_EQ(a.engine, "MuJoCo");
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(a.fitness), std::bit_cast<std::uint64_t>(b.fitness));
+  EXPECT_NE(a.fitness, ode.fitness);  // another engine, another simulation
 }
 
 TEST(EvaluationTest, BadGenomeFailsAloneWithAMessage) {

@@ -1,5 +1,6 @@
-// Small worlds for the physics backends' tests (tests/model/physics/ode/, tests/model/physics/mujoco/): a floor,
-// spheres and boxes, a hinged pendulum, a ball over a shelf, and stepping helpers.
+// Small worlds for the physics backends' tests (physics_world_test.cc runs them on every engine; ode/ and mujoco/
+// hold what is engine-specific): a floor, spheres and boxes, a hinged pendulum, a motorised chain, a ball over a
+// shelf, and stepping helpers.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <numbers>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "model/physics/physics_model.h"
 #include "model/physics/physics_world.h"
@@ -106,6 +108,55 @@ inline PhysicsDescription Pendulum(bool limited, bool motorised) {
 inline double BobAngle(const PhysicsWorld& world) {
   const Eigen::Vector3d p = world.body_state(0).position;
   return std::atan2(p.y(), p.x());
+}
+
+// Three motorised hinged boxes dropped tilted on a floor: contacts, limits, motors and friction all active. The
+// first hinge turns about z, the second about `second_axis`: about y (the default) the chain bends out of its plane
+// and, driven by Trajectory, its links touch each other as well as the floor; about z it stays planar and only
+// touches the floor.
+inline PhysicsDescription Chain(const Eigen::Vector3d& second_axis = Eigen::Vector3d::UnitY()) {
+  PhysicsDescription d;
+  d.bodies.push_back(Floor());
+  for (int i = 0; i < 3; ++i) {
+    BodyDescription link = Box("Link" + std::to_string(i), {0.1, 0.03, 0.05}, 0.1, i == 1 ? "Latex" : "ABS",
+                               {0.11 * i, 0.2 + 0.03 * i, 0});
+    link.orientation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0, 1).normalized());
+    d.bodies.push_back(link);
+  }
+  for (int i = 0; i < 2; ++i) {
+    JointDescription hinge;
+    hinge.name = "Hinge" + std::to_string(i);
+    hinge.body1 = "Link" + std::to_string(i + 1);
+    hinge.body2 = "Link" + std::to_string(i);
+    hinge.anchor = {0.055 + 0.11 * i, 0.215 + 0.03 * i, 0};
+    hinge.axis = i == 0 ? Eigen::Vector3d::UnitZ() : second_axis;
+    hinge.limited = true;
+    hinge.lo = -0.8;
+    hinge.hi = 0.8;
+    hinge.motorised = true;
+    d.joints.push_back(hinge);
+  }
+  return d;
+}
+
+// Every coordinate of every link of the Chain (position, orientation, both velocities) after each of `steps`
+// steps, with the motors driven.
+inline std::vector<double> Trajectory(PhysicsWorld& world, int steps) {
+  std::vector<double> out;
+  for (int i = 0; i < steps; ++i) {
+    world.SetJointMotor(0, 2.0 * std::sin(0.05 * i), 0.05);
+    world.SetJointMotor(1, -1.0, 0.02);
+    world.SetJointFriction(1, 0.001);
+    EXPECT_EQ(world.Step(kDt, {}), StepStatus::kOk);
+    for (int b = 1; b < 4; ++b) {
+      const BodyState s = world.body_state(b);
+      out.insert(out.end(), s.position.data(), s.position.data() + 3);
+      out.insert(out.end(), s.orientation.coeffs().data(), s.orientation.coeffs().data() + 4);
+      out.insert(out.end(), s.linear_velocity.data(), s.linear_velocity.data() + 3);
+      out.insert(out.end(), s.angular_velocity.data(), s.angular_velocity.data() + 3);
+    }
+  }
+  return out;
 }
 
 // A ball dropped on a static shelf at 0.3 m (top at 0.31 m) above the floor.

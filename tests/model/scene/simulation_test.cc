@@ -317,6 +317,55 @@ TEST_F(SimulationTest, TheEngineIsChosenByValueAndChangesOnlyAtAReset) {
   Steps(1);
 }
 
+// A value only the other engine reads is refused at the first step, naming it, rather than silently ignored.
+TEST_F(SimulationTest, AValueOnlyTheOtherEngineReadsIsRefusedNamingIt) {
+  struct Case {
+    const char* engine;
+    const char* path;
+    const char* value;
+  };
+  for (const Case& c : {Case{"ODE", "/Simulation/MuJoCo/Solver", "PGS"}, Case{"ODE", "/Simulation/MuJoCo/Iterations", "5"},
+                        Case{"MuJoCo", "/Simulation/ODE/UseQuickStep", "T"},
+                        Case{"MuJoCo", "/Simulation/ODE/SoftERP", "0.5"}}) {
+    SCOPED_TRACE(c.path);
+    Simulation simulation;
+    simulation.LoadEnvironment(World());
+    simulation.repository().Set("/Simulation/Engine", c.engine);
+    simulation.repository().Set(c.path, c.value);
+    simulation.Build();
+    try {
+      simulation.Step();
+      FAIL() << "expected an InputError";
+    } catch (const InputError& error) {
+      EXPECT_THAT(error.what(), HasSubstr(std::string(c.path) + ": applies to the "));
+      EXPECT_THAT(error.what(), HasSubstr(std::string("/Simulation/Engine is ") + c.engine));
+    }
+  }
+  // The material model's values keep the original's /Simulation/ODE/ path and work on both engines.
+  simulation_.repository().Set("/Simulation/Engine", "MuJoCo");
+  simulation_.repository().Set("/Simulation/ODE/FrictionScaling", "0.8");
+  simulation_.repository().Set("/Simulation/MuJoCo/Cone", "elliptic");  // any case, as every choice
+  simulation_.Build();
+  Steps(2);
+}
+
+// Contact softness is MuJoCo's solref time constant: the resting ball sinks deeper into a softer floor.
+TEST_F(SimulationTest, MujocoContactSofteningLetsTheRestingBallSinkDeeper) {
+  const auto resting_depth = [](const char* time_constant) {
+    Simulation simulation;
+    simulation.LoadEnvironment(World());
+    simulation.repository().Set("/Simulation/Engine", "MuJoCo");
+    simulation.repository().Set("/Simulation/MuJoCo/ContactTimeConstant", time_constant);
+    simulation.Build();
+    for (int i = 0; i < 300; ++i) EXPECT_EQ(simulation.Step(), SimulationStatus::kOk) << simulation.message();
+    return kRadius - PositionOf(simulation, "Ball").y();
+  };
+  const double stiff = resting_depth("0.02"), soft = resting_depth("0.06");
+  EXPECT_GT(stiff, 0.0);
+  EXPECT_GT(soft, 5 * stiff);  // MuJoCo's contact spring stiffness goes with 1/timeconst²
+  EXPECT_LT(soft, kRadius);
+}
+
 TEST_F(SimulationTest, NonPositiveIterationsAreRefusedNamingThePath) {
   simulation_.Build();
   try {

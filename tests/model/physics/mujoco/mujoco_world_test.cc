@@ -1,18 +1,18 @@
-// The MuJoCo backend on the small worlds the ODE backend is tested on (tests/model/physics/test_worlds.h): the same
-// physical facts, with tolerances for MuJoCo's soft contacts where they differ (docs/model.md, "The MuJoCo
-// backend"), and the generated MJCF itself.
+// What only the MuJoCo backend has, on the small worlds of test_worlds.h: hinges whose child is body 2, the servo's
+// holding torque and compliance through MuJoCo's soft constraint, posing bodies through SetBodyState, the refusal of
+// joint loops, the generated MJCF itself, and (disabled) two known defects. The physical facts every backend shows are
+// in ../physics_world_test.cc, run on ODE and on MuJoCo, with MuJoCo's tolerances for its soft contacts where they
+// differ (docs/model.md, "The MuJoCo backend").
 #include "model/physics/mujoco/mujoco_world.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
-#include <bit>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
-#include <thread>
-#include <vector>
 
 #include "model/core/error.h"
 #include "model/physics/mujoco/mjcf_export.h"
@@ -23,75 +23,6 @@ namespace {
 
 using ::testing::HasSubstr;
 using namespace test_worlds;  // NOLINT: the shared small worlds
-
-TEST(MujocoWorldTest, SphereDroppedOnFloorComesToRest) {
-  PhysicsDescription d;
-  d.bodies = {Floor(), Sphere("Ball", 0.05, 0.1, "ABS", {0, 0.5, 0})};
-  auto world = MakeMujocoWorld(Compile(d));
-  RunFor(*world, 3.0);
-  const BodyState s = world->body_state(1);
-  EXPECT_NEAR(s.position.y(), 0.05, 2e-3);  // MuJoCo's soft contact sinks by a millimetre or so
-  EXPECT_NEAR(s.position.x(), 0.0, 1e-9);
-  EXPECT_NEAR(s.position.z(), 0.0, 1e-9);
-  EXPECT_LT(s.linear_velocity.norm(), 1e-3);
-  EXPECT_LT(s.angular_velocity.norm(), 1e-3);
-}
-
-TEST(MujocoWorldTest, ContactsAreReportedWithNormalIntoGeom1) {
-  PhysicsDescription d;
-  d.bodies = {Floor(), Sphere("Ball", 0.05, 0.1, "ABS", {0, 0.5, 0})};
-  auto world = MakeMujocoWorld(Compile(d));
-  RunFor(*world, 1.0);
-  ASSERT_FALSE(world->contacts().empty());
-  for (const Contact& c : world->contacts()) {
-    EXPECT_GT(c.depth, 0.0);
-    EXPECT_NEAR(c.normal.norm(), 1.0, 1e-9);
-    // The normal points into geom1: up when the ball is geom1, down when the floor is.
-    const bool ball_first = c.body1 == 1;
-    EXPECT_NEAR(c.normal.y(), ball_first ? 1.0 : -1.0, 1e-9);
-    EXPECT_NEAR(c.position.y(), 0.0, 2e-3);
-  }
-}
-
-// Settles a box on the floor with vertical gravity (as the ODE backend's test does); returns the world.
-std::unique_ptr<PhysicsWorld> BoxOnSlope(const std::string& box_material, const std::string& floor_material) {
-  PhysicsDescription d;
-  d.bodies = {Floor(floor_material), Box("Box", {0.1, 0.05, 0.1}, 0.5, box_material, {0, 0.025, 0})};
-  auto world = MakeMujocoWorld(Compile(d));
-  RunFor(*world, 0.5);
-  return world;
-}
-
-TEST(MujocoWorldTest, BoxSticksOnSlopeBelowStaticFriction) {
-  // Latex on PVC: μ = 0.83462 > tan 30° = 0.577.
-  auto world = BoxOnSlope("Latex", "PVC");
-  const double x0 = world->body_state(1).position.x();
-  RunFor(*world, 2.0, TiltedGravity(30));
-  // MuJoCo's friction is a soft constraint: the box creeps (7 mm in 2 s, measured), where ODE's holds to 5 mm.
-  EXPECT_LT(std::abs(world->body_state(1).position.x() - x0), 1e-2);
-  EXPECT_LT(world->body_state(1).linear_velocity.norm(), 5e-3);
-}
-
-TEST(MujocoWorldTest, BoxSlidesOnSlopeAboveFrictionWithDynamicDeceleration) {
-  // ABS on PVC: μ = 0.20874 < tan 30°; a = g (sin θ − μ cos θ) = 3.1316 m/s².
-  auto world = BoxOnSlope("ABS", "PVC");
-  const PhysicsParameters slope = TiltedGravity(30);
-  RunFor(*world, 0.5, slope);
-  const double v1 = world->body_state(1).linear_velocity.x();
-  RunFor(*world, 1.0, slope);
-  const double v2 = world->body_state(1).linear_velocity.x();
-  const double expected = kG * (std::sin(kPi / 6) - 0.20874 * std::cos(kPi / 6));
-  EXPECT_NEAR(v2 - v1, expected, 0.02 * expected);
-}
-
-TEST(MujocoWorldTest, HingeAngleFollowsTheAxisRightHandRule) {
-  auto world = MakeMujocoWorld(Compile(Pendulum(false, false)));
-  RunFor(*world, 0.2);
-  EXPECT_LT(world->joint_angle(0), -0.1);  // gravity swings the bob negatively about +z
-  EXPECT_NEAR(world->joint_angle(0), BobAngle(*world), 1e-9);  // a reduced coordinate: no drift at all
-  EXPECT_LT(world->joint_rate(0), 0.0);
-  EXPECT_NEAR(world->joint_rate(0), world->body_state(0).angular_velocity.z(), 1e-9);
-}
 
 TEST(MujocoWorldTest, AHingeWhoseChildIsBody2KeepsTheAngleOfBody1AgainstBody2) {
   // The bob hangs from an anchor body: with the bob as body2, the angle is the anchor's against the bob's,
@@ -115,41 +46,6 @@ TEST(MujocoWorldTest, AHingeWhoseChildIsBody2KeepsTheAngleOfBody1AgainstBody2) {
   EXPECT_NEAR(world->joint_angle(1), -std::atan2(bob.y(), bob.x()), 1e-9);
 }
 
-TEST(MujocoWorldTest, LimitedHingeStopsAtItsStop) {
-  auto world = MakeMujocoWorld(Compile(Pendulum(true, false)));
-  double lowest = 0.0;
-  for (int i = 0; i < 300; ++i) {
-    ASSERT_EQ(world->Step(kDt, {}), StepStatus::kOk);
-    lowest = std::min(lowest, world->joint_angle(0));
-  }
-  EXPECT_NEAR(world->joint_angle(0), -0.5, 0.01);
-  EXPECT_GT(lowest, -0.6);
-  EXPECT_LT(std::abs(world->joint_rate(0)), 1e-2);
-}
-
-TEST(MujocoWorldTest, MotorReachesCommandedVelocityWithoutLoad) {
-  auto world = MakeMujocoWorld(Compile(Pendulum(false, true)));
-  world->SetJointMotor(0, 2.0, 10.0);
-  RunFor(*world, 0.5, ZeroGravity());
-  EXPECT_NEAR(world->joint_rate(0), 2.0, 1e-3);
-  EXPECT_NEAR(world->joint_angle(0), 1.0, 0.02);
-  world->SetJointMotor(0, -1.0, 10.0);
-  RunFor(*world, 0.5, ZeroGravity());
-  EXPECT_NEAR(world->joint_rate(0), -1.0, 1e-3);
-}
-
-TEST(MujocoWorldTest, MotorTorqueIsLimitedByMaxTorque) {
-  PhysicsDescription d = Pendulum(false, true);
-  d.bodies[0].position = Eigen::Vector3d::Zero();
-  auto world = MakeMujocoWorld(Compile(d));
-  const double inertia = 0.1 * (0.1 * 0.1 + 0.02 * 0.02) / 12;
-  const double torque = 1e-3;
-  world->SetJointMotor(0, 100.0, torque);
-  RunFor(*world, 0.1, ZeroGravity());
-  EXPECT_NEAR(world->joint_rate(0), torque / inertia * 0.1, 0.01 * torque / inertia * 0.1);
-  EXPECT_NEAR(world->joint_motor_torque(0), torque, 1e-12);
-}
-
 TEST(MujocoWorldTest, AServoHoldsAgainstGravityAndReportsTheHoldingTorque) {
   const double gravity_torque = 0.1 * kG * 0.2;  // the bob horizontal
   auto world = MakeMujocoWorld(Compile(Pendulum(false, true)));
@@ -166,92 +62,40 @@ TEST(MujocoWorldTest, AServoHoldsAgainstGravityAndReportsTheHoldingTorque) {
   EXPECT_LT(world->joint_rate(0), -0.05);
 }
 
-TEST(MujocoWorldTest, AddedTorqueActsForOneStepAndUsesTheTotalMass) {
-  PhysicsDescription d = Pendulum(false, false);
-  d.bodies[0].position = Eigen::Vector3d::Zero();
-  GeomDescription pad = MakeGeom(Shape::kBox, {0.01, 0.01, 0.01}, "Latex");
-  pad.name = "pad";
-  pad.mass = 0.3;
-  pad.offset = {0.05, 0, 0};
-  d.bodies[0].geoms.push_back(pad);
-  auto world = MakeMujocoWorld(Compile(d));
-  const double inertia = 0.4 * (0.1 * 0.1 + 0.02 * 0.02) / 12;
-  world->AddJointTorque(0, 0.002);
-  RunFor(*world, kDt, ZeroGravity());
-  const double rate = 0.002 / inertia * kDt;
-  EXPECT_NEAR(world->joint_rate(0), rate, 1e-6 * rate);
-  RunFor(*world, kDt, ZeroGravity());
-  EXPECT_NEAR(world->joint_rate(0), rate, 1e-6 * rate);
-}
+// DISABLED: two known defects of the backend, found when its tests joined the ODE backend's in
+// ../physics_world_test.cc. Enable each once it passes, and then drop the matching exception there
+// (Engine::slides_flat, PlanarChain).
 
-TEST(MujocoWorldTest, JointFrictionHoldsThePendulumAboveTheGravityTorque) {
-  const double gravity_torque = 0.1 * kG * 0.2;
-  auto held = MakeMujocoWorld(Compile(Pendulum(false, false)));
-  held->SetJointFriction(0, 2.0 * gravity_torque);
-  RunFor(*held, 1.0);
-  EXPECT_LT(std::abs(held->joint_angle(0)), 1e-2);  // MuJoCo's friction loss is soft: it creeps a little
-
-  auto swinging = MakeMujocoWorld(Compile(Pendulum(false, false)));
-  swinging->SetJointFriction(0, 0.5 * gravity_torque);
-  RunFor(*swinging, 1.0);
-  EXPECT_LT(swinging->joint_angle(0), -0.3);
-}
-
-TEST(MujocoWorldTest, FixedJointWeldsToTheWorld) {
+TEST(MujocoWorldTest, DISABLED_ABoxSlidingDownASlopeStaysOnIt) {
+  // ABS on PVC down 30°, as in PhysicsWorldTest.BoxSlidesOnSlopeAboveFrictionWithDynamicDeceleration. Measured:
+  // the box hops up to 6.7 cm off the slope (|v_y| up to 0.8 m/s) and spins at up to 28 rad/s; ODE's stays within
+  // 14 µm and 1e-5 m/s. Ruled out (each tried alone): dropping shallow contacts, the pyramidal cone (elliptic
+  // hops too, and spins), the implicit integrator (Euler hops the same), contact softness (solref 0.05 hops less).
   PhysicsDescription d;
-  d.bodies = {Box("Lamp", {0.1, 0.1, 0.1}, 1.0, "ABS", {0, 1, 0})};
-  JointDescription weld;
-  weld.name = "Weld";
-  weld.type = JointType::kFixed;
-  weld.body1 = "Lamp";
-  d.joints.push_back(weld);
+  d.bodies = {Floor("PVC"), Box("Box", {0.1, 0.05, 0.1}, 0.5, "ABS", {0, 0.025, 0})};
   auto world = MakeMujocoWorld(Compile(d));
-  RunFor(*world, 1.0);
-  EXPECT_EQ(world->body_state(0).position.y(), 1.0);  // welded by nesting: exactly in place
-  EXPECT_EQ(world->joint_angle(0), 0.0);
-}
-
-TEST(MujocoWorldTest, ShelfStopsTheBallAndExcludedPairsReportContactsButPassThrough) {
-  auto stopped = MakeMujocoWorld(Compile(BallAboveShelf()));
-  RunFor(*stopped, 2.0);
-  EXPECT_NEAR(stopped->body_state(2).position.y(), 0.36, 2e-3);
-
-  PhysicsDescription d = BallAboveShelf();
-  d.contact_exclusions.emplace_back("Shelf", "Ball");
-  auto world = MakeMujocoWorld(Compile(d));
-  int excluded_contacts = 0;
-  for (int i = 0; i < 200; ++i) {
-    ASSERT_EQ(world->Step(kDt, {}), StepStatus::kOk);
-    for (const Contact& c : world->contacts()) excluded_contacts += c.excluded ? 1 : 0;
+  RunFor(*world, 0.5);
+  const double y0 = world->body_state(1).position.y();
+  for (int i = 0; i < 150; ++i) {
+    ASSERT_EQ(world->Step(kDt, TiltedGravity(30)), StepStatus::kOk);
+    const BodyState s = world->body_state(1);
+    ASSERT_NEAR(s.position.y(), y0, 1e-3) << "step " << i;
+    ASSERT_LT(std::abs(s.linear_velocity.y()), 1e-3) << "step " << i;
+    ASSERT_LT(s.angular_velocity.norm(), 1e-2) << "step " << i;
   }
-  EXPECT_GT(excluded_contacts, 0);
-  EXPECT_NEAR(world->body_state(2).position.y(), 0.05, 2e-3);  // through the shelf onto the floor
 }
 
-TEST(MujocoWorldTest, ResetGivesBitIdenticalTrajectories) {
-  PhysicsDescription d;
-  d.bodies = {Floor(), Box("Block", {0.1, 0.05, 0.08}, 0.3, "ABS", {0, 0.3, 0})};
-  d.bodies[1].orientation = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized());
-  auto world = MakeMujocoWorld(Compile(d));
-  const auto trace = [&world] {
-    std::vector<double> values;
-    for (int i = 0; i < 150; ++i) {
-      EXPECT_EQ(world->Step(kDt, {}), StepStatus::kOk);
-      const BodyState s = world->body_state(1);
-      for (double v : {s.position.x(), s.position.y(), s.orientation.w(), s.angular_velocity.z()}) values.push_back(v);
-    }
-    return values;
-  };
-  const std::vector<double> first = trace();
-  world->Reset();
-  const std::vector<double> second = trace();
-  ASSERT_EQ(first.size(), second.size());
-  for (std::size_t i = 0; i < first.size(); ++i) ASSERT_EQ(std::bit_cast<std::uint64_t>(first[i]), std::bit_cast<std::uint64_t>(second[i])) << i;
-
-  auto other = MakeMujocoWorld(Compile(d));  // another world of the same description, on another thread
-  std::vector<double> third;
-  std::thread([&] { world.swap(other); third = trace(); }).join();
-  EXPECT_EQ(first, third);
+TEST(MujocoWorldTest, DISABLED_AChainWhoseJointedLinksTouchKeepsStepping) {
+  // test_worlds.h's out-of-plane chain: at step 28, when its jointed links Link1 and Link2 first touch, the step
+  // fails with "MuJoCo: bad number in qacc". Without the motor and brake commands, or with both hinges about z, it
+  // runs; ODE runs it (ode/ode_world_test.cc).
+  auto world = MakeMujocoWorld(Compile(Chain()));
+  for (int i = 0; i < 200; ++i) {  // Trajectory's commands
+    world->SetJointMotor(0, 2.0 * std::sin(0.05 * i), 0.05);
+    world->SetJointMotor(1, -1.0, 0.02);
+    world->SetJointFriction(1, 0.001);
+    ASSERT_EQ(world->Step(kDt, {}), StepStatus::kOk) << "step " << i << ": " << world->last_error();
+  }
 }
 
 TEST(MujocoWorldTest, SetBodyStateMovesAFreeBody) {
@@ -282,19 +126,6 @@ TEST(MujocoWorldTest, PosingAHingedBodyTurnsItsHinge) {
   EXPECT_EQ(world->body_state(0).position, bob.position);  // read back before it is applied
   EXPECT_NEAR(world->joint_angle(0), 0.3, 1e-12);
   EXPECT_TRUE(world->body_state(0).position.isApprox(bob.position, 1e-12));
-}
-
-TEST(MujocoWorldTest, HugeVelocityIsUnstable) {
-  PhysicsDescription d;
-  d.bodies = {Sphere("Ball", 0.05, 0.1, "ABS", {0, 0.5, 0})};
-  auto world = MakeMujocoWorld(Compile(d));
-  BodyState fast = world->body_state(0);
-  fast.linear_velocity = {1e4, 0, 0};
-  world->SetBodyState(0, fast);
-  EXPECT_EQ(world->Step(kDt, {}), StepStatus::kUnstable);
-  EXPECT_EQ(world->Step(kDt, {}), StepStatus::kUnstable);  // until Reset
-  world->Reset();
-  EXPECT_EQ(world->Step(kDt, {}), StepStatus::kOk);
 }
 
 TEST(MujocoWorldTest, AJointLoopIsRefusedNamingTheJoint) {
