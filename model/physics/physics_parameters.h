@@ -23,10 +23,10 @@ enum class MujocoSolver { kPGS, kCG, kNewton };
 /// ignores them. The defaults are MuJoCo's own except where docs/benchmarks.md measured a faster choice of
 /// the same accuracy.
 struct MujocoSettings {
-  MujocoSolver solver = MujocoSolver::kNewton;  ///< /Simulation/MuJoCo/Solver ("Newton" | "CG" | "PGS")
+  MujocoSolver solver = MujocoSolver::kNewton;  ///< /Simulation/MuJoCo/Solver (only "Newton" offered: docs/model.md)
   int iterations = 100;                         ///< most solver iterations per step, /Simulation/MuJoCo/Iterations
   double tolerance = 1e-8;                      ///< relative cost decrease that ends the solve, -, .../Tolerance
-  bool implicit_integrator = true;              ///< .../Integrator: "Implicit" (in velocity) or "Euler"
+  bool implicit_integrator = false;             ///< .../Integrator: "Euler" or "Implicit" (in velocity)
   bool elliptic_cone = false;                   ///< .../Cone: "Pyramidal" or "Elliptic" friction cones
   double contact_time_constant = 0.02;          ///< s, contact softness: solref[0], .../ContactTimeConstant
   double contact_damping_ratio = 1.0;           ///< -, solref[1], /Simulation/MuJoCo/ContactDampingRatio

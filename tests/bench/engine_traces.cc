@@ -72,7 +72,7 @@ void Compare(const Motion& motion) {
   const std::string head_text = head.count ? std::to_string(head.max).substr(0, 5) + " | " +
                                                  std::to_string(head.rms()).substr(0, 5)
                                            : "– | –";
-  std::printf("| %s | %zu | %s | %.2f | %.2f | %s / %s |\n", motion.name, ode.angles.size(), head_text.c_str(),
+  std::printf("| %s | %zu | %s | %.3f | %.3f | %s / %s |\n", motion.name, ode.angles.size(), head_text.c_str(),
               angle.max, angle.rms(), ode.status.c_str(), mujoco.status.c_str());
 }
 

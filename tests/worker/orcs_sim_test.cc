@@ -413,10 +413,10 @@ TEST_F(OrcsSimTest, UnknownEngineInValueFile) {
 }
 
 TEST_F(OrcsSimTest, AMujocoSettingOnTheOdeEngineAndTheReverse) {
-  const std::string mujoco_on_ode = dir_.Write("a.val", "/Simulation/MuJoCo/Solver=PGS\n");
+  const std::string mujoco_on_ode = dir_.Write("a.val", "/Simulation/MuJoCo/Integrator=Implicit\n");
   ProcessResult result = Run({"-env", kExample, "-val", mujoco_on_ode, "--duration", "0.1"});
   ExpectBadInput(result);
-  EXPECT_THAT(result.err, HasSubstr("/Simulation/MuJoCo/Solver: applies to the MuJoCo engine only, and "
+  EXPECT_THAT(result.err, HasSubstr("/Simulation/MuJoCo/Integrator: applies to the MuJoCo engine only, and "
                                     "/Simulation/Engine is ODE"));
   const std::string ode_on_mujoco =
       dir_.Write("b.val", "/Simulation/Engine=MuJoCo\n/Simulation/ODE/QuickStepIterations=50\n");

@@ -27,7 +27,7 @@ namespace orcs::physics {
 /// Options of the generated model that the world sets at compile time.
 struct MjcfOptions {
   double timestep = 0.01;          ///< s; the world overrides it per step
-  bool implicit_integrator = true;  ///< MuJoCo's implicit-in-velocity integrator (else Euler)
+  bool implicit_integrator = false;  ///< MuJoCo's implicit-in-velocity integrator (else Euler, the default)
   int max_contacts = 0;         ///< MuJoCo's contact buffer (nconmax); 0 = sized from the model (MjcfContactBuffer)
   int max_constraint_rows = 0;  ///< MuJoCo's constraint buffer (njmax); 0 = sized from the model
 };

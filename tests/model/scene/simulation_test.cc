@@ -324,7 +324,7 @@ TEST_F(SimulationTest, AValueOnlyTheOtherEngineReadsIsRefusedNamingIt) {
     const char* path;
     const char* value;
   };
-  for (const Case& c : {Case{"ODE", "/Simulation/MuJoCo/Solver", "PGS"}, Case{"ODE", "/Simulation/MuJoCo/Iterations", "5"},
+  for (const Case& c : {Case{"ODE", "/Simulation/MuJoCo/Integrator", "Implicit"}, Case{"ODE", "/Simulation/MuJoCo/Iterations", "5"},
                         Case{"MuJoCo", "/Simulation/ODE/UseQuickStep", "T"},
                         Case{"MuJoCo", "/Simulation/ODE/SoftERP", "0.5"}}) {
     SCOPED_TRACE(c.path);
