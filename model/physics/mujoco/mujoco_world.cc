@@ -215,10 +215,13 @@ class MujocoWorld : public PhysicsWorld {
   void PositionStages();
   void RewriteContacts();
   double ChooseFriction(const mjContact& contact, const ContactMaterial& material);
-  void UpdateKinematics() {
+  // Poses, centres of mass and velocities of the bodies for the state as it stands: what readings need after a
+  // step, and what the next step's position stages would compute again (they skip it while it is current).
+  void UpdateKinematics() const {
     mj_kinematics(m_.get(), d_.get());
     mj_comPos(m_.get(), d_.get());
     mj_comVel(m_.get(), d_.get());
+    kinematics_current_ = true;
   }
   std::array<int, mjNWARNING> WarningCounts() const {
     std::array<int, mjNWARNING> counts{};
@@ -249,6 +252,8 @@ class MujocoWorld : public PhysicsWorld {
   /// SetBodyState's poses not yet applied, by orcs body; mutable: a const reading applies them first
   mutable std::map<int, BodyState> pending_;
   const PhysicsParameters* parameters_ = nullptr;  ///< the running step's parameters
+  /// d_'s kinematics and centre-of-mass quantities match its qpos and m_ (UpdateKinematics since the last change)
+  mutable bool kinematics_current_ = false;
   StepStatus status_ = StepStatus::kOk;
   std::string last_error_;
 };
@@ -318,9 +323,7 @@ void MujocoWorld::PoseBody(int body, const BodyState& state) const {
     const Eigen::Vector3d world_axis = state.orientation.normalized() * axis;
     d->qvel[m_->jnt_dofadr[joint]] = (state.angular_velocity - Vec(parent_velocity)).dot(world_axis);
   }
-  mj_kinematics(m_.get(), d);
-  mj_comPos(m_.get(), d);
-  mj_comVel(m_.get(), d);
+  UpdateKinematics();
 }
 
 void MujocoWorld::MapIndices() {
@@ -364,10 +367,15 @@ void MujocoWorld::SetOptions(double dt, const PhysicsParameters& parameters) {
 void MujocoWorld::PositionStages() {
   mjModel* m = m_.get();
   mjData* d = d_.get();
+  const int bad_before = d->warning[mjWARN_BADQPOS].number + d->warning[mjWARN_BADQVEL].number;
   mj_checkPos(m, d);
   mj_checkVel(m, d);
-  mj_kinematics(m, d);
-  mj_comPos(m, d);
+  const bool reset_by_check = d->warning[mjWARN_BADQPOS].number + d->warning[mjWARN_BADQVEL].number != bad_before;
+  if (!kinematics_current_ || reset_by_check) {
+    mj_kinematics(m, d);
+    mj_comPos(m, d);
+  }
+  kinematics_current_ = false;  // the step integrates next
   mj_camlight(m, d);
   mj_tendon(m, d);
   mj_crb(m, d);
@@ -478,7 +486,12 @@ void MujocoWorld::AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, 
   for (int i = 0; i < 3; ++i) m_->body_inertia[3 * id + i] = solver.eigenvalues()[i];
   mjtNum* iq = m_->body_iquat + 4 * id;
   iq[0] = turned.w(), iq[1] = turned.x(), iq[2] = turned.y(), iq[3] = turned.z();
+  // mj_setConst evaluates the model at qpos0 in d_: keep the running state around it.
+  const std::vector<mjtNum> qpos(d_->qpos, d_->qpos + m_->nq), qvel(d_->qvel, d_->qvel + m_->nv);
   mj_setConst(m_.get(), d_.get());
+  std::copy(qpos.begin(), qpos.end(), d_->qpos);
+  std::copy(qvel.begin(), qvel.end(), d_->qvel);
+  UpdateKinematics();  // the bodies' inertia changed
 }
 
 }  // namespace
