@@ -81,7 +81,7 @@ void MakePlan(const BatchOptions& options, Plan& plan) {
     plan.source = std::make_unique<PlannedJobList>(plan.jobs);  // here, once `plan` holds the jobs for good
     return;
   }
-  plan.input = LoadScenario(options.scenario);
+  plan.input = LoadScenario(options.scenario, options.engine);
   plan.genomes = GenomesOf(options, plan.input);
   const JobSettings settings{options.seed, options.jobs, options.time_limit_seconds};
   if (options.command == Command::kSweep) {

@@ -144,10 +144,11 @@ void MarkRecorded(std::vector<PlannedJob>& jobs, const JobSelection& selection) 
 
 std::string SweepValue::OverrideText() const { return categorical() ? text : text::FormatDouble(number); }
 
-ScenarioInput LoadScenario(const std::string& path) {
+ScenarioInput LoadScenario(const std::string& path, const std::string& engine) {
   ScenarioInput input;
   input.path = path;
-  const Json resolved = scene::ResolveScenarioFile(path);
+  Json resolved = scene::ResolveScenarioFile(path);
+  if (!engine.empty()) scene::SetScenarioEngine(resolved, engine);
   input.scenario = scene::ParseScenario(resolved, path);
   input.resolved_json = resolved.dump();
   return input;

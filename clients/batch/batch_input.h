@@ -23,8 +23,9 @@ struct ScenarioInput {
   scene::Scenario scenario;   ///< parsed from resolved_json
 };
 
-/// Reads, resolves and parses a scenario file. Throws InputError naming the file and field.
-ScenarioInput LoadScenario(const std::string& path);
+/// Reads, resolves and parses a scenario file, its world put on `engine` unless that is "" (--engine). Throws
+/// InputError naming the file and field.
+ScenarioInput LoadScenario(const std::string& path, const std::string& engine = "");
 
 /// One genome with where it came from, for messages ("genomes.jsonl:3", "--genome", "scenario 'genome'").
 struct Genome {

@@ -6,6 +6,7 @@
 
 #include "clients/batch/batch_input.h"
 #include "model/core/error.h"
+#include "model/scene/engine_names.h"
 #include "net/cli_style.h"
 
 namespace orcs::batch {
@@ -22,6 +23,11 @@ void AddSessionOptions(CLI::App& command, BatchOptions& o, const std::string& ou
   command.add_flag("--quiet", o.quiet, "no progress display");
   command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")
       ->check(CLI::Validator([](const std::string& dir) { return dir.empty() ? "needs a folder" : ""; }, "DIR"));
+}
+
+// --engine: the physics engine of every job, over the scenario's "values".
+void AddEngineOption(CLI::App& command, BatchOptions& o, const std::string& help) {
+  command.add_option("--engine", o.engine, help)->transform(CLI::IsMember(scene::EngineNames(), CLI::ignore_case));
 }
 
 // The options every subcommand shares: what the jobs are and where the results go.
@@ -52,6 +58,7 @@ void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
             }
           },
           "JOBS"));
+  AddEngineOption(command, o, "physics engine of every job (/Simulation/Engine, over the scenario's values)");
   AddSessionOptions(command, o, "output folder (default runs/<scenario name>)");
 }
 
@@ -74,6 +81,7 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
       ->check(cli::Seed());
   evolve->add_option("--validate", o.validate, "fresh seeds the winner is run on at the end (default 8)")
       ->check(CLI::Range(0, 100000));
+  AddEngineOption(*evolve, o, "physics engine of every job (/Simulation/Engine, over the scenario's values)");
   AddSessionOptions(*evolve, o, "output folder (default runs/<scenario name>-evolve)");
   evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")
       ->excludes(evolve->get_option("--out"));
@@ -95,9 +103,9 @@ CLI::App* AddRegressCommand(CLI::App& app, BatchOptions& o) {
   regress->add_option("--baseline", o.baseline,
                       "the baseline file (default: SUITE.baseline.json beside the suite; SUITE.mujoco.baseline.json "
                       "with --engine MuJoCo)");
-  regress->add_option("--engine", o.engine,
-                      "run every case on this physics engine (/Simulation/Engine), against that engine's baseline")
-      ->transform(CLI::IsMember({"ODE", "MuJoCo"}, CLI::ignore_case));
+  AddEngineOption(*regress, o,
+                  "run every case on this physics engine (/Simulation/Engine, default ODE), against that engine's "
+                  "baseline");
   regress->add_flag("--update-baseline", o.update_baseline, "record the baseline from this run instead of comparing");
   regress->add_option("--junit", o.junit, "write a JUnit XML report here");
   regress->add_option("--set", o.sets, "PATH=VALUE: override a value in every case, like a model change (repeatable)")

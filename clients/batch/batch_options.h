@@ -52,7 +52,8 @@ struct BatchOptions {
   bool no_plot = false;              ///< --no-plot: skip fitness.png
   std::string suite;                 ///< regress: SUITE.json
   std::string baseline;              ///< regress --baseline FILE ("" = SUITE.baseline.json beside the suite)
-  std::string engine = "ODE";        ///< regress --engine: every case on this engine, with its own baseline
+  /// --engine NAME: every job's /Simulation/Engine ("" = the scenario's; regress: ODE, whose baseline it picks)
+  std::string engine;
   bool update_baseline = false;      ///< regress --update-baseline: record the baseline from this run
   std::string junit;                 ///< regress --junit FILE.xml ("" = no JUnit report)
   std::vector<std::string> sets;     ///< regress --set PATH=VALUE: an override of every case, outside the fingerprint

@@ -174,7 +174,7 @@ void Plot(const std::string& folder) {
 }  // namespace
 
 int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop) {
-  const batch::ScenarioInput input = batch::LoadScenario(options.scenario);
+  const batch::ScenarioInput input = batch::LoadScenario(options.scenario, options.engine);
   const EvolutionSettings settings = ReadEvolutionSettings(input, OverridesOf(options));
   const std::string folder = OutputFolder(options, input);
   const nlohmann::ordered_json fingerprint = Fingerprint(input, settings);
@@ -224,7 +224,8 @@ int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop)
   if (!options.no_plot) Plot(folder);
   std::cout << "orcs-batch: best genome in " << (fs::path(folder) / "best_genome.json").string()
             << "; replay it with: orcs-sim --scenario " << options.scenario << " --genome @"
-            << (fs::path(folder) / "best_genome.json").string() << " --seed " << settings.seed << "\n";
+            << (fs::path(folder) / "best_genome.json").string() << " --seed " << settings.seed
+            << (options.engine.empty() ? "" : " --engine " + options.engine) << "\n";
   if (fs::exists(fs::path(folder) / "best" / "recordings" / "winner.orcsrec")) {
     std::cout << "orcs-batch: watch the winner with: orcs-view " << folder << "\n";
   }

@@ -109,14 +109,14 @@ RegressPlan PlanRegression(const batch::BatchOptions& options, std::ostream& not
   }
   RegressPlan plan;
   plan.suite = ReadSuite(options.suite);
-  plan.baseline_path =
-      options.baseline.empty() ? DefaultBaselinePath(options.suite, options.engine) : options.baseline;
+  const std::string engine = options.engine.empty() ? "ODE" : options.engine;
+  plan.baseline_path = options.baseline.empty() ? DefaultBaselinePath(options.suite, engine) : options.baseline;
   plan.update_baseline = options.update_baseline;
   plan.junit_path = options.junit;
   for (const SuiteCase& entry : plan.suite.cases) {
     batch::PlannedJob planned = CaseJob(entry);
     // The engine is part of what a baseline records (ODE, the default, adds nothing: older baselines still match).
-    if (options.engine != "ODE") AddOverride(planned.job, {"/Simulation/Engine", options.engine});
+    if (engine != "ODE") AddOverride(planned.job, {"/Simulation/Engine", engine});
     plan.fingerprints.push_back(JobFingerprint(planned.job));
     for (const Override& set : sets) AddOverride(planned.job, set);
     plan.jobs.push_back(std::move(planned));

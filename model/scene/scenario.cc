@@ -300,6 +300,11 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
   return scenario;
 }
 
+void SetScenarioEngine(Json& resolved, const std::string& engine) {
+  if (!resolved.contains("values") || resolved["values"].is_null()) resolved["values"] = Json::object();
+  if (resolved["values"].is_object()) resolved["values"]["/Simulation/Engine"] = engine;  // else ParseScenario says why
+}
+
 Json ResolveScenarioFile(const std::string& path) {
   Json scenario = ParseJson(ReadTextFile(path), path);
   const JsonNode root(scenario, "", path);

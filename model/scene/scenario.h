@@ -117,6 +117,10 @@ std::vector<ValueAssignment> ParseInlineValues(const JsonNode& node);
 /// and the file that cannot be read.
 nlohmann::json ResolveScenarioFile(const std::string& path);
 
+/// Puts a resolved scenario's world on `engine` (one of EngineNames()): "/Simulation/Engine" in its "values",
+/// replacing the scenario's own choice. What the --engine option of orcs-sim and orcs-batch does.
+void SetScenarioEngine(nlohmann::json& resolved, const std::string& engine);
+
 /// The aggregate of per-set fitness values (not empty). Quantiles interpolate linearly between order
 /// statistics (type 7).
 double AggregateFitness(std::vector<double> values, Aggregate aggregate, double quantile);

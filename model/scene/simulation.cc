@@ -9,6 +9,7 @@
 #include "model/core/text.h"
 #include "model/physics/mujoco/mujoco_world.h"
 #include "model/physics/ode/ode_world.h"
+#include "model/scene/engine_names.h"
 
 namespace orcs::scene {
 namespace {
@@ -97,7 +98,7 @@ void Simulation::RegisterSimulationValues() {
   time_step_ = &repository_.Add(kTimeStep, 0.01).SetRange(kMinTimeStep, kMaxTimeStep);
   iterations_ = &repository_.Add(kIterations, 1).SetRange(1, kMaxIterationsPerStep);
   // The physics engine (docs/model.md): a world is made on it at Build/Attach and again at a Reset after it changed.
-  watch(repository_.Add(kEngine, std::string("ODE")).SetChoices({"ODE", "MuJoCo"}));
+  watch(repository_.Add(kEngine, EngineNames().front()).SetChoices(EngineNames()));
   watch(*time_step_);
   watch(*iterations_);
   watch(repository_.Add(kGravitation, -defaults.gravity.y()));

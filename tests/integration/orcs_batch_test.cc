@@ -144,6 +144,32 @@ TEST_F(OrcsBatchTest, AJobReplaysWithOrcsSimToTheSameBits) {
   EXPECT_EQ(replay["sets"].dump(), line["sets"].dump());
 }
 
+// run --engine MuJoCo: every job runs on MuJoCo (results.jsonl says so) and orcs-sim --engine MuJoCo replays a
+// job to the same bits; without the option the same jobs run on the scenario's engine, ODE.
+TEST_F(OrcsBatchTest, RunOnMujocoNamesTheEngineAndAJobReplaysWithOrcsSimOnIt) {
+  const std::string scenario = Scenario();
+  const ProcessResult mujoco =
+      Batch({"run", scenario, "--seed", "42", "--jobs", "2", "--engine", "MuJoCo", "--workers", "2", "--out", Out("m")});
+  ASSERT_EQ(mujoco.exit_code, 0) << mujoco.err;
+  const std::vector<nlohmann::json> lines = ReadLines(Out("m") + "/results.jsonl");
+  ASSERT_EQ(lines.size(), 2u);
+  for (const nlohmann::json& line : lines) EXPECT_EQ(line["engine"], "MuJoCo") << line.dump();
+  const nlohmann::json first = ById(lines).at("job-0");
+  const ProcessResult sim =
+      RunProcess({kBin + "orcs-sim", "--scenario", scenario, "--seed", "42", "--engine", "MuJoCo"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_EQ(nlohmann::json::parse(sim.out)["sets"].dump(), first["sets"].dump());
+
+  const ProcessResult ode = Batch({"run", scenario, "--seed", "42", "--workers", "1", "--out", Out("o"), "--quiet"});
+  ASSERT_EQ(ode.exit_code, 0) << ode.err;
+  const nlohmann::json ode_line = ReadLines(Out("o") + "/results.jsonl").at(0);
+  EXPECT_EQ(ode_line["engine"], "ODE");
+  EXPECT_NE(ode_line["sets"].dump(), first["sets"].dump());
+  const ProcessResult unknown = Batch({"run", scenario, "--engine", "Bullet", "--out", Out("x")});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_THAT(unknown.err, HasSubstr("--engine: Bullet not in {ODE,MuJoCo}"));
+}
+
 TEST_F(OrcsBatchTest, BadInputStopsBeforeAnythingRunsWithTheFileNamed) {
   const std::string scenario = Scenario();
   const std::string genomes = dir_.Write("genomes.jsonl", "[20, 2, 0, 0, 20, 2, 3, 0]\n[1, 2, 3]\n");

@@ -187,6 +187,24 @@ TEST_F(OrcsEvolveTest, RunWritesItsFolderAndTheWinnerReplaysWithOrcsSimToTheSame
   EXPECT_EQ(nlohmann::json::parse(sim.out)["fitness"].get<double>(), champion["fitness"].get<double>());
 }
 
+// evolve --engine MuJoCo: every job runs on MuJoCo, the replay line it prints names the engine and replays the
+// winner to its bits; a resume must be on the engine the run was made on.
+TEST_F(OrcsEvolveTest, ARunOnMujocoReplaysOnMujocoAndResumesOnlyThere) {
+  const std::string scenario = Scenario();
+  const std::string out = Out("mujoco");
+  const ProcessResult run = Evolve(scenario, {"--out", out, "--engine", "MuJoCo", "--validate", "0"});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_THAT(run.out, HasSubstr("--seed 1 --engine MuJoCo"));
+  const nlohmann::json winner = nlohmann::json::parse(Lines(dir_.Read(out + "/best/results.jsonl")).at(0));
+  EXPECT_EQ(winner["engine"], "MuJoCo");
+  const ProcessResult sim = RunProcess({kBin + "orcs-sim", "--scenario", scenario, "--genome",
+                                        "@" + out + "/best_genome.json", "--seed", "1", "--engine", "MuJoCo"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_EQ(nlohmann::json::parse(sim.out)["fitness"].get<double>(), winner["fitness"].get<double>());
+  const ProcessResult on_ode = Evolve(scenario, {"--resume", out, "--generations", "3"});
+  ExpectOneLineBadInput(on_ode);
+}
+
 TEST_F(OrcsEvolveTest, AnInterruptedAndResumedRunEqualsAnUninterruptedOne) {
   const std::string scenario = Scenario();
   const ProcessResult first = Evolve(scenario, {"--generations", "1", "--out", Out("a")});

@@ -425,6 +425,36 @@ TEST_F(OrcsSimTest, AMujocoSettingOnTheOdeEngineAndTheReverse) {
   EXPECT_THAT(result.err, HasSubstr("/Simulation/ODE/QuickStepIterations: applies to the ODE engine only"));
 }
 
+// --engine puts the world on an engine over what value files say; the name is checked like any option.
+TEST_F(OrcsSimTest, EngineOptionChoosesTheEngineOverValueFiles) {
+  const std::string ode = dir_.Write("ode.val", "/Simulation/Engine=ODE\n");
+  const ProcessResult result =
+      Run({"-env", kExample, "-val", ode, "--engine", "mujoco", "--print-values", "/Simulation/Engine"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(result.out, "/Simulation/Engine=MuJoCo\n");
+  const ProcessResult unknown = Run({"-env", kExample, "--engine", "Bullet"});
+  ExpectBadInput(unknown);
+  EXPECT_THAT(unknown.err, HasSubstr("--engine: Bullet not in {ODE,MuJoCo}"));
+}
+
+// A world ODE runs but MuJoCo's compiler refuses (a dust grain's inertia, 4e-22 kg·m², is below MuJoCo's
+// smallest): one line naming the object, exit 2, never MuJoCo's two-line report or a crash.
+TEST_F(OrcsSimTest, AWorldMujocoCannotCompileIsOneLineNamingTheObject) {
+  const std::string env = dir_.Write("dust.xml", R"xml(<?xml version="1.0"?>
+<ORCS version="1.0">
+  <Environment>
+    <object type="sphere" name="Dust" position="(0, 0.5, 0)" dimension="(0.000001)" material="ABS"
+            dynamic="true" mass="0.000000001"/>
+  </Environment>
+</ORCS>
+)xml");
+  ASSERT_EQ(Run({"-env", env, "--duration", "0.1"}).exit_code, 0);  // ODE takes it
+  const ProcessResult result = Run({"-env", env, "--engine", "MuJoCo", "--duration", "0.1"});
+  ExpectBadInput(result);
+  EXPECT_THAT(result.err, HasSubstr("MuJoCo cannot compile the world: 'Dust': inertia must have positive "
+                                    "eigenvalues (line "));
+}
+
 TEST_F(OrcsSimTest, NonexistentEnvironment) {
   const std::string env = dir_.PathOf("nonexistent.xml");
   const ProcessResult result = Run({"-env", env});
@@ -590,6 +620,20 @@ TEST_F(OrcsSimTest, ScenarioPrintsOneResultLineThatDependsOnSeedAndGenomeOnly) {
   EXPECT_NE(computed(Run({"--scenario", scenario, "--seed", "6"})), computed(first));
   const std::string genome = dir_.Write("g.json", "[0, 1, 0, 0, 0, 1, 0, 0]");
   EXPECT_NE(computed(Run({"--scenario", scenario, "--seed", "5", "--genome", "@" + genome})), computed(first));
+}
+
+// --engine with --scenario runs the job on that engine, and the result line says so.
+TEST_F(OrcsSimTest, ScenarioRunsOnTheEngineTheOptionNames) {
+  const std::string scenario = dir_.Write("hips.json", kHipScenario);
+  const ProcessResult ode = Run({"--scenario", scenario, "--seed", "5"});
+  const ProcessResult mujoco = Run({"--scenario", scenario, "--seed", "5", "--engine", "MuJoCo"});
+  ASSERT_EQ(ode.exit_code, 0) << ode.err;
+  ASSERT_EQ(mujoco.exit_code, 0) << mujoco.err;
+  const nlohmann::json ode_line = nlohmann::json::parse(ode.out), mujoco_line = nlohmann::json::parse(mujoco.out);
+  EXPECT_EQ(ode_line["engine"], "ODE");
+  EXPECT_EQ(mujoco_line["engine"], "MuJoCo");
+  EXPECT_NE(mujoco_line["fitness"], ode_line["fitness"]);  // another engine, other bits
+  EXPECT_GT(mujoco_line["fitness"].get<double>(), 0.3);     // and the head stays up there too
 }
 
 TEST_F(OrcsSimTest, ScenarioBadInputIsOneLine) {

@@ -129,6 +129,7 @@ void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
 int Run(const SimOptions& options) {
   scene::Simulation simulation;
   scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
+  if (!options.engine.empty()) simulation.repository().Set("/Simulation/Engine", options.engine);  // Reset remakes
   simulation.Reset(options.seed);
   std::vector<control::KeyframePlayer> players = MakePlayers(options, simulation);
 

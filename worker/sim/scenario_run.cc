@@ -27,7 +27,9 @@ nlohmann::json GenomeOf(const SimOptions& options, const scene::Scenario& scenar
 
 int RunScenario(const SimOptions& options) {
   evaluation::EvaluationRequest request;
-  request.scenario = scene::ParseScenario(scene::ResolveScenarioFile(options.scenario), options.scenario);
+  nlohmann::json resolved = scene::ResolveScenarioFile(options.scenario);
+  if (!options.engine.empty()) scene::SetScenarioEngine(resolved, options.engine);
+  request.scenario = scene::ParseScenario(resolved, options.scenario);
   request.genome = GenomeOf(options, request.scenario);
   request.seed = options.seed;
   request.program = "orcs-sim";

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "model/scene/engine_names.h"
 #include "net/cli_style.h"
 
 namespace orcs::sim {
@@ -18,6 +19,10 @@ void AddWorldOptions(CLI::App& app, SimOptions& o) {
       ->allow_extra_args(false);
   app.add_option("--duration", o.duration, "simulated seconds")->check(cli::NumberIn(0.0, 1e6));  // as a scenario's duration
   app.add_option("--seed", o.seed, "seed of the run's random streams")->check(cli::Seed());
+  app.add_option("--engine", o.engine,
+                 "physics engine of the world or of the --scenario job (/Simulation/Engine, over value files and "
+                 "the scenario's values)")
+      ->transform(CLI::IsMember(scene::EngineNames(), CLI::ignore_case));
   app.add_option("--log", o.log, "regular expression of repository values to log each step (repeatable)")
       ->allow_extra_args(false);
   app.add_option("--out", o.out, "CSV file the logged values are written to");
@@ -73,11 +78,15 @@ void CheckCombinations(const CLI::App& app, const SimOptions& o) {
                                        "play or record without -gui, or use orcs-view --live --port P for another "
                                        "port");
   }
+  if (o.gui && !o.engine.empty()) {
+    throw CLI::ValidationError("--engine", "not with -gui: set /Simulation/Engine in a value file for the live view "
+                                           "(-ival FILE)");
+  }
   if (app.count("--record-set") > 0 && (o.scenario.empty() || o.record.empty())) {
     throw CLI::ValidationError("--record-set", "needs --scenario and --record FILE");
   }
   if (!o.scenario.empty() && world_options) {
-    throw CLI::ValidationError("--scenario", "takes only --genome and --seed: the scenario gives the world, the "
+    throw CLI::ValidationError("--scenario", "takes only --genome, --seed and --engine: the scenario gives the world, the "
                                              "duration and what to log, and runs as fast as it can");
   }
 }

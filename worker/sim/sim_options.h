@@ -14,6 +14,7 @@ struct SimOptions {
   std::vector<std::string> value_files;          ///< -val FILE...: loaded after the world is built
   double duration = 10.0;                        ///< --duration: simulated seconds
   std::uint64_t seed = 0;                        ///< --seed: seed of every random stream of the run
+  std::string engine;                            ///< --engine: /Simulation/Engine, over value files and scenario ("" = theirs)
   std::vector<std::string> log;                  ///< --log REGEX...: repository values logged each step
   std::string out;                               ///< --out FILE.csv: where the log goes
   /// -play AGENT RECORD...: keyframe records played into agents' inputs, driven by simulated time

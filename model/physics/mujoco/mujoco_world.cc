@@ -39,6 +39,29 @@ struct DataDeleter {
 using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
 using DataPtr = std::unique_ptr<mjData, DataDeleter>;
 
+// MuJoCo's compiler error on one line, in orcs's terms. It reads
+//   Error: error 'inertia must have positive eigenvalues' in inertia alternative
+//   Object name = Dust, id = 1, line = 12, column = -1
+// and becomes "'Dust': inertia must have positive eigenvalues (line 12 of the generated MJCF)": Dust is the
+// orcs body or geom of that name.
+std::string CompilerMessage(const std::string& error) {
+  // The text between `open` and the next `close` after it, "" when absent.
+  const auto between = [&error](const std::string& open, const std::string& close) {
+    const size_t start = error.find(open);
+    if (start == std::string::npos) return std::string();
+    const size_t from = start + open.size();
+    return error.substr(from, error.find(close, from) - from);
+  };
+  std::string reason = between("error '", "'");
+  if (reason.empty()) reason = error;
+  const std::string object = between("Object name = ", ",");
+  const std::string line = between("line = ", ",");
+  std::string message = (object.empty() ? "" : "'" + object + "': ") + reason;
+  if (!line.empty()) message += " (line " + line + " of the generated MJCF)";
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  return message;
+}
+
 ModelPtr CompileMjcf(const std::string& xml) {
   InstallHandlersOnce();
   auto vfs = std::make_unique<mjVFS>();
@@ -51,7 +74,7 @@ ModelPtr CompileMjcf(const std::string& xml) {
   char error[1000] = "";
   ModelPtr model(mj_loadXML(kFile, vfs.get(), error, sizeof error));
   mj_deleteVFS(vfs.get());
-  if (!model) throw InputError(std::string("MuJoCo cannot compile the world: ") + error);
+  if (!model) throw InputError("MuJoCo cannot compile the world: " + CompilerMessage(error));
   return model;
 }
 
