@@ -16,6 +16,7 @@
 #include "model/identify/effect_catalogue.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/scene/engine_names.h"
 #include "net/cli_style.h"
 
 namespace orcs::gap {
@@ -26,6 +27,7 @@ namespace {
 struct GapOptions {
   RigOptions rig;
   std::string model;                  // value file of the current model
+  std::string engine;                 // --engine: /Simulation/Engine of every run ("" = the model's, else ODE)
   std::string agent;                  // synth: the agent ("" = Pendulum / Humanoid)
   // diagnose
   std::vector<std::string> measured;
@@ -51,10 +53,15 @@ void AddRigOptions(CLI::App& app, GapOptions& o) {
   app.add_option("--pole-mass", o.rig.pole_mass, "pendulum: pole mass, kg (default 0.5)");
   app.add_option("--pole-length", o.rig.pole_length, "pendulum: pole length, m (default 0.3)");
   app.add_option("--model", o.model, "value file of the current model (default: the original's)");
+  app.add_option("--engine", o.engine, "physics engine of every run (/Simulation/Engine, over the model file)")
+      ->transform(CLI::IsMember(scene::EngineNames(), CLI::ignore_case));
 }
 
-std::vector<ValueAssignment> ReadModel(const std::string& file) {
-  return file.empty() ? std::vector<ValueAssignment>{} : ValueFile::Read(file);
+// The model's values: the --model file, then --engine.
+std::vector<ValueAssignment> ReadModel(const GapOptions& o) {
+  std::vector<ValueAssignment> model = o.model.empty() ? std::vector<ValueAssignment>{} : ValueFile::Read(o.model);
+  if (!o.engine.empty()) model.push_back({"/Simulation/Engine", o.engine, "--engine", 0});
+  return model;
 }
 
 std::vector<Override> HiddenValues(const GapOptions& o) {
@@ -72,7 +79,7 @@ std::vector<Override> HiddenValues(const GapOptions& o) {
 }
 
 int Synth(const GapOptions& o) {
-  const std::vector<ValueAssignment> model = ReadModel(o.model);
+  const std::vector<ValueAssignment> model = ReadModel(o);
   const std::string agent = !o.agent.empty() ? o.agent : o.rig.kind == "pendulum" ? "Pendulum" : "Humanoid";
   const Rig rig = MakeRig(o.rig, agent, model);
   SynthOptions synth;
@@ -92,7 +99,7 @@ std::vector<MeasuredRun> ReadRuns(const std::vector<std::string>& files, const C
 }
 
 int Diagnose(const GapOptions& o) {
-  const std::vector<ValueAssignment> model = ReadModel(o.model);
+  const std::vector<ValueAssignment> model = ReadModel(o);
   std::optional<ColumnMapping> mapping;
   if (!o.mapping.empty()) mapping = ReadColumnMapping(o.mapping);
   CheckDisjoint(o.measured, o.holdout);

@@ -86,6 +86,7 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
   const int index = simulation.FindAgent(agent);
   if (index < 0) throw InputError(rig.environment_name + ": no agent '" + agent + "' (the runs' agent)");
   for (const auto& motor : simulation.model().morphology(index).motors) rig.motors.push_back(motor.name);
+  simulation.Reset();  // the model's values may choose another engine, which takes effect at a reset
   rig.step = simulation.StepDuration();
   return rig;
 }

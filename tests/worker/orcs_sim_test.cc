@@ -636,6 +636,23 @@ TEST_F(OrcsSimTest, ScenarioRunsOnTheEngineTheOptionNames) {
   EXPECT_GT(mujoco_line["fitness"].get<double>(), 0.3);     // and the head stays up there too
 }
 
+// A job whose step MuJoCo warns about (gravity of 1e11 m/s² gives accelerations beyond MuJoCo's 1e10 limit: "bad
+// number in qacc") is the job status "unstable_physics" with MuJoCo's words, exit 1: a recorded status, no crash.
+TEST_F(OrcsSimTest, AMujocoWarningMakesTheJobUnstablePhysicsWithMujocosMessage) {
+  nlohmann::json scenario = nlohmann::json::parse(kHipScenario);
+  scenario["values"] = {{"/Simulation/Gravitation", 1e11}};
+  scenario["randomisation"]["sets"] = 1;
+  const std::string file = dir_.Write("heavy.json", scenario.dump());
+  const ProcessResult result = Run({"--scenario", file, "--engine", "MuJoCo"});
+  EXPECT_EQ(result.signal, 0);
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  const nlohmann::json line = nlohmann::json::parse(result.out);
+  EXPECT_EQ(line["status"], "unstable_physics");
+  EXPECT_EQ(line["engine"], "MuJoCo");
+  EXPECT_THAT(line["sets"][0]["message"].get<std::string>(),
+              HasSubstr("physics engine error at t=0 s: MuJoCo: bad number in qacc"));
+}
+
 TEST_F(OrcsSimTest, ScenarioBadInputIsOneLine) {
   const std::string scenario = dir_.Write("hips.json", kHipScenario);
   ProcessResult result = Run({"--scenario", scenario, "--genome", "[1, 2]"});

@@ -45,13 +45,14 @@ std::string SourcePath(const std::string& relative) { return std::string(ORCS_SO
 
 using Values = std::vector<std::pair<std::string, std::string>>;
 
-// The driven pendulum rig, noise off, with `values` assigned through the repository after the build (as a -val
-// file would), then reset. At angle 0 the pole hangs straight down; positive angles lift it towards +x.
+// The driven pendulum rig on `engine`, noise off, with `values` assigned through the repository after the build
+// (as a -val file would), then reset. At angle 0 the pole hangs straight down; positive angles lift it towards +x.
 class PendulumRig {
  public:
-  explicit PendulumRig(const Values& values = {}) {
+  explicit PendulumRig(const Values& values, const std::string& engine) {
     simulation_.LoadEnvironment(scene::EnvironmentReader::ReadFile(SourcePath("scenarios/environments/pendulum.xml")));
     simulation_.Build();
+    Set("/Simulation/Engine", engine);
     Set("/AngularMotor/IncludeNoise", "false");
     for (const auto& [path, value] : values) Set(path, value);
     simulation_.Reset(0);
@@ -115,10 +116,11 @@ Values Effect(const std::string& name, const Values& parameters) {
   return values;
 }
 
-// The joint angle (degrees) after each of `steps` steps from rest at 0, commanded to `degrees` at full torque
-// after `settle` steps.
-std::vector<double> StepResponse(const Values& values, double degrees, int steps, int settle = 50) {
-  PendulumRig rig(values);
+// The joint angle (degrees) after each of `steps` steps from rest at 0 on `engine`, commanded to `degrees` at full
+// torque after `settle` steps.
+std::vector<double> StepResponse(const std::string& engine, const Values& values, double degrees, int steps,
+                                 int settle = 50) {
+  PendulumRig rig(values, engine);
   rig.Command(0.0);
   rig.Run(settle);
   rig.Command(degrees);
@@ -138,6 +140,11 @@ std::vector<double> UpwardZeroCrossings(PendulumRig& rig, int steps) {
   }
   return crossings;
 }
+
+// The tests on the rig run on both engines (issue 20: the pendulum rig's step responses hold on MuJoCo too).
+class MotorEffectsRigTest : public ::testing::TestWithParam<std::string> {};
+INSTANTIATE_TEST_SUITE_P(Engines, MotorEffectsRigTest, ::testing::Values("ODE", "MuJoCo"),
+                         [](const ::testing::TestParamInfo<std::string>& engine) { return engine.param; });
 
 double MeanPeriod(const std::vector<double>& crossings) {
   EXPECT_GE(crossings.size(), 3u);
@@ -183,12 +190,12 @@ TEST(MotorEffectsTest, EveryEffectOffReturnsTheBaseCommandBitForBit) {
   }
 }
 
-TEST(MotorEffectsTest, EffectsAtZeroStrengthLeaveAPendulumRunAsItWas) {
+TEST_P(MotorEffectsRigTest, EffectsAtZeroStrengthLeaveAPendulumRunAsItWas) {
   // The original team's motion (scenarios/motions/pendulum_steps.csv, 17 s: steps to ±90° at full and at the
   // default torque) with an effect switched on at zero strength must match the run with every effect off: the
   // switch alone changes nothing physical. Measured: exactly equal for all three.
   const auto run = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     aseries::ASeriesAgent& agent = rig.simulation().agent(0);
     control::KeyframePlayer player(
         control::ReadKeyframeRecord(SourcePath("scenarios/motions/pendulum_steps.csv"), agent.motor_count()),
@@ -217,24 +224,24 @@ TEST(MotorEffectsTest, EffectsAtZeroStrengthLeaveAPendulumRunAsItWas) {
 // ---------------------------------------------------------------------------------------------------------------
 // TransportDelay
 
-TEST(MotorEffectsTest, TransportDelayShiftsTheStepResponseByTheDelay) {
+TEST_P(MotorEffectsRigTest, TransportDelayShiftsTheStepResponseByTheDelay) {
   // A 2° step (small enough that the controller's velocity is not clipped) with a 0.05 s delay: for 5 steps the
   // pole does not move at all, then it follows the undelayed response exactly, 5 steps late (the motor sees the
   // same commands in the same state; measured bit-identical).
-  const std::vector<double> base = StepResponse({}, 2.0, 40);
+  const std::vector<double> base = StepResponse(GetParam(), {}, 2.0, 40);
   const std::vector<double> late =
-      StepResponse(Effect("TransportDelay", {{"/Effects/TransportDelay/Delay", "0.05"}}), 2.0, 40);
+      StepResponse(GetParam(), Effect("TransportDelay", {{"/Effects/TransportDelay/Delay", "0.05"}}), 2.0, 40);
   ASSERT_EQ(late.size(), 40u);
   EXPECT_GT(base[0], 0.1);  // without delay the pole moves in the first step (0.40°)
   for (int i = 0; i < 5; ++i) EXPECT_LT(std::abs(late[i]), 1e-9) << "step " << i;
   for (int i = 5; i < 40; ++i) EXPECT_NEAR(late[i], base[i - 5], 1e-12) << "step " << i;
 }
 
-TEST(MotorEffectsTest, TransportDelayInterpolatesFractionalDelays) {
+TEST_P(MotorEffectsRigTest, TransportDelayInterpolatesFractionalDelays) {
   // 0.025 s is 2.5 steps: the motor sees the average of the commands 2 and 3 steps back (half the step first),
   // so the response lies between those with 0.02 s and 0.03 s delay, strictly while the pole is moving.
   const auto delayed = [](const char* delay) {
-    return StepResponse(Effect("TransportDelay", {{"/Effects/TransportDelay/Delay", delay}}), 2.0, 30);
+    return StepResponse(GetParam(), Effect("TransportDelay", {{"/Effects/TransportDelay/Delay", delay}}), 2.0, 30);
   };
   const std::vector<double> early = delayed("0.02");
   const std::vector<double> between = delayed("0.025");
@@ -251,12 +258,12 @@ TEST(MotorEffectsTest, TransportDelayInterpolatesFractionalDelays) {
 // ---------------------------------------------------------------------------------------------------------------
 // DeadBand
 
-TEST(MotorEffectsTest, DeadBandIgnoresCommandsWithinTheMargin) {
+TEST_P(MotorEffectsRigTest, DeadBandIgnoresCommandsWithinTheMargin) {
   // Margin 0.03 rad (1.72°): a command of 1° does not move the pole at all; without the effect it goes there.
   const Values dead_band = Effect("DeadBand", {{"/Effects/DeadBand/Margin", DegreesText(0.03)}});
   for (const double target : {1.0, -1.0}) {
-    const std::vector<double> with = StepResponse(dead_band, target, 200);
-    const std::vector<double> without = StepResponse({}, target, 200);
+    const std::vector<double> with = StepResponse(GetParam(), dead_band, target, 200);
+    const std::vector<double> without = StepResponse(GetParam(), {}, target, 200);
     double largest = 0.0;
     for (double angle : with) largest = std::max(largest, std::abs(angle));
     EXPECT_LT(largest, 1e-9) << target;
@@ -264,16 +271,16 @@ TEST(MotorEffectsTest, DeadBandIgnoresCommandsWithinTheMargin) {
   }
 }
 
-TEST(MotorEffectsTest, DeadBandStopsShortOfTheTargetByTheMargin) {
+TEST_P(MotorEffectsRigTest, DeadBandStopsShortOfTheTargetByTheMargin) {
   // Beyond the margin the controller sees the error less the margin, so the pole stops the margin short of the
   // target, on the side it came from, with or without a gravity load (5°: nearly none; 30°: 0.37 N·m).
   // Measured: an error of 0.030000 rad in all three cases; without the effect 0.
   constexpr double kMargin = 0.03;
   const Values dead_band = Effect("DeadBand", {{"/Effects/DeadBand/Margin", DegreesText(0.03)}});
   for (const double target : {5.0, -5.0, 30.0}) {
-    const double error = (target - StepResponse(dead_band, target, 200).back()) / kDegrees;
+    const double error = (target - StepResponse(GetParam(), dead_band, target, 200).back()) / kDegrees;
     EXPECT_NEAR(error, std::copysign(kMargin, target), 1e-4) << target;
-    EXPECT_NEAR((target - StepResponse({}, target, 200).back()) / kDegrees, 0.0, 1e-5) << target;
+    EXPECT_NEAR((target - StepResponse(GetParam(), {}, target, 200).back()) / kDegrees, 0.0, 1e-5) << target;
   }
 }
 
@@ -298,13 +305,13 @@ TEST(MotorEffectsTest, BackEmfTorqueLimitFallsLinearlyWithSpeedToZeroAtTheNoLoad
   }
 }
 
-TEST(MotorEffectsTest, BackEmfSlowsAFastLiftAndCapsItsSpeedBelowTheNoLoadSpeed) {
+TEST_P(MotorEffectsRigTest, BackEmfSlowsAFastLiftAndCapsItsSpeedBelowTheNoLoadSpeed) {
   // Lift from hanging to 90° at full torque. Without the effect the lift runs at the 3.5 rad/s velocity clip
   // and passes 80° after 0.46 s. With a no-load speed of 5 rad/s the torque left at speed is what gravity and
   // friction take, so the lift tops out at 2.45 rad/s and passes 80° only after 0.95 s; with 2 rad/s it never
   // exceeds 1.45 rad/s. The margins below are half the measured differences.
   const auto lift = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     rig.Command(90.0);
     double fastest = 0.0;
     double passed_80 = -1.0;
@@ -361,7 +368,7 @@ TEST(MotorEffectsTest, StribeckFrictionIsTheBreakawayTorqueAtRestAndVanishesWith
   EXPECT_LT(added(1.0), 1e-12);
 }
 
-TEST(MotorEffectsTest, StribeckStictionHoldsAReleasedPoleOnlyBelowTheBreakawayTorque) {
+TEST_P(MotorEffectsRigTest, StribeckStictionHoldsAReleasedPoleOnlyBelowTheBreakawayTorque) {
   // The pole released at rest at 10° with the motor limp (DesiredTorque 0) and no viscous joint friction:
   // gravity pulls with m·g·d·sin 10° = 0.128 N·m. A breakaway torque of 0.15 N·m holds it where it is (it moves
   // less than 1e-3°). 0.10 N·m does not, and once the pole moves the friction fades: it swings through the
@@ -370,14 +377,14 @@ TEST(MotorEffectsTest, StribeckStictionHoldsAReleasedPoleOnlyBelowTheBreakawayTo
   const auto release = [](const Values& values) {
     Values limp = values;
     limp.push_back({"/AngularMotor/DynamicFriction", "0"});
-    PendulumRig rig(limp);
+    PendulumRig rig(limp, GetParam());
     rig.Pose(10.0);
     rig.Command(10.0, 0.0);
     double lowest = rig.Degrees();
     for (int i = 0; i < 100 && rig.Step(); ++i) lowest = std::min(lowest, rig.Degrees());
     return lowest;
   };
-  PendulumRig rig;
+  PendulumRig rig({}, GetParam());
   ASSERT_NEAR(rig.GravityTorque() * std::sin(10.0 / kDegrees), 0.128, 1e-3);
   EXPECT_GT(release(Effect("Stribeck", {{"/Effects/Stribeck/BreakawayTorque", "0.15"}})), 10.0 - 1e-3);
   EXPECT_LT(release(Effect("Stribeck", {{"/Effects/Stribeck/BreakawayTorque", "0.10"}})), -9.0);
@@ -407,33 +414,33 @@ TEST(MotorEffectsTest, LoadFrictionGrowsInProportionToTheMotorTorque) {
   }
 }
 
-TEST(MotorEffectsTest, LoadFrictionMakesATorqueLimitedLiftStallLower) {
+TEST_P(MotorEffectsRigTest, LoadFrictionMakesATorqueLimitedLiftStallLower) {
   // At the default torque τ = 0.615 N·m the motor cannot hold the pole horizontal (m·g·d = 0.736 N·m): lifting
   // towards 90° it stalls where gravity takes what friction leaves, sin θ = (τ − c·τ − fs)/(m·g·d), with fs the
   // base model's 0.001 N·m: 56.6° without load friction, 35.7° with c = 0.3 (measured 56.57° and 36.04°: the
   // pole coasts a little into the friction band before it stops).
   const auto stall = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     rig.Command(90.0, kDefaultDesiredTorqueRaw);
     rig.Run(300);
     EXPECT_LT(std::abs(rig.Rate()), 1e-3);
     return rig.Degrees();
   };
-  const double gravity = PendulumRig().GravityTorque();
+  const double gravity = PendulumRig({}, GetParam()).GravityTorque();
   const double off = std::asin((kDefaultTorque - 0.001) / gravity) * kDegrees;
   const double on = std::asin((0.7 * kDefaultTorque - 0.001) / gravity) * kDegrees;
   EXPECT_NEAR(stall({}), off, 0.5);
   EXPECT_NEAR(stall(Effect("LoadFriction", {{"/Effects/LoadFriction/Coefficient", "0.3"}})), on, 1.0);
 }
 
-TEST(MotorEffectsTest, LoadFrictionHoldsAPoleThatTheWeakenedMotorAloneWouldLetSag) {
+TEST_P(MotorEffectsRigTest, LoadFrictionHoldsAPoleThatTheWeakenedMotorAloneWouldLetSag) {
   // Friction opposes motion either way, so a loaded gearbox also holds. The pole is held at 60° at full torque
   // (gravity 0.637 N·m), then the torque drops to 0.615 N·m. Without load friction it sags to where gravity
   // equals the motor (56.85°); with c = 0.3 the friction c·0.615 = 0.18 N·m makes up the difference and the
   // pole stays (measured: it moves less than 0.01°). Together with the lower stall above: a band of rest
   // angles, the hysteresis of a load-dependent friction.
   const auto sag = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     rig.Command(60.0, 1.0);
     rig.Run(200);
     EXPECT_NEAR(rig.Degrees(), 60.0, 0.01);
@@ -502,12 +509,12 @@ TEST(MotorEffectsTest, BacklashToothPushesButNeverPulls) {
   EXPECT_EQ(after(-0.3).motor.friction_torque, 0.0);
 }
 
-TEST(MotorEffectsTest, BacklashHoldsASteadyLoadWithoutChattering) {
+TEST_P(MotorEffectsRigTest, BacklashHoldsASteadyLoadWithoutChattering) {
   // Held at 30° against gravity (0.37 N·m) the gear rests on one wall of a 0.06 rad gap and the pole stays put,
   // at the target (the controller's sensor is on the output). Before the fix of ApplyBacklash the gear was left
   // where the last step's clamp put it while the output moved on, so the gap opened every other step: the pole
   // chattered between 29.65° and 29.72° at ±0.12 rad/s for ever.
-  PendulumRig rig(Effect("Backlash", {{"/Effects/Backlash/Width", DegreesText(0.06)}}));
+  PendulumRig rig(Effect("Backlash", {{"/Effects/Backlash/Width", DegreesText(0.06)}}), GetParam());
   rig.Command(30.0);
   rig.Run(100);
   double fastest = 0.0;
@@ -516,7 +523,7 @@ TEST(MotorEffectsTest, BacklashHoldsASteadyLoadWithoutChattering) {
   EXPECT_NEAR(rig.Degrees(), 30.0, 0.01);
 }
 
-TEST(MotorEffectsTest, BacklashLetsThePoleDropAcrossTheGapWhenTheLoadReverses) {
+TEST_P(MotorEffectsRigTest, BacklashLetsThePoleDropAcrossTheGapWhenTheLoadReverses) {
   // The pole held at 30° by the motor, the gear pushing on the gap's upper wall against gravity. Then the motor
   // is locked where it is (Kp = 0: it holds the gear still) and gravity is reversed, so the load pushes the pole
   // the other way. A tooth cannot pull: the pole swings across the gap with gravity's acceleration alone
@@ -527,7 +534,7 @@ TEST(MotorEffectsTest, BacklashLetsThePoleDropAcrossTheGapWhenTheLoadReverses) {
   const auto reverse_load = [](const Values& values) {
     Values fine = values;
     fine.push_back({"/Simulation/TimeStepSize", "0.001"});
-    PendulumRig rig(fine);
+    PendulumRig rig(fine, GetParam());
     rig.Command(30.0);
     rig.Run(1000);
     rig.Set("/AngularMotor/PID/Proportional", "0");
@@ -564,13 +571,13 @@ TEST(MotorEffectsTest, BacklashLetsThePoleDropAcrossTheGapWhenTheLoadReverses) {
     // At rest beyond it, held by the locked motor. Energy bounds the stop: the motor brakes at its full torque τ
     // over moved − free travel what gravity gave over the whole way, at most its torque at the end times moved.
     EXPECT_GT(moved, width) << width;
-    const double load = PendulumRig().GravityTorque() * std::sin(30.0 / kDegrees + moved);
+    const double load = PendulumRig({}, GetParam()).GravityTorque() * std::sin(30.0 / kDegrees + moved);
     // Measured 0.085 and 0.172 rad against bounds of 0.100 and 0.218.
     EXPECT_LT(moved, kFullTorque * width / (kFullTorque - load)) << width;
   }
 }
 
-TEST(MotorEffectsTest, BacklashShiftsTheMotorSideByTheWidthWhereTheLoadChangesSign) {
+TEST_P(MotorEffectsRigTest, BacklashShiftsTheMotorSideByTheWidthWhereTheLoadChangesSign) {
   // A slow ±30° sine (period 8 s) swings the pole through the bottom, where gravity's load changes sign. The
   // motor side's angle is the integral of the commanded velocity (CurrentVelocity). Without backlash it is the
   // output's angle (to the motor's 1e-5 rad/s per N·m yield). With a 0.06 rad gap the gear rests on the wall
@@ -586,7 +593,7 @@ TEST(MotorEffectsTest, BacklashShiftsTheMotorSideByTheWidthWhereTheLoadChangesSi
     std::vector<double> offset;  // motor side − output, rad
   };
   const auto sine = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     Run run;
     double motor_side = 0.0;
     for (int i = 0; i < 1600; ++i) {
@@ -631,13 +638,13 @@ TEST(MotorEffectsTest, BacklashShiftsTheMotorSideByTheWidthWhereTheLoadChangesSi
 // ---------------------------------------------------------------------------------------------------------------
 // Elasticity
 
-TEST(MotorEffectsTest, CompliantMotorRowIsAnImplicitSpringOfTheGivenStiffness) {
+TEST_P(MotorEffectsRigTest, CompliantMotorRowIsAnImplicitSpringOfTheGivenStiffness) {
   // The recipe of PhysicsWorld::SetJointMotorCompliance on the rig's pole, without gravity: every step the
   // motor row gets compliance c = 1/(k·dt) and target velocity c·k·(0 − θ), i.e. a spring k to angle 0. Kicked
   // at 0.5 rad/s the pole oscillates at ω = √(k/I) (k = 5 N·m/rad, I = 0.01503 kg·m²: 18.24 rad/s) within 2 %;
   // exactly (to 0.2 %) at atan(ω·dt)/dt = 18.04 rad/s and losing amplitude by 1/√(1 + (ω·dt)²) per step, as
   // implicit Euler does: the spring is implicit — it can never gain energy, whatever k.
-  PendulumRig rig;
+  PendulumRig rig({}, GetParam());
   const double inertia = rig.Inertia();
   EXPECT_NEAR(inertia, 0.5 * (0.025 * 0.025 + 0.3 * 0.3) / 12 + 0.5 * 0.15 * 0.15, 1e-12);  // 0.015026
   auto world = physics::MakeOdeWorld(rig.simulation().model().physics());
@@ -674,12 +681,12 @@ TEST(MotorEffectsTest, CompliantMotorRowIsAnImplicitSpringOfTheGivenStiffness) {
   for (size_t k = 1; k < peaks.size(); ++k) EXPECT_NEAR(peaks[k] / peaks[k - 1], shrink, 0.03) << "peak " << k;
 }
 
-TEST(MotorEffectsTest, ElasticityMakesAFastStepRingYetTheOutputReachesTheTarget) {
+TEST_P(MotorEffectsRigTest, ElasticityMakesAFastStepRingYetTheOutputReachesTheTarget) {
   // A 20° step at full torque. The stiff motor brings the pole there without overshoot. Through a gear train of
   // 20 N·m/rad (ω = √(k/I) = 36 rad/s, a 0.17 s period) the pole overshoots (1.57°) and rings — it crosses the
   // target 12 times in 3 s — and still ends at the target, because the controller's sensor is on the output.
   const auto step = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     rig.Command(20.0);
     double highest = 0.0;
     int crossings = 0;
@@ -699,17 +706,19 @@ TEST(MotorEffectsTest, ElasticityMakesAFastStepRingYetTheOutputReachesTheTarget)
   EXPECT_GT(overshoot_on, 0.4);
   EXPECT_GE(crossings_on, 3);
   EXPECT_NEAR(final_off, 20.0, 1e-3);
-  EXPECT_NEAR(final_on, 20.0, 0.01);
+  // ODE's compliant row is implicit and the ringing dies out. MuJoCo's yields by the last step's torque (one step
+  // late, docs/model.md): a limit cycle of under 0.1° stays around the target (measured 19.92°…19.99°).
+  EXPECT_NEAR(final_on, 20.0, GetParam() == "ODE" ? 0.01 : 0.1);
 }
 
-TEST(MotorEffectsTest, ElasticityOfAStiffGearTrainIsTheStiffMotor) {
+TEST_P(MotorEffectsRigTest, ElasticityOfAStiffGearTrainIsTheStiffMotor) {
   // The stiffer the gear train, the closer the joint comes to the stiff motor of the base model: with the default
   // stiffness (1e9 N·m/rad) the lift from hanging to 90° at full torque is the effect-off lift (measured: within
   // 1.1e-4°), and with the fit range's stiffest 200 N·m/rad it still passes 80° at the same 0.46 s. Before the fix
   // of ApplyElasticity the motor side could never wind further than max_torque/stiffness past the output's angle
   // before the step: the default stiffness froze the pole at 0° and 200 N·m/rad capped the lift at 0.5 rad/s.
   const auto lift = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     rig.Command(90.0);
     std::vector<double> angles;
     for (int i = 0; i < 150 && rig.Step(); ++i) angles.push_back(rig.Degrees());
@@ -734,7 +743,7 @@ TEST(MotorEffectsTest, ElasticityOfAStiffGearTrainIsTheStiffMotor) {
 // ---------------------------------------------------------------------------------------------------------------
 // RotorInertia
 
-TEST(MotorEffectsTest, RotorInertiaLengthensTheFreeSwingPeriod) {
+TEST_P(MotorEffectsRigTest, RotorInertiaLengthensTheFreeSwingPeriod) {
   // The pole released at 10° with the motor limp and no joint friction swings with T = 2π·√(I/(m·g·d))·(1 + A²/16)
   // (0.8996 s); a reflected rotor inertia J = 0.01 kg·m² lengthens that by √((I + J)/I) = 1.2906 — through the
   // effect, i.e. on the body the agent finds on the far side of the motor, about the motor's axis. Measured:
@@ -743,12 +752,12 @@ TEST(MotorEffectsTest, RotorInertiaLengthensTheFreeSwingPeriod) {
     Values limp = values;
     limp.push_back({"/AngularMotor/StaticFriction", "0"});
     limp.push_back({"/AngularMotor/DynamicFriction", "0"});
-    PendulumRig rig(limp);
+    PendulumRig rig(limp, GetParam());
     rig.Pose(10.0);
     rig.Command(10.0, 0.0);
     return MeanPeriod(UpwardZeroCrossings(rig, 500));
   };
-  const PendulumRig rig;
+  const PendulumRig rig({}, GetParam());
   const double inertia = rig.Inertia();
   const double amplitude = 10.0 / kDegrees;
   const double expected = 2.0 * kPi * std::sqrt(inertia / rig.GravityTorque()) * (1.0 + amplitude * amplitude / 16);
@@ -759,16 +768,16 @@ TEST(MotorEffectsTest, RotorInertiaLengthensTheFreeSwingPeriod) {
   EXPECT_NEAR(with / without, ratio, 0.005 * ratio);
 }
 
-TEST(MotorEffectsTest, RotorInertiaSlowsATorqueLimitedStart) {
+TEST_P(MotorEffectsRigTest, RotorInertiaSlowsATorqueLimitedStart) {
   // From rest at the bottom the motor starts a lift at its full torque 1.048 N·m (no load yet): after one step
   // the pole turns at τ·dt/I = 0.697 rad/s; with J = 0.01 kg·m² at τ·dt/(I + J), 0.600 of that (within 1 %).
   const auto first_rate = [](const Values& values) {
-    PendulumRig rig(values);
+    PendulumRig rig(values, GetParam());
     rig.Command(90.0);
     rig.Step();
     return rig.Rate();
   };
-  const double inertia = PendulumRig().Inertia();
+  const double inertia = PendulumRig({}, GetParam()).Inertia();
   const double without = first_rate({});
   const double with = first_rate(Effect("RotorInertia", {{"/Effects/RotorInertia/Inertia", "0.01"}}));
   EXPECT_NEAR(without, kFullTorque * kDt / inertia, 0.01 * without);

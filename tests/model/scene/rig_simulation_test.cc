@@ -12,11 +12,13 @@ namespace {
 
 constexpr double kDt = 0.01;  // s, the default step
 
-class RigSimulationTest : public ::testing::Test {
+// On both engines (the parameter: /Simulation/Engine).
+class RigSimulationTest : public ::testing::TestWithParam<std::string> {
  protected:
   void Load(const std::string& agent_xml) {
     simulation_.LoadEnvironment(EnvironmentReader::ReadString(
         "<ORCS version=\"1.0\"><Agent>" + agent_xml + "</Agent></ORCS>", "rig.xml"));
+    simulation_.repository().Set("/Simulation/Engine", GetParam());
     simulation_.Build();
     simulation_.Reset(0);
   }
@@ -33,7 +35,7 @@ class RigSimulationTest : public ::testing::Test {
   Simulation simulation_;
 };
 
-TEST_F(RigSimulationTest, HeldUpperBodyStaysWhereItStartsWhileTheLegsHangFree) {
+TEST_P(RigSimulationTest, HeldUpperBodyStaysWhereItStartsWhileTheLegsHangFree) {
   Load(R"x(<ASeries name="Held" position="(0,0.1,0)" holdBody="Middle/UpperBody"/>)x");
   const Eigen::Vector3d upper_start = Position("Held/Middle/UpperBody");
   const Eigen::Vector3d foot_start = Position("Held/Right/Foot");
@@ -46,7 +48,7 @@ TEST_F(RigSimulationTest, HeldUpperBodyStaysWhereItStartsWhileTheLegsHangFree) {
   EXPECT_NEAR(Value("/Sim/Held/Right/HipYaw/JointAngle"), 90.0, 3.0);
 }
 
-TEST_F(RigSimulationTest, PendulumHangsStraightDownAtRest) {
+TEST_P(RigSimulationTest, PendulumHangsStraightDownAtRest) {
   Load(R"x(<Pendulum position="(0,0.5,0)" poleMass="0.5" poleLength="0.3"/>)x");
   Run(1.0);
   const Eigen::Vector3d pole = Position("Pendulum/Pole");
@@ -55,7 +57,7 @@ TEST_F(RigSimulationTest, PendulumHangsStraightDownAtRest) {
   EXPECT_NEAR(Value("/Sim/Pendulum/Motor/JointAngle"), 0.0, 0.5);
 }
 
-TEST_F(RigSimulationTest, PendulumMotorTorqueDecidesWhetherThePoleIsHeldHorizontal) {
+TEST_P(RigSimulationTest, PendulumMotorTorqueDecidesWhetherThePoleIsHeldHorizontal) {
   // Gravity torque of the horizontal pole: m·g·L/2 = 0.5·9.81·0.15 = 0.736 N·m. Full torque is
   // FMaxFactor·1 = 1.048 N·m; the default DesiredTorque 0.5868 gives 0.615 N·m, too little.
   Load(R"x(<Pendulum position="(0,0.5,0)" poleMass="0.5" poleLength="0.3"/>)x");
@@ -71,6 +73,9 @@ TEST_F(RigSimulationTest, PendulumMotorTorqueDecidesWhetherThePoleIsHeldHorizont
   EXPECT_LT(Value("/Sim/Pendulum/Motor/JointAngle"), 80.0);  // sags until gravity's torque equals the motor's
   EXPECT_LT(Position("Pendulum/Pole").y(), 0.5 - 0.02);
 }
+
+INSTANTIATE_TEST_SUITE_P(Engines, RigSimulationTest, ::testing::Values("ODE", "MuJoCo"),
+                         [](const ::testing::TestParamInfo<std::string>& engine) { return engine.param; });
 
 }  // namespace
 }  // namespace orcs::scene
