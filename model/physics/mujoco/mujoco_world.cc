@@ -122,7 +122,6 @@ class MujocoWorld : public PhysicsWorld {
       const BodyDescription& body = model_->body(b);
       material_of_body_[b] = {body.static_friction, body.dynamic_friction, body.elasticity};
     }
-    jacobian_.resize(6 * m_->nv);
     Reset();
   }
 
@@ -238,6 +237,7 @@ class MujocoWorld : public PhysicsWorld {
   void PositionStages();
   void RewriteContacts();
   double ChooseFriction(const mjContact& contact, const ContactMaterial& material);
+  Eigen::Vector3d PointVelocity(int body, const mjtNum* point) const;
   // Poses, centres of mass and velocities of the bodies for the state as it stands: what readings need after a
   // step, and what the next step's position stages would compute again (they skip it while it is current).
   void UpdateKinematics() const {
@@ -270,7 +270,6 @@ class MujocoWorld : public PhysicsWorld {
   std::vector<int> motor_row_;                ///< per motor tendon: its constraint row in this step, −1 for none
   long steps_ = 0;                            ///< steps since Reset (no motor torque before the first)
   std::vector<double> applied_;               ///< per dof: torques added for the next step (AddJointTorque)
-  std::vector<mjtNum> jacobian_;              ///< scratch: 3 × nv translation and 3 × nv rotation rows
   std::vector<Contact> contacts_;             ///< found in the last step
   /// SetBodyState's poses not yet applied, by orcs body; mutable: a const reading applies them first
   mutable std::map<int, BodyState> pending_;
@@ -397,6 +396,7 @@ void MujocoWorld::PositionStages() {
   if (!kinematics_current_ || reset_by_check) {
     mj_kinematics(m, d);
     mj_comPos(m, d);
+    mj_comVel(m, d);  // the contacts' friction reads the bodies' velocities
   }
   kinematics_current_ = false;  // the step integrates next
   mj_camlight(m, d);
@@ -450,22 +450,22 @@ void MujocoWorld::RewriteContacts() {
 // ODE backend's rule, docs/model.md).
 double MujocoWorld::ChooseFriction(const mjContact& con, const ContactMaterial& material) {
   const PhysicsParameters& p = *parameters_;
-  Eigen::Vector3d relative = Eigen::Vector3d::Zero();
-  const int bodies[2] = {m_->geom_bodyid[con.geom1], m_->geom_bodyid[con.geom2]};
-  for (int k = 0; k < 2; ++k) {
-    if (bodies[k] == 0) continue;  // the world does not move
-    mj_jac(m_.get(), d_.get(), jacobian_.data(), nullptr, con.pos, bodies[k]);
-    Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-    for (int row = 0; row < 3; ++row) {
-      for (int dof = 0; dof < m_->nv; ++dof) velocity[row] += jacobian_[row * m_->nv + dof] * d_->qvel[dof];
-    }
-    relative += k == 0 ? velocity : Eigen::Vector3d(-velocity);
-  }
+  const Eigen::Vector3d relative =
+      PointVelocity(m_->geom_bodyid[con.geom1], con.pos) - PointVelocity(m_->geom_bodyid[con.geom2], con.pos);
   const Eigen::Vector3d normal = Vec(con.frame);
   const Eigen::Vector3d tangential = relative - relative.dot(normal) * normal;
   return tangential.squaredNorm() < p.static_friction_speed * p.static_friction_speed
              ? material.static_friction
              : material.dynamic_friction * p.friction_scaling;
+}
+
+// The world-frame velocity of `point` moving with MuJoCo body `body`: the body's spatial velocity (cvel, taken at
+// its tree's centre of mass) moved to the point. What mj_jac·qvel gives, without the Jacobian.
+Eigen::Vector3d MujocoWorld::PointVelocity(int body, const mjtNum* point) const {
+  const mjtNum* velocity = d_->cvel + 6 * body;
+  const Eigen::Vector3d angular = Vec(velocity);
+  const Eigen::Vector3d arm = Vec(point) - Vec(d_->subtree_com + 3 * m_->body_rootid[body]);
+  return Vec(velocity + 3) + angular.cross(arm);
 }
 
 StepStatus MujocoWorld::CheckWarnings(const std::array<int, mjNWARNING>& before) {
