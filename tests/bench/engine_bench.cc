@@ -125,7 +125,7 @@ std::unique_ptr<RawMujocoRun> MakeRawRun(const Motion& motion, double* orcs_head
     for (int joint : joints) angles.push_back(simulation.physics().joint_angle(joint));
   });
   *orcs_head = simulation.physics().body_state(model.FindBody(kHead)).position.y();
-  return std::make_unique<RawMujocoRun>(physics::ExportMjcf(model), hinges, trajectory, simulation.StepDuration());
+  return std::make_unique<RawMujocoRun>(physics::ExportMjcf(model, {.exclusions = true}), hinges, trajectory, simulation.StepDuration());
 }
 
 void BM_Orcs(benchmark::State& state, const Motion& motion, const std::string& engine) {

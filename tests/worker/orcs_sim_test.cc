@@ -231,7 +231,8 @@ TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
   EXPECT_NEAR(agents[0]["mass"].get<double>(), 2.3844, 0.01 * 2.3844);
 }
 
-// --export-mjcf writes what the MuJoCo engine compiles: every body, joint and motor of the world, by name.
+// --export-mjcf writes what the MuJoCo engine compiles: every body, joint and motor of the world, by name, and the
+// exclusion list the engine applies per contact.
 TEST_F(OrcsSimTest, ExportMjcfWritesTheWorldAsAMujocoModel) {
   const std::string out = dir_.PathOf("world.xml");
   const ProcessResult result = Run({"-env", kExample, "--export-mjcf", out});
@@ -243,7 +244,9 @@ TEST_F(OrcsSimTest, ExportMjcfWritesTheWorldAsAMujocoModel) {
   EXPECT_THAT(mjcf, HasSubstr("<body name=\"SecondASeries/Right/Foot\""));
   EXPECT_THAT(mjcf, HasSubstr("<joint name=\"SecondASeries/Waist\""));
   EXPECT_THAT(mjcf, HasSubstr("name=\"motor:SecondASeries/Head/Tilt\""));
-  EXPECT_THAT(mjcf, HasSubstr("name=\"Box#0\""));  // a static object's geom in the world body
+  EXPECT_THAT(mjcf, HasSubstr("name=\"Box#0\""));  // a static object's geom
+  // The suppression list (spec/aseries.md §3b), so that raw MuJoCo moves the robot as orcs does.
+  EXPECT_THAT(mjcf, HasSubstr("<exclude body1=\"SecondASeries/Middle/HeadBase\" body2=\"SecondASeries/Middle/Head\"/>"));
 }
 
 TEST_F(OrcsSimTest, ExportMjcfToAnUnwritablePathIsOneLine) {

@@ -143,7 +143,7 @@ int Run(const SimOptions& options) {
   }
   if (!options.export_mjcf.empty()) {
     AtomicFile file(options.export_mjcf);
-    file.stream() << physics::ExportMjcf(*simulation.model().physics());
+    file.stream() << physics::ExportMjcf(*simulation.model().physics(), {.exclusions = true});
     file.Commit();
     return cli::kExitOk;
   }

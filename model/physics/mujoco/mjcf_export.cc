@@ -183,10 +183,11 @@ class MjcfWriter {
     WriteHeader(root);
     tinyxml2::XMLElement* world = Child(root, "worldbody");
     for (int b = 0; b < model_.body_count(); ++b) {
-      if (!model_.body(b).dynamic) WriteGeoms(world, b, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+      if (!model_.body(b).dynamic) WriteStaticBody(world, b);
     }
     for (int body : forest_.roots) WriteBody(world, body, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
     WriteMotors(root);
+    if (options_.exclusions) WriteExclusions(root);
     tinyxml2::XMLPrinter printer;
     document_.Print(&printer);
     return printer.CStr();
@@ -334,6 +335,36 @@ class MjcfWriter {
       tinyxml2::XMLElement* on = Child(motor, "joint");
       on->SetAttribute("joint", joint.name.c_str());
       on->SetAttribute("coef", "1");
+    }
+  }
+
+  // A static body's geoms sit in the world body at their world pose. With the exclusion list written, each
+  // static body is its own jointless body (welded to the world), so that an exclusion can name it alone.
+  void WriteStaticBody(tinyxml2::XMLElement* world, int b) {
+    if (!options_.exclusions) {
+      WriteGeoms(world, b, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
+      return;
+    }
+    const BodyDescription& body = model_.body(b);
+    const Eigen::Quaterniond orientation = body.orientation.normalized();
+    tinyxml2::XMLElement* element = Child(world, "body");
+    element->SetAttribute("name", body.name.c_str());
+    element->SetAttribute("pos", Vector(body.position).c_str());
+    element->SetAttribute("quat", Quaternion(orientation).c_str());
+    WriteGeoms(element, b, body.position, orientation);
+  }
+
+  // The exclusion list as MuJoCo <exclude> body pairs: MuJoCo then never tests those bodies against each other.
+  void WriteExclusions(tinyxml2::XMLElement* root) {
+    tinyxml2::XMLElement* contact = nullptr;
+    for (int a = 0; a < model_.body_count(); ++a) {
+      for (int b = a + 1; b < model_.body_count(); ++b) {
+        if (!model_.contact_excluded(a, b)) continue;
+        if (contact == nullptr) contact = Child(root, "contact");
+        tinyxml2::XMLElement* exclude = Child(contact, "exclude");
+        exclude->SetAttribute("body1", model_.body(a).name.c_str());
+        exclude->SetAttribute("body2", model_.body(b).name.c_str());
+      }
     }
   }
 

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "model/core/error.h"
@@ -22,6 +23,7 @@ namespace orcs::physics {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using namespace test_worlds;  // NOLINT: the shared small worlds
 
 TEST(MujocoWorldTest, AHingeWhoseChildIsBody2KeepsTheAngleOfBody1AgainstBody2) {
@@ -141,20 +143,38 @@ TEST(MujocoWorldTest, AJointLoopIsRefusedNamingTheJoint) {
   }
 }
 
+// Raw MuJoCo's model of an exported MJCF text; nullptr with `error` set when MuJoCo refuses it.
+mjModel* LoadMjcf(const std::string& xml, char (&error)[1000]) {
+  mjVFS vfs;
+  mj_defaultVFS(&vfs);
+  if (mj_makeEmptyFileVFS(&vfs, "x.xml", static_cast<int>(xml.size())) != 0) return nullptr;
+  std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs.filedata[vfs.nfile - 1]));
+  mjModel* m = mj_loadXML("x.xml", &vfs, error, sizeof error);
+  mj_deleteVFS(&vfs);
+  return m;
+}
+
+// Where the ball of BallAboveShelf ends after 2 s of raw MuJoCo on the exported model, m above the floor.
+double RawBallHeightAfterTwoSeconds(const std::string& xml) {
+  char error[1000] = "";
+  mjModel* m = LoadMjcf(xml, error);
+  if (m == nullptr) throw std::runtime_error(error);
+  mjData* d = mj_makeData(m);
+  while (d->time < 2.0) mj_step(m, d);
+  const double height = d->xpos[3 * mj_name2id(m, mjOBJ_BODY, "Ball") + 1];
+  mj_deleteData(d);
+  mj_deleteModel(m);
+  return height;
+}
+
 TEST(MujocoWorldTest, TheExportedMjcfLoadsInMujocoWithTheSameBodiesJointsAndMass) {
   PhysicsDescription d = BallAboveShelf();
   PhysicsDescription pendulum = Pendulum(true, true);
   d.bodies.push_back(pendulum.bodies[0]);
   d.joints = pendulum.joints;
   const std::shared_ptr<const PhysicsModel> model = Compile(d);
-  const std::string xml = ExportMjcf(*model);
   char error[1000] = "";
-  mjVFS vfs;
-  mj_defaultVFS(&vfs);
-  ASSERT_EQ(mj_makeEmptyFileVFS(&vfs, "x.xml", static_cast<int>(xml.size())), 0);
-  std::copy(xml.begin(), xml.end(), static_cast<char*>(vfs.filedata[vfs.nfile - 1]));
-  mjModel* m = mj_loadXML("x.xml", &vfs, error, sizeof error);
-  mj_deleteVFS(&vfs);
+  mjModel* m = LoadMjcf(ExportMjcf(*model), error);
   ASSERT_NE(m, nullptr) << error;
   EXPECT_EQ(m->nbody, 3);  // the world, the ball, the bob
   EXPECT_EQ(m->njnt, 2);   // the ball's free joint, the pivot
@@ -162,6 +182,22 @@ TEST(MujocoWorldTest, TheExportedMjcfLoadsInMujocoWithTheSameBodiesJointsAndMass
   EXPECT_NEAR(m->body_mass[mj_name2id(m, mjOBJ_BODY, "Ball")], 0.1, 1e-15);
   EXPECT_EQ(m->jnt_limited[mj_name2id(m, mjOBJ_JOINT, "Pivot")], 1);
   mj_deleteModel(m);
+}
+
+// The world compiles without the exclusion list (it reports excluded contacts and drops their constraints
+// itself); the export for users carries it as <exclude> pairs, so that raw MuJoCo lets the ball fall through the
+// shelf as the world does, and still stops it on the floor: the static shelf is its own body there.
+TEST(MujocoWorldTest, TheExportWithExclusionsLetsRawMujocoPassThroughAnExcludedPair) {
+  PhysicsDescription d = BallAboveShelf();
+  d.contact_exclusions.emplace_back("Shelf", "Ball");
+  const std::shared_ptr<const PhysicsModel> model = Compile(d);
+  const std::string with = ExportMjcf(*model, {.exclusions = true});
+  EXPECT_THAT(with, HasSubstr("<exclude body1=\"Shelf\" body2=\"Ball\"/>"));
+  EXPECT_NEAR(RawBallHeightAfterTwoSeconds(with), 0.05, 1e-3);  // on the floor, under the shelf
+
+  const std::string without = ExportMjcf(*model);
+  EXPECT_THAT(without, Not(HasSubstr("<exclude")));
+  EXPECT_NEAR(RawBallHeightAfterTwoSeconds(without), 0.36, 1e-3);  // raw MuJoCo alone would stop it on the shelf
 }
 
 }  // namespace
