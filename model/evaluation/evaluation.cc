@@ -87,6 +87,7 @@ void BuildWorld(const EvaluationRequest& request, scene::Simulation& simulation)
 void AttachWorld(const EvaluationRequest& request, std::shared_ptr<const scene::WorldModel> model,
                  scene::Simulation& simulation) {
   simulation.Attach(std::move(model));
+  simulation.SetExcludedCollisionEvents(false);  // a job reads no events: same motion, fewer collision tests
   ApplyJobValues(request, simulation);
 }
 

@@ -158,6 +158,12 @@ void Simulation::MakeWorld() {
   world_engine_ = repository_.Get(kEngine).as_string();
   world_ = world_engine_ == "MuJoCo" ? physics::MakeMujocoWorld(model_->physics())
                                      : physics::MakeOdeWorld(model_->physics());
+  world_->SetReportExcludedContacts(excluded_collision_events_);
+}
+
+void Simulation::SetExcludedCollisionEvents(bool on) {
+  excluded_collision_events_ = on;
+  if (world_ != nullptr) world_->SetReportExcludedContacts(on);
 }
 
 void Simulation::BindModel() {

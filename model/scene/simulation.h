@@ -68,6 +68,12 @@ class Simulation {
   /// initial pose, so JointAngle then reads `degrees` (before noise). Its sensors and motors restart there.
   void SetAgentJointAngles(int index, const std::vector<double>& degrees);
 
+  /// Whether pairs on the exclusion list still raise their bodies' collision events, as in the original
+  /// (spec/aseries.md §3b; the default). They make no contact either way: off gives the same motion bit for bit
+  /// and saves their collision tests, for callers that read no events (batch jobs, replays). Stays in force
+  /// across Reset and engine changes.
+  void SetExcludedCollisionEvents(bool on);
+
   /// One simulation step of /Simulation/TimeStepSize seconds (IterationsPerStep physics steps of that size
   /// each, as the original). Does nothing once the status is not kOk.
   SimulationStatus Step();
@@ -117,6 +123,7 @@ class Simulation {
   std::shared_ptr<const WorldModel> model_;
   std::unique_ptr<physics::PhysicsWorld> world_;
   std::string world_engine_;  ///< the engine world_ runs on: /Simulation/Engine when it was made
+  bool excluded_collision_events_ = true;  ///< SetExcludedCollisionEvents
   /// A value only one engine reads (/Simulation/ODE/ERP, /Simulation/MuJoCo/Solver, ...): moved from its default
   /// while the other engine runs, it is refused rather than silently ignored.
   struct EngineOnlyValue {

@@ -24,7 +24,7 @@ struct Motion {
 
 inline std::string SourcePath(const std::string& relative) { return std::string(ORCS_SOURCE_DIR) + "/" + relative; }
 
-// One motion on one engine through scene::Simulation, the record played before each step.
+// One motion on one engine through scene::Simulation as a batch job runs it, the record played before each step.
 class MotionRun {
  public:
   MotionRun(const Motion& motion, const std::string& engine) : agent_name_(motion.agent) {
@@ -37,6 +37,7 @@ class MotionRun {
     simulation_.repository().Set("/Simulation/Engine", engine);
     simulation_.LoadEnvironment(environment);
     simulation_.Build();
+    simulation_.SetExcludedCollisionEvents(false);  // as a batch job runs it (model/evaluation)
     const aseries::ASeriesAgent& agent = this->agent();
     steps_ = static_cast<int>(std::lround(motion.seconds / simulation_.StepDuration()));
     if (*motion.record) {

@@ -338,10 +338,10 @@ class MjcfWriter {
     }
   }
 
-  // A static body's geoms sit in the world body at their world pose. With the exclusion list written, each
-  // static body is its own jointless body (welded to the world), so that an exclusion can name it alone.
+  // A static body's geoms sit in the world body at their world pose. A static body on the written exclusion
+  // list is its own jointless body (welded to the world) instead, so that an exclusion can name it alone.
   void WriteStaticBody(tinyxml2::XMLElement* world, int b) {
-    if (!options_.exclusions) {
+    if (!options_.exclusions || !OnExclusionList(b)) {
       WriteGeoms(world, b, Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity());
       return;
     }
@@ -352,6 +352,13 @@ class MjcfWriter {
     element->SetAttribute("pos", Vector(body.position).c_str());
     element->SetAttribute("quat", Quaternion(orientation).c_str());
     WriteGeoms(element, b, body.position, orientation);
+  }
+
+  bool OnExclusionList(int b) const {
+    for (int other = 0; other < model_.body_count(); ++other) {
+      if (other != b && model_.contact_excluded(b, other)) return true;
+    }
+    return false;
   }
 
   // The exclusion list as MuJoCo <exclude> body pairs: MuJoCo then never tests those bodies against each other.

@@ -14,8 +14,8 @@
 //     origin), given explicitly; extra geoms only collide;
 //   - every motorised hinge gets a motor: a fixed tendon on it named "motor:<joint>" whose friction loss (a
 //     bounded velocity constraint) the world aims at the motor's target velocity;
-//   - parent and child bodies collide (as in ODE); the exclusion list is applied per contact by the world,
-//     which still reports excluded contacts, or written as <exclude> pairs for raw MuJoCo (MjcfOptions).
+//   - parent and child bodies collide (as in ODE); the exclusion list is written as <exclude> pairs
+//     (MjcfOptions), and the world tests those pairs on its own when their collision events are wanted.
 #pragma once
 
 #include <string>
@@ -30,9 +30,10 @@ struct MjcfOptions {
   bool implicit_integrator = false;  ///< MuJoCo's implicit-in-velocity integrator (else Euler, the default)
   int max_contacts = 0;         ///< MuJoCo's contact buffer (nconmax); 0 = sized from the model (MjcfContactBuffer)
   int max_constraint_rows = 0;  ///< MuJoCo's constraint buffer (njmax); 0 = sized from the model
-  /// Write the exclusion list as <exclude> body pairs, so that raw MuJoCo builds no contact between them. The
-  /// world compiles without (it reports excluded contacts as collision events, spec/aseries.md §3b, and drops
-  /// their constraints itself); `--export-mjcf` writes them, so the exported model moves as the world does.
+  /// Write the exclusion list as <exclude> body pairs (a static body on it as its own jointless body), so that
+  /// MuJoCo never tests those pairs. The world compiles with them and tests the pairs itself only to report
+  /// their collision events (PhysicsWorld::SetReportExcludedContacts); `--export-mjcf` writes them, so that the
+  /// exported model moves as the world does.
   bool exclusions = false;
 };
 

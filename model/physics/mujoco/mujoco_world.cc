@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <list>
 #include <map>
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "model/core/error.h"
@@ -113,7 +115,7 @@ constexpr std::array<const char*, mjNWARNING> kWarningNames = {
 class MujocoWorld : public PhysicsWorld {
  public:
   explicit MujocoWorld(std::shared_ptr<const PhysicsModel> model)
-      : model_(std::move(model)), pristine_(CompiledModel(ExportMjcf(*model_))) {
+      : model_(std::move(model)), pristine_(CompiledModel(ExportMjcf(*model_, {.exclusions = true}))) {
     m_.reset(mj_copyModel(nullptr, pristine_.get()));
     d_.reset(mj_makeData(m_.get()));
     MapIndices();
@@ -167,6 +169,7 @@ class MujocoWorld : public PhysicsWorld {
   }
 
   const std::vector<Contact>& contacts() const override { return contacts_; }
+  void SetReportExcludedContacts(bool report) override { report_excluded_ = report; }
 
   BodyState body_state(int body) const override {
     if (const auto found = pending_.find(body); found != pending_.end()) return found->second;
@@ -236,6 +239,7 @@ class MujocoWorld : public PhysicsWorld {
   void PoseBody(int body, const BodyState& state) const;
   void PositionStages();
   void RewriteContacts();
+  void CollideExcludedPairs();
   double ChooseFriction(const mjContact& contact, const ContactMaterial& material);
   Eigen::Vector3d PointVelocity(int body, const mjtNum* point) const;
   // Poses, centres of mass and velocities of the bodies for the state as it stands: what readings need after a
@@ -271,6 +275,10 @@ class MujocoWorld : public PhysicsWorld {
   long steps_ = 0;                            ///< steps since Reset (no motor torque before the first)
   std::vector<double> applied_;               ///< per dof: torques added for the next step (AddJointTorque)
   std::vector<Contact> contacts_;             ///< found in the last step
+  /// MuJoCo geom pairs the compiled <exclude> list hides from mj_collision but the report tests; see
+  /// CollideExcludedPairs
+  std::vector<std::pair<int, int>> excluded_geom_pairs_;
+  bool report_excluded_ = true;               ///< SetReportExcludedContacts
   /// SetBodyState's poses not yet applied, by orcs body; mutable: a const reading applies them first
   mutable std::map<int, BodyState> pending_;
   const PhysicsParameters* parameters_ = nullptr;  ///< the running step's parameters
@@ -356,6 +364,18 @@ void MujocoWorld::MapIndices() {
   }
   orcs_geom_.assign(m->ngeom, -1);
   for (int g = 0; g < model_->geom_count(); ++g) orcs_geom_[Id(m, mjOBJ_GEOM, MjcfGeomName(*model_, g))] = g;
+  // The pairs mj_collision would test but for the exclusion list: MuJoCo's own filters (contact bits, bodies
+  // welded together) still apply.
+  excluded_geom_pairs_.clear();
+  for (int g1 = 0; g1 < m->ngeom; ++g1) {
+    for (int g2 = g1 + 1; g2 < m->ngeom; ++g2) {
+      const int b1 = model_->geom(orcs_geom_[g1]).body;
+      const int b2 = model_->geom(orcs_geom_[g2]).body;
+      const bool bits = (m->geom_contype[g1] & m->geom_conaffinity[g2]) || (m->geom_contype[g2] & m->geom_conaffinity[g1]);
+      const bool welded = m->body_weldid[m->geom_bodyid[g1]] == m->body_weldid[m->geom_bodyid[g2]];
+      if (b1 != b2 && bits && !welded && model_->contact_excluded(b1, b2)) excluded_geom_pairs_.emplace_back(g1, g2);
+    }
+  }
   hinge_qpos_.assign(model_->joint_count(), -1);
   hinge_dof_.assign(model_->joint_count(), -1);
   motor_.assign(model_->joint_count(), -1);
@@ -405,6 +425,7 @@ void MujocoWorld::PositionStages() {
   mj_factorM(m, d);
   mj_collision(m, d);
   RewriteContacts();
+  if (report_excluded_) CollideExcludedPairs();
   mj_makeConstraint(m, d);
   mj_transmission(m, d);
 }
@@ -431,11 +452,7 @@ void MujocoWorld::RewriteContacts() {
     contact.position = Vec(con.pos);
     contact.normal = -Vec(con.frame);  // MuJoCo's normal points from geom1 to geom2; ours into geom1
     contact.depth = depth;
-    contact.excluded = model_->contact_excluded(info1.body, info2.body);
-    if (contact.excluded) {
-      con.exclude = 1;
-      continue;
-    }
+    assert(!model_->contact_excluded(info1.body, info2.body) && "the compiled <exclude> list hides those pairs");
     const ContactMaterial material =
         MaterialTable::Lookup(info1.material, info2.material, material_of_body_[info1.body],
                               material_of_body_[info2.body], p.custom1, p.custom2);
@@ -443,6 +460,39 @@ void MujocoWorld::RewriteContacts() {
     con.mu = con.friction[0];
     con.solref[0] = p.mujoco.contact_time_constant;
     con.solref[1] = p.mujoco.contact_damping_ratio;
+  }
+}
+
+// The exclusion list's pairs, which mj_collision skips (compiled as <exclude>), tested with MuJoCo's own
+// narrowphase the way mj_collision tests a pair (lower geom type first, bounding spheres, then the pair's
+// function) and reported as excluded contacts: the original's collision events for them. They never reach
+// d_->contact, so they make no constraint.
+void MujocoWorld::CollideExcludedPairs() {
+  const mjModel* m = m_.get();
+  const mjData* d = d_.get();
+  std::array<mjContact, mjMAXCONPAIR> found;
+  for (auto [g1, g2] : excluded_geom_pairs_) {
+    if (m->geom_type[g1] > m->geom_type[g2]) std::swap(g1, g2);
+    const mjfCollision collide = mjCOLLISIONFUNC[m->geom_type[g1]][m->geom_type[g2]];
+    if (collide == nullptr) continue;
+    const double margin = std::max(m->geom_margin[g1], m->geom_margin[g2]);
+    const double reach = m->geom_rbound[g1] + m->geom_rbound[g2] + margin;
+    const bool bounded = m->geom_rbound[g1] > 0 && m->geom_rbound[g2] > 0;  // 0: a plane, unbounded
+    if (bounded && (Vec(d->geom_xpos + 3 * g1) - Vec(d->geom_xpos + 3 * g2)).norm() > reach) continue;
+    const int count = collide(m, d, found.data(), g1, g2, margin);
+    for (int i = 0; i < count; ++i) {
+      const double depth = -found[i].dist;
+      if (std::abs(depth) < parameters_->min_contact_depth) continue;
+      Contact& contact = contacts_.emplace_back();
+      contact.geom1 = orcs_geom_[g1];
+      contact.geom2 = orcs_geom_[g2];
+      contact.body1 = model_->geom(contact.geom1).body;
+      contact.body2 = model_->geom(contact.geom2).body;
+      contact.position = Vec(found[i].pos);
+      contact.normal = -Vec(found[i].frame);
+      contact.depth = depth;
+      contact.excluded = true;
+    }
   }
 }
 

@@ -140,6 +140,7 @@ class OdeWorld final : public PhysicsWorld {
   void Reset() override;
   StepStatus Step(double dt, const PhysicsParameters& parameters) override;
   const std::vector<Contact>& contacts() const override { return contacts_; }
+  void SetReportExcludedContacts(bool report) override { report_excluded_ = report; }
   BodyState body_state(int body) const override;
   void SetBodyState(int body, const BodyState& state) override;
   double joint_angle(int joint) const override;
@@ -220,6 +221,7 @@ class OdeWorld final : public PhysicsWorld {
   unsigned long quickstep_seed_ = 0;     // this world's state of ODE's generator (QuickStepMutex)
   std::vector<BodyFrictionParameters> body_friction_;  // per model body, for unknown materials
   std::vector<Contact> contacts_;                       // of the last step; capacity is kept across steps
+  bool report_excluded_ = true;                         // SetReportExcludedContacts
   std::array<dContactGeom, PhysicsParameters::kMaxContactPoints> contact_buffer_{};  // dCollide's output
   const PhysicsParameters* parameters_ = nullptr;  // those of the running Step, read by the collision callback
   StepStatus status_ = StepStatus::kOk;            // sticky until Reset
@@ -466,12 +468,13 @@ void OdeWorld::Collide(dGeomID o1, dGeomID o2) {
   dBodyID b1 = bodies_[info1.body];
   dBodyID b2 = bodies_[info2.body];
   if (b1 == nullptr && b2 == nullptr) return;  // two static bodies: nothing can move
+  const bool excluded = model_->contact_excluded(info1.body, info2.body);
+  if (excluded && !report_excluded_) return;
   const PhysicsParameters& p = *parameters_;
   const int max_points = std::clamp(p.max_contact_points, 1, PhysicsParameters::kMaxContactPoints);
   const int found = dCollide(o1, o2, max_points, contact_buffer_.data(), sizeof(dContactGeom));
   if (found == 0) return;
 
-  const bool excluded = model_->contact_excluded(info1.body, info2.body);
   const ContactMaterial material = MaterialTable::Lookup(info1.material, info2.material, body_friction_[info1.body],
                                                          body_friction_[info2.body], p.custom1, p.custom2);
   for (int i = 0; i < found; ++i) {

@@ -290,6 +290,42 @@ TEST_P(PhysicsWorldTest, ExcludedPairsReportContactsButPassThrough) {
   EXPECT_NEAR(world->body_state(2).position.y(), 0.05, engine().rest_depth);  // on the floor, under the shelf
 }
 
+// Not reporting excluded pairs saves their collision tests and nothing else: the same bits, the same contacts
+// that make constraints, only the excluded ones missing.
+TEST_P(PhysicsWorldTest, UnreportedExcludedPairsLeaveTheMotionBitIdentical) {
+  PhysicsDescription d = BallAboveShelf();
+  d.contact_exclusions.emplace_back("Shelf", "Ball");
+  const auto model = Compile(d);
+  auto reporting = engine().make(model);
+  auto silent = engine().make(model);
+  silent->SetReportExcludedContacts(false);
+  silent->Reset();  // stays in force across a reset
+  int excluded_reported = 0;
+  int floor_contacts = 0;
+  for (int i = 0; i < 200; ++i) {
+    ASSERT_EQ(reporting->Step(kDt, {}), StepStatus::kOk);
+    ASSERT_EQ(silent->Step(kDt, {}), StepStatus::kOk);
+    const BodyState a = reporting->body_state(2);
+    const BodyState b = silent->body_state(2);
+    ExpectBitIdentical({a.position.x(), a.position.y(), a.position.z(), a.linear_velocity.y()},
+                       {b.position.x(), b.position.y(), b.position.z(), b.linear_velocity.y()});
+    std::vector<double> made;
+    for (const Contact& c : reporting->contacts()) {
+      excluded_reported += c.excluded;
+      if (!c.excluded) made.insert(made.end(), {c.position.x(), c.position.y(), c.position.z(), c.depth});
+    }
+    std::vector<double> made_silent;
+    for (const Contact& c : silent->contacts()) {
+      ASSERT_FALSE(c.excluded) << "step " << i;
+      made_silent.insert(made_silent.end(), {c.position.x(), c.position.y(), c.position.z(), c.depth});
+    }
+    ExpectBitIdentical(made, made_silent);
+    floor_contacts += !made.empty();
+  }
+  EXPECT_GT(excluded_reported, 0);  // the ball did pass through the shelf
+  EXPECT_GT(floor_contacts, 0);     // and landed on the floor
+}
+
 // The chain of test_worlds.h bent in one plane: MuJoCo stops the out-of-plane chain with "bad number in qacc" once
 // its jointed links touch (step 28 of Trajectory, a known defect that mujoco/mujoco_world_test.cc keeps as a
 // disabled test). ODE's own tests run the out-of-plane chain.
