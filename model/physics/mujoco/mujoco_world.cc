@@ -234,6 +234,7 @@ class MujocoWorld : public PhysicsWorld {
   void MapIndices();
   void SetOptions(double dt, const PhysicsParameters& parameters);
   void ServoReferences();
+  void MakeCompliant(int row, double target, double compliance);
   void ReadMotorTorques();
   void PoseBodies() const;
   void PoseBody(int body, const BodyState& state) const;
@@ -298,9 +299,22 @@ void MujocoWorld::ServoReferences() {
     if (d_->efc_type[i] != mjCNSTR_FRICTION_TENDON) continue;
     const int t = d_->efc_id[i];
     motor_row_[t] = i;
-    const double target = target_[t] - compliance_[t] * torque_[t];
-    d_->efc_aref[i] += d_->efc_KBIP[4 * i + 1] * target;
+    if (compliance_[t] > 0.0) {
+      MakeCompliant(i, target_[t], compliance_[t]);
+    } else {
+      d_->efc_aref[i] += d_->efc_KBIP[4 * i + 1] * target_[t];
+    }
   }
+}
+
+// Compliance c as the row's own softness, so the spring is implicit as ODE's CFM makes it. Inside its force
+// bound a MuJoCo row solves J·qacc = aref − R·f. With aref = (target − J·v)/dt and R = c/dt, one Euler step ends
+// at J·v' = target − c·f: the motor yields by this step's torque, not the last one's.
+void MujocoWorld::MakeCompliant(int row, double target, double compliance) {
+  const double dt = m_->opt.timestep;
+  d_->efc_aref[row] = (target - d_->efc_vel[row]) / dt;
+  d_->efc_R[row] = compliance / dt;
+  d_->efc_D[row] = 1.0 / d_->efc_R[row];
 }
 
 // The force each motor's row applied in the step just taken (0 when its limit was 0: no row).
