@@ -472,6 +472,9 @@ void MujocoWorld::RewriteContacts() {
                               material_of_body_[info2.body], p.custom1, p.custom2);
     con.friction[0] = con.friction[1] = ChooseFriction(con, material);
     con.mu = con.friction[0];
+    // A frictionless pair (the table has some) is a normal-only contact: a friction cone with μ = 0 has
+    // zero-weight rows, whose regularisation is 0 and whose solve is NaN ("bad number in qacc").
+    con.dim = con.mu < mjMINMU ? 1 : 3;
     con.solref[0] = p.mujoco.contact_time_constant;
     con.solref[1] = p.mujoco.contact_damping_ratio;
   }

@@ -2,8 +2,8 @@
 // test_worlds.h. Where the engines differ in how exactly they keep a fact, the tolerance is the engine's, in
 // Engine below, with the measured value that chose it. What only one engine has lives in ode/ode_world_test.cc
 // (QuickStep, combined motor rows, restitution, the error handler, ...) and mujoco/mujoco_world_test.cc (the
-// MJCF export, joint loops, hinges whose child is body 2, posing through SetBodyState, ..., and two known defects
-// of the MuJoCo backend as disabled tests, which Engine::slides_flat and PlanarChain work around here).
+// MJCF export, joint loops, hinges whose child is body 2, posing through SetBodyState, ..., and a known defect of
+// MuJoCo itself as a disabled test, which Engine::slides_flat works around here).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -326,13 +326,8 @@ TEST_P(PhysicsWorldTest, UnreportedExcludedPairsLeaveTheMotionBitIdentical) {
   EXPECT_GT(floor_contacts, 0);     // and landed on the floor
 }
 
-// The chain of test_worlds.h bent in one plane: MuJoCo stops the out-of-plane chain with "bad number in qacc" once
-// its jointed links touch (step 28 of Trajectory, a known defect that mujoco/mujoco_world_test.cc keeps as a
-// disabled test). ODE's own tests run the out-of-plane chain.
-PhysicsDescription PlanarChain() { return Chain(Eigen::Vector3d::UnitZ()); }
-
 TEST_P(PhysicsWorldTest, ResetGivesBitIdenticalTrajectories) {
-  auto world = Make(PlanarChain());
+  auto world = Make(Chain());
   const std::vector<double> first = Trajectory(*world, 200);
   ASSERT_FALSE(world->contacts().empty());  // the chain did land
   world->Reset();
@@ -343,7 +338,7 @@ TEST_P(PhysicsWorldTest, ResetGivesBitIdenticalTrajectories) {
 }
 
 TEST_P(PhysicsWorldTest, WorldsRunOnOtherThreadsGiveTheSameResult) {
-  const auto model = Compile(PlanarChain());
+  const auto model = Compile(Chain());
   auto here = engine().make(model);
   const std::vector<double> expected = Trajectory(*here, 150);
   std::vector<double> made_there;
