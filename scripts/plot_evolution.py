@@ -4,19 +4,23 @@
     scripts/plot_evolution.py DIR [--out FILE.png] [--title TEXT]
 
 Reads DIR/fitness.csv (written by `orcs-batch evolve` after every generation) and writes DIR/fitness.png (or
---out): the best fitness found so far, each generation's best, and the band between its median and its worst
-and best, against the generation. orcs-batch evolve calls it at the end of a run. Debian's python3-matplotlib;
-runs headless.
+--out): the best fitness found so far, each generation's best and median, and the band between its worst and
+best, against the generation; the legend sits below the axes. The title names the scenario, algorithm and
+population (from DIR/checkpoint.json). orcs-batch evolve calls it at the end of a run. Debian's
+python3-matplotlib; runs headless.
 """
 import argparse
 import csv
+import json
 import os
 import sys
+import textwrap
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after choosing the headless backend)
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 COLUMNS = ["generation", "evaluations", "failed", "best", "mean", "median", "worst", "best_so_far", "seconds"]
 
@@ -55,36 +59,64 @@ def read_history(path):
     return rows
 
 
-def plot(rows, out, title):
-    figure, axes = plt.subplots(figsize=(7, 4.2))
+def default_title(folder):
+    """'SCENARIO: fitness per generation (ALGORITHM, P genomes per generation)' from DIR/checkpoint.json, which
+    orcs-batch evolve writes beside fitness.csv; the folder's name when there is none or it cannot be read."""
+    name = os.path.basename(os.path.normpath(folder))
+    try:
+        with open(os.path.join(folder, "checkpoint.json")) as handle:
+            fingerprint = json.load(handle)["fingerprint"]
+        scenario = str(fingerprint["scenario"])
+        settings = []
+        if fingerprint.get("algorithm"):
+            settings.append(str(fingerprint["algorithm"]))
+        if isinstance(fingerprint.get("population"), int):
+            settings.append(f"{fingerprint['population']} genomes per generation")
+    except (OSError, ValueError, KeyError, TypeError):
+        return f"{name}: fitness per generation"
+    return f"{scenario}: fitness per generation" + (f" ({', '.join(settings)})" if settings else "")
+
+
+def build_figure(rows, title):
+    """The figure: the band between each generation's worst and best, its median and best, and the best so far,
+    against whole-numbered generations; the legend below the axes, off the data."""
+    figure, axes = plt.subplots(figsize=(7, 4.8))
     generations = [r["generation"] for r in rows]
     band = [r for r in rows if r["worst"] is not None]
     axes.fill_between([r["generation"] for r in band], [r["worst"] for r in band], [r["best"] for r in band],
                       color="tab:blue", alpha=0.15, label="generation: worst … best")
     axes.plot([r["generation"] for r in band], [r["median"] for r in band], color="tab:blue", lw=1,
               label="generation median")
-    axes.plot([r["generation"] for r in band], [r["best"] for r in band], "o", color="tab:blue", ms=3,
+    axes.plot([r["generation"] for r in band], [r["best"] for r in band], "o", color="tab:blue", ms=3, zorder=3,
               label="generation best")
     axes.step(generations, [r["best_so_far"] for r in rows], where="post", color="tab:red", lw=2,
               label="best so far")
     axes.set_xlabel("generation")
-    axes.set_ylabel("fitness")
-    axes.set_title(title)
+    axes.set_ylabel("fitness (higher is better)")
+    axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+    axes.set_title("\n".join(textwrap.wrap(title, 80)), fontsize="medium")
     axes.grid(alpha=0.3)
-    axes.legend(loc="lower right", fontsize=8)
+    axes.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, fontsize=8, frameon=False)
     figure.tight_layout()
+    return figure
+
+
+def plot(rows, out, title):
+    figure = build_figure(rows, title)
     figure.savefig(out, dpi=110)
+    plt.close(figure)
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", help="an orcs-batch evolve output folder (with fitness.csv)")
     parser.add_argument("--out", help="the picture (default FOLDER/fitness.png)")
-    parser.add_argument("--title", help="the plot's title (default: the folder's name)")
-    args = parser.parse_args()
+    parser.add_argument("--title", help="the plot's title (default: the scenario, algorithm and population from "
+                        "DIR/checkpoint.json, else the folder's name)")
+    args = parser.parse_args(argv)
     rows = read_history(os.path.join(args.folder, "fitness.csv"))
     out = args.out or os.path.join(args.folder, "fitness.png")
-    plot(rows, out, args.title or os.path.basename(os.path.normpath(args.folder)))
+    plot(rows, out, args.title or default_title(args.folder))
     print(f"plot_evolution.py: {out}")
 
 

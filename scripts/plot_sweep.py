@@ -30,6 +30,24 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after choosing the headless backend)
 
 RESULT_COLUMNS = ["fitness", "min_fitness", "max_fitness", "ok", "jobs"]
+FITNESS_LABEL = "fitness (higher is better)"
+# Units of the parameters commonly swept (model/aseries/dynamixel_motor.h, docs/model.md), for the x axes.
+PARAMETER_UNITS = {
+    "/AngularMotor/PID/Proportional": "1/s",
+    "/AngularMotor/PID/Integral": "s",
+    "/AngularMotor/PID/Differential": "s",
+    "/AngularMotor/FMaxFactor": "N·m",
+    "/AngularMotor/MaxVelocity": "rad/s",
+    "/AngularMotor/StaticFriction": "N·m",
+    "/AngularMotor/StaticFrictionBorder": "rad/s",
+    "/AngularMotor/DynamicFriction": "N·m·s/rad",
+    "/AngularMotor/DynamicFrictionOffset": "N·m",
+    "/AngularMotor/MotorNoise": "rad/s",
+    "/Simulation/ODE/FrictionScaling": "× friction coefficients",
+    "/Simulation/ODE/StaticFrictionSpeed": "m/s",
+    "/Simulation/MuJoCo/ContactTimeConstant": "s",
+    "/Simulation/TimeStepSize": "s",
+}
 
 
 def fail(message):
@@ -108,22 +126,52 @@ def x_positions(param, rows, categories, jitter=0.0):
     return [index[r[("text", param)]] + jitter * (((i * 0.6180339887) % 1.0) - 0.5) for i, r in enumerate(rows)]
 
 
+def parameter_label(param):
+    unit = PARAMETER_UNITS.get(param)
+    return f"{param} ({unit})" if unit else param
+
+
+def legend_below(figure, axes_list, columns=4):
+    """One legend for the whole figure below its panels (entries gathered from every panel, each label once), so
+    that it covers no data. Call after tight_layout; it makes room at the bottom."""
+    entries = {}
+    for axis in axes_list:
+        for handle, label in zip(*axis.get_legend_handles_labels()):
+            entries.setdefault(label, handle)
+    if not entries:
+        return None
+    height = figure.get_figheight()
+    rows = math.ceil(len(entries) / columns)
+    room = (0.3 * rows + 0.1) / height
+    figure.subplots_adjust(bottom=figure.subplotpars.bottom + room)
+    return figure.legend(list(entries.values()), list(entries), loc="lower center", ncol=min(columns, len(entries)),
+                         fontsize="small", frameon=False, bbox_to_anchor=(0.5, 0.0))
+
+
 def label_categories(axis, categories):
     if categories is not None:
         axis.set_xticks(range(len(categories)))
         axis.set_xticklabels(categories)
 
 
-def plot_grid(params, rows, out, report):
-    figure, axes = plt.subplots(1, len(params), figsize=(4.5 * len(params), 3.6), squeeze=False)
+def sweep_title(report, folder):
+    """The scenario's name (robustness.json's title), else the folder's name."""
+    title = (report or {}).get("title")
+    return str(title) if title else os.path.basename(os.path.normpath(folder or "sweep"))
+
+
+def build_grid_figure(params, rows, report, folder=None):
+    figure, axes = plt.subplots(1, len(params), figsize=(4.5 * len(params), 3.9), squeeze=False)
     ok_rows = [r for r in rows if r["fitness"] is not None and math.isfinite(r["fitness"])]
+    repeats = max([int(r["jobs"]) for r in rows if r["jobs"] is not None] or [1])
     for axis, param in zip(axes[0], params):
         categories = categories_of(param, rows, report)
         xs = x_positions(param, ok_rows, categories)
         ys = [r["fitness"] for r in ok_rows]
         low = [r["fitness"] - r["min_fitness"] for r in ok_rows]
         high = [r["max_fitness"] - r["fitness"] for r in ok_rows]
-        axis.errorbar(xs, ys, yerr=[low, high], fmt="o", markersize=4, alpha=0.6, capsize=2, label="grid point")
+        point = "grid point: mean over its repeats, bar min … max" if repeats > 1 else "grid point"
+        axis.errorbar(xs, ys, yerr=[low, high], fmt="o", markersize=4, alpha=0.6, capsize=2, label=point)
         by_value = {}
         for x, y in zip(xs, ys):
             by_value.setdefault(x, []).append(y)
@@ -131,13 +179,20 @@ def plot_grid(params, rows, out, report):
         axis.plot(values, [sum(by_value[v]) / len(by_value[v]) for v in values], "-", color="C3",
                   label="mean over the other parameters")
         label_categories(axis, categories)
-        axis.set_xlabel(param)
-        axis.set_ylabel("fitness")
+        axis.set_xlabel(parameter_label(param))
+        axis.set_ylabel(FITNESS_LABEL)
         axis.grid(True, alpha=0.3)
-    axes[0][0].legend(fontsize="small")
-    figure.suptitle(f"fitness across {len(rows)} grid points ({len(rows) - len(ok_rows)} without an ok run)")
+    figure.suptitle(f"{sweep_title(report, folder)}: fitness across {len(rows)} grid points "
+                    f"({len(rows) - len(ok_rows)} without an ok run)")
     figure.tight_layout()
+    legend_below(figure, axes[0], columns=2)
+    return figure
+
+
+def plot_grid(params, rows, out, report, folder=None):
+    figure = build_grid_figure(params, rows, report, folder)
     figure.savefig(out, dpi=110)
+    plt.close(figure)
 
 
 def plot_bins(axis, entry, categories):
@@ -154,7 +209,7 @@ def plot_bins(axis, entry, categories):
     axis.plot([(b["low"] + b["high"]) / 2 for b in bins], [b["mean"] for b in bins], ":", color="C3", linewidth=1)
 
 
-def plot_lhs(params, rows, out, report):
+def build_lhs_figure(params, rows, report, folder=None):
     sensitivity = {s["path"]: s for s in report["sensitivity"]}
     panels = len(params) + 1
     columns = panels if panels <= 3 else math.ceil(panels / 2)  # four panels and more: two rows
@@ -171,43 +226,54 @@ def plot_lhs(params, rows, out, report):
         if param in sensitivity:
             plot_bins(axis, sensitivity[param], categories)
             index = sensitivity[param]["index"]
-            axis.set_title(f"S = {index:.2f}" if index is not None else "S undefined", fontsize="medium")
+            floor = sensitivity[param].get("noise_floor")
+            text = f"sensitivity S = {index:.2f}" if index is not None else "sensitivity S undefined"
+            if floor is not None:
+                text += f" (noise floor {floor:.2f})"
+            axis.set_title(text, fontsize="medium")
         label_categories(axis, categories)
-        axis.set_xlabel(param)
-        axis.set_ylabel("fitness")
+        axis.set_xlabel(parameter_label(param))
+        axis.set_ylabel(FITNESS_LABEL)
         axis.grid(True, alpha=0.3)
-    axes[0].legend(fontsize="small")
     bars = axes[len(params)]
     ranked = [sensitivity[p] for p in report["ranking"]]
     names = [s["path"].rsplit("/", 2)[-2] + "/" + s["path"].rsplit("/", 1)[-1] for s in ranked]
-    bars.bar(range(len(ranked)), [s["index"] or 0.0 for s in ranked], color="C0", label="S")
+    bars.bar(range(len(ranked)), [s["index"] or 0.0 for s in ranked], color="C0", label="first-order index S")
     bars.plot(range(len(ranked)), [s["noise_floor"] for s in ranked], "_", color="k", markersize=20,
               markeredgewidth=2, label="noise floor")
     bars.set_xticks(range(len(ranked)))
     bars.set_xticklabels(names, rotation=20, ha="right", fontsize="small")
     bars.set_ylim(0, 1)
     bars.set_ylabel("first-order index S")
-    bars.set_title("sensitivity of the fitness", fontsize="medium")
-    bars.legend(fontsize="small")
+    bars.set_title("first-order sensitivity of the fitness", fontsize="medium")
     bars.grid(True, axis="y", alpha=0.3)
-    figure.suptitle(f"{report.get('title', '')}: fitness over {len(rows)} Latin hypercube samples "
+    figure.suptitle(f"{sweep_title(report, folder)}: fitness over {len(rows)} Latin hypercube samples "
                     f"({len(rows) - len(ok_rows)} without an ok run)")
     figure.tight_layout()
+    legend_below(figure, axes[:panels], columns=5)
+    return figure
+
+
+def plot_lhs(params, rows, out, report, folder=None):
+    figure = build_lhs_figure(params, rows, report, folder)
     figure.savefig(out, dpi=110)
+    plt.close(figure)
 
 
-def main():
+
+
+def main(argv=None):
     parser = argparse.ArgumentParser(description="Plot an orcs-batch sweep (DIR/sweep.csv).")
     parser.add_argument("folder", help="the sweep's output folder (orcs-batch sweep --out)")
     parser.add_argument("--out", help="the PNG to write (default DIR/sweep.png)")
-    arguments = parser.parse_args()
+    arguments = parser.parse_args(argv)
     params, rows = read_sweep(os.path.join(arguments.folder, "sweep.csv"))
     report = read_report(arguments.folder)
     out = arguments.out or os.path.join(arguments.folder, "sweep.png")
     if report is not None and report.get("sampling") == "lhs":
-        plot_lhs(params, rows, out, report)
+        plot_lhs(params, rows, out, report, arguments.folder)
     else:
-        plot_grid(params, rows, out, report)
+        plot_grid(params, rows, out, report, arguments.folder)
     print(f"plot_sweep.py: wrote {out}")
 
 
