@@ -109,6 +109,7 @@ Broker::Broker(BrokerOptions options)
   if (!options_.journal.empty()) journal_ = std::make_unique<BrokerJournal>(options_.journal);
   transport_ = std::make_unique<ZmqTransport>(worker_socket_, client_socket_);
   core_ = std::make_unique<BrokerCore>(options_, *transport_, journal_.get());
+  core_->SetWorkerEndpoint(worker_endpoint_);
   core_->Restore(Clock::now());
 }
 

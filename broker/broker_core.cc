@@ -34,9 +34,12 @@ BrokerCore::BrokerCore(const BrokerOptions& options, BrokerTransport& transport,
 // Worker messages
 
 void BrokerCore::OnWorkerMessage(const std::string& worker, v1::WorkerToBroker& message, TimePoint now) {
-  now_ = now;
+  Advance(now);
   auto known = workers_.find(worker);
-  if (known != workers_.end()) known->second.expiry = now_ + liveness_period_;
+  if (known != workers_.end()) {
+    known->second.expiry = now_ + liveness_period_;
+    known->second.last_heard = now_;
+  }
   switch (message.body_case()) {
     case v1::WorkerToBroker::kReady: OnWorkerReady(worker, message.ready()); break;
     case v1::WorkerToBroker::kResult: OnWorkerResult(worker, *message.mutable_result()); break;
@@ -64,6 +67,9 @@ void BrokerCore::OnWorkerReady(const std::string& worker, const v1::Ready& ready
   record.name = ready.worker_id().empty() ? Hex(worker) : ready.worker_id();
   record.credit = ready.credit();  // a second READY changes the credit; jobs held beyond it stay held
   record.expiry = now_ + liveness_period_;
+  record.last_heard = now_;
+  if (inserted) record.connected_at = now_;
+  if (ready.host().size() <= kMaxIdBytes) record.host = ready.host();
   Log((inserted ? "worker " + record.name + " joined with credit "
                 : "worker " + record.name + " sent READY again; credit now ") +
       std::to_string(record.credit));
@@ -84,6 +90,7 @@ void BrokerCore::OnWorkerResult(const std::string& worker, v1::Result& result) {
   }
   // The answer to the lease this connection holds: one credit back, and the job ends or is retried.
   Worker& holder = workers_.at(worker);
+  NoteWorkerResult(holder, key, *record, result.status());
   in_flight_count_ -= holder.holding.erase(key);
   if (holder.holding.empty()) holder.busy_until = now_;
   MakeReady(worker, holder);
@@ -167,7 +174,7 @@ void BrokerCore::TellWorkerToReconnect(const std::string& worker, const std::str
 // The clock
 
 void BrokerCore::OnTick(TimePoint now) {
-  now_ = now;
+  Advance(now);
   SendHeartbeats();
   PurgeLostWorkers();
   ExpireLeases();
@@ -247,7 +254,7 @@ BrokerCore::Clock::duration BrokerCore::LeaseLength(double time_limit_seconds) c
 // Workers and dispatch
 
 void BrokerCore::Dispatch(TimePoint now) {
-  now_ = now;
+  Advance(now);
   std::vector<JobKey> deferred;  // crashed jobs waiting for a worker they have not crashed yet
   while (FirstReadyWorker() != ready_workers_.end()) {
     JobKey key;
@@ -399,6 +406,11 @@ void BrokerCore::DropMessage(std::string_view side, const std::string& peer, con
 std::string BrokerCore::WorkerName(const std::string& worker) const {
   auto entry = workers_.find(worker);
   return entry == workers_.end() ? Hex(worker) : entry->second.name;
+}
+
+void BrokerCore::Advance(TimePoint now) {
+  now_ = now;
+  if (!started_at_) started_at_ = now;
 }
 
 void BrokerCore::Log(const std::string& line) const { WriteLog(options_.log, line); }

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <deque>
 #include <list>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -23,9 +24,15 @@
 
 #include "broker/broker_journal.h"
 #include "broker/broker_settings.h"
+#include "broker/rate_meter.h"
 #include "orcs/v1/broker.pb.h"
 
 namespace orcs::broker {
+
+/// How many recent jobs per worker and recent failures per batch the status keeps.
+inline constexpr std::size_t kStatusHistory = 8;
+/// Longest failure message the status keeps, bytes.
+inline constexpr std::size_t kMaxStatusMessageBytes = 512;
 
 /// Longest worker, client or batch id a peer may send, bytes (a longer one is refused: ids appear in log lines).
 inline constexpr std::size_t kMaxIdBytes = 128;
@@ -66,6 +73,11 @@ class BrokerCore {
   void DropMessage(std::string_view side, const std::string& peer, const std::string& why);
   /// Counters and gauges now (handshake counters are the shell's and stay 0 here).
   BrokerStats Stats() const;
+  /// What a STATUS_REQUEST from a client holding CURVE key `client_key` ("" without) is answered with
+  /// (broker_core_status.cc): with CURVE on, other keys' batches show their counts only.
+  v1::Status Status(const std::string& client_key, TimePoint now) const;
+  /// Where workers connect, as the shell bound it: named in the status (and so in clients' "no worker" hints).
+  void SetWorkerEndpoint(std::string endpoint) { worker_endpoint_ = std::move(endpoint); }
 
  private:
   /// A job's place in the broker: just made, waiting, held by a worker, or answered.
@@ -88,6 +100,14 @@ class BrokerCore {
     std::uint64_t lease = 0;          ///< the current dispatch's token (Job.lease) while kDispatched; 0 = none
     TimePoint lease_deadline;         ///< while kDispatched: its worker is lost unless it answered by then
   };
+  /// One failure of a batch, kept for the status.
+  struct Failure {
+    std::string job_id;         ///< the job
+    v1::Result::Status status;  ///< how it ended
+    std::string message;        ///< Result.message, cut to kMaxStatusMessageBytes
+    std::string worker_id;      ///< where it ran last
+    TimePoint at;               ///< when its result came
+  };
   struct Batch {
     std::string client;      ///< routing id of the owning client's connection; "" = restored, not yet claimed
     std::string client_id;   ///< the owning client's name (Submit.client_id), stable across its reconnections
@@ -97,6 +117,20 @@ class BrokerCore {
     std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
     std::unordered_map<std::string, JobRecord> jobs;  ///< its jobs without a result yet, by job id
     TimePoint claim_deadline;  ///< restored batches: dropped unless their client is back by then
+    // For the status only (broker_core_status.cc).
+    TimePoint opened_at;             ///< its first SUBMIT, or its restore from the journal
+    std::uint64_t done = 0;          ///< jobs finished with status OK
+    std::uint64_t failed = 0;        ///< jobs finished with another status
+    std::uint64_t expected = 0;      ///< Submit.batch_size, the latest non-zero one; 0 = not said
+    RateMeter finished;              ///< finished jobs over time
+    std::deque<Failure> failures;    ///< its latest failures, newest first, at most kStatusHistory
+  };
+  /// One job a worker finished, kept for the status.
+  struct FinishedJob {
+    JobKey key;                 ///< batch and job
+    v1::Result::Status status;  ///< how it ended
+    double seconds = 0;         ///< from dispatch to result, s
+    TimePoint at;               ///< when its result came
   };
   struct Worker {
     std::string name;            ///< Ready.worker_id (or the routing id in hex)
@@ -107,6 +141,13 @@ class BrokerCore {
     /// When the jobs it holds are due at the latest: it runs them one after another, so each new lease starts
     /// where the previous one ends.
     TimePoint busy_until;
+    // For the status only (broker_core_status.cc).
+    std::string host;                 ///< Ready.host
+    TimePoint connected_at;           ///< its first READY on this connection
+    TimePoint last_heard;             ///< when a valid message last came from it
+    std::uint64_t jobs_done = 0;      ///< results accepted from it
+    std::uint64_t crashes = 0;        ///< CRASHED results from it
+    std::deque<FinishedJob> recent;   ///< its latest results, newest first, at most kStatusHistory
   };
   struct Client {
     std::string client_id;                    ///< Submit.client_id of its first SUBMIT
@@ -166,6 +207,8 @@ class BrokerCore {
   void OnClientHeartbeat(const std::string& client);
   void OnClientCancel(const std::string& client, const v1::Cancel& cancel);
   void OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect);
+  /// Answers a STATUS_REQUEST (broker_core_status.cc).
+  void OnClientStatusRequest(const std::string& client, const std::string& client_key);
   void PurgeLostClients();
   void PurgeUnclaimedBatches();
 
@@ -188,7 +231,20 @@ class BrokerCore {
   void FinishJob(Batch& batch, JobRecord& record, v1::Result& result);
   void FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message);
 
+  // The status (broker_core_status.cc).
+  /// Notes a result accepted from `worker` for the job `record` of `key`, before the job ends or is retried.
+  void NoteWorkerResult(Worker& worker, const JobKey& key, const JobRecord& record, v1::Result::Status status);
+  /// Notes a finished job in its batch's and the broker's counts.
+  void NoteFinished(Batch& batch, const JobRecord& record, const v1::Result& result);
+  /// Whether the status shows `batch`'s names and jobs to a requester with CURVE key `client_key`.
+  bool ShownTo(const Batch& batch, const std::string& client_key) const;
+  v1::WorkerStatus DescribeWorker(const Worker& worker, const std::string& client_key, TimePoint now) const;
+  v1::BatchStatus DescribeBatch(const std::string& batch_id, const Batch& batch, const std::string& client_key,
+                                TimePoint now) const;
+
   // Bookkeeping (broker_core.cc).
+  /// Every event starts here: the time of the event, and the broker's start at its first.
+  void Advance(TimePoint now);
   void Log(const std::string& line) const;
   std::string WorkerName(const std::string& worker) const;
 
@@ -209,6 +265,12 @@ class BrokerCore {
   TimePoint now_;                                    ///< the time of the event being handled, as passed in
   std::unordered_set<std::string> warned_peers_;     ///< peers whose bad message was logged already
   BrokerStats counters_;                             ///< the live counters (gauges are filled by Stats())
+  // For the status only.
+  std::optional<TimePoint> started_at_;              ///< the first event's time (Restore's, when journalled)
+  std::uint64_t done_ = 0;                           ///< jobs finished with status OK, all batches
+  std::uint64_t failed_ = 0;                         ///< jobs finished with another status, all batches
+  RateMeter finished_;                               ///< finished jobs over time, all batches
+  std::string worker_endpoint_;                      ///< SetWorkerEndpoint()
 };
 
 }  // namespace orcs::broker

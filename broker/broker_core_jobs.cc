@@ -75,7 +75,7 @@ std::string CheckSubmit(const v1::Submit& submit) {
 
 void BrokerCore::OnClientMessage(const std::string& client, const std::string& client_key, v1::ClientToBroker& message,
                                  TimePoint now) {
-  now_ = now;
+  Advance(now);
   auto known = clients_.find(client);
   if (known != clients_.end()) known->second.expiry = now_ + liveness_period_;
   switch (message.body_case()) {
@@ -83,6 +83,7 @@ void BrokerCore::OnClientMessage(const std::string& client, const std::string& c
     case v1::ClientToBroker::kHeartbeat: OnClientHeartbeat(client); break;
     case v1::ClientToBroker::kCancel: OnClientCancel(client, message.cancel()); break;
     case v1::ClientToBroker::kDisconnect: OnClientDisconnect(client, message.disconnect()); break;
+    case v1::ClientToBroker::kStatusRequest: OnClientStatusRequest(client, client_key); break;
     case v1::ClientToBroker::BODY_NOT_SET: break;  // the shell's envelope check rejects it
   }
 }
@@ -95,6 +96,7 @@ void BrokerCore::OnClientSubmit(const std::string& client, const std::string& cl
     return;
   }
   Batch& batch = ClaimBatch(client, client_key, submit);
+  if (submit.batch_size() > 0) batch.expected = submit.batch_size();
   const int job_count = submit.jobs_size();
   for (int i = 0; i < job_count; ++i) {
     if (AcceptJob(client, batch_id, batch, *submit.mutable_jobs(i))) ++counters_.jobs_accepted;
@@ -154,6 +156,7 @@ BrokerCore::Batch& BrokerCore::ClaimBatch(const std::string& client, const std::
     batch.client_id = submit.client_id();
     batch.client_key = client_key;
     batch.owner_token = submit.owner_token();
+    batch.opened_at = now_;
     if (journal_) journal_->AddBatch(batch_id, submit.client_id(), submit.owner_token(), client_key);
     Log("client " + submit.client_id() + " opened batch " + batch_id);
   } else if (batch.client != client) {
@@ -249,7 +252,7 @@ void BrokerCore::PurgeUnclaimedBatches() {
 // the broker restarted. A batch whose client is not back within two liveness periods is dropped.
 void BrokerCore::Restore(TimePoint now) {
   if (journal_ == nullptr) return;
-  now_ = now;
+  Advance(now);
   journal_->Begin();
   for (JournalBatch& stored : journal_->Batches()) {
     Batch& batch = batches_[stored.batch_id];
@@ -257,6 +260,7 @@ void BrokerCore::Restore(TimePoint now) {
     batch.owner_token = std::move(stored.owner_token);
     batch.client_key = std::move(stored.client_key);
     batch.claim_deadline = now_ + 2 * liveness_period_;
+    batch.opened_at = now_;
   }
   std::uint64_t in_flight = 0;
   journal_->ForEachJob([&](JournalJob&& stored) { RestoreJob(std::move(stored), in_flight); });
@@ -414,6 +418,7 @@ void BrokerCore::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) 
   SetState(record, JobState::kFinished);
   record.worker.clear();
   record.lease = 0;
+  NoteFinished(batch, record, result);
   if (journal_) journal_->SaveFinished(record.job.batch_id(), record.job.job_id(), result);
   // The record goes: a finished job needs nothing from the broker's memory, so a batch streamed through a window
   // keeps the broker's memory in proportion to its pending jobs, not to every job it ever had. A late or forged

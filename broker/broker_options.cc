@@ -4,6 +4,8 @@
 #include <cmath>
 #include <iostream>
 
+#include "net/cli_style.h"
+
 namespace orcs::broker {
 
 ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
@@ -38,8 +40,22 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
                  "seconds a job without a time limit of its own may take before its lease runs out (default 3600; "
                  "the lease is 1.5 × the limit + 2 s + the liveness period, docs/protocol.md \"Leases\")")
       ->check(CLI::Range(0.001, 1e7));
+  StatusCommandOptions& status = parsed.status_options;
+  CLI::App* status_command = app.add_subcommand(
+      "status", "ask a running broker what it is doing: workers, batches, queue, jobs/s (docs/protocol.md, \"Status\")");
+  status_command->add_option("--broker", status.broker, "the broker's client endpoint (default tcp://127.0.0.1:5555)")
+      ->check(cli::Endpoint());
+  status_command->add_flag("--json", status.json, "print one JSON object (the Status message of status.proto)");
+  status_command->add_option("--curve-keys", status.curve_keys,
+                             "folder of this client's CURVE keys (docs/security.md); with CURVE, other keys' "
+                             "batches show their counts only");
+  status_command->add_option("--timeout", status.timeout_seconds, "seconds to wait for the answer (default 3)")
+      ->check(CLI::Range(0.001, 3600.0));
+  app.require_subcommand(0, 1);
   try {
     app.parse(argc, argv);
+    parsed.status = status_command->parsed();
+    if (parsed.status && status.broker.empty()) throw CLI::ValidationError("--broker", "needs an endpoint");
     if (o.bind_address.empty()) throw CLI::ValidationError("--bind", "needs an address");
     if (app.count("--curve-keys") > 0 && o.curve_keys.empty()) {
       throw CLI::ValidationError("--curve-keys", "needs a folder");  // never plain TCP by an empty argument

@@ -302,6 +302,7 @@ void BatchClient::SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_
     submit.set_batch_id(batch_id_);
     submit.set_client_id(client_id_);
     submit.set_owner_token(owner_token_);
+    submit.set_batch_size(options_.batch_size);
     std::size_t bytes = 0;
     while (next < jobs.size()) {
       const std::size_t size = jobs[next]->ByteSizeLong();
@@ -339,6 +340,7 @@ bool BatchClient::OnBrokerMessage(const zmq::message_t& payload) {
       Reconnect("the broker at " + options_.endpoint + " said goodbye (" + in_.disconnect().reason() + ")");
       return false;
     case v1::BrokerToClient::kHeartbeat:
+    case v1::BrokerToClient::kStatus:  // a batch client never asks (StatusClient does, on its own connection)
     case v1::BrokerToClient::BODY_NOT_SET: break;
   }
   return true;

@@ -51,6 +51,9 @@ struct BatchClientOptions {
   std::size_t max_submit_bytes = std::size_t{4} << 20;
   /// Where log lines (connection events, one per line, no newline) go; empty = stderr, prefixed "orcs-batch: ".
   std::function<void(std::string_view)> log;
+  /// How many jobs the batch will have in all, when known (0 = not said): sent with every SUBMIT so that the
+  /// broker's status can show the batch's progress and time left (docs/protocol.md, "Status").
+  std::uint64_t batch_size = 0;
   /// Folder of CURVE keys (docs/security.md): the client's client.key and client.pub and the broker's broker.pub.
   /// Set: the connection is encrypted and the broker must allow client.pub. "" = plain TCP.
   std::string curve_keys;

@@ -1,5 +1,7 @@
 // orcs-broker: the broker as a program (docs/protocol.md). Prints the endpoints it listens on as one line on
 // stdout, logs events on stderr, and serves until SIGINT or SIGTERM; then tells its peers and exits 0.
+// `orcs-broker status` asks a running broker what it is doing instead.
+#include <cmath>
 #include <csignal>
 #include <exception>
 #include <iostream>
@@ -7,6 +9,8 @@
 
 #include "broker/broker.h"
 #include "broker/broker_options.h"
+#include "broker/status_client.h"
+#include "broker/status_text.h"
 
 namespace {
 
@@ -16,11 +20,31 @@ extern "C" void OnSignal(int) {
   if (running_broker != nullptr) running_broker->Stop();  // async-signal-safe: an atomic store and a write()
 }
 
+int PrintStatus(const orcs::broker::StatusCommandOptions& options) {
+  try {
+    orcs::broker::StatusClient client(
+        {options.broker, options.curve_keys,
+         std::chrono::milliseconds(std::max(1L, std::lround(options.timeout_seconds * 1000.0)))});
+    const orcs::v1::Status status = client.Fetch();
+    std::cout << (options.json ? orcs::broker::StatusJson(status) + "\n"
+                               : orcs::broker::StatusText(status, options.broker))
+              << std::flush;
+    return orcs::broker::kExitOk;
+  } catch (const orcs::broker::StatusClientError& error) {
+    std::cerr << "orcs-broker status: " << error.what() << "\n";
+    return orcs::broker::kExitRunFailed;
+  } catch (const std::exception& error) {  // an endpoint ZeroMQ cannot parse, a missing key file
+    std::cerr << "orcs-broker status: " << error.what() << "\n";
+    return orcs::broker::kExitBadInput;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   orcs::broker::ParsedBrokerOptions parsed = orcs::broker::ParseBrokerOptions(argc, argv);
   if (parsed.exit_code >= 0) return parsed.exit_code;
+  if (parsed.status) return PrintStatus(parsed.status_options);
   std::unique_ptr<orcs::broker::Broker> broker;
   try {
     broker = std::make_unique<orcs::broker::Broker>(parsed.options);

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "broker/client.h"
+#include "broker/status_client.h"
 #include "clients/batch/batch_input.h"
 #include "clients/batch/batch_options.h"
 #include "clients/batch/batch_session.h"
@@ -113,6 +114,7 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   client_options.endpoint = endpoint;
   client_options.curve_keys = options.curve_keys;
   client_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
+  client_options.batch_size = plan.source->size();  // the broker's status shows progress and time left
   broker::BatchClient client(client_options);
   ProgressDisplay progress(std::cerr, plan.source->size(), isatty(STDERR_FILENO) != 0,
                            ProgressDisplay::Clock::now());
@@ -121,6 +123,14 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   SessionOptions session;
   session.stop = &stop_requested;
   session.keep_results = options.command == Command::kSweep || plan.regress.has_value();
+  broker::StatusClient status_client({endpoint, options.curve_keys, std::chrono::milliseconds(1000)});
+  session.broker_status = [&status_client]() -> std::optional<v1::Status> {
+    try {
+      return status_client.Fetch();
+    } catch (const broker::StatusClientError&) {
+      return std::nullopt;  // the batch client reports a lost broker itself
+    }
+  };
   const BatchSummary summary = RunSession(client, *plan.source, writer, options.quiet ? quiet : progress, session);
   if (!summary.interrupted) writer.Finish();
   if (plan.regress) return regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);

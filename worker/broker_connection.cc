@@ -22,10 +22,22 @@ using proto::kProtocolVersion;
 
 constexpr int kMaxCredit = 1024;
 
-std::string DefaultWorkerId() {
+std::string HostName() {
   char host[256] = {};
   if (::gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "worker");
-  return std::string(host) + "-" + std::to_string(::getpid());
+  return host;
+}
+
+std::string DefaultWorkerId() { return HostName() + "-" + std::to_string(::getpid()); }
+
+// READY: who the worker is, where it runs (for the broker's status) and how many jobs it may hold.
+v1::WorkerToBroker ReadyMessage(const std::string& worker_id, int credit) {
+  v1::WorkerToBroker ready;
+  ready.set_protocol_version(kProtocolVersion);
+  ready.mutable_ready()->set_worker_id(worker_id);
+  ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
+  ready.mutable_ready()->set_host(HostName().substr(0, 128));
+  return ready;
 }
 
 WorkerConnectionOptions Checked(WorkerConnectionOptions options) {
@@ -230,19 +242,11 @@ void WorkerConnection::Connect() {
     short_in_a_row_ = 0;
     wanted_credit_ = options_.credit;
   }
-  v1::WorkerToBroker ready;
-  ready.set_protocol_version(kProtocolVersion);
-  ready.mutable_ready()->set_worker_id(worker_id_);
-  ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(options_.credit));
-  dealer_.SendMessage(ready);
+  dealer_.SendMessage(ReadyMessage(worker_id_, options_.credit));
 }
 
 void WorkerConnection::AnnounceCredit(int credit) {
-  v1::WorkerToBroker ready;
-  ready.set_protocol_version(kProtocolVersion);
-  ready.mutable_ready()->set_worker_id(worker_id_);
-  ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
-  dealer_.SendMessage(ready);
+  dealer_.SendMessage(ReadyMessage(worker_id_, credit));
   announced_credit_ = credit;
   std::lock_guard lock(mutex_);
   stats_.credit = static_cast<std::uint32_t>(credit);

@@ -29,6 +29,44 @@ void Count(const v1::Result& result, BatchSummary& summary) {
   ++summary.ok;
 }
 
+// Says so when a batch waits and no worker is connected to the broker, and again when one joins (issue 21: a batch
+// submitted before any worker used to sit at 0/N without a word).
+class WorkerWatch {
+ public:
+  WorkerWatch(const SessionOptions& options, ProgressDisplay& progress, Clock::time_point start)
+      : options_(options), progress_(progress), quiet_since_(start), next_check_(start) {}
+
+  /// A result came: the batch is moving.
+  void OnResult(Clock::time_point now) { quiet_since_ = now; }
+
+  /// Asks the broker when the batch has been quiet long enough and the last question is old enough.
+  void Check(Clock::time_point now) {
+    if (!options_.broker_status) return;
+    const auto after = options_.no_worker_hint_after;
+    if (now - quiet_since_ < after || now < next_check_) return;
+    next_check_ = now + after;
+    const std::optional<v1::Status> status = options_.broker_status();
+    if (!status) return;
+    if (status->workers() == 0 && !hinted_) {
+      progress_.Notice("orcs-batch: no worker is connected to the broker, so the jobs wait in its queue; start one "
+                       "with `orcs-worker --connect " + status->worker_endpoint() + "` (docs/cluster.md). Still "
+                       "waiting.");
+      hinted_ = true;
+    } else if (status->workers() > 0 && hinted_) {
+      progress_.Notice("orcs-batch: " + std::to_string(status->workers()) +
+                       (status->workers() == 1 ? " worker" : " workers") + " connected now; the jobs run.");
+      hinted_ = false;
+    }
+  }
+
+ private:
+  const SessionOptions& options_;
+  ProgressDisplay& progress_;
+  Clock::time_point quiet_since_;  ///< the start, or the last result
+  Clock::time_point next_check_;   ///< no question to the broker before this
+  bool hinted_ = false;            ///< "no worker" was said and no worker has been seen since
+};
+
 }  // namespace
 
 BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, ResultsWriter& writer,
@@ -65,6 +103,7 @@ BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, Re
     if (!submission.empty()) client.Submit(std::move(submission));
   };
   const Clock::time_point start = Clock::now();
+  WorkerWatch workers(options, progress, start);
   top_up();
   while (summary.ok + summary.failed < summary.jobs) {
     if (options.stop != nullptr && options.stop->load()) {
@@ -72,7 +111,11 @@ BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, Re
       break;
     }
     std::optional<v1::Result> result = client.Next(kPoll);
-    if (!result) continue;
+    if (!result) {
+      workers.Check(Clock::now());
+      continue;
+    }
+    workers.OnResult(Clock::now());
     const auto job = outstanding.find(result->job_id());
     if (job == outstanding.end()) {
       throw std::logic_error("a result for job '" + result->job_id() + "', which is not outstanding");

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,11 @@ struct SessionOptions {
   std::size_t window_jobs = kDefaultWindowJobs;
   /// ... and at most about this many bytes of them (the window always holds at least one job), ≥ 1.
   std::size_t window_bytes = kDefaultWindowBytes;
+  /// Asks the broker what it is doing (broker::StatusClient); nullopt when it did not answer. Set: while no
+  /// result has come for `no_worker_hint_after`, the session asks (then again every as long) and says so when no
+  /// worker is connected, and again when one joins; it keeps waiting either way. Null: never asks.
+  std::function<std::optional<v1::Status>()> broker_status;
+  std::chrono::milliseconds no_worker_hint_after{5000};
 };
 
 /// Streams the jobs of `source` through the client: makes them in index order only as the window has room,

@@ -47,6 +47,12 @@ void ProgressDisplay::Update(std::size_t ok, std::size_t failed, Clock::time_poi
   Draw(ok, failed, now);
 }
 
+void ProgressDisplay::Notice(const std::string& line) {
+  if (terminal_ && drawn_) out_ << "\r\x1b[K";
+  out_ << line << '\n' << std::flush;
+  drawn_ = false;  // the next Update() draws the bar again
+}
+
 void ProgressDisplay::Finish(std::size_t ok, std::size_t failed, Clock::time_point now) {
   Draw(ok, failed, now);
   if (terminal_) out_ << '\n';

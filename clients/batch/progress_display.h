@@ -20,6 +20,9 @@ class ProgressDisplay {
 
   /// A result arrived; redraws when due (terminal: at most every 100 ms; plain: every plain_interval).
   void Update(std::size_t ok, std::size_t failed, Clock::time_point now);
+  /// A line of its own between progress updates (e.g. "no worker is connected"): on a terminal it replaces the
+  /// bar, which the next Update() draws again below it.
+  void Notice(const std::string& line);
   /// Draws the final state and ends the line (terminal).
   void Finish(std::size_t ok, std::size_t failed, Clock::time_point now);
 

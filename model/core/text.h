@@ -39,11 +39,11 @@ std::vector<std::string_view> Split(std::string_view text, char separator);
 /// to parse otherwise.
 std::string ValidUtf8(std::string_view text);
 
-/// Text quoted for an error message: 'text', shortened to 40 characters.
 /// The first `max_bytes` bytes of `text`, fewer when that would cut a UTF-8 character in two (messages with a
 /// broken character do not survive protobuf's UTF-8 check on the way back to a client).
 std::string_view Prefix(std::string_view text, std::size_t max_bytes);
 
+/// Text quoted for an error message: 'text', shortened to 40 characters.
 std::string Quote(std::string_view text);
 
 }  // namespace orcs::text

@@ -90,19 +90,24 @@ v1::Job Job(const std::string& id, double time_limit_seconds = 0) {
 // BrokerOptions' defaults: heartbeat 1 s, liveness 5 (a peer silent for 5 s is lost), 3 losses, 3 crashes.
 class Harness {
  public:
-  explicit Harness(broker::BrokerJournal* journal = nullptr) : core_(Options(), transport_, journal) {}
+  /// `curve`: the core believes CURVE is on (it only looks at whether a key folder is named), and clients'
+  /// keys are what Submit() and the status are given.
+  explicit Harness(broker::BrokerJournal* journal = nullptr, bool curve = false)
+      : core_(Options(curve), transport_, journal) {}
 
-  broker::BrokerOptions Options() {
+  broker::BrokerOptions Options(bool curve) {
     broker::BrokerOptions options;
     options.log = [this](std::string_view line) { log_.emplace_back(line); };
+    if (curve) options.curve_keys = "keys";
     return options;
   }
 
   void Advance(std::chrono::steady_clock::duration by) { now_ += by; }
 
-  void Ready(const std::string& worker, int credit) {
+  void Ready(const std::string& worker, int credit, const std::string& host = "") {
     v1::WorkerToBroker message;
     message.set_protocol_version(kProtocolVersion);
+    message.mutable_ready()->set_host(host);
     message.mutable_ready()->set_worker_id(worker + "-name");
     message.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
     core_.OnWorkerMessage(worker, message, now_);
@@ -133,7 +138,7 @@ class Harness {
     core_.OnWorkerMessage(worker, message, now_);
   }
   void Submit(const std::string& client, const std::string& batch, const std::vector<v1::Job>& jobs,
-              const std::string& token = kToken) {
+              const std::string& token = kToken, std::uint64_t batch_size = 0, const std::string& key = "") {
     v1::ClientToBroker message;
     message.set_protocol_version(kProtocolVersion);
     v1::Submit& submit = *message.mutable_submit();
@@ -141,11 +146,22 @@ class Harness {
     submit.set_client_id(client + "-name");
     submit.set_owner_token(token);
     for (const v1::Job& job : jobs) *submit.add_jobs() = job;
-    core_.OnClientMessage(client, "", message, now_);
+    submit.set_batch_size(batch_size);
+    core_.OnClientMessage(client, key, message, now_);
   }
   void ClientSays(const std::string& client, v1::ClientToBroker message) {
     message.set_protocol_version(kProtocolVersion);
     core_.OnClientMessage(client, "", message, now_);
+  }
+  /// The STATUS a STATUS_REQUEST from connection `asker` with CURVE key `key` is answered with.
+  v1::Status AskStatus(const std::string& asker, const std::string& key = "") {
+    v1::ClientToBroker message;
+    message.set_protocol_version(kProtocolVersion);
+    message.mutable_status_request();
+    core_.OnClientMessage(asker, key, message, now_);
+    const v1::BrokerToClient answer = transport_.LastToClient(asker);
+    EXPECT_TRUE(answer.has_status());
+    return answer.status();
   }
   void Dispatch() { core_.Dispatch(now_); }
   void Tick() { core_.OnTick(now_); }
@@ -548,6 +564,127 @@ TEST_F(BrokerCoreJournalTest, ARestoredBatchNobodyClaimsIsDroppedAfterTwoLivenes
   EXPECT_EQ(after.Stats().batches, 0);
   EXPECT_EQ(after.Stats().batches_unclaimed, 1u);
   EXPECT_EQ(after.Stats().queued, 0u);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Status (broker_core_status.cc)
+
+const v1::WorkerStatus* FindWorker(const v1::Status& status, const std::string& name) {
+  for (const v1::WorkerStatus& worker : status.worker_list()) {
+    if (worker.worker_id() == name) return &worker;
+  }
+  return nullptr;
+}
+
+TEST_F(BrokerCoreTest, TheStatusFollowsWorkersJobsAndTheBatchAsTheyMove) {
+  Submit("c", "b", {Job("j0"), Job("j1"), Job("j2"), Job("j3"), Job("j4")}, kToken, 6);
+  Ready("w", 2, "node1");
+  Ready("w2", 1);
+  Dispatch();
+  Advance(seconds(3));
+  v1::Status status = AskStatus("asker");
+  EXPECT_EQ(status.workers(), 2u);
+  EXPECT_EQ(status.busy_workers(), 2u);
+  EXPECT_EQ(status.clients(), 1u);  // the asker is not registered as a client
+  EXPECT_EQ(status.queued(), 2u);
+  EXPECT_EQ(status.running(), 3u);
+  const v1::WorkerStatus* w = FindWorker(status, "w-name");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->host(), "node1");
+  EXPECT_EQ(w->current_batch_id(), "b");
+  EXPECT_EQ(w->current_job_id(), "j0");
+  EXPECT_DOUBLE_EQ(w->current_seconds(), 3.0);
+  EXPECT_EQ(w->holding(), 2u);
+  EXPECT_EQ(w->credit(), 2u);
+  EXPECT_DOUBLE_EQ(w->last_heard_seconds(), 3.0);
+  ASSERT_EQ(status.batch_list_size(), 1);
+  EXPECT_EQ(status.batch_list(0).batch_id(), "b");
+  EXPECT_EQ(status.batch_list(0).client_id(), "c-name");
+  EXPECT_EQ(status.batch_list(0).queued(), 2u);
+  EXPECT_EQ(status.batch_list(0).running(), 3u);
+  EXPECT_EQ(status.batch_list(0).expected(), 6u);
+  EXPECT_DOUBLE_EQ(status.batch_list(0).seconds_left(), -1.0);  // nothing finished yet: no rate
+
+  const std::vector<v1::Job> jobs = transport_.Jobs("w");
+  Answer("w", jobs.at(0));
+  Answer("w", jobs.at(1), v1::Result::TIMEOUT, "ran past its time limit");
+  status = AskStatus("asker");
+  EXPECT_EQ(status.done(), 1u);
+  EXPECT_EQ(status.failed(), 1u);
+  const v1::BatchStatus& batch = status.batch_list(0);
+  EXPECT_EQ(batch.done(), 1u);
+  EXPECT_EQ(batch.failed(), 1u);
+  EXPECT_DOUBLE_EQ(batch.jobs_per_second(), 2.0);  // two in the first second
+  EXPECT_DOUBLE_EQ(batch.seconds_left(), 2.0);     // (6 − 2) jobs at 2 jobs/s
+  ASSERT_EQ(batch.recent_failures_size(), 1);
+  EXPECT_EQ(batch.recent_failures(0).job_id(), "j2");  // w was given j0 and j2, w2 j1
+  EXPECT_EQ(batch.recent_failures(0).status(), v1::Result::TIMEOUT);
+  EXPECT_EQ(batch.recent_failures(0).message(), "ran past its time limit");
+  EXPECT_EQ(batch.recent_failures(0).worker_id(), "w-name");
+  w = FindWorker(status, "w-name");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->jobs_done(), 2u);
+  ASSERT_EQ(w->recent_jobs_size(), 2);
+  EXPECT_EQ(w->recent_jobs(0).job_id(), "j2");  // newest first
+  EXPECT_EQ(w->recent_jobs(1).job_id(), "j0");
+  EXPECT_DOUBLE_EQ(w->recent_jobs(1).seconds(), 3.0);
+  EXPECT_FALSE(w->busy());
+}
+
+TEST_F(BrokerCoreTest, TheStatusForgetsALostWorkerAndCountsIt) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 1);
+  Ready("quiet", 1);
+  Dispatch();
+  PassSecondsWithEveryoneAlive(6);  // "quiet" never heartbeats
+  const v1::Status status = AskStatus("asker");
+  EXPECT_EQ(status.workers(), 1u);
+  EXPECT_EQ(FindWorker(status, "quiet-name"), nullptr);
+  EXPECT_EQ(status.workers_lost(), 1u);
+  EXPECT_EQ(status.batch_list(0).queued() + status.batch_list(0).running(), 2u);
+}
+
+TEST_F(BrokerCoreTest, ACrashedJobCountsOnTheWorkerItCrashed) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Dispatch();
+  Answer("w", transport_.Jobs("w").at(0), v1::Result::CRASHED, "SIGSEGV");
+  const v1::WorkerStatus* w = FindWorker(AskStatus("asker"), "w-name");
+  ASSERT_NE(w, nullptr);
+  EXPECT_EQ(w->crashes(), 1u);
+  EXPECT_EQ(AskStatus("asker").crashes(), 1u);
+}
+
+class BrokerCoreCurveTest : public ::testing::Test, protected Harness {
+ protected:
+  BrokerCoreCurveTest() : Harness(nullptr, true) {}
+};
+
+TEST_F(BrokerCoreCurveTest, OnlyTheOwnersKeySeesABatchsNamesJobsAndFailures) {
+  Submit("c", "b", {Job("j0"), Job("j1")}, kToken, 0, "owner-key");
+  Ready("w", 1);
+  Dispatch();
+  Answer("w", transport_.Jobs("w").at(0), v1::Result::TIMEOUT, "secret detail");
+  Dispatch();
+  const v1::Status stranger = AskStatus("asker", "stranger-key");
+  ASSERT_EQ(stranger.batch_list_size(), 1);
+  EXPECT_TRUE(stranger.batch_list(0).hidden());
+  EXPECT_EQ(stranger.batch_list(0).batch_id(), "");
+  EXPECT_EQ(stranger.batch_list(0).client_id(), "");
+  EXPECT_EQ(stranger.batch_list(0).recent_failures_size(), 0);
+  EXPECT_EQ(stranger.batch_list(0).failed(), 1u);  // counts are everyone's
+  EXPECT_EQ(stranger.batch_list(0).running(), 1u);
+  EXPECT_EQ(stranger.worker_list(0).current_job_id(), "");
+  EXPECT_TRUE(stranger.worker_list(0).busy());
+  EXPECT_EQ(stranger.worker_list(0).recent_jobs(0).job_id(), "");
+  EXPECT_EQ(stranger.worker_list(0).recent_jobs(0).status(), v1::Result::TIMEOUT);
+
+  const v1::Status owner = AskStatus("asker2", "owner-key");
+  EXPECT_FALSE(owner.batch_list(0).hidden());
+  EXPECT_EQ(owner.batch_list(0).batch_id(), "b");
+  EXPECT_EQ(owner.batch_list(0).recent_failures(0).message(), "secret detail");
+  EXPECT_EQ(owner.worker_list(0).current_job_id(), "j1");
+  EXPECT_EQ(owner.worker_list(0).recent_jobs(0).job_id(), "j0");
 }
 
 }  // namespace
