@@ -14,10 +14,12 @@
 #include <memory>
 #include <optional>
 #include <thread>
+#include <unordered_set>
 
 #include "broker/client.h"
 #include "broker/status_client.h"
 #include "clients/batch/batch_input.h"
+#include "clients/batch/batch_manifest.h"
 #include "clients/batch/batch_options.h"
 #include "clients/batch/batch_session.h"
 #include "clients/batch/latin_hypercube.h"
@@ -59,6 +61,12 @@ struct Plan {
   std::unique_ptr<JobSource> source;
   std::string out;
   std::optional<regress::RegressPlan> regress;  // regress only
+  // --resume: the jobs of `source` without a result in the partial file, and the results that are there.
+  std::unique_ptr<JobSource> remaining;
+  std::vector<v1::Result> earlier_results;
+
+  /// What this run submits: the whole batch, or what a resumed one still lacks.
+  const JobSource& to_run() const { return remaining ? *remaining : *source; }
 };
 
 std::vector<Genome> GenomesOf(const BatchOptions& options, const ScenarioInput& input) {
@@ -116,13 +124,14 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   client_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
   client_options.batch_size = plan.source->size();  // the broker's status shows progress and time left
   broker::BatchClient client(client_options);
-  ProgressDisplay progress(std::cerr, plan.source->size(), isatty(STDERR_FILENO) != 0,
+  ProgressDisplay progress(std::cerr, plan.to_run().size(), isatty(STDERR_FILENO) != 0,
                            ProgressDisplay::Clock::now());
   std::ostringstream discard;
-  ProgressDisplay quiet(discard, plan.source->size(), false, ProgressDisplay::Clock::now());
+  ProgressDisplay quiet(discard, plan.to_run().size(), false, ProgressDisplay::Clock::now());
   SessionOptions session;
   session.stop = &stop_requested;
   session.keep_results = options.command == Command::kSweep || plan.regress.has_value();
+  session.earlier_results = plan.earlier_results;
   broker::StatusClient status_client({endpoint, options.curve_keys, std::chrono::milliseconds(1000)});
   session.broker_status = [&status_client]() -> std::optional<v1::Status> {
     try {
@@ -131,7 +140,7 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
       return std::nullopt;  // the batch client reports a lost broker itself
     }
   };
-  const BatchSummary summary = RunSession(client, *plan.source, writer, options.quiet ? quiet : progress, session);
+  const BatchSummary summary = RunSession(client, plan.to_run(), writer, options.quiet ? quiet : progress, session);
   if (!summary.interrupted) writer.Finish();
   if (plan.regress) return regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);
   if (options.command == Command::kSweep) {
@@ -156,26 +165,46 @@ int PrintResolved(const BatchOptions& options) {
   return cli::kExitOk;
 }
 
-int Execute(const BatchOptions& options) {
-  if (options.command == Command::kEvolve) {
+// --resume DIR: the jobs still without a result, and the results there are (docs/batch.md, "Resuming a batch").
+// Returns how many bytes of the partial file hold whole lines: the rest goes.
+std::uintmax_t PlanResume(Plan& plan) {
+  CheckResumedInputs(plan.out, plan.input, plan.genomes);
+  PartialResults partial = ReadPartialResults(plan.out);
+  std::unordered_set<std::string> finished;
+  for (const v1::Result& result : partial.results) finished.insert(result.job_id());
+  plan.remaining = std::make_unique<RemainingJobSource>(*plan.source, finished);
+  plan.earlier_results = std::move(partial.results);
+  std::cerr << "orcs-batch: resuming " << plan.out << ": " << plan.earlier_results.size() << " of "
+            << plan.source->size() << " jobs have their result; running the other " << plan.remaining->size()
+            << "\n";
+  return partial.bytes;
+}
+
+int Execute(const BatchOptions& given) {
+  if (given.command == Command::kEvolve) {
     CatchStopSignals();
-    return evolve::RunEvolve(options, &stop_requested);
+    return evolve::RunEvolve(given, &stop_requested);
   }
-  if (options.command == Command::kResolve) return PrintResolved(options);
+  if (given.command == Command::kResolve) return PrintResolved(given);
+  const bool resuming = !given.resume.empty();
+  const BatchOptions options = resuming ? ResumedOptions(given) : given;
   Plan plan;
   MakePlan(options, plan);
-  ResultsWriter writer(plan.out);
+  std::uintmax_t kept_bytes = 0;
+  if (resuming) kept_bytes = PlanResume(plan);
+  ResultsWriter writer(plan.out, resuming ? ResultsWriter::Start::kResume : ResultsWriter::Start::kNew, kept_bytes);
+  if (!resuming && !plan.regress) WriteBatchManifest(plan.out, options, plan.input, plan.genomes);
   CatchStopSignals();
   if (!options.broker.empty()) return RunAgainst(options.broker, options, plan, writer);
   LocalClusterOptions cluster_options;
-  cluster_options.workers = LocalWorkerCount(options, plan.source->size());
+  cluster_options.workers = LocalWorkerCount(options, plan.to_run().size());
   cluster_options.worker_program = WorkerProgramBesideSelf();
   cluster_options.log_path = (std::filesystem::path(plan.out) / "workers.log").string();
   cluster_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
   cluster_options.curve_keys = options.curve_keys;
   LocalCluster cluster(cluster_options);
   if (!options.quiet) {
-    std::cerr << "orcs-batch: " << plan.source->size() << " jobs on " << cluster_options.workers
+    std::cerr << "orcs-batch: " << plan.to_run().size() << " jobs on " << cluster_options.workers
               << " local workers (broker " << cluster.client_endpoint() << ")\n";
   }
   return RunAgainst(cluster.client_endpoint(), options, plan, writer);

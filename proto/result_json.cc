@@ -1,6 +1,8 @@
 #include "proto/result_json.h"
 
 #include <map>
+#include <stdexcept>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -41,6 +43,40 @@ Json MeanTerms(const v1::Result& result) {
   return terms;
 }
 
+v1::Result::Status StatusFromName(const std::string& name, const std::string& field) {
+  for (v1::Result::Status status : {v1::Result::OK, v1::Result::INVALID_INPUT, v1::Result::UNSTABLE_PHYSICS,
+                                    v1::Result::TIMEOUT, v1::Result::WORKER_LOST, v1::Result::CRASHED,
+                                    v1::Result::INTERNAL_ERROR}) {
+    if (StatusName(status) == name) return status;
+  }
+  throw std::invalid_argument(field + ": unknown status '" + name + "'");
+}
+
+// `object[key]` as T, or `fallback` when absent; a wrong type names `where`.
+template <typename T>
+T Field(const nlohmann::json& object, const char* key, const std::string& where, T fallback = T{}) {
+  const auto found = object.find(key);
+  if (found == object.end() || found->is_null()) return fallback;
+  try {
+    return found->get<T>();
+  } catch (const nlohmann::json::exception&) {
+    throw std::invalid_argument(where + key + ": expected " + (std::is_arithmetic_v<T> ? "a number" : "text") +
+                                ", found " + found->dump().substr(0, 40));
+  }
+}
+
+// The name → number pairs of `object[key]` (drawn values, terms), in the file's order.
+template <typename Add>
+void ReadPairs(const nlohmann::json& object, const char* key, const std::string& where, Add add) {
+  const auto found = object.find(key);
+  if (found == object.end()) return;
+  if (!found->is_object()) throw std::invalid_argument(where + key + ": expected an object");
+  for (auto it = found->begin(); it != found->end(); ++it) {
+    if (!it->is_number()) throw std::invalid_argument(where + key + "." + it.key() + ": expected a number");
+    add(it.key(), it->get<double>());
+  }
+}
+
 }  // namespace
 
 std::string_view StatusName(v1::Result::Status status) {
@@ -76,6 +112,49 @@ Json ResultToJson(const v1::Result& result) {
                     {"simulated_seconds", result.timings().simulated_seconds()}};
   out["message"] = result.message();
   return out;
+}
+
+v1::Result ResultFromJson(const nlohmann::json& line) {
+  if (!line.is_object()) throw std::invalid_argument("expected a JSON object");
+  v1::Result result;
+  result.set_protocol_version(1);
+  result.set_job_id(Field<std::string>(line, "id", ""));
+  if (result.job_id().empty()) throw std::invalid_argument("id: missing or empty");
+  result.set_status(StatusFromName(Field<std::string>(line, "status", ""), "status"));
+  result.set_fitness(Field<double>(line, "fitness", ""));
+  result.set_message(Field<std::string>(line, "message", ""));
+  result.set_engine(Field<std::string>(line, "engine", ""));
+  result.set_worker_id(Field<std::string>(line, "worker", ""));
+  result.set_attempts(Field<std::uint32_t>(line, "attempts", ""));
+  if (const auto timings = line.find("timings"); timings != line.end() && timings->is_object()) {
+    result.mutable_timings()->set_queued_seconds(Field<double>(*timings, "queued_seconds", "timings."));
+    result.mutable_timings()->set_run_seconds(Field<double>(*timings, "run_seconds", "timings."));
+    result.mutable_timings()->set_simulated_seconds(Field<double>(*timings, "simulated_seconds", "timings."));
+  }
+  const auto sets = line.find("sets");
+  if (sets == line.end()) return result;
+  if (!sets->is_array()) throw std::invalid_argument("sets: expected an array");
+  for (std::size_t i = 0; i < sets->size(); ++i) {
+    const nlohmann::json& set = (*sets)[i];
+    const std::string where = "sets[" + std::to_string(i) + "].";
+    if (!set.is_object()) throw std::invalid_argument(where.substr(0, where.size() - 1) + ": expected an object");
+    v1::Result::ParameterSetResult& out = *result.add_parameter_sets();
+    out.set_index(Field<std::uint32_t>(set, "index", where));
+    out.set_fitness(Field<double>(set, "fitness", where));
+    out.set_status(StatusFromName(Field<std::string>(set, "status", where, "ok"), where + "status"));
+    out.set_message(Field<std::string>(set, "message", where));
+    ReadPairs(set, "drawn", where, [&](const std::string& path, double value) {
+      v1::DrawnValue& drawn = *out.add_drawn();
+      drawn.set_path(path);
+      drawn.set_value(value);
+    });
+    ReadPairs(set, "terms", where, [&](const std::string& name, double value) {
+      v1::Term& term = *out.add_terms();
+      term.set_name(name);
+      term.set_value(value);
+    });
+  }
+  return result;
 }
 
 }  // namespace orcs::proto

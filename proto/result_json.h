@@ -19,4 +19,10 @@ std::string_view StatusName(v1::Result::Status status);
 /// message (when not ok), "drawn" (path → value) and "terms" (name → value). Logs are not included.
 nlohmann::ordered_json ResultToJson(const v1::Result& result);
 
+/// A results.jsonl line read back (a resumed batch's earlier results, `orcs-batch compare`): id, status, fitness,
+/// message, engine, worker, attempts, timings and every set with its drawn values and terms — everything
+/// ResultToJson writes but the mean terms, which follow from the sets. Throws std::invalid_argument naming the
+/// field ("sets[2].fitness: ...") when the line is not such an object.
+v1::Result ResultFromJson(const nlohmann::json& line);
+
 }  // namespace orcs::proto

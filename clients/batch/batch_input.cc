@@ -249,6 +249,13 @@ PlannedJob SweepJobSource::Make(std::size_t index) const {
   return planned;
 }
 
+RemainingJobSource::RemainingJobSource(const JobSource& source, const std::unordered_set<std::string>& finished)
+    : source_(source) {
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    if (finished.count(source.Job(i).job.job_id()) == 0) remaining_.push_back(i);
+  }
+}
+
 std::vector<std::size_t> PlannedJobList::Representatives() const {
   std::vector<std::size_t> indices(jobs_.size());
   for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = i;

@@ -8,6 +8,7 @@
 #include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -165,6 +166,24 @@ class PlannedJobList : public JobSource {
 
  private:
   const std::vector<PlannedJob>& jobs_;
+};
+
+/// The jobs of `source` that have no result yet (`--resume`): those whose ids are not in `finished`, in their
+/// order. Each keeps its index in `source` (its seed, point and recording follow from it). Keeps a reference to
+/// `source`, which must outlive it.
+class RemainingJobSource : public JobSource {
+ public:
+  RemainingJobSource(const JobSource& source, const std::unordered_set<std::string>& finished);
+  std::size_t size() const override { return remaining_.size(); }
+  /// Not needed: the whole source was checked.
+  std::vector<std::size_t> Representatives() const override { return {}; }
+
+ protected:
+  PlannedJob Make(std::size_t index) const override { return source_.Job(remaining_.at(index)); }
+
+ private:
+  const JobSource& source_;
+  std::vector<std::size_t> remaining_;  ///< indices into source_
 };
 
 /// Every job of `source`, in order (for small batches and tests).

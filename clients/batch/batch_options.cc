@@ -32,7 +32,10 @@ void AddEngineOption(CLI::App& command, BatchOptions& o, const std::string& help
 
 // The options every subcommand shares: what the jobs are and where the results go.
 void AddJobOptions(CLI::App& command, BatchOptions& o, bool many_genomes) {
-  command.add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md)")->required();
+  command.add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md); required unless --resume");
+  command.add_option("--resume", o.resume,
+                     "complete the interrupted batch in this folder: run only its jobs without a result, with the "
+                     "settings it was started with (DIR/batch.json)");
   if (many_genomes) {
     command.add_option("--genomes", o.genomes, "JSON-lines file, one genome per line: one job per genome and seed");
   }
@@ -134,8 +137,7 @@ CLI::App* AddSweepCommand(CLI::App& app, BatchOptions& o) {
   AddJobOptions(*sweep, o, false);
   sweep->add_option("--param", o.params,
                     "PATH=LOW:HIGH:STEPS (grid), PATH=LOW:HIGH (lhs) or PATH=V1,V2,... (categories): one axis "
-                    "(repeatable)")
-      ->required()
+                    "(repeatable; required unless --resume)")
       ->allow_extra_args(false);
   sweep->add_option("--sample", o.sample, "grid: every combination (default); lhs: a Latin hypercube sample")
       ->check(CLI::IsMember({"grid", "lhs"}));
@@ -157,6 +159,16 @@ void CheckSampling(const CLI::App& sweep, BatchOptions& o) {
   if (o.sample != "lhs" && (samples > 0 || o.sample_seed_given)) {
     throw CLI::ValidationError(samples > 0 ? "--samples" : "--sample-seed", "needs --sample lhs");
   }
+}
+
+// run, submit and sweep: what is given (a resume tells it from defaults) and what is required without --resume.
+void CheckBatchCommand(const CLI::App& command, BatchOptions& o) {
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->count() > 0) o.given.insert(option->get_name());
+  }
+  if (!o.resume.empty()) return;
+  if (o.scenario.empty()) throw CLI::RequiredError("scenario");
+  if (command.get_name() == "sweep" && o.params.empty()) throw CLI::RequiredError("--param");
 }
 
 }  // namespace
@@ -188,6 +200,9 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
                                     : Command::kRun;
     o.seed_given = evolve->parsed() && evolve->count("--seed") > 0;
     CheckSampling(*sweep, o);
+    for (CLI::App* batch : {run, submit, sweep}) {
+      if (batch->parsed()) CheckBatchCommand(*batch, o);
+    }
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     parsed.exit_code = cli::kExitOk;

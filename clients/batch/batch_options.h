@@ -5,6 +5,7 @@
 //   orcs-batch sweep SCENARIO.json --param PATH=LOW:HIGH:STEPS... [--genome JSON] [--jobs N] [--seed S]
 //                                  [--workers N | --broker ENDPOINT] [--out DIR]
 //   orcs-batch sweep SCENARIO.json --sample lhs --samples N --param PATH=LOW:HIGH... [--sample-seed S] ...
+//   orcs-batch run|submit|sweep --resume DIR: completes the interrupted batch in DIR (docs/batch.md)
 //   orcs-batch evolve SCENARIO.json [--generations G] [--population P] [--algorithm NAME] [--seed S]
 //                                   [--validate N] [--out DIR | --resume DIR] [--workers N | --broker ENDPOINT]
 //   orcs-batch resolve SCENARIO.json: prints the scenario with every referenced file inlined (what a job carries)
@@ -13,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -48,7 +50,9 @@ struct BatchOptions {
   int population = 0;                ///< --population P (0 = unset)
   int generations = -1;              ///< --generations G (< 0 = unset)
   int validate = -1;                 ///< --validate N: fresh seeds the winner is re-run on (< 0 = unset)
-  std::string resume;                ///< --resume DIR: continue the run whose checkpoint is in DIR
+  /// --resume DIR: evolve continues the run whose checkpoint is in DIR; run, submit and sweep complete the
+  /// interrupted batch in DIR (its settings from DIR/batch.json, clients/batch/batch_manifest.h)
+  std::string resume;
   bool no_plot = false;              ///< --no-plot: skip fitness.png
   std::string suite;                 ///< regress: SUITE.json
   std::string baseline;              ///< regress --baseline FILE ("" = SUITE.baseline.json beside the suite)
@@ -57,6 +61,8 @@ struct BatchOptions {
   bool update_baseline = false;      ///< regress --update-baseline: record the baseline from this run
   std::string junit;                 ///< regress --junit FILE.xml ("" = no JUnit report)
   std::vector<std::string> sets;     ///< regress --set PATH=VALUE: an override of every case, outside the fingerprint
+  /// The options given on the command line, by name ("--jobs", "scenario"): a resume tells them from defaults.
+  std::set<std::string> given;
 };
 
 struct ParsedBatchOptions {

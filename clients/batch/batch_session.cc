@@ -72,7 +72,12 @@ class WorkerWatch {
 BatchSummary RunSession(broker::BatchClient& client, const JobSource& source, ResultsWriter& writer,
                         ProgressDisplay& progress, const SessionOptions& options) {
   BatchSummary summary;
-  summary.jobs = source.size();
+  summary.jobs = source.size() + options.earlier_results.size();
+  summary.earlier = options.earlier_results.size();
+  for (const v1::Result& earlier : options.earlier_results) {
+    Count(earlier, summary);
+    if (options.keep_results) summary.results.push_back(earlier);
+  }
   const std::size_t window_jobs = std::max<std::size_t>(1, options.window_jobs);
   const std::size_t window_bytes = std::max<std::size_t>(1, options.window_bytes);
   // The outstanding jobs: what their results.jsonl line adds, and their size. Bounded by the window.
@@ -148,6 +153,7 @@ std::string SummaryText(const BatchSummary& summary, const std::string& results_
   std::string text = "orcs-batch: " + std::to_string(summary.ok + summary.failed) + " of " +
                      std::to_string(summary.jobs) + " jobs ran: " + std::to_string(summary.ok) + " ok, " +
                      std::to_string(summary.failed) + " failed";
+  if (summary.earlier > 0) text += " (" + std::to_string(summary.earlier) + " of them before the interruption)";
   if (!summary.failures.empty()) {
     text += " (";
     bool first = true;

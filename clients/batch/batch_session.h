@@ -22,6 +22,7 @@ struct BatchSummary {
   std::size_t jobs = 0;        ///< jobs submitted
   std::size_t ok = 0;          ///< results with status ok
   std::size_t failed = 0;      ///< results with any other status
+  std::size_t earlier = 0;     ///< of ok + failed, results an interrupted run wrote before (--resume)
   bool interrupted = false;    ///< stopped (signal) before every result arrived
   double seconds = 0.0;        ///< wall clock from submission to the last result
   double best_fitness = 0.0;   ///< highest fitness among ok results (when ok > 0)
@@ -29,7 +30,10 @@ struct BatchSummary {
   std::map<std::string, std::size_t> failures;  ///< status name → count, for the failed ones
   std::vector<v1::Result> results;  ///< every result, in arrival order, logs and recordings stripped (kept when asked)
 
-  double jobs_per_second() const { return seconds > 0 ? static_cast<double>(ok + failed) / seconds : 0.0; }
+  /// Jobs run by this session per second (earlier results are not this session's).
+  double jobs_per_second() const {
+    return seconds > 0 ? static_cast<double>(ok + failed - earlier) / seconds : 0.0;
+  }
   /// Exit code: 0 every job ran ok, 1 some failed or the batch was interrupted.
   int exit_code() const { return failed == 0 && !interrupted ? 0 : 1; }
 };
@@ -52,6 +56,9 @@ struct SessionOptions {
   /// worker is connected, and again when one joins; it keeps waiting either way. Null: never asks.
   std::function<std::optional<v1::Status>()> broker_status;
   std::chrono::milliseconds no_worker_hint_after{5000};
+  /// Results an interrupted run of the batch already wrote (`--resume`): counted in the summary (and kept in it
+  /// when keep_results) as if they had arrived first; their jobs are not in the source.
+  std::vector<v1::Result> earlier_results;
 };
 
 /// Streams the jobs of `source` through the client: makes them in index order only as the window has room,

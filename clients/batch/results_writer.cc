@@ -31,10 +31,45 @@ std::string FileNameOf(const std::string& job_id) {
 
 }  // namespace
 
-ResultsWriter::ResultsWriter(std::string folder) : folder_(std::move(folder)) {
+PartialResults ReadPartialResults(const std::string& folder) {
+  const fs::path path = fs::path(folder) / kPartial;
+  std::error_code error;
+  if (!fs::is_regular_file(path, error)) {
+    const bool complete = fs::is_regular_file(fs::path(folder) / kResults, error);
+    throw InputError(folder, 0, complete ? "the batch is complete already (results.jsonl): nothing to resume"
+                                         : "no interrupted batch here (no results.jsonl.partial)");
+  }
+  std::ifstream in(path, std::ios::binary);
+  PartialResults partial;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const bool ended = !in.eof();  // the line had its newline: it was written whole
+    try {
+      partial.results.push_back(proto::ResultFromJson(nlohmann::json::parse(line)));
+    } catch (const std::exception& problem) {
+      if (!ended) break;  // cut short by the interruption: run that job again
+      throw InputError(path.string(), number, std::string("not a result line: ") + problem.what());
+    }
+    if (!ended) {  // whole but for its newline: the job runs again rather than trust it
+      partial.results.pop_back();
+      break;
+    }
+    partial.bytes += line.size() + 1;
+  }
+  return partial;
+}
+
+ResultsWriter::ResultsWriter(std::string folder, Start start, std::uintmax_t kept_bytes) : folder_(std::move(folder)) {
   std::error_code error;
   fs::create_directories(fs::path(folder_) / "logs", error);
   if (error) throw InputError(folder_, 0, "cannot create the output folder: " + error.message());
+  if (start == Start::kResume) {
+    fs::resize_file(fs::path(folder_) / kPartial, kept_bytes, error);  // drops a line the interruption cut
+    if (error) throw InputError((fs::path(folder_) / kPartial).string(), 0, "cannot be resumed: " + error.message());
+    partial_.open(fs::path(folder_) / kPartial, std::ios::app);
+    if (!partial_) throw InputError((fs::path(folder_) / kPartial).string(), 0, "cannot be written");
+    return;
+  }
   for (const fs::directory_entry& entry : fs::directory_iterator(fs::path(folder_) / "logs", error)) {
     if (entry.is_regular_file() && entry.path().extension() == ".csv") fs::remove(entry.path(), error);
   }

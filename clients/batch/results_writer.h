@@ -8,17 +8,36 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "orcs/v1/result.pb.h"
 
 namespace orcs::batch {
 
+/// What an interrupted batch left in DIR/results.jsonl.partial.
+struct PartialResults {
+  std::vector<v1::Result> results;  ///< one per complete line, in the file's order (logs and recordings not read)
+  std::uintmax_t bytes = 0;         ///< the length of the complete lines: a line cut by the interruption is dropped
+};
+
+/// Reads DIR/results.jsonl.partial for `--resume`. Throws InputError naming the file and line for a line that is
+/// not a result (but for a last line without its newline: the one an interrupted write cut short), and naming
+/// the folder when there is no partial file.
+PartialResults ReadPartialResults(const std::string& folder);
+
 class ResultsWriter {
  public:
-  /// Creates DIR and DIR/logs (CSV files left there by an earlier batch are removed; so are recordings left in
-  /// DIR/recordings). Throws InputError naming the folder when it cannot be created or written.
-  explicit ResultsWriter(std::string folder);
+  /// Whether the folder starts a new batch or goes on with an interrupted one.
+  enum class Start {
+    kNew,     ///< CSV logs and recordings left by an earlier batch are removed; the partial file starts empty
+    kResume,  ///< everything stays; lines are appended after the partial file's first `kept_bytes`
+  };
+
+  /// Creates DIR and DIR/logs (with kNew, CSV files left there by an earlier batch are removed; so are recordings
+  /// left in DIR/recordings). Throws InputError naming the folder when it cannot be created or written.
+  explicit ResultsWriter(std::string folder, Start start = Start::kNew, std::uintmax_t kept_bytes = 0);
 
   /// Appends the result's line (worker::ResultToJson with `extra`'s members added after "id", and
   /// "recording": "recordings/JOB.orcsrec" when it carries one) and writes its logs and its recording. Throws

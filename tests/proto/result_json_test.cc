@@ -80,5 +80,46 @@ TEST(ResultJsonTest, NamesEveryStatus) {
   EXPECT_EQ(StatusName(v1::Result::STATUS_UNSPECIFIED), "internal_error");
 }
 
+TEST(ResultJsonTest, ALineReadBackWritesTheSameLine) {
+  v1::Result result = TwoSetResult();
+  result.set_engine("MuJoCo");
+  result.set_fitness(0.1 + 0.2);  // a double whose shortest text must round-trip exactly
+  result.mutable_parameter_sets(1)->set_status(v1::Result::TIMEOUT);
+  result.mutable_parameter_sets(1)->set_message("ran too long");
+  const nlohmann::ordered_json line = ResultToJson(result);
+  const v1::Result back = ResultFromJson(nlohmann::json::parse(line.dump()));
+  EXPECT_EQ(ResultToJson(back).dump(), line.dump());
+  EXPECT_EQ(back.fitness(), 0.1 + 0.2);
+  EXPECT_EQ(back.parameter_sets(1).status(), v1::Result::TIMEOUT);
+}
+
+TEST(ResultJsonTest, AFailedLineReadsBackWithoutAFitness) {
+  v1::Result failed;
+  failed.set_job_id("j");
+  failed.set_status(v1::Result::CRASHED);
+  failed.set_message("SIGSEGV");
+  const v1::Result back = ResultFromJson(nlohmann::json::parse(ResultToJson(failed).dump()));
+  EXPECT_EQ(back.status(), v1::Result::CRASHED);
+  EXPECT_EQ(back.message(), "SIGSEGV");
+  EXPECT_EQ(back.fitness(), 0.0);
+}
+
+TEST(ResultJsonTest, AMalformedLineNamesTheField) {
+  const auto problem = [](const std::string& text) {
+    try {
+      ResultFromJson(nlohmann::json::parse(text));
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(problem("[1]"), "expected a JSON object");
+  EXPECT_EQ(problem(R"({"status": "ok"})"), "id: missing or empty");
+  EXPECT_EQ(problem(R"({"id": "j", "status": "fine"})"), "status: unknown status 'fine'");
+  EXPECT_EQ(problem(R"({"id": "j", "status": "ok", "fitness": "high"})"), "fitness: expected a number, found \"high\"");
+  EXPECT_EQ(problem(R"({"id": "j", "status": "ok", "sets": [{"index": 0, "terms": {"d": "x"}}]})"),
+            "sets[0].terms.d: expected a number");
+}
+
 }  // namespace
 }  // namespace orcs::proto
