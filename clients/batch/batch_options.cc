@@ -73,8 +73,8 @@ void AddWorkersOption(CLI::App& command, BatchOptions& o) {
 // evolve's own options; its job options are run's (one genome per job, no --jobs or --genome: evolution makes them).
 CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
   CLI::App* evolve = app.add_subcommand("evolve", "evolve the scenario's genome, every generation one batch");
-  evolve->add_option("scenario", o.scenario, "the scenario file, with an \"evolution\" section (docs/evolution.md)")
-      ->required();
+  evolve->add_option("scenario", o.scenario,
+                     "the scenario file, with an \"evolution\" section (docs/evolution.md); required unless --resume");
   evolve->add_option("--generations", o.generations, "generations after the first (default: the scenario's)")
       ->check(CLI::Range(0, 1000000));
   evolve->add_option("--population", o.population, "genomes per generation (default: the scenario's)")
@@ -86,7 +86,8 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
       ->check(CLI::Range(0, 100000));
   AddEngineOption(*evolve, o, "physics engine of every job (/Simulation/Engine, over the scenario's values)");
   AddSessionOptions(*evolve, o, "output folder (default runs/<scenario name>-evolve)");
-  evolve->add_option("--resume", o.resume, "continue the run whose checkpoint is in this folder")
+  evolve->add_option("--resume", o.resume,
+                     "continue the run whose checkpoint is in this folder, with the settings it was started with")
       ->excludes(evolve->get_option("--out"));
   evolve->add_option("--time-limit", o.time_limit_seconds, "wall-clock seconds per job (default 0: 30 s + 10 s per simulated second of the job)")
       ->check(cli::NumberIn(0.0, kMaxTimeLimitOption));
@@ -161,7 +162,7 @@ void CheckSampling(const CLI::App& sweep, BatchOptions& o) {
   }
 }
 
-// run, submit and sweep: what is given (a resume tells it from defaults) and what is required without --resume.
+// run, submit, sweep and evolve: what is given (a resume tells it from defaults) and what is required without --resume.
 void CheckBatchCommand(const CLI::App& command, BatchOptions& o) {
   for (const CLI::Option* option : command.get_options()) {
     if (option->count() > 0) o.given.insert(option->get_name());
@@ -200,7 +201,7 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
                                     : Command::kRun;
     o.seed_given = evolve->parsed() && evolve->count("--seed") > 0;
     CheckSampling(*sweep, o);
-    for (CLI::App* batch : {run, submit, sweep}) {
+    for (CLI::App* batch : {run, submit, sweep, evolve}) {
       if (batch->parsed()) CheckBatchCommand(*batch, o);
     }
   } catch (const CLI::CallForHelp&) {

@@ -99,8 +99,33 @@ nlohmann::ordered_json Fingerprint(const batch::ScenarioInput& input, const Evol
           {"start", settings.start}};
 }
 
-EvolutionCheckpoint CheckpointOf(const Evolution& evolution, nlohmann::ordered_json fingerprint) {
-  return {std::move(fingerprint), evolution.history(), evolution.champion(), evolution.SaveState()};
+EvolutionCheckpoint CheckpointOf(const Evolution& evolution, nlohmann::ordered_json fingerprint,
+                                 nlohmann::ordered_json run) {
+  return {std::move(fingerprint), evolution.history(), evolution.champion(), evolution.SaveState(), std::move(run)};
+}
+
+nlohmann::ordered_json RunSettings(const std::string& scenario_path, const std::string& engine, int generations,
+                                   int validate, double time_limit_seconds) {
+  std::error_code error;
+  const std::filesystem::path absolute = std::filesystem::weakly_canonical(std::filesystem::absolute(scenario_path), error);
+  return {{"scenario_path", error ? scenario_path : absolute.string()},
+          {"engine", engine},
+          {"generations", generations},
+          {"validate", validate},
+          {"time_limit_seconds", time_limit_seconds}};
+}
+
+nlohmann::ordered_json ReadCheckpointSettings(const std::string& folder) {
+  const std::string path = (std::filesystem::path(folder) / "checkpoint.json").string();
+  if (!std::filesystem::exists(path)) {
+    throw InputError("--resume " + folder + ": no checkpoint.json there (not an orcs-batch evolve output folder)");
+  }
+  const nlohmann::json document = ParseJson(ReadTextFile(path), path);
+  if (!document.is_object() || !document.contains("fingerprint") || !document["fingerprint"].is_object()) {
+    throw InputError(path, 0, "not an evolution checkpoint (no \"fingerprint\" object)");
+  }
+  return {{"fingerprint", nlohmann::ordered_json(document["fingerprint"])},
+          {"run", document.contains("run") ? nlohmann::ordered_json(document["run"]) : nlohmann::ordered_json::object()}};
 }
 
 void WriteCheckpoint(const std::string& folder, const EvolutionCheckpoint& checkpoint) {
@@ -113,7 +138,8 @@ void WriteCheckpoint(const std::string& folder, const EvolutionCheckpoint& check
                                              {"fitness", checkpoint.champion.fitness},
                                              {"generation", checkpoint.champion.generation}}},
                                            {"history", history},
-                                           {"pagmo_state", checkpoint.pagmo_state}};
+                                           {"pagmo_state", checkpoint.pagmo_state},
+                                           {"run", checkpoint.run}};
   AtomicFile file((std::filesystem::path(folder) / "checkpoint.json").string());
   file.stream() << document.dump(1) << "\n";
   file.Commit();
@@ -126,7 +152,7 @@ EvolutionCheckpoint ReadCheckpoint(const std::string& folder, const nlohmann::or
   }
   const nlohmann::json document = ParseJson(ReadTextFile(path), path);
   const JsonNode root(document, "", path);
-  root.ExpectOnly({"format", "fingerprint", "champion", "history", "pagmo_state"});
+  root.ExpectOnly({"format", "fingerprint", "champion", "history", "pagmo_state", "run"});
   if (root.At("format").String("a format name") != kFormat) root.At("format").Fail(std::string("\"") + kFormat + "\"");
   CheckFingerprint(path, nlohmann::ordered_json(root.At("fingerprint").value()), expected_fingerprint);
   EvolutionCheckpoint checkpoint;

@@ -104,8 +104,47 @@ batch::RunnerOptions RunnerOptionsOf(const batch::BatchOptions& options, const s
   return runner;
 }
 
-void SaveGeneration(const std::string& folder, const Evolution& evolution, const nlohmann::ordered_json& fingerprint) {
-  WriteCheckpoint(folder, CheckpointOf(evolution, fingerprint));
+// --resume DIR: what the command line does not give comes from the checkpoint — the scenario file, engine, time
+// limit, generations, validation seeds, algorithm, population and seed (docs/evolution.md, "Resuming"). What it
+// does give must agree with the checkpoint's fingerprint (ReadCheckpoint refuses it otherwise), but for
+// --generations, which may extend the run.
+batch::BatchOptions WithCheckpointSettings(const batch::BatchOptions& given) {
+  const nlohmann::ordered_json stored = ReadCheckpointSettings(given.resume);
+  const nlohmann::ordered_json& fingerprint = stored["fingerprint"];
+  const nlohmann::ordered_json& run = stored["run"];
+  const auto absent = [&](const char* option) { return given.given.count(option) == 0; };
+  batch::BatchOptions options = given;
+  if (absent("scenario")) {
+    if (!run.contains("scenario_path")) {
+      throw InputError("--resume " + given.resume +
+                       ": its checkpoint is from an orcs-batch that did not record the scenario file; give it: "
+                       "orcs-batch evolve SCENARIO.json --resume " + given.resume);
+    }
+    options.scenario = run["scenario_path"].get<std::string>();
+  }
+  try {
+    if (absent("--engine") && run.contains("engine")) options.engine = run["engine"].get<std::string>();
+    if (absent("--time-limit") && run.contains("time_limit_seconds")) {
+      options.time_limit_seconds = run["time_limit_seconds"].get<double>();
+    }
+    if (absent("--generations") && run.contains("generations")) options.generations = run["generations"].get<int>();
+    if (absent("--validate") && run.contains("validate")) options.validate = run["validate"].get<int>();
+    if (absent("--algorithm")) options.algorithm = fingerprint.value("algorithm", "");
+    if (absent("--population")) options.population = fingerprint.value("population", 0);
+    if (absent("--seed") && fingerprint.contains("seed")) {
+      options.seed = fingerprint["seed"].get<std::uint64_t>();
+      options.seed_given = true;
+    }
+  } catch (const nlohmann::json::exception& error) {
+    throw InputError((fs::path(given.resume) / "checkpoint.json").string(), 0,
+                     std::string("damaged run settings: ") + error.what());
+  }
+  return options;
+}
+
+void SaveGeneration(const std::string& folder, const Evolution& evolution, const nlohmann::ordered_json& fingerprint,
+                    const nlohmann::ordered_json& run) {
+  WriteCheckpoint(folder, CheckpointOf(evolution, fingerprint, run));
   WriteFitnessCsv(folder, evolution.history());
   WriteBestGenome(folder, evolution.champion());
 }
@@ -173,11 +212,15 @@ void Plot(const std::string& folder) {
 
 }  // namespace
 
-int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop) {
+int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
+  if (given.resume.empty() && given.scenario.empty()) throw InputError("evolve: the scenario file is required");
+  const batch::BatchOptions options = given.resume.empty() ? given : WithCheckpointSettings(given);
   const batch::ScenarioInput input = batch::LoadScenario(options.scenario, options.engine);
   const EvolutionSettings settings = ReadEvolutionSettings(input, OverridesOf(options));
   const std::string folder = OutputFolder(options, input);
   const nlohmann::ordered_json fingerprint = Fingerprint(input, settings);
+  const nlohmann::ordered_json run = RunSettings(options.scenario, options.engine, settings.generations,
+                                                 settings.validate, options.time_limit_seconds);
   std::optional<EvolutionCheckpoint> checkpoint;
   if (!options.resume.empty()) {
     CheckResumable(settings.algorithm, "--resume " + folder);
@@ -201,12 +244,12 @@ int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop)
     if (!options.quiet) std::cerr << "orcs-batch: resuming after generation " << evolution.generation() << "\n";
   } else {
     evolution.Initialise();
-    SaveGeneration(folder, evolution, fingerprint);
+    SaveGeneration(folder, evolution, fingerprint, run);
     if (!options.quiet) std::cerr << GenerationLine(evolution.history().back(), settings.generations) << "\n";
   }
   while (evolution.generation() < settings.generations && !(stop != nullptr && stop->load())) {
     evolution.Step();
-    SaveGeneration(folder, evolution, fingerprint);
+    SaveGeneration(folder, evolution, fingerprint, run);
     if (!options.quiet) std::cerr << GenerationLine(evolution.history().back(), settings.generations) << "\n";
   }
   if (evolution.generation() < settings.generations) {

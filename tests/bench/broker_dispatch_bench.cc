@@ -167,7 +167,8 @@ void BM_BrokerDispatchEmptyJobs(benchmark::State& state) {
 }
 BENCHMARK(BM_BrokerDispatchEmptyJobs)
     ->Args({10000, 2, 16, 0, 0, 0})  // the defaults of WorkerConnectionOptions (and orcs-worker)
-    ->Args({10000, 2, 16, 0, 0, 10})  // the same while a status is asked for 10 times a second
+    ->Args({10000, 2, 16, 0, 0, 1})   // the same while a dashboard asks for the status once a second
+    ->Args({10000, 2, 16, 0, 0, 10})  // ... and ten times a second
     ->Args({10000, 2, 16, 1, 0, 0})  // the same with CURVE
     ->Args({10000, 2, 2, 0, 0, 0})   // credit fixed at 2
     ->Args({10000, 8, 8, 0, 0, 0})

@@ -7,12 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <csignal>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "model/evaluation/recording_reader.h"
+#include "tests/support/background_process.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
 
@@ -94,6 +97,14 @@ std::string WalkScenario(double duration) {
   },
   "log": ["/Sim/Humanoid/Middle/UpperBody/Position"]
 })";
+}
+
+// A file's text, or "" while it does not exist yet.
+std::string ReadIfThere(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 std::vector<std::string> Lines(const std::string& text) {
@@ -201,8 +212,12 @@ TEST_F(OrcsEvolveTest, ARunOnMujocoReplaysOnMujocoAndResumesOnlyThere) {
                                         "@" + out + "/best_genome.json", "--seed", "1", "--engine", "MuJoCo"});
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   EXPECT_EQ(nlohmann::json::parse(sim.out)["fitness"].get<double>(), winner["fitness"].get<double>());
-  const ProcessResult on_ode = Evolve(scenario, {"--resume", out, "--generations", "3"});
+  const ProcessResult on_ode = Evolve(scenario, {"--resume", out, "--generations", "3", "--engine", "ODE"});
   ExpectOneLineBadInput(on_ode);
+  // Without --engine the resume takes the engine from the checkpoint, as every other setting.
+  const ProcessResult on_mujoco = Evolve(scenario, {"--resume", out, "--generations", "3", "--validate", "0"});
+  EXPECT_EQ(on_mujoco.exit_code, 0) << on_mujoco.err;
+  EXPECT_THAT(on_mujoco.out, HasSubstr("--engine MuJoCo"));
 }
 
 TEST_F(OrcsEvolveTest, AnInterruptedAndResumedRunEqualsAnUninterruptedOne) {
@@ -223,6 +238,53 @@ TEST_F(OrcsEvolveTest, AnInterruptedAndResumedRunEqualsAnUninterruptedOne) {
   EXPECT_EQ(dir_.Read(Out("a") + "/best_genome.json"), dir_.Read(Out("b") + "/best_genome.json"));
   EXPECT_EQ(Checkpoint(Out("a"))["champion"], Checkpoint(Out("b"))["champion"]);
   // (Not pagmo_state as text: pagmo 2.18's CMA-ES saves a vector it never initialises or uses, whose bytes vary.)
+}
+
+// Issue 21: Ctrl-C in the middle of a run, then `--resume DIR` and nothing else: the run continues with every
+// setting it was started with — scenario, population (not the scenario's), seed, and its 4 generations (not the
+// scenario's 2) — and ends where an uninterrupted run ends, bit for bit.
+TEST_F(OrcsEvolveTest, AnInterruptedRunResumedWithOnlyResumeKeepsItsSettingsAndEqualsAnUninterruptedOne) {
+  const std::string scenario = Scenario(2.0);
+  const std::vector<std::string> settings = {"--generations", "4", "--population", "6", "--seed", "7",
+                                             "--validate", "0"};
+  std::vector<std::string> cut = {kBin + "orcs-batch", "evolve", scenario, "--workers", "2", "--no-plot",
+                                  "--out", Out("cut")};
+  cut.insert(cut.end(), settings.begin(), settings.end());
+  {
+    test_support::BackgroundProcess evolve(cut);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+    while (Lines(ReadIfThere(Out("cut") + "/fitness.csv")).size() < 3 &&
+           std::chrono::steady_clock::now() < deadline) {
+      if (evolve.Wait(std::chrono::milliseconds(20)).has_value()) break;
+    }
+    evolve.Signal(SIGINT);
+    const std::optional<ProcessResult> ended = evolve.Wait(std::chrono::milliseconds(60000));
+    ASSERT_TRUE(ended.has_value());
+    ASSERT_EQ(ended->exit_code, 1) << "interrupted before its 4 generations: " << ended->out << ended->err;
+    EXPECT_THAT(ended->out, HasSubstr("interrupted after generation"));
+  }
+  const std::size_t done = Lines(dir_.Read(Out("cut") + "/fitness.csv")).size();
+  ASSERT_LT(done, 6u);
+
+  const ProcessResult resumed =
+      RunProcess({kBin + "orcs-batch", "evolve", "--resume", Out("cut"), "--workers", "2", "--no-plot"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.out << resumed.err;
+  EXPECT_THAT(resumed.err, HasSubstr("resuming after generation " + std::to_string(done - 2)));
+  EXPECT_THAT(resumed.err, HasSubstr("6 genomes per generation"));
+
+  std::vector<std::string> whole = {kBin + "orcs-batch", "evolve", scenario, "--workers", "2", "--no-plot",
+                                    "--out", Out("whole")};
+  whole.insert(whole.end(), settings.begin(), settings.end());
+  const ProcessResult uninterrupted = RunProcess(whole);
+  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.err;
+  const std::vector<std::string> resumed_csv = WithoutSeconds(dir_.Read(Out("cut") + "/fitness.csv"));
+  EXPECT_EQ(resumed_csv.size(), 6u) << "a header and generations 0 to 4";
+  EXPECT_EQ(resumed_csv, WithoutSeconds(dir_.Read(Out("whole") + "/fitness.csv")));
+  EXPECT_EQ(dir_.Read(Out("cut") + "/best_genome.json"), dir_.Read(Out("whole") + "/best_genome.json"));
+
+  // A contradiction is refused; the generations may be raised.
+  ExpectOneLineBadInput(
+      RunProcess({kBin + "orcs-batch", "evolve", "--resume", Out("cut"), "--population", "8", "--workers", "2"}));
 }
 
 TEST_F(OrcsEvolveTest, BadInputExitsTwoWithOneLineBeforeAnythingRuns) {

@@ -71,7 +71,7 @@ class EvolutionCheckpointTest : public ::testing::Test {
     evolution->Initialise();
     evolution->Step();
     evolution->Step();
-    WriteCheckpoint(folder_, CheckpointOf(*evolution, Fingerprint(input_, settings_)));
+    WriteCheckpoint(folder_, CheckpointOf(*evolution, Fingerprint(input_, settings_), nlohmann::ordered_json::object()));
     return evolution;
   }
   std::string Checkpoint() const { return folder_ + "/checkpoint.json"; }
