@@ -85,8 +85,12 @@ class BrokerCore {
   /// (batch id, job id): names a job across batches.
   using JobKey = std::pair<std::string, std::string>;
 
+  struct Batch;
   struct JobRecord {
     v1::Job job;                      ///< as accepted (the record goes once the job is finished: FinishJob)
+    /// The batch holding it, whose queued and running counts SetState keeps (a record never outlives its batch:
+    /// both live in node-based maps, and a batch's records go with it).
+    Batch* batch = nullptr;
     JobState state = JobState::kNew;  ///< where it is now
     std::string worker;               ///< routing id of the holding worker while kDispatched
     std::uint64_t ticket = 0;         ///< matches this job's live queue entry while kQueued
@@ -119,6 +123,8 @@ class BrokerCore {
     TimePoint claim_deadline;  ///< restored batches: dropped unless their client is back by then
     // For the status only (broker_core_status.cc).
     TimePoint opened_at;             ///< its first SUBMIT, or its restore from the journal
+    std::uint64_t queued = 0;        ///< its jobs in state kQueued (SetState)
+    std::uint64_t running = 0;       ///< its jobs in state kDispatched (SetState)
     std::uint64_t done = 0;          ///< jobs finished with status OK
     std::uint64_t failed = 0;        ///< jobs finished with another status
     std::uint64_t expected = 0;      ///< Submit.batch_size, the latest non-zero one; 0 = not said
@@ -221,7 +227,7 @@ class BrokerCore {
   JobRecord* FindJob(const JobKey& key);  // null when its batch or the job is unknown
   bool PopQueued(JobKey& key);
   void Enqueue(const std::string& batch_id, JobRecord& record, bool at_front);
-  void SetState(JobRecord& record, JobState state);  // keeps queued_count_ right
+  void SetState(JobRecord& record, JobState state);  // keeps queued_count_ and the batch's counts right
   void NoteJobHeld();  // a record was added to a batch: counts it in jobs_held_ and its peak
   /// Forgets a client and its batches. `lost`: it vanished (silent, connection closed) rather than said goodbye.
   void DropClient(const std::string& client, const std::string& reason, bool lost);

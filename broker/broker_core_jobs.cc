@@ -178,6 +178,7 @@ bool BrokerCore::AcceptJob(const std::string& client, const std::string& batch_i
   auto [entry, inserted] = batch.jobs.try_emplace(job.job_id());
   if (inserted) NoteJobHeld();
   JobRecord& record = entry->second;
+  record.batch = &batch;
   if (!inserted && record.state != JobState::kFinished) return false;
   if (journal_ && ResendStoredResult(client, batch_id, job.job_id())) {
     if (inserted) {  // finished records are not kept (FinishJob): the journal has it
@@ -281,6 +282,7 @@ void BrokerCore::RestoreJob(JournalJob&& stored, std::uint64_t& in_flight) {
   auto [entry, inserted] = batch->second.jobs.try_emplace(job_id);
   if (inserted) NoteJobHeld();
   JobRecord& record = entry->second;
+  record.batch = &batch->second;
   record.job = std::move(stored.job);
   record.job.set_batch_id(stored.batch_id);
   record.losses = stored.losses;
@@ -351,6 +353,12 @@ void BrokerCore::NoteJobHeld() {
 void BrokerCore::SetState(JobRecord& record, JobState state) {
   if (record.state == JobState::kQueued) --queued_count_;
   if (state == JobState::kQueued) ++queued_count_;
+  if (record.batch != nullptr) {
+    if (record.state == JobState::kQueued) --record.batch->queued;
+    if (record.state == JobState::kDispatched) --record.batch->running;
+    if (state == JobState::kQueued) ++record.batch->queued;
+    if (state == JobState::kDispatched) ++record.batch->running;
+  }
   record.state = state;
 }
 

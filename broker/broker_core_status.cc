@@ -1,6 +1,7 @@
 // The core's status (docs/protocol.md, "Status"): what each worker and batch is doing, for `orcs-broker status`
-// and orcs-view's dashboard. Counts are kept as events pass (NoteWorkerResult, NoteFinished); the answer is built
-// only when asked, so a dashboard polling once a second costs the dispatch loop nothing between requests.
+// and orcs-view's dashboard. Counts are kept as events pass (NoteWorkerResult, NoteFinished, SetState's per-batch
+// queued and running counts); the answer is built only when asked, from the workers and batches alone — never by
+// walking the jobs the broker holds, which may be many (a dashboard must not cost the dispatch loop).
 #include <algorithm>
 #include <cstdint>
 
@@ -152,12 +153,8 @@ v1::BatchStatus BrokerCore::DescribeBatch(const std::string& batch_id, const Bat
     out.set_batch_id(batch_id);
     out.set_client_id(batch.client_id);
   }
-  std::uint64_t queued = 0;
-  std::uint64_t running = 0;
-  for (const auto& [job_id, record] : batch.jobs) {
-    queued += record.state == JobState::kQueued ? 1 : 0;
-    running += record.state == JobState::kDispatched ? 1 : 0;
-  }
+  const std::uint64_t queued = batch.queued;
+  const std::uint64_t running = batch.running;
   out.set_queued(Count(queued));
   out.set_running(Count(running));
   out.set_done(Count(batch.done));

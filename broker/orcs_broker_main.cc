@@ -9,7 +9,7 @@
 
 #include "broker/broker.h"
 #include "broker/broker_options.h"
-#include "broker/status_client.h"
+#include "net/status_client.h"
 #include "broker/status_text.h"
 
 namespace {
@@ -22,15 +22,15 @@ extern "C" void OnSignal(int) {
 
 int PrintStatus(const orcs::broker::StatusCommandOptions& options) {
   try {
-    orcs::broker::StatusClient client(
+    orcs::net::StatusClient client(
         {options.broker, options.curve_keys,
          std::chrono::milliseconds(std::max(1L, std::lround(options.timeout_seconds * 1000.0)))});
     const orcs::v1::Status status = client.Fetch();
-    std::cout << (options.json ? orcs::broker::StatusJson(status) + "\n"
+    std::cout << (options.json ? orcs::net::StatusJson(status) + "\n"
                                : orcs::broker::StatusText(status, options.broker))
               << std::flush;
     return orcs::broker::kExitOk;
-  } catch (const orcs::broker::StatusClientError& error) {
+  } catch (const orcs::net::StatusClientError& error) {
     std::cerr << "orcs-broker status: " << error.what() << "\n";
     return orcs::broker::kExitRunFailed;
   } catch (const std::exception& error) {  // an endpoint ZeroMQ cannot parse, a missing key file

@@ -1,7 +1,5 @@
 #include "broker/status_text.h"
 
-#include <google/protobuf/util/json_util.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -110,16 +108,6 @@ std::string StatusText(const v1::Status& status, const std::string& endpoint) {
     out << "\n" << BatchTable(status);
   }
   return out.str();
-}
-
-std::string StatusJson(const v1::Status& status) {
-  google::protobuf::util::JsonPrintOptions options;
-  options.always_print_primitive_fields = true;
-  options.preserve_proto_field_names = true;
-  std::string json;
-  const auto written = google::protobuf::util::MessageToJsonString(status, &json, options);
-  if (!written.ok()) throw std::runtime_error("cannot write the status as JSON: " + std::string(written.message()));
-  return json;
 }
 
 }  // namespace orcs::broker

@@ -17,7 +17,7 @@
 #include <unordered_set>
 
 #include "broker/client.h"
-#include "broker/status_client.h"
+#include "net/status_client.h"
 #include "clients/batch/batch_input.h"
 #include "clients/batch/batch_manifest.h"
 #include "clients/batch/batch_options.h"
@@ -132,11 +132,11 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   session.stop = &stop_requested;
   session.keep_results = options.command == Command::kSweep || plan.regress.has_value();
   session.earlier_results = plan.earlier_results;
-  broker::StatusClient status_client({endpoint, options.curve_keys, std::chrono::milliseconds(1000)});
+  net::StatusClient status_client({endpoint, options.curve_keys, std::chrono::milliseconds(1000)});
   session.broker_status = [&status_client]() -> std::optional<v1::Status> {
     try {
       return status_client.Fetch();
-    } catch (const broker::StatusClientError&) {
+    } catch (const net::StatusClientError&) {
       return std::nullopt;  // the batch client reports a lost broker itself
     }
   };

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "model/core/error.h"
+#include "viewer/broker_watch.h"
 #include "viewer/clip_renderer.h"
 #include "viewer/live_session.h"
 #include "viewer/view_catalog.h"
@@ -35,12 +36,17 @@ int Serve(const ViewOptions& options) {
   const WebAssets assets(options.web_dir);
   std::unique_ptr<ViewCatalog> catalog;
   std::unique_ptr<LiveSession> live;
+  std::unique_ptr<BrokerWatch> broker;
   if (options.live) {
     live = std::make_unique<LiveSession>(options.live_options);
-  } else {
+  } else if (!options.inputs.empty() || options.broker.empty()) {  // --broker alone: the dashboard only
     catalog = std::make_unique<ViewCatalog>(options.inputs);
   }
-  ViewServer server(assets, catalog.get(), live.get(), nullptr);
+  if (!options.broker.empty()) {
+    broker = std::make_unique<BrokerWatch>(net::StatusClientOptions{options.broker, options.curve_keys},
+                                           std::chrono::milliseconds(1000));
+  }
+  ViewServer server(assets, catalog.get(), live.get(), nullptr, broker.get());
   const int port = server.Bind(options.bind, options.port);
   std::thread watcher = WatchSignals(server);
   watcher.detach();

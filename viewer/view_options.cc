@@ -33,6 +33,13 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
   app.add_option("--seed", l.seed, "with --live: seed of every reset")->check(cli::Seed())->needs(live);
   app.add_option("--files", l.files_dir, "with --live: folder for saved value files and logs")->needs(live);
   app.add_flag("--run", l.start_running, "with --live: start running instead of paused")->needs(live);
+  CLI::Option* broker = app.add_option("--broker", o.broker,
+                                       "show this broker's dashboard: workers, batches, throughput (its client "
+                                       "endpoint, e.g. tcp://127.0.0.1:5555)")
+                            ->check(cli::Endpoint());
+  app.add_option("--curve-keys", o.curve_keys,
+                 "with --broker: folder of the client keys to ask with (docs/security.md)")
+      ->needs(broker);
   CLI::Option* render = app.add_option("--render", r.run, "draw this recording (or a folder's first) to --out")
                             ->check(CLI::ExistingPath);
   app.add_option("--out", r.out, "with --render: .png (a still), .gif, .mp4 or .webm (a clip)")->needs(render);
@@ -52,8 +59,12 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
     if (o.render && !o.inputs.empty()) throw CLI::ValidationError("--render", "takes one run; give it no other inputs");
     if (o.render && o.live) throw CLI::ValidationError("--render", "draws recordings, not --live");
     if (o.live && !o.inputs.empty()) throw CLI::ValidationError("--live", "serves a simulation; give it no recordings");
-    if (!o.live && !o.render && o.inputs.empty()) {
-      throw CLI::ValidationError("orcs-view", "give recordings or folders to open, --live, or --render RUN --out FILE");
+    if (!o.broker.empty() && (o.live || o.render)) {
+      throw CLI::ValidationError("--broker", "shows a dashboard beside recordings and folders, not with --live or --render");
+    }
+    if (!o.live && !o.render && o.inputs.empty() && o.broker.empty()) {
+      throw CLI::ValidationError("orcs-view",
+                                 "give recordings or folders to open, --broker ENDPOINT, --live, or --render RUN --out FILE");
     }
     if (r.to >= 0 && r.to <= r.from) throw CLI::ValidationError("--to", "must be after --from");
   };

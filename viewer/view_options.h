@@ -29,6 +29,8 @@ struct ViewOptions {
   std::string web_dir;              ///< --web-dir: the page's folder (holds files.txt)
   bool live = false;                ///< --live: serve a live simulation
   LiveOptions live_options;         ///< its world
+  std::string broker;               ///< --broker ENDPOINT: show that broker's dashboard ("" = none)
+  std::string curve_keys;           ///< --curve-keys DIR: the client keys the dashboard asks with ("" = plain TCP)
   bool render = false;              ///< --render given
   RenderOptions render_options;     ///< what to render
 };

@@ -145,8 +145,14 @@ class HttpServer : public httplib::Server {
   using httplib::Server::process_request;
 };
 
-ViewServer::ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSession* live, RenderSink* render)
-    : assets_(assets), catalog_(catalog), live_(live), render_(render), server_(std::make_unique<HttpServer>()) {
+ViewServer::ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSession* live, RenderSink* render,
+                       BrokerWatch* broker)
+    : assets_(assets),
+      catalog_(catalog),
+      live_(live),
+      render_(render),
+      broker_(broker),
+      server_(std::make_unique<HttpServer>()) {
   server_->new_task_queue = [] { return new httplib::ThreadPool(kServerThreads); };
   server_->set_payload_max_length(kMaxBodyBytes);
   // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, which would let a second orcs-view share a port that is
@@ -171,6 +177,7 @@ ViewServer::ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSessio
   if (catalog_ != nullptr) AddFilesRoutes();
   if (live_ != nullptr) AddLiveRoutes();
   if (render_ != nullptr) AddRenderRoutes();
+  if (broker_ != nullptr) AddBrokerRoutes();
   server_->set_error_handler([](const Request&, Response& response) {
     if (response.body.empty()) {
       response.set_content(response.status == 404 ? "not found\n" : "bad request\n", "text/plain");
@@ -224,6 +231,14 @@ void ViewServer::AddPageRoutes() {
     if (catalog_ != nullptr) session["items"] = catalog_->ItemsJson();
     if (live_ != nullptr) session["items"] = {{{"id", "live"}, {"kind", "live"}, {"label", "live simulation"}}};
     if (render_ != nullptr) session["render"] = true;
+    if (broker_ != nullptr) {
+      if (!session.contains("items")) session["items"] = nlohmann::json::array();
+      const nlohmann::json dashboard = nlohmann::json::object({{"id", "broker"},
+                                                               {"kind", "broker"},
+                                                               {"label", "broker " + broker_->endpoint()},
+                                                               {"path", broker_->endpoint()}});
+      session["items"].insert(session["items"].begin(), dashboard);
+    }
     SendJson(response, session);
   });
 }
@@ -285,6 +300,32 @@ void ViewServer::AddFilesRoutes() {
   table_route(R"(/api/batch/([A-Za-z0-9]+))", &ViewCatalog::BatchJson);
   table_route(R"(/api/evolve/([A-Za-z0-9]+))", &ViewCatalog::EvolveJson);
   table_route(R"(/api/gap/([A-Za-z0-9]+))", &ViewCatalog::GapJson);
+}
+
+// The dashboard (orcs-view --broker): the broker's newest status, long-polled, and the history of its totals.
+void ViewServer::AddBrokerRoutes() {
+  server_->Get("/api/broker/status", [this](const Request& request, Response& response) {
+    std::uint64_t since = 0;
+    const std::string text = request.get_param_value("since");
+    std::from_chars(text.data(), text.data() + text.size(), since);
+    const BrokerWatch::Snapshot snapshot = broker_->Wait(since, long_poll_);
+    nlohmann::json body = {{"serial", snapshot.serial},
+                           {"time", snapshot.time},
+                           {"endpoint", broker_->endpoint()},
+                           {"error", snapshot.error},
+                           {"status", nullptr}};
+    if (!snapshot.status_json.empty()) body["status"] = nlohmann::json::parse(snapshot.status_json);
+    SendJson(response, body);
+  });
+  server_->Get("/api/broker/history", [this](const Request&, Response& response) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const BrokerWatch::Point& p : broker_->History()) {
+      points.push_back({p.time, p.workers, p.busy, p.queued, p.running, p.done, p.failed, p.jobs_per_second});
+    }
+    SendJson(response, {{"endpoint", broker_->endpoint()},
+                        {"columns", {"time", "workers", "busy", "queued", "running", "done", "failed", "jobs_per_second"}},
+                        {"points", std::move(points)}});
+  });
 }
 
 // The simulation: its world, its frames (long-polled), control and the run/pause/step/reset commands.

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "viewer/broker_watch.h"
 #include "viewer/live_session.h"
 #include "viewer/render_sink.h"
 #include "viewer/view_catalog.h"
@@ -21,8 +22,10 @@ class HttpServer;  // httplib::Server, with its request handling reachable witho
 
 class ViewServer {
  public:
-  /// Serves `assets` and, where given, a catalog (files mode), a live session or a render sink (not owned).
-  ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSession* live, RenderSink* render);
+  /// Serves `assets` and, where given, a catalog (files mode), a live session, a render sink or a broker's
+  /// status (the dashboard) (not owned).
+  ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSession* live, RenderSink* render,
+             BrokerWatch* broker = nullptr);
   ~ViewServer();
 
   /// Binds `address`:`port` (0 = any free port) and returns the port. Throws InputError naming the address and
@@ -48,11 +51,13 @@ class ViewServer {
   void AddLiveRoutes();
   void AddLiveValueRoutes();
   void AddRenderRoutes();
+  void AddBrokerRoutes();
 
   const WebAssets& assets_;
   ViewCatalog* catalog_;
   LiveSession* live_;
   RenderSink* render_;
+  BrokerWatch* broker_;
   std::unique_ptr<HttpServer> server_;
   std::chrono::milliseconds long_poll_{500};
 };

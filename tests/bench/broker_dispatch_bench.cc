@@ -17,7 +17,7 @@
 #include "broker/broker.h"
 #include "broker/broker_core.h"
 #include "broker/client.h"
-#include "broker/status_client.h"
+#include "net/status_client.h"
 #include "net/curve_keys.h"
 #include "proto/envelope.h"
 #include "worker/broker_connection.h"
@@ -92,7 +92,7 @@ class StatusPoller {
   StatusPoller(const std::string& endpoint, const std::string& curve_keys, int per_second) {
     if (per_second <= 0) return;
     thread_ = std::thread([this, endpoint, curve_keys, per_second] {
-      broker::StatusClient client({endpoint, curve_keys, milliseconds(10000)});
+      net::StatusClient client({endpoint, curve_keys, milliseconds(10000)});
       const auto period = std::chrono::microseconds(1000000 / per_second);
       auto next = std::chrono::steady_clock::now();
       while (!stop_.load()) {
@@ -180,8 +180,8 @@ BENCHMARK(BM_BrokerDispatchEmptyJobs)
     ->UseRealTime();
 
 // The broker thread's cost of one status, without sockets: BrokerCore::Status() of a busy broker — range(0)
-// workers each holding 2 jobs, and 10 batches holding range(1) jobs each (the status counts a batch's queued and
-// running jobs by walking them, so held jobs are what it costs).
+// workers each holding 2 jobs, and 10 batches holding range(1) jobs each. The status is built from the workers and
+// batches alone (their counts are kept as jobs move), so the jobs held should not change its cost.
 // At one request a second (a dashboard) the fraction of the broker's thread it takes is this time over 1 s.
 class NullTransport final : public broker::BrokerTransport {
  public:

@@ -5,6 +5,7 @@ import { ResolutionGovernor } from './resolution.js';
 import { Plots, shortName } from './plots.js';
 import { Items } from './items.js';
 import { Live } from './live.js';
+import { Dashboard } from './dashboard.js';
 import { runRender } from './render.js';
 import { getJson, getFloat64, getChannels } from './api.js';
 import { $, el, showError, hideError, onError, floorIndex, matcher } from './util.js';
@@ -100,6 +101,7 @@ let world;
 let plots;
 let items;
 let live = null;
+let dashboard = null;
 let session = null;
 let rec = null;        // the shown recording
 let overlay = null;    // the run overlaid in plots and drawn as a ghost
@@ -123,6 +125,7 @@ function start() {
     onSeek: (t) => { if (state.mode === 'files') seek(t); },
   });
   items = new Items({ open, openRecording: (rid, opts) => openRecording(rid, opts) });
+  dashboard = new Dashboard({ state });
   wireUi();
   boot().catch((err) => showError(err));
   if (!renderMode) requestAnimationFrame(tick);
@@ -172,8 +175,10 @@ async function open(id) {
     return false;
   }
   items.markCurrent(id);
+  if (item.kind !== 'broker') dashboard.hide();
   try {
     switch (item.kind) {
+      case 'broker': items.clearDetail(); await dashboard.show(); break;
       case 'recording': items.clearDetail(); return await openRecording(id, { label: item.label });
       case 'batch': await items.showBatch(id); break;
       case 'evolve': await items.showEvolve(id); break;

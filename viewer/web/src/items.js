@@ -4,7 +4,7 @@ import uPlot from 'uplot';
 import { getJson } from './api.js';
 import { el, $, fmt } from './util.js';
 
-const KIND_ICON = { recording: '▶', batch: '▦', evolve: '↗', gap: '≈', live: '●' };
+const KIND_ICON = { recording: '▶', batch: '▦', evolve: '↗', gap: '≈', live: '●', broker: '⛁' };
 
 export class Items {
   /** ctx: {openRecording(rid, opts), showError(msg), onOpened(item)} */

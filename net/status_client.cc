@@ -1,11 +1,13 @@
-#include "broker/status_client.h"
+#include "net/status_client.h"
+
+#include <google/protobuf/util/json_util.h>
 
 #include <cstdio>
 
 #include "net/envelope_check.h"
 #include "proto/envelope.h"
 
-namespace orcs::broker {
+namespace orcs::net {
 namespace {
 
 StatusClientOptions Checked(StatusClientOptions options) {
@@ -15,14 +17,14 @@ StatusClientOptions Checked(StatusClientOptions options) {
 }
 
 // The dealer's settings: a status client never heartbeats, so the interval only has to be valid.
-net::DealerConnectionOptions DealerOptions(const StatusClientOptions& options) {
+DealerConnectionOptions DealerOptions(const StatusClientOptions& options) {
   struct {
     std::string endpoint;
     std::string curve_keys;
     std::chrono::milliseconds heartbeat_interval{1000};
     int liveness = 5;
   } side{options.endpoint, options.curve_keys};
-  return net::DealerOptionsFor<v1::ClientToBroker>(side, "client", "StatusClient", [](const std::string&) {});
+  return DealerOptionsFor<v1::ClientToBroker>(side, "client", "StatusClient", [](const std::string&) {});
 }
 
 }  // namespace
@@ -36,9 +38,9 @@ v1::Status StatusClient::Fetch() {
   request.set_protocol_version(proto::kProtocolVersion);
   request.mutable_status_request();
   dealer_.SendMessage(request);
-  const auto deadline = net::DealerConnection::Clock::now() + options_.timeout;
+  const auto deadline = DealerConnection::Clock::now() + options_.timeout;
   v1::Status status;
-  while (net::DealerConnection::Clock::now() < deadline) {
+  while (DealerConnection::Clock::now() < deadline) {
     dealer_.Poll(deadline);
     if (ReadAnswer(status)) return status;
   }
@@ -55,7 +57,7 @@ bool StatusClient::ReadAnswer(v1::Status& status) {
   bool answered = false;
   dealer_.ReceiveAll(
       [&](const zmq::message_t& frame) {
-        if (!net::CheckEnvelope(frame, in_).empty()) return true;  // not for us: keep reading
+        if (!CheckEnvelope(frame, in_).empty()) return true;  // not for us: keep reading
         if (in_.body_case() != v1::BrokerToClient::kStatus) return true;
         status.Swap(in_.mutable_status());
         answered = true;
@@ -65,4 +67,14 @@ bool StatusClient::ReadAnswer(v1::Status& status) {
   return answered;
 }
 
-}  // namespace orcs::broker
+std::string StatusJson(const v1::Status& status) {
+  google::protobuf::util::JsonPrintOptions options;
+  options.always_print_primitive_fields = true;
+  options.preserve_proto_field_names = true;
+  std::string json;
+  const auto written = google::protobuf::util::MessageToJsonString(status, &json, options);
+  if (!written.ok()) throw std::runtime_error("cannot write the status as JSON: " + std::string(written.message()));
+  return json;
+}
+
+}  // namespace orcs::net

@@ -1,6 +1,6 @@
 // Asks a broker what it is doing (docs/protocol.md, "Status"): one STATUS_REQUEST on a fresh client connection,
 // one STATUS back. Used by `orcs-broker status`, by orcs-batch's "no worker is connected" hint and by orcs-view's
-// dashboard. A status client registers nothing at the broker and sends no heartbeats; it keeps its connection
+// dashboard — here in net/, the layer all three may use (DESIGN.md), rather than in broker/. A status client registers nothing at the broker and sends no heartbeats; it keeps its connection
 // open between requests, so a dashboard polling once a second opens one connection, not one a second.
 #pragma once
 
@@ -10,8 +10,9 @@
 
 #include "net/dealer_connection.h"
 #include "orcs/v1/broker.pb.h"
+#include "orcs/v1/status.pb.h"
 
-namespace orcs::broker {
+namespace orcs::net {
 
 struct StatusClientOptions {
   /// The broker's client endpoint, e.g. "tcp://127.0.0.1:5555".
@@ -43,6 +44,7 @@ class StatusClient {
   v1::Status Fetch();
 
   const std::string& endpoint() const { return options_.endpoint; }
+  const std::string& curve_keys() const { return options_.curve_keys; }
 
  private:
   /// Reads what waits on the socket; true when it held the answer, moved into `status`.
@@ -53,4 +55,8 @@ class StatusClient {
   v1::BrokerToClient in_;         ///< the message being read, reused
 };
 
-}  // namespace orcs::broker
+/// The status as one JSON object: protobuf's JSON mapping, every field present (zeros and empty lists too),
+/// snake_case names as in status.proto. (`orcs-broker status --json`, orcs-view's /api/broker/status.)
+std::string StatusJson(const v1::Status& status);
+
+}  // namespace orcs::net
