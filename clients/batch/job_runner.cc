@@ -33,7 +33,10 @@ JobRunner::~JobRunner() {
   cluster_.reset();
 }
 
-std::vector<v1::Result> JobRunner::Run(std::vector<v1::Job> jobs) {
+std::vector<v1::Result> JobRunner::Run(std::vector<v1::Job> jobs) { return Run(std::move(jobs), {}); }
+
+std::vector<v1::Result> JobRunner::Run(std::vector<v1::Job> jobs,
+                                       const std::function<void(const v1::Result&)>& on_result) {
   std::vector<std::string> ids;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -57,6 +60,11 @@ std::vector<v1::Result> JobRunner::Run(std::vector<v1::Job> jobs) {
       results_.erase(found);
       have[i] = true;
       ++collected;
+      if (on_result) {
+        lock.unlock();  // the callback draws; other callers' results keep arriving meanwhile
+        on_result(results[i]);
+        lock.lock();
+      }
     }
     if (collected == ids.size()) break;
     if (reading_) {

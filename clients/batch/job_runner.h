@@ -8,6 +8,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -42,6 +43,9 @@ class JobRunner : public JobEvaluator {
   /// Runs `jobs` (job ids are assigned here) and returns their results in the same order. Thread-safe. Throws
   /// broker::BatchClientError when the broker is unreachable or lost.
   std::vector<v1::Result> Run(std::vector<v1::Job> jobs) override;
+  /// The same, calling `on_result` (on the calling thread) with each of these jobs' results as it comes in: for
+  /// progress within a generation.
+  std::vector<v1::Result> Run(std::vector<v1::Job> jobs, const std::function<void(const v1::Result&)>& on_result);
 
   /// Jobs run so far.
   std::uint64_t jobs_run() const override;

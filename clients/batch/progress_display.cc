@@ -31,14 +31,14 @@ ProgressDisplay::ProgressDisplay(std::ostream& out, std::size_t total, bool term
 std::string ProgressDisplay::StatusText(std::size_t ok, std::size_t failed, Clock::time_point now) const {
   const std::size_t done = ok + failed;
   const double elapsed = std::chrono::duration<double>(now - start_).count();
-  std::string text = std::to_string(done) + "/" + std::to_string(total_) + " jobs (ok " + std::to_string(ok) +
+  std::string text = label_ + std::to_string(done) + "/" + std::to_string(total_) + " jobs (ok " + std::to_string(ok) +
                      ", failed " + std::to_string(failed) + ")";
   if (done > 0 && elapsed > 0) {
     const double rate = static_cast<double>(done) / elapsed;
     text += ", " + Fixed(rate, rate < 10 ? 2 : 1) + " jobs/s";
     if (done < total_) text += ", ETA " + FormatDuration(static_cast<double>(total_ - done) / rate);
   }
-  return text;
+  return text + detail_;
 }
 
 void ProgressDisplay::Update(std::size_t ok, std::size_t failed, Clock::time_point now) {

@@ -4,15 +4,19 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <thread>
 
 #include "clients/batch/batch_input.h"
 #include "clients/batch/job_runner.h"
 #include "clients/batch/local_cluster.h"
+#include "clients/batch/progress_display.h"
 #include "clients/batch/results_writer.h"
 #include "clients/evolve/evolution.h"
 #include "clients/evolve/evolution_checkpoint.h"
@@ -82,10 +86,77 @@ void CheckBeforeSubmitting(const batch::ScenarioInput& input, const EvolutionSet
   batch::CheckJobs(input, genomes, batch::PlanRunJobs(input, genomes, {settings.seed, 1, time_limit_seconds}));
 }
 
+// Four significant digits, as the generation lines print fitness.
+std::string Short(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
+
+// Progress inside a generation (issue 21: a generation used to be a minute of silence): on a terminal one line
+// redrawn with the jobs done and the best and median fitness so far, replaced by the generation's summary line when
+// it ends; elsewhere (a log, CI) a plain line at most every 10 s.
+class GenerationProgress {
+ public:
+  GenerationProgress(bool shown, int generations) : shown_(shown), generations_(generations) {}
+
+  /// The next generation's number (after a resume).
+  void SetGeneration(int generation) { generation_ = generation; }
+  /// A generation of `jobs` jobs begins.
+  void Start(std::size_t jobs) {
+    fitness_.clear();
+    ok_ = failed_ = 0;
+    if (!shown_) return;
+    display_ = std::make_unique<batch::ProgressDisplay>(std::cerr, jobs, isatty(STDERR_FILENO) != 0,
+                                                        batch::ProgressDisplay::Clock::now());
+    display_->SetLabel("generation " + std::to_string(generation_) + "/" + std::to_string(generations_) + ": ");
+  }
+  void OnResult(const v1::Result& result) {
+    if (result.status() == v1::Result::OK) {
+      ++ok_;
+      fitness_.push_back(result.fitness());
+    } else {
+      ++failed_;
+    }
+    if (!display_) return;
+    if (!fitness_.empty()) {
+      std::vector<double> sorted = fitness_;
+      std::sort(sorted.begin(), sorted.end());
+      display_->SetDetail("; best " + Short(sorted.back()) + ", median " + Short(sorted[sorted.size() / 2]) +
+                          " in this generation so far");
+    }
+    display_->Update(ok_, failed_, batch::ProgressDisplay::Clock::now());
+  }
+  /// The generation's summary line, in place of the progress line.
+  void Finish(const std::string& line) {
+    if (shown_) {
+      if (display_) {
+        display_->Notice(line);
+      } else {
+        std::cerr << line << "\n";
+      }
+    }
+    display_.reset();
+    ++generation_;
+  }
+
+ private:
+  const bool shown_;
+  const int generations_;
+  int generation_ = 0;
+  std::unique_ptr<batch::ProgressDisplay> display_;
+  std::vector<double> fitness_;
+  std::size_t ok_ = 0, failed_ = 0;
+};
+
 GenomeEvaluator BrokerEvaluator(batch::JobRunner& runner, const batch::ScenarioInput& input,
-                                const EvolutionSettings& settings, double time_limit_seconds) {
-  return [&runner, &input, seed = settings.seed, time_limit_seconds](const std::vector<std::vector<double>>& genomes) {
-    const std::vector<v1::Result> results = runner.Run(JobsOf(input, genomes, seed, time_limit_seconds));
+                                const EvolutionSettings& settings, double time_limit_seconds,
+                                GenerationProgress& progress) {
+  return [&runner, &input, seed = settings.seed, time_limit_seconds,
+          &progress](const std::vector<std::vector<double>>& genomes) {
+    progress.Start(genomes.size());
+    const std::vector<v1::Result> results = runner.Run(
+        JobsOf(input, genomes, seed, time_limit_seconds), [&](const v1::Result& result) { progress.OnResult(result); });
     std::vector<Evaluation> evaluations;
     for (const v1::Result& result : results) {
       evaluations.push_back({result.fitness(), result.status() == v1::Result::OK});
@@ -230,7 +301,8 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   fs::create_directories(folder);
 
   batch::JobRunner runner(RunnerOptionsOf(options, folder));
-  Evolution evolution(settings, BrokerEvaluator(runner, input, settings, options.time_limit_seconds));
+  GenerationProgress progress(!options.quiet, settings.generations);
+  Evolution evolution(settings, BrokerEvaluator(runner, input, settings, options.time_limit_seconds, progress));
   if (!options.quiet) {
     std::cerr << "orcs-batch: evolving '" << input.scenario.name << "' (" << settings.bounds.size() << " genes) with "
               << AlgorithmName(settings.algorithm) << ", " << settings.population << " genomes per generation, on "
@@ -242,15 +314,16 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
     evolution.Restore(checkpoint->pagmo_state, checkpoint->history, checkpoint->champion,
                       (fs::path(folder) / "checkpoint.json").string());
     if (!options.quiet) std::cerr << "orcs-batch: resuming after generation " << evolution.generation() << "\n";
+    progress.SetGeneration(evolution.generation() + 1);
   } else {
     evolution.Initialise();
     SaveGeneration(folder, evolution, fingerprint, run);
-    if (!options.quiet) std::cerr << GenerationLine(evolution.history().back(), settings.generations) << "\n";
+    progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
   }
   while (evolution.generation() < settings.generations && !(stop != nullptr && stop->load())) {
     evolution.Step();
     SaveGeneration(folder, evolution, fingerprint, run);
-    if (!options.quiet) std::cerr << GenerationLine(evolution.history().back(), settings.generations) << "\n";
+    progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
   }
   if (evolution.generation() < settings.generations) {
     std::cout << "orcs-batch: interrupted after generation " << evolution.generation() << "; continue with "

@@ -287,6 +287,19 @@ TEST_F(OrcsEvolveTest, AnInterruptedRunResumedWithOnlyResumeKeepsItsSettingsAndE
       RunProcess({kBin + "orcs-batch", "evolve", "--resume", Out("cut"), "--population", "8", "--workers", "2"}));
 }
 
+// Issue 21: on a terminal (a pseudo-terminal from util-linux's `script`), a generation shows its progress while it
+// runs — jobs done of the population and the best and median fitness so far — and then its summary line.
+TEST_F(OrcsEvolveTest, OnATerminalEachGenerationShowsItsJobsAndFitnessWhileItRuns) {
+  const std::string scenario = Scenario();
+  const std::string command = kBin + "orcs-batch evolve " + scenario + " --workers 2 --no-plot --validate 0 --out " +
+                              Out("tty") + " --generations 1 --population 5";
+  const ProcessResult typed = RunProcess({"/usr/bin/script", "-qec", command, "/dev/null"});
+  ASSERT_EQ(typed.exit_code, 0) << typed.out;
+  EXPECT_THAT(typed.out, HasSubstr("generation 1/1: 1/5 jobs (ok 1, failed 0)"));  // the first result is drawn
+  EXPECT_THAT(typed.out, HasSubstr("in this generation so far"));
+  EXPECT_THAT(typed.out, HasSubstr("\r\x1b[Kgeneration 1/1: best "));  // the summary replaces the progress line
+}
+
 TEST_F(OrcsEvolveTest, BadInputExitsTwoWithOneLineBeforeAnythingRuns) {
   const std::string scenario = Scenario();
 

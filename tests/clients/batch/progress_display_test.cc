@@ -63,5 +63,29 @@ TEST(ProgressDisplayTest, FormatsDurations) {
   EXPECT_EQ(FormatDuration(-3), "0 s");
 }
 
+TEST(ProgressDisplayTest, ALabelAndADetailFrameTheStatus) {
+  std::ostringstream out;
+  const Clock::time_point start{};
+  ProgressDisplay progress(out, 6, false, start);
+  progress.SetLabel("generation 3/10: ");
+  progress.SetDetail("; best 1.2 in this generation so far");
+  EXPECT_EQ(progress.StatusText(2, 0, start + seconds(1)),
+            "generation 3/10: 2/6 jobs (ok 2, failed 0), 2.00 jobs/s, ETA 2 s; best 1.2 in this generation so far");
+}
+
+TEST(ProgressDisplayTest, ANoticeOnATerminalReplacesTheBarWhichTheNextUpdateDrawsAgain) {
+  std::ostringstream out;
+  const Clock::time_point start{};
+  ProgressDisplay progress(out, 10, true, start);
+  progress.Update(1, 0, start + seconds(1));
+  progress.Notice("orcs-batch: no worker is connected");
+  progress.Update(2, 0, start + seconds(1));  // at once: the bar was erased, so it is due
+  const std::string text = out.str();
+  const std::size_t notice = text.find("\r\x1b[Korcs-batch: no worker is connected\n");
+  ASSERT_NE(notice, std::string::npos) << text;
+  EXPECT_LT(text.find("1/10 jobs"), notice);
+  EXPECT_GT(text.find("2/10 jobs"), notice);
+}
+
 }  // namespace
 }  // namespace orcs::batch
