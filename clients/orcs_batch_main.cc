@@ -20,6 +20,8 @@
 #include "net/status_client.h"
 #include "clients/batch/batch_input.h"
 #include "clients/batch/batch_manifest.h"
+#include "clients/batch/plot_script.h"
+#include "clients/batch/run_comparison.h"
 #include "clients/batch/batch_options.h"
 #include "clients/batch/batch_session.h"
 #include "clients/batch/latin_hypercube.h"
@@ -180,12 +182,34 @@ std::uintmax_t PlanResume(Plan& plan) {
   return partial.bytes;
 }
 
+// `compare A B`: what changed, on stdout; compare.csv and compare.png in --out. Exit 0 when nothing changed, 1 when
+// something did (as diff does), 2 on bad input.
+int PrintComparison(const BatchOptions& options) {
+  const RunComparison comparison = CompareRuns(options.runs.at(0), options.runs.at(1));
+  std::cout << ComparisonText(comparison, options.tolerance);
+  const std::filesystem::path out = options.out.empty() ? std::filesystem::path("runs") / "compare" : std::filesystem::path(options.out);
+  std::error_code error;
+  std::filesystem::create_directories(out, error);
+  if (error) throw InputError(out.string(), 0, "cannot create the output folder: " + error.message());
+  const std::string csv = (out / "compare.csv").string();
+  WriteComparisonCsv(csv, comparison);
+  std::cout << "orcs-batch: job by job in " << csv << "\n";
+  if (!options.no_plot && RunPlotScript("plot_compare.py", {csv, "--a", comparison.a_path, "--b", comparison.b_path}, std::cout)) {
+    std::cout << "orcs-batch: plotted in " << (out / "compare.png").string() << "\n";
+  }
+  const bool changed = !comparison.only_a.empty() || !comparison.only_b.empty() ||
+                       std::any_of(comparison.common.begin(), comparison.common.end(),
+                                   [&](const JobChange& change) { return Changed(change, options.tolerance); });
+  return changed ? cli::kExitRunFailed : cli::kExitOk;
+}
+
 int Execute(const BatchOptions& given) {
   if (given.command == Command::kEvolve) {
     CatchStopSignals();
     return evolve::RunEvolve(given, &stop_requested);
   }
   if (given.command == Command::kResolve) return PrintResolved(given);
+  if (given.command == Command::kCompare) return PrintComparison(given);
   const bool resuming = !given.resume.empty();
   const BatchOptions options = resuming ? ResumedOptions(given) : given;
   Plan plan;

@@ -187,6 +187,15 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   CLI::App* sweep = AddSweepCommand(app, o);
   CLI::App* evolve = AddEvolveCommand(app, o);
   CLI::App* regress = AddRegressCommand(app, o);
+  CLI::App* compare = app.add_subcommand("compare", "compare the same jobs in two runs: status, fitness and terms");
+  compare->add_option("runs", o.runs, "two results.jsonl files or batch folders: A, then B")
+      ->required()
+      ->expected(2)
+      ->check(CLI::ExistingPath);
+  compare->add_option("--tolerance", o.tolerance, "a figure has changed when it moved by more than this (default 0: any bit)")
+      ->check(cli::NumberIn(0.0, 1e300));
+  compare->add_option("--out", o.out, "folder for compare.csv and compare.png (default runs/compare)");
+  compare->add_flag("--no-plot", o.no_plot, "do not draw compare.png");
   CLI::App* resolve =
       app.add_subcommand("resolve", "print the scenario with every referenced file inlined, as jobs carry it");
   resolve->add_option("scenario", o.scenario, "the scenario file (docs/scenarios.md)")->required();
@@ -198,6 +207,7 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
                 : evolve->parsed()  ? Command::kEvolve
                 : resolve->parsed() ? Command::kResolve
                 : regress->parsed() ? Command::kRegress
+                : compare->parsed() ? Command::kCompare
                                     : Command::kRun;
     o.seed_given = evolve->parsed() && evolve->count("--seed") > 0;
     CheckSampling(*sweep, o);

@@ -8,6 +8,7 @@
 //   orcs-batch run|submit|sweep --resume DIR: completes the interrupted batch in DIR (docs/batch.md)
 //   orcs-batch evolve SCENARIO.json [--generations G] [--population P] [--algorithm NAME] [--seed S]
 //                                   [--validate N] [--out DIR | --resume DIR] [--workers N | --broker ENDPOINT]
+//   orcs-batch compare A B [--tolerance X] [--out DIR] [--no-plot]: the same jobs of two runs, what changed
 //   orcs-batch resolve SCENARIO.json: prints the scenario with every referenced file inlined (what a job carries)
 //   orcs-batch regress SUITE.json [--baseline FILE] [--update-baseline] [--junit FILE.xml] [--set PATH=VALUE]...
 //                                 [--workers N | --broker ENDPOINT] [--out DIR]   (docs/regress.md)
@@ -20,7 +21,7 @@
 
 namespace orcs::batch {
 
-enum class Command { kRun, kSubmit, kSweep, kEvolve, kResolve, kRegress };
+enum class Command { kRun, kSubmit, kSweep, kEvolve, kResolve, kRegress, kCompare };
 
 struct BatchOptions {
   Command command = Command::kRun;
@@ -61,6 +62,8 @@ struct BatchOptions {
   bool update_baseline = false;      ///< regress --update-baseline: record the baseline from this run
   std::string junit;                 ///< regress --junit FILE.xml ("" = no JUnit report)
   std::vector<std::string> sets;     ///< regress --set PATH=VALUE: an override of every case, outside the fingerprint
+  std::vector<std::string> runs;     ///< compare: the two results files or folders, A then B
+  double tolerance = 0.0;            ///< compare --tolerance: a figure changed when it moved by more (0: any bit)
   /// The options given on the command line, by name ("--jobs", "scenario"): a resume tells them from defaults.
   std::set<std::string> given;
 };

@@ -1,7 +1,5 @@
 #include "clients/evolve/evolve_command.h"
 
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,6 +14,7 @@
 #include "clients/batch/batch_input.h"
 #include "clients/batch/job_runner.h"
 #include "clients/batch/local_cluster.h"
+#include "clients/batch/plot_script.h"
 #include "clients/batch/progress_display.h"
 #include "clients/batch/results_writer.h"
 #include "clients/evolve/evolution.h"
@@ -25,7 +24,6 @@
 #include "model/core/error.h"
 #include "model/core/text.h"
 
-extern char** environ;
 
 namespace orcs::evolve {
 namespace {
@@ -261,26 +259,6 @@ bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, co
   return same;
 }
 
-// fitness.png from fitness.csv with scripts/plot_evolution.py (Debian's python3 with matplotlib); a missing
-// Python only costs the picture.
-void Plot(const std::string& folder) {
-  const std::string script = std::string(ORCS_SCRIPTS_DIR) + "/plot_evolution.py";
-  if (!fs::exists(script) || !fs::exists("/usr/bin/python3")) {
-    std::cout << "orcs-batch: no plot (needs /usr/bin/python3 and " << script << ")\n";
-    return;
-  }
-  std::vector<std::string> arguments = {"/usr/bin/python3", script, folder};
-  std::vector<char*> argv;
-  for (std::string& a : arguments) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  int status = -1;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0 || waitpid(pid, &status, 0) != pid ||
-      !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    std::cout << "orcs-batch: the plot failed; run " << script << " " << folder << "\n";
-  }
-}
-
 }  // namespace
 
 int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
@@ -337,7 +315,7 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   }
   const bool reproducible =
       WriteWinner(runner, input, settings, evolution.champion(), options.time_limit_seconds, folder);
-  if (!options.no_plot) Plot(folder);
+  if (!options.no_plot) batch::RunPlotScript("plot_evolution.py", {folder}, std::cout);  // fitness.png
   std::cout << "orcs-batch: best genome in " << (fs::path(folder) / "best_genome.json").string()
             << "; replay it with: orcs-sim --scenario " << options.scenario << " --genome @"
             << (fs::path(folder) / "best_genome.json").string() << " --seed " << settings.seed
