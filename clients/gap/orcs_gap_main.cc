@@ -7,10 +7,12 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "clients/batch/job_runner.h"
 #include "clients/gap/broker_replays.h"
 #include "model/identify/gap_diagnosis.h"
+#include "clients/gap/gap_progress.h"
 #include "clients/gap/gap_report.h"
 #include "clients/gap/synthetic_runs.h"
 #include "model/identify/effect_catalogue.h"
@@ -128,7 +130,15 @@ int Diagnose(const GapOptions& o) {
             << (o.broker.empty() ? std::to_string(runner.local_workers()) + " local workers" : "broker " + o.broker)
             << "\n";
   BrokerReplays replays(runner);
-  const Diagnosis diagnosis = Diagnose(replays, rig, fit, holdout, model, options);
+  std::optional<Diagnosis> result;
+  {
+    GapProgress progress(std::cerr, [&runner] { return runner.jobs_run(); });
+    options.on_fit = [&progress](const std::string& fitted, const identify::ModelScore* score) {
+      progress.OnFit(fitted, score);
+    };
+    result = Diagnose(replays, rig, fit, holdout, model, options);
+  }
+  const Diagnosis& diagnosis = *result;
   std::vector<ReplayRun> runs = fit;
   runs.insert(runs.end(), holdout.begin(), holdout.end());
   WriteReplays(o.out, diagnosis, rig, model, runs);

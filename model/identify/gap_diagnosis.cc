@@ -202,6 +202,7 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
     parameters.push_back(std::move(p));
   }
   const std::vector<Override> enabled{{"/Effects/" + std::string(effect.name) + "/Enabled", "T"}};
+  if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
   ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, options.fit);
   score.label = std::string(effect.name);
   score.summary = std::string(effect.summary);
@@ -209,6 +210,7 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
   score.added_parameters = static_cast<int>(effect.parameters.size());
   score.score =
       score.holdout_rms * score.holdout_rms * (1.0 + options.penalty_per_parameter * score.added_parameters);
+  if (options.on_fit) options.on_fit(score.label, &score);
   return score;
 }
 
@@ -246,9 +248,11 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
 
   // 2. Its own parameters refitted.
   const std::vector<FitParameter> base = BaseParameters(rig, model);
+  if (options.on_fit) options.on_fit("refit", nullptr);
   d.base = ScoreFit(replays, fit, holdout, base, {}, options.fit);
   d.base.label = "refit";
   d.base.score = d.base.holdout_rms * d.base.holdout_rms;
+  if (options.on_fit) options.on_fit("refit", &d.base);
 
   // 3. Every candidate effect.
   d.candidates = ScoreCandidates(replays, fit, holdout, base, d.base, options);

@@ -4,6 +4,7 @@
 // when it clearly beats "nothing missing".
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,11 +16,16 @@
 
 namespace orcs::identify {
 
+struct ModelScore;
+
 struct DiagnosisOptions {
   FitOptions fit;                        ///< optimiser budget and seed of every fit
   std::vector<std::string> candidates;   ///< effect names to try; empty = the whole catalogue
   double penalty_per_parameter = 0.05;   ///< the score grows by this share per parameter an effect adds
   double win_ratio = 0.5;                ///< a winner's score must be below this share of "nothing missing"'s
+  /// Told when a fit starts (`finished` null; `model` is "refit" or the effect's name) and when it ends (its
+  /// score), for progress. Candidates are fitted at once: it is called from several threads.
+  std::function<void(const std::string& model, const ModelScore* finished)> on_fit;
 };
 
 /// A fitted parameter as reported.

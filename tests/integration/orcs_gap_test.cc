@@ -6,6 +6,7 @@
 // made and diagnosed on ODE, and made and diagnosed on MuJoCo (orcs-gap --engine). Each diagnosis fits every
 // candidate (about 6,000 replay jobs, 60–80 s on 2 cores). Seven effects are named on this rig; Stribeck friction is not yet (docs/gap.md, "What
 // it cannot tell yet"), so it is not claimed here.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,6 +24,8 @@
 
 namespace orcs {
 namespace {
+
+using ::testing::HasSubstr;
 
 using test_support::RunProcess;
 
@@ -125,6 +128,10 @@ TEST(GapReplaysTest, EveryRunGetsItsFittedGivenAndMeasuredRecording) {
                                      "--holdout", data + "/pendulum_identification_b.csv", "--workers", "2",
                                      "--effects", "TransportDelay", "--generations", "2", "--out", report});
   ASSERT_EQ(diagnosed.exit_code, 0) << diagnosed.err;
+  // Issue 21: it says what it fits while it works, and how each fit came out.
+  EXPECT_THAT(diagnosed.err, HasSubstr("orcs-gap: fitting the model's own parameters (refit)"));
+  EXPECT_THAT(diagnosed.err, HasSubstr("orcs-gap: fitting TransportDelay"));
+  EXPECT_THAT(diagnosed.err, HasSubstr("orcs-gap: TransportDelay fitted: held-out gap "));
   EXPECT_FALSE(std::filesystem::exists(report + "/replays/stale.orcsrec"));
   for (const std::string run : {"pendulum_identification_a", "pendulum_identification_b"}) {
     const std::vector<double> measured =

@@ -1,0 +1,54 @@
+// What orcs-gap says while it works (issue 21: a diagnosis printed nothing for its whole run): a line when a fit
+// starts and when it ends (its held-out gap and score, and the best model so far), and every 10 s a line with the
+// time, the replays run so far and the fits under way. Plain lines, on a terminal or not: fits run at once, so
+// one redrawn line could not hold them.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <ostream>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "model/identify/gap_diagnosis.h"
+
+namespace orcs::gap {
+
+class GapProgress {
+ public:
+  /// Writes to `out`; `replays_run` says how many replays have run (the JobRunner's jobs); a line every `interval`.
+  GapProgress(std::ostream& out, std::function<std::uint64_t()> replays_run,
+              std::chrono::milliseconds interval = std::chrono::seconds(10));
+  /// Stops the periodic lines.
+  ~GapProgress();
+  GapProgress(const GapProgress&) = delete;
+  GapProgress& operator=(const GapProgress&) = delete;
+
+  /// DiagnosisOptions::on_fit. Thread-safe.
+  void OnFit(const std::string& model, const identify::ModelScore* finished);
+
+  /// The periodic line now: "orcs-gap: 1 min 20 s, 2340 replays; fitting Backlash, Stribeck; best so far ...".
+  std::string StatusLine();
+
+ private:
+  void Tick();
+
+  std::ostream& out_;
+  const std::function<std::uint64_t()> replays_run_;
+  const std::chrono::milliseconds interval_;
+  const std::chrono::steady_clock::time_point start_;
+  std::mutex mutex_;
+  std::condition_variable stop_;
+  std::set<std::string> running_;  ///< fits under way
+  std::string best_;               ///< the best-scored candidate so far ("" = none yet)
+  double best_score_ = 0;          ///< its score, deg²
+  int finished_ = 0;               ///< fits done
+  bool stopping_ = false;
+  std::thread ticker_;             ///< last: starts once everything above exists
+};
+
+}  // namespace orcs::gap

@@ -1,0 +1,53 @@
+// What orcs-gap says while it works: a line per fit started and finished, the best candidate so far, and the
+// periodic status line (asked for directly here; its thread is given an hour, so it never speaks in the test).
+#include "clients/gap/gap_progress.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <sstream>
+
+namespace orcs::gap {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+identify::ModelScore Score(const std::string& label, double holdout_rms, double score) {
+  identify::ModelScore s;
+  s.label = label;
+  s.holdout_rms = holdout_rms;
+  s.score = score;
+  return s;
+}
+
+TEST(GapProgressTest, SaysWhichFitsRunAndWhichCandidateIsBestSoFar) {
+  std::ostringstream out;
+  std::atomic<std::uint64_t> replays{0};
+  GapProgress progress(out, [&] { return replays.load(); }, std::chrono::hours(1));
+  progress.OnFit("refit", nullptr);
+  const identify::ModelScore refit = Score("refit", 9.4, 88.8);
+  progress.OnFit("refit", &refit);
+  progress.OnFit("Backlash", nullptr);
+  progress.OnFit("TransportDelay", nullptr);
+  replays = 120;
+  EXPECT_EQ(progress.StatusLine().substr(0, 10), "orcs-gap: ");
+  EXPECT_THAT(progress.StatusLine(), HasSubstr(", 120 replays, 1 fits done; fitting Backlash, TransportDelay"));
+  const identify::ModelScore worse = Score("Backlash", 9.3, 91.2);
+  progress.OnFit("Backlash", &worse);
+  const identify::ModelScore better = Score("TransportDelay", 0.189, 0.0375);
+  progress.OnFit("TransportDelay", &better);
+  const std::string line = progress.StatusLine();
+  EXPECT_THAT(line, HasSubstr("3 fits done; best so far TransportDelay (score 0.0375 deg²)"));
+  EXPECT_THAT(line, Not(HasSubstr("fitting")));
+
+  const std::string text = out.str();
+  EXPECT_THAT(text, HasSubstr("orcs-gap: fitting the model's own parameters (refit)\n"));
+  EXPECT_THAT(text, HasSubstr("orcs-gap: refit fitted: held-out gap 9.400° RMS, score 88.8 deg² (nothing missing"));
+  EXPECT_THAT(text, HasSubstr("orcs-gap: Backlash fitted: held-out gap 9.300° RMS, score 91.2 deg²; best so far\n"));
+  EXPECT_THAT(text, HasSubstr("orcs-gap: TransportDelay fitted: held-out gap 0.189° RMS, score 0.0375 deg²; best so far"));
+}
+
+}  // namespace
+}  // namespace orcs::gap
