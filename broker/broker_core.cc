@@ -106,7 +106,11 @@ void BrokerCore::OnWorkerResult(const std::string& worker, v1::Result& result) {
 
 std::string BrokerCore::LeaseProblem(const std::string& worker, const v1::Result& result,
                                      const JobRecord* record) const {
-  if (workers_.count(worker) == 0) return "from a connection that never sent READY (or was declared lost)";
+  // After a restart every worker's first results come this way: they are late, not lost; the worker connects again.
+  if (workers_.count(worker) == 0) {
+    return "from a connection that never sent READY to this broker (a worker from before a restart, or one whose "
+           "jobs went elsewhere)";
+  }
   if (record == nullptr) return "for a job the broker does not know (its batch ended or never existed)";
   if (record->state == JobState::kFinished) return "for a job that has its result already";
   if (record->state != JobState::kDispatched || record->worker != worker) {

@@ -344,7 +344,8 @@ TEST(Broker, LateResultFromALostWorkerIsRefusedAndTheJobRunsElsewhere) {
   EXPECT_TRUE(reply->has_disconnect());
   ASSERT_TRUE(WaitFor([&] { return broker.stats().results_refused == 1; }));
   EXPECT_EQ(client.Next(milliseconds(0)), std::nullopt);
-  EXPECT_EQ(log.Count("refused a result from a connection that never sent READY (or was declared lost): job " +
+  EXPECT_EQ(log.Count("refused a result from a connection that never sent READY to this broker (a worker from "
+                      "before a restart, or one whose jobs went elsewhere): job " +
                       client.batch_id() + "/job-0"),
             1);
 

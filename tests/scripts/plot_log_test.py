@@ -9,12 +9,11 @@ Run: cd tests/scripts && /usr/bin/python3 -m unittest -v plot_log_test
 import math
 import os
 import sys
-import tempfile
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from script_helpers import (HAVE_MATPLOTLIB, NO_MATPLOTLIB, call_main, is_png, legend_texts,  # noqa: E402
+from script_helpers import (HAVE_MATPLOTLIB, NO_MATPLOTLIB, TempDirTest, call_main, is_png, legend_texts,  # noqa: E402
                             legends_covering_axes, load_script, run_script)
 
 KNEE = "/Sim/Humanoid/Right/Knee/JointAngle"
@@ -39,24 +38,10 @@ def log_text(amplitude=20.0, steps=50, header=("orcs job log", "scenario: stand-
 
 
 @unittest.skipUnless(HAVE_MATPLOTLIB, NO_MATPLOTLIB)
-class PlotLogTest(unittest.TestCase):
+class PlotLogTest(TempDirTest):
     def setUp(self):
-        self.temp = tempfile.TemporaryDirectory()
-        self.dir = self.temp.name
+        super().setUp()
         self.module = load_script("plot_log")
-
-    def tearDown(self):
-        import matplotlib.pyplot as plt
-
-        plt.close("all")
-        self.temp.cleanup()
-
-    def write(self, relative, text):
-        path = os.path.join(self.dir, relative)
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        with open(path, "w") as handle:
-            handle.write(text)
-        return path
 
     def batch(self, name, jobs=("job-0",), sets=1, amplitude=20.0):
         """An orcs-batch output folder NAME with DIR/logs/JOB.csv (or JOB.set-K.csv)."""

@@ -12,35 +12,15 @@ import json
 import math
 import os
 import sys
-import tempfile
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from script_helpers import (HAVE_MATPLOTLIB, NO_MATPLOTLIB, call_main, is_png, legend_texts,  # noqa: E402
+from script_helpers import (HAVE_MATPLOTLIB, NO_MATPLOTLIB, TempDirTest, call_main, is_png, legend_texts,  # noqa: E402
                             legends_covering_axes, load_script, run_script)
 
 FITNESS_HEADER = "generation,evaluations,failed,best,mean,median,worst,best_so_far,seconds\n"
 GAP_HEADER = "time,measured,before,refit,after,desired,velocity,speed,acceleration,load,command_error\n"
-
-
-class TempDirTest(unittest.TestCase):
-    def setUp(self):
-        self.temp = tempfile.TemporaryDirectory()
-        self.dir = self.temp.name
-
-    def tearDown(self):
-        import matplotlib.pyplot as plt
-
-        plt.close("all")
-        self.temp.cleanup()
-
-    def write(self, relative, text):
-        path = os.path.join(self.dir, relative)
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        with open(path, "w") as handle:
-            handle.write(text)
-        return path
 
 
 @unittest.skipUnless(HAVE_MATPLOTLIB, NO_MATPLOTLIB)
@@ -308,3 +288,34 @@ class GapPlotTest(TempDirTest):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+@unittest.skipUnless(HAVE_MATPLOTLIB, NO_MATPLOTLIB)
+class ComparePlotTest(TempDirTest):
+    """scripts/plot_compare.py (orcs-batch compare): B against A with the line B = A, and each job's change."""
+
+    CSV = ("job,status_a,status_b,fitness_a,fitness_b,fitness_delta\n"
+           "job-0,ok,ok,1.0,1.0,0\n"
+           "job-1,ok,ok,2.0,2.5,0.5\n"
+           "job-2,ok,timeout,3.0,,\n"
+           "job-3,ok,ok,4.0,3.0,-1\n")
+
+    def test_the_figure_names_the_runs_counts_the_changes_and_says_which_way_is_better(self):
+        module = load_script("plot_compare")
+        jobs, a, b, missing = module.read(self.write("compare.csv", self.CSV))
+        self.assertEqual((jobs, a, b, missing), (["job-0", "job-1", "job-3"], [1.0, 2.0, 4.0], [1.0, 2.5, 3.0], 1))
+        fig = module.figure(jobs, a, b, missing, "A = ode, B = mujoco")
+        left, right = fig.axes
+        self.assertEqual(fig._suptitle.get_text(), "A = ode, B = mujoco")
+        self.assertIn("higher is better", left.get_xlabel())
+        self.assertIn("higher is better", left.get_ylabel())
+        self.assertEqual(right.get_title(), "2 of 3 jobs changed; 1 without a fitness")
+        self.assertIn("B − A", right.get_ylabel())
+        self.assertEqual([round(p.get_height(), 6) for p in right.patches], [0.0, 0.5, -1.0])
+        self.assertIn("B = A (unchanged)", legend_texts(fig))
+
+    def test_a_file_that_is_not_a_compare_csv_is_exit_2_naming_it(self):
+        path = self.write("other.csv", "time,value\n0,1\n")
+        result = run_script("plot_compare", path)
+        self.assertEqual(result.returncode, 2)
+        self.assertIn(f"{path}:1: not a compare.csv", result.stderr)

@@ -7,6 +7,8 @@ import io
 import os
 import subprocess
 import sys
+import tempfile
+import unittest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE_DIR = os.path.normpath(os.path.join(HERE, "..", ".."))
@@ -67,3 +69,25 @@ def legends_covering_axes(figure):
 def is_png(path):
     with open(path, "rb") as handle:
         return handle.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+class TempDirTest(unittest.TestCase):
+    """A test with its own scratch folder (self.dir), removed afterwards with every figure closed."""
+
+
+    def setUp(self):
+        self.temp = tempfile.TemporaryDirectory()
+        self.dir = self.temp.name
+
+    def tearDown(self):
+        import matplotlib.pyplot as plt
+
+        plt.close("all")
+        self.temp.cleanup()
+
+    def write(self, relative, text):
+        path = os.path.join(self.dir, relative)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as handle:
+            handle.write(text)
+        return path
