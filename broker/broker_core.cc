@@ -21,6 +21,9 @@ constexpr std::size_t kMaxWarnedPeers = 4096;  // bound on the "logged once" set
 // (limit + 1 s + 25 %, docs/protocol.md "Crash isolation"), so a working worker reports TIMEOUT first.
 constexpr double kLeaseFactor = 1.5;
 constexpr double kLeaseMarginSeconds = 2.0;
+// The longest heartbeat interval a peer may declare: a peer claiming an hour would keep its jobs from others for
+// hours after it died.
+constexpr std::chrono::seconds kMaxPeerHeartbeat{60};
 
 }  // namespace
 
@@ -37,13 +40,13 @@ void BrokerCore::OnWorkerMessage(const std::string& worker, v1::WorkerToBroker& 
   Advance(now);
   auto known = workers_.find(worker);
   if (known != workers_.end()) {
-    known->second.expiry = now_ + liveness_period_;
+    known->second.expiry = now_ + known->second.liveness_period;
     known->second.last_heard = now_;
   }
   switch (message.body_case()) {
     case v1::WorkerToBroker::kReady: OnWorkerReady(worker, message.ready()); break;
     case v1::WorkerToBroker::kResult: OnWorkerResult(worker, *message.mutable_result()); break;
-    case v1::WorkerToBroker::kHeartbeat: OnWorkerHeartbeat(worker); break;
+    case v1::WorkerToBroker::kHeartbeat: OnWorkerHeartbeat(worker, message.heartbeat()); break;
     case v1::WorkerToBroker::kDisconnect: OnWorkerDisconnect(worker, message.disconnect()); break;
     case v1::WorkerToBroker::BODY_NOT_SET: break;  // the shell's envelope check rejects it
   }
@@ -66,7 +69,8 @@ void BrokerCore::OnWorkerReady(const std::string& worker, const v1::Ready& ready
   Worker& record = entry->second;
   record.name = ready.worker_id().empty() ? Hex(worker) : ready.worker_id();
   record.credit = ready.credit();  // a second READY changes the credit; jobs held beyond it stay held
-  record.expiry = now_ + liveness_period_;
+  record.liveness_period = LivenessFor(ready.heartbeat_ms());
+  record.expiry = now_ + record.liveness_period;
   record.last_heard = now_;
   if (inserted) record.connected_at = now_;
   if (ready.host().size() <= kMaxIdBytes) record.host = ready.host();
@@ -155,8 +159,15 @@ void BrokerCore::OnJobCrashed(const std::string& worker, const std::string& batc
   ++counters_.jobs_requeued;
 }
 
-void BrokerCore::OnWorkerHeartbeat(const std::string& worker) {
-  if (workers_.count(worker) != 0) return;  // its expiry moved on already
+void BrokerCore::OnWorkerHeartbeat(const std::string& worker, const v1::Heartbeat& heartbeat) {
+  auto known = workers_.find(worker);
+  if (known != workers_.end()) {
+    if (heartbeat.interval_ms() > 0) {  // a new pace, or a READY from a library that did not say it
+      known->second.liveness_period = LivenessFor(heartbeat.interval_ms());
+      known->second.expiry = now_ + known->second.liveness_period;
+    }
+    return;
+  }
   // After a broker restart, a worker's socket reconnects by itself and keeps heartbeating: tell it to start over.
   TellWorkerToReconnect(worker, "unknown worker: connect again and send READY");
 }
@@ -190,15 +201,17 @@ void BrokerCore::OnTick(TimePoint now) {
 void BrokerCore::SendHeartbeats() {
   std::vector<std::string> gone_workers;
   std::vector<std::string> gone_clients;
+  const auto interval_ms = static_cast<std::uint32_t>(
+      std::chrono::duration_cast<std::chrono::milliseconds>(options_.heartbeat_interval).count());
   v1::BrokerToWorker to_worker;
   to_worker.set_protocol_version(kProtocolVersion);
-  to_worker.mutable_heartbeat();
+  to_worker.mutable_heartbeat()->set_interval_ms(interval_ms);
   for (const auto& [worker, record] : workers_) {
     if (!transport_.SendToWorker(worker, to_worker)) gone_workers.push_back(worker);
   }
   v1::BrokerToClient to_client;
   to_client.set_protocol_version(kProtocolVersion);
-  to_client.mutable_heartbeat();
+  to_client.mutable_heartbeat()->set_interval_ms(interval_ms);
   for (const auto& [client, record] : clients_) {
     if (!transport_.SendToClient(client, to_client)) gone_clients.push_back(client);
   }
@@ -206,12 +219,18 @@ void BrokerCore::SendHeartbeats() {
   for (const std::string& client : gone_clients) DropClient(client, "connection closed", true);
 }
 
+BrokerCore::Clock::duration BrokerCore::LivenessFor(std::uint32_t declared_ms) const {
+  const Clock::duration declared =
+      std::min<Clock::duration>(std::chrono::milliseconds(declared_ms), kMaxPeerHeartbeat);
+  return std::max<Clock::duration>(options_.heartbeat_interval, declared) * options_.liveness;
+}
+
 void BrokerCore::PurgeLostWorkers() {
-  std::vector<std::string> silent;
+  std::vector<std::pair<std::string, Clock::duration>> silent;
   for (const auto& [worker, record] : workers_) {
-    if (record.expiry <= now_) silent.push_back(worker);
+    if (record.expiry <= now_) silent.emplace_back(worker, record.liveness_period);
   }
-  for (const std::string& worker : silent) LoseWorker(worker, "silent for " + Seconds(liveness_period_), true);
+  for (const auto& [worker, period] : silent) LoseWorker(worker, "silent for " + Seconds(period), true);
 }
 
 void BrokerCore::ExpireLeases() {

@@ -144,6 +144,7 @@ class BrokerCore {
     std::set<JobKey> holding;    ///< jobs sent to it and not answered
     bool in_ready_list = false;  ///< whether ready_workers_ lists it
     TimePoint expiry;            ///< declared lost when nothing arrived from it by then
+    Clock::duration liveness_period;  ///< liveness × the longer of its and the broker's heartbeat interval
     /// When the jobs it holds are due at the latest: it runs them one after another, so each new lease starts
     /// where the previous one ends.
     TimePoint busy_until;
@@ -159,6 +160,7 @@ class BrokerCore {
     std::string client_id;                    ///< Submit.client_id of its first SUBMIT
     std::unordered_set<std::string> batches;  ///< batch ids it owns
     TimePoint expiry;                         ///< declared lost when nothing arrived from it by then
+    Clock::duration liveness_period;          ///< liveness × the longer of its and the broker's heartbeat interval
   };
   struct QueueEntry {
     std::string batch_id;      ///< the job's batch
@@ -175,13 +177,16 @@ class BrokerCore {
   /// A CRASHED result for a pending job: retried at the front of the queue, or finished as poisonous.
   void OnJobCrashed(const std::string& worker, const std::string& batch_id, Batch& batch, JobRecord& record,
                     v1::Result& result);
-  void OnWorkerHeartbeat(const std::string& worker);
+  void OnWorkerHeartbeat(const std::string& worker, const v1::Heartbeat& heartbeat);
   void OnWorkerDisconnect(const std::string& worker, const v1::Disconnect& disconnect);
   /// Tells a connection the broker does not know (or no longer knows) to start over: `why` says what it did.
   void TellWorkerToReconnect(const std::string& worker, const std::string& why);
 
   // The clock (broker_core.cc).
   void SendHeartbeats();
+  /// How long a peer that heartbeats every `declared_ms` (0 = not said) may be silent: `liveness` times the longer
+  /// of its interval and the broker's, the declared one capped at kMaxPeerHeartbeat.
+  Clock::duration LivenessFor(std::uint32_t declared_ms) const;
   void PurgeLostWorkers();
   /// Workers holding a job past its lease's deadline are lost (their jobs go elsewhere) and told to reconnect.
   void ExpireLeases();
@@ -210,7 +215,7 @@ class BrokerCore {
   Batch& ClaimBatch(const std::string& client, const std::string& client_key, const v1::Submit& submit);
   /// Queues one submitted job (or resends its stored result); true when it was accepted anew.
   bool AcceptJob(const std::string& client, const std::string& batch_id, Batch& batch, v1::Job& job);
-  void OnClientHeartbeat(const std::string& client);
+  void OnClientHeartbeat(const std::string& client, const v1::Heartbeat& heartbeat);
   void OnClientCancel(const std::string& client, const v1::Cancel& cancel);
   void OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect);
   /// Answers a STATUS_REQUEST (broker_core_status.cc).
@@ -244,7 +249,8 @@ class BrokerCore {
   void NoteFinished(Batch& batch, const JobRecord& record, const v1::Result& result);
   /// Whether the status shows `batch`'s names and jobs to a requester with CURVE key `client_key`.
   bool ShownTo(const Batch& batch, const std::string& client_key) const;
-  v1::WorkerStatus DescribeWorker(const Worker& worker, const std::string& client_key, TimePoint now) const;
+  v1::WorkerStatus DescribeWorker(const std::string& worker_id, const Worker& worker, const std::string& client_key,
+                                 TimePoint now) const;
   v1::BatchStatus DescribeBatch(const std::string& batch_id, const Batch& batch, const std::string& client_key,
                                 TimePoint now) const;
 

@@ -77,10 +77,10 @@ void BrokerCore::OnClientMessage(const std::string& client, const std::string& c
                                  TimePoint now) {
   Advance(now);
   auto known = clients_.find(client);
-  if (known != clients_.end()) known->second.expiry = now_ + liveness_period_;
+  if (known != clients_.end()) known->second.expiry = now_ + known->second.liveness_period;
   switch (message.body_case()) {
     case v1::ClientToBroker::kSubmit: OnClientSubmit(client, client_key, *message.mutable_submit()); break;
-    case v1::ClientToBroker::kHeartbeat: OnClientHeartbeat(client); break;
+    case v1::ClientToBroker::kHeartbeat: OnClientHeartbeat(client, message.heartbeat()); break;
     case v1::ClientToBroker::kCancel: OnClientCancel(client, message.cancel()); break;
     case v1::ClientToBroker::kDisconnect: OnClientDisconnect(client, message.disconnect()); break;
     case v1::ClientToBroker::kStatusRequest: OnClientStatusRequest(client, client_key); break;
@@ -145,9 +145,10 @@ BrokerCore::Batch& BrokerCore::ClaimBatch(const std::string& client, const std::
                                           const v1::Submit& submit) {
   const std::string& batch_id = submit.batch_id();
   auto [client_entry, new_client] = clients_.try_emplace(client);
-  if (new_client) {
-    client_entry->second.client_id = submit.client_id();
-    client_entry->second.expiry = now_ + liveness_period_;
+  if (new_client) client_entry->second.client_id = submit.client_id();
+  if (new_client || submit.heartbeat_ms() > 0) {
+    client_entry->second.liveness_period = LivenessFor(submit.heartbeat_ms());
+    client_entry->second.expiry = now_ + client_entry->second.liveness_period;
   }
   auto [batch_entry, new_batch] = batches_.try_emplace(batch_id);
   Batch& batch = batch_entry->second;
@@ -200,8 +201,15 @@ bool BrokerCore::AcceptJob(const std::string& client, const std::string& batch_i
   return true;
 }
 
-void BrokerCore::OnClientHeartbeat(const std::string& client) {
-  if (clients_.count(client) != 0) return;  // its expiry moved on already
+void BrokerCore::OnClientHeartbeat(const std::string& client, const v1::Heartbeat& heartbeat) {
+  auto known = clients_.find(client);
+  if (known != clients_.end()) {
+    if (heartbeat.interval_ms() > 0) {
+      known->second.liveness_period = LivenessFor(heartbeat.interval_ms());
+      known->second.expiry = now_ + known->second.liveness_period;
+    }
+    return;
+  }
   // After a broker restart a client's socket reconnects by itself: tell it to start over and submit again.
   v1::BrokerToClient reply;
   reply.set_protocol_version(kProtocolVersion);
@@ -224,11 +232,11 @@ void BrokerCore::OnClientDisconnect(const std::string& client, const v1::Disconn
 }
 
 void BrokerCore::PurgeLostClients() {
-  std::vector<std::string> silent;
+  std::vector<std::pair<std::string, Clock::duration>> silent;
   for (const auto& [client, record] : clients_) {
-    if (record.expiry <= now_) silent.push_back(client);
+    if (record.expiry <= now_) silent.emplace_back(client, record.liveness_period);
   }
-  for (const std::string& client : silent) DropClient(client, "silent for " + Seconds(liveness_period_), true);
+  for (const auto& [client, period] : silent) DropClient(client, "silent for " + Seconds(period), true);
 }
 
 void BrokerCore::PurgeUnclaimedBatches() {
@@ -260,7 +268,9 @@ void BrokerCore::Restore(TimePoint now) {
     batch.client_id = std::move(stored.client_id);
     batch.owner_token = std::move(stored.owner_token);
     batch.client_key = std::move(stored.client_key);
-    batch.claim_deadline = now_ + 2 * liveness_period_;
+    // Its client finds the broker restarted within its own liveness, which may be longer than the broker's (a
+    // client at the default 1 s pace).
+    batch.claim_deadline = now_ + 2 * std::max(liveness_period_, LivenessFor(1000));
     batch.opened_at = now_;
   }
   std::uint64_t in_flight = 0;

@@ -80,7 +80,7 @@ v1::Status BrokerCore::Status(const std::string& client_key, TimePoint now) cons
   status.set_crashes(Count(counters_.crashes));
   std::uint32_t busy = 0;
   for (const auto& [id, worker] : workers_) {
-    *status.add_worker_list() = DescribeWorker(worker, client_key, now);
+    *status.add_worker_list() = DescribeWorker(id, worker, client_key, now);
     busy += worker.holding.empty() ? 0 : 1;
   }
   status.set_busy_workers(busy);
@@ -96,8 +96,8 @@ v1::Status BrokerCore::Status(const std::string& client_key, TimePoint now) cons
   return status;
 }
 
-v1::WorkerStatus BrokerCore::DescribeWorker(const Worker& worker, const std::string& client_key,
-                                            TimePoint now) const {
+v1::WorkerStatus BrokerCore::DescribeWorker(const std::string& worker_id, const Worker& worker,
+                                            const std::string& client_key, TimePoint now) const {
   v1::WorkerStatus out;
   out.set_worker_id(worker.name);
   out.set_host(worker.host);
@@ -116,6 +116,9 @@ v1::WorkerStatus BrokerCore::DescribeWorker(const Worker& worker, const std::str
     if (batch == batches_.end()) continue;
     auto job = batch->second.jobs.find(key.second);
     if (job == batch->second.jobs.end()) continue;
+    // A job of a batch its client dropped and submitted again: the worker still runs the old one, whose result
+    // will be refused; the new record is another's or queued.
+    if (job->second.state != JobState::kDispatched || job->second.worker != worker_id) continue;
     if (current == nullptr || job->second.dispatched_at < since) {
       current = &key;
       since = job->second.dispatched_at;

@@ -303,6 +303,7 @@ void BatchClient::SendJobs(const std::vector<const v1::Job*>& jobs, std::uint64_
     submit.set_client_id(client_id_);
     submit.set_owner_token(owner_token_);
     submit.set_batch_size(options_.batch_size);
+    submit.set_heartbeat_ms(static_cast<std::uint32_t>(options_.heartbeat_interval.count()));
     std::size_t bytes = 0;
     while (next < jobs.size()) {
       const std::size_t size = jobs[next]->ByteSizeLong();
@@ -340,6 +341,8 @@ bool BatchClient::OnBrokerMessage(const zmq::message_t& payload) {
       Reconnect("the broker at " + options_.endpoint + " said goodbye (" + in_.disconnect().reason() + ")");
       return false;
     case v1::BrokerToClient::kHeartbeat:
+      dealer_.NotePeerInterval(std::chrono::milliseconds(in_.heartbeat().interval_ms()));
+      break;
     case v1::BrokerToClient::kStatus:  // a batch client never asks (StatusClient does, on its own connection)
     case v1::BrokerToClient::BODY_NOT_SET: break;
   }

@@ -160,6 +160,10 @@ bool DealerConnection::HeartbeatIfDue(Clock::time_point now) {
   return true;
 }
 
+void DealerConnection::NotePeerInterval(std::chrono::milliseconds interval) {
+  peer_interval_ = std::min<std::chrono::milliseconds>(interval, std::chrono::minutes(1));
+}
+
 void DealerConnection::MarkHeard() {
   last_heard_ = Clock::now();
   if (!warned_silence_) return;

@@ -53,7 +53,7 @@ DealerConnectionOptions DealerOptionsFor(const SideOptions& side, std::string ro
                                          std::function<void(const std::string&)> log) {
   Envelope heartbeat;
   heartbeat.set_protocol_version(proto::kProtocolVersion);
-  heartbeat.mutable_heartbeat();
+  heartbeat.mutable_heartbeat()->set_interval_ms(static_cast<std::uint32_t>(side.heartbeat_interval.count()));
   DealerConnectionOptions dealer;
   dealer.endpoint = side.endpoint;
   dealer.role = std::move(role);
@@ -140,8 +140,13 @@ class DealerConnection {
   /// When the broker counts as lost: one liveness period after it was last heard or the socket opened, whichever
   /// is later.
   Clock::time_point liveness_deadline() const;
-  /// The liveness period: heartbeat_interval × liveness.
-  Clock::duration liveness_period() const { return options_.heartbeat_interval * options_.liveness; }
+  /// The broker's heartbeat said it beats every `interval` (0 = not said): the liveness period follows the slower
+  /// of the two sides, up to a minute, so that a broker slower than this side is not taken for dead.
+  void NotePeerInterval(std::chrono::milliseconds interval);
+  /// The liveness period: liveness × the longer of this side's heartbeat interval and the broker's.
+  Clock::duration liveness_period() const {
+    return std::max(options_.heartbeat_interval, peer_interval_) * options_.liveness;
+  }
 
   /// Logs why the connection starts over, once until the broker answers again (a dead broker is one line).
   void ReportSilence(const std::string& line);
@@ -173,6 +178,7 @@ class DealerConnection {
   bool warned_bad_message_ = false;            ///< a dropped message was logged on this socket
   bool warned_silence_ = false;                ///< ReportSilence() logged and the broker has not answered since
   std::string out_;                            ///< SendMessage()'s buffer, reused
+  std::chrono::milliseconds peer_interval_{0};  ///< NotePeerInterval(): the broker's heartbeat interval
 };
 
 }  // namespace orcs::net

@@ -30,13 +30,15 @@ std::string HostName() {
 
 std::string DefaultWorkerId() { return HostName() + "-" + std::to_string(::getpid()); }
 
-// READY: who the worker is, where it runs (for the broker's status) and how many jobs it may hold.
-v1::WorkerToBroker ReadyMessage(const std::string& worker_id, int credit) {
+// READY: who the worker is, where it runs (for the broker's status), how many jobs it may hold and how often it
+// heartbeats (the broker waits for the slower of the two).
+v1::WorkerToBroker ReadyMessage(const std::string& worker_id, int credit, std::chrono::milliseconds heartbeat) {
   v1::WorkerToBroker ready;
   ready.set_protocol_version(kProtocolVersion);
   ready.mutable_ready()->set_worker_id(worker_id);
   ready.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
   ready.mutable_ready()->set_host(HostName().substr(0, 128));
+  ready.mutable_ready()->set_heartbeat_ms(static_cast<std::uint32_t>(heartbeat.count()));
   return ready;
 }
 
@@ -242,11 +244,11 @@ void WorkerConnection::Connect() {
     short_in_a_row_ = 0;
     wanted_credit_ = options_.credit;
   }
-  dealer_.SendMessage(ReadyMessage(worker_id_, options_.credit));
+  dealer_.SendMessage(ReadyMessage(worker_id_, options_.credit, options_.heartbeat_interval));
 }
 
 void WorkerConnection::AnnounceCredit(int credit) {
-  dealer_.SendMessage(ReadyMessage(worker_id_, credit));
+  dealer_.SendMessage(ReadyMessage(worker_id_, credit, options_.heartbeat_interval));
   announced_credit_ = credit;
   std::lock_guard lock(mutex_);
   stats_.credit = static_cast<std::uint32_t>(credit);
@@ -298,6 +300,8 @@ WorkerConnection::Heard WorkerConnection::OnBrokerMessage(const zmq::message_t& 
       Reconnect("the broker at " + options_.endpoint + " said goodbye (" + in_.disconnect().reason() + ")");
       return Heard::kReconnected;
     case v1::BrokerToWorker::kHeartbeat:
+      dealer_.NotePeerInterval(std::chrono::milliseconds(in_.heartbeat().interval_ms()));
+      break;
     case v1::BrokerToWorker::BODY_NOT_SET: break;
   }
   return Heard::kAlive;

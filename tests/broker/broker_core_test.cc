@@ -21,6 +21,7 @@ namespace {
 
 using broker::BrokerCore;
 using proto::kProtocolVersion;
+using std::chrono::milliseconds;
 using std::chrono::seconds;
 using ::testing::HasSubstr;
 
@@ -71,6 +72,14 @@ class RecordingTransport final : public broker::BrokerTransport {
     return {};
   }
 
+  /// The last message sent to `worker`.
+  v1::BrokerToWorker LastToWorker(const std::string& worker) const {
+    for (auto entry = to_workers.rbegin(); entry != to_workers.rend(); ++entry) {
+      if (entry->first == worker) return entry->second;
+    }
+    return {};
+  }
+
   std::vector<std::pair<std::string, v1::BrokerToWorker>> to_workers;  ///< (routing id, message), in order
   std::vector<std::pair<std::string, v1::BrokerToClient>> to_clients;  ///< (routing id, message), in order
   std::set<std::string> gone;  ///< routing ids whose connection is closed: sends to them fail
@@ -92,15 +101,21 @@ class Harness {
  public:
   /// `curve`: the core believes CURVE is on (it only looks at whether a key folder is named), and clients'
   /// keys are what Submit() and the status are given.
-  explicit Harness(broker::BrokerJournal* journal = nullptr, bool curve = false)
-      : core_(Options(curve), transport_, journal) {}
+  /// `heartbeat`: the broker's interval (liveness stays 5).
+  explicit Harness(broker::BrokerJournal* journal = nullptr, bool curve = false,
+                   std::chrono::milliseconds heartbeat = std::chrono::seconds(1))
+      : core_(Options(curve, heartbeat), transport_, journal) {}
 
-  broker::BrokerOptions Options(bool curve) {
+  broker::BrokerOptions Options(bool curve, std::chrono::milliseconds heartbeat) {
     broker::BrokerOptions options;
     options.log = [this](std::string_view line) { log_.emplace_back(line); };
     if (curve) options.curve_keys = "keys";
+    options.heartbeat_interval = heartbeat;
     return options;
   }
+
+  /// The heartbeat interval READY, SUBMIT and HEARTBEAT declare from now on, ms (0 = not said).
+  void Declare(std::uint32_t heartbeat_ms) { declared_ms_ = heartbeat_ms; }
 
   void Advance(std::chrono::steady_clock::duration by) { now_ += by; }
 
@@ -110,17 +125,18 @@ class Harness {
     message.mutable_ready()->set_host(host);
     message.mutable_ready()->set_worker_id(worker + "-name");
     message.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
+    message.mutable_ready()->set_heartbeat_ms(declared_ms_);
     core_.OnWorkerMessage(worker, message, now_);
   }
   void WorkerHeartbeat(const std::string& worker) {
     v1::WorkerToBroker message;
     message.set_protocol_version(kProtocolVersion);
-    message.mutable_heartbeat();
+    message.mutable_heartbeat()->set_interval_ms(declared_ms_);
     core_.OnWorkerMessage(worker, message, now_);
   }
   void ClientHeartbeat(const std::string& client) {
     v1::ClientToBroker message;
-    message.mutable_heartbeat();
+    message.mutable_heartbeat()->set_interval_ms(declared_ms_);
     ClientSays(client, message);
   }
   void Answer(const std::string& worker, const v1::Job& job, v1::Result::Status status = v1::Result::OK,
@@ -147,6 +163,7 @@ class Harness {
     submit.set_owner_token(token);
     for (const v1::Job& job : jobs) *submit.add_jobs() = job;
     submit.set_batch_size(batch_size);
+    submit.set_heartbeat_ms(declared_ms_);
     core_.OnClientMessage(client, key, message, now_);
   }
   void ClientSays(const std::string& client, v1::ClientToBroker message) {
@@ -186,6 +203,7 @@ class Harness {
   RecordingTransport transport_;
   std::vector<std::string> log_;
   BrokerCore::TimePoint now_ = BrokerCore::TimePoint{} + std::chrono::hours(1);  ///< the made-up clock
+  std::uint32_t declared_ms_ = 0;  ///< Declare()
   BrokerCore core_;
 };
 
@@ -509,6 +527,66 @@ TEST_F(BrokerCoreTest, ASilentClientIsDroppedAfterItsLivenessPeriod) {
   EXPECT_EQ(Stats().clients_lost, 1u);
 }
 
+// Peers at another pace than the broker (issue found with `orcs-broker --heartbeat 0.1` and clients left at
+// 1 s: the broker dropped the client every 0.5 s, and the client submitted its batch again, for ever).
+class BrokerCoreFastTest : public ::testing::Test, protected Harness {
+ protected:
+  BrokerCoreFastTest() : Harness(nullptr, false, milliseconds(100)) {}
+};
+
+TEST_F(BrokerCoreFastTest, AClientSlowerThanTheBrokerIsWaitedForAtItsOwnPace) {
+  Declare(1000);
+  Submit("c", "b", {Job("j0")});
+  Advance(milliseconds(900));  // longer than the broker's own 0.5 s liveness, shorter than the client's 1 s beat
+  Tick();
+  EXPECT_EQ(Stats().clients, 1);
+  ClientHeartbeat("c");
+  Advance(milliseconds(4900));
+  Tick();
+  EXPECT_EQ(Stats().clients, 1);
+  Advance(milliseconds(100));  // five of its heartbeats missed
+  Tick();
+  EXPECT_EQ(Stats().clients, 0);
+  EXPECT_TRUE(Logged("lost (silent for 5.0 s)"));
+}
+
+TEST_F(BrokerCoreFastTest, APeerThatDoesNotSayItsPaceIsHeldToTheBrokers) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Advance(milliseconds(500));
+  Tick();
+  EXPECT_EQ(Stats().clients, 0);
+  EXPECT_EQ(Stats().workers_lost, 1u);
+}
+
+TEST_F(BrokerCoreFastTest, AWorkersDeclaredPaceCountsUpToAMinute) {
+  Declare(1000);
+  Ready("w", 1);
+  Declare(3'600'000);  // an hour: capped, or a dead worker would keep its jobs for five hours
+  Ready("v", 1);
+  Advance(milliseconds(4900));
+  Tick();
+  EXPECT_EQ(Stats().workers, 2);
+  Advance(milliseconds(200));
+  Tick();
+  EXPECT_EQ(Stats().workers, 1);  // w: five of its 1 s heartbeats missed
+  Advance(seconds(294));
+  Tick();
+  EXPECT_EQ(Stats().workers, 1);
+  Advance(seconds(1));  // v: 5 × 60 s
+  Tick();
+  EXPECT_EQ(Stats().workers, 0);
+}
+
+TEST_F(BrokerCoreFastTest, TheBrokersHeartbeatsSayItsPace) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Advance(milliseconds(100));
+  Tick();
+  EXPECT_EQ(transport_.LastToClient("c").heartbeat().interval_ms(), 100u);
+  EXPECT_EQ(transport_.LastToWorker("w").heartbeat().interval_ms(), 100u);
+}
+
 // A journal written by one core, read back by a second one on the same file (a restarted broker).
 class BrokerCoreJournalTest : public ::testing::Test {
  protected:
@@ -629,6 +707,30 @@ TEST_F(BrokerCoreTest, TheStatusFollowsWorkersJobsAndTheBatchAsTheyMove) {
   EXPECT_EQ(w->recent_jobs(1).job_id(), "j0");
   EXPECT_DOUBLE_EQ(w->recent_jobs(1).seconds(), 3.0);
   EXPECT_FALSE(w->busy());
+}
+
+// A batch dropped with its lost client and submitted again: the worker still runs the old job (its result will be
+// refused), and the status must not take the new, queued record of the same ids for the job it runs.
+TEST_F(BrokerCoreTest, TheStatusDoesNotMistakeAResubmittedJobForTheOneAWorkerStillRuns) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Dispatch();
+  for (int second = 0; second < 5; ++second) {
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    Tick();
+  }
+  ASSERT_EQ(Stats().clients, 0);  // the client went silent: its batch went too
+  Submit("c2", "b", {Job("j0")});
+  const v1::Status status = AskStatus("asker");
+  const v1::WorkerStatus* worker = FindWorker(status, "w-name");
+  ASSERT_NE(worker, nullptr);
+  EXPECT_EQ(worker->holding(), 1u);
+  EXPECT_EQ(worker->current_job_id(), "") << "the job it runs is the dropped batch's";
+  EXPECT_EQ(worker->current_seconds(), 0.0);
+  ASSERT_EQ(status.batch_list_size(), 1);
+  EXPECT_EQ(status.batch_list(0).queued(), 1u);
+  EXPECT_EQ(status.batch_list(0).running(), 0u);
 }
 
 TEST_F(BrokerCoreTest, TheStatusForgetsALostWorkerAndCountsIt) {

@@ -186,6 +186,19 @@ TEST(DealerConnectionTest, ASilentBrokerIsLostAfterTheLivenessPeriodNotBefore) {
   EXPECT_EQ(dealer.liveness_deadline(), dealer.last_heard() + dealer.liveness_period());
 }
 
+// A broker slower than this side (its heartbeat said so) is waited for at its pace, up to a minute's.
+TEST(DealerConnectionTest, TheLivenessFollowsTheSlowerSideUpToAMinute) {
+  FakeBroker broker;
+  std::vector<std::string> log;
+  DealerConnection dealer(Options(broker.endpoint(), log, milliseconds(20), 3));
+  dealer.NotePeerInterval(milliseconds(100));
+  EXPECT_EQ(dealer.liveness_period(), milliseconds(300));
+  dealer.NotePeerInterval(milliseconds(5));  // faster than this side: its own pace counts
+  EXPECT_EQ(dealer.liveness_period(), milliseconds(60));
+  dealer.NotePeerInterval(std::chrono::hours(1));
+  EXPECT_EQ(dealer.liveness_period(), std::chrono::minutes(3));
+}
+
 TEST(DealerConnectionTest, ConnectsAgainToABrokerThatWentAwayAndCameBack) {
   std::vector<std::string> log;
   std::optional<FakeBroker> broker(std::in_place);

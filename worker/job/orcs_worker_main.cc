@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 1024));
   app.add_option("--id", options.worker_id, "worker name in results (default: host-pid)");
   double heartbeat_seconds = 1.0;
-  app.add_option("--heartbeat", heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
+  app.add_option("--heartbeat", heartbeat_seconds,
+                 "seconds between heartbeats (default 1; the broker waits for the slower of its pace and this)")
       ->check(orcs::cli::NumberIn(0.001, 3600.0));
   app.add_option("--curve-keys", options.curve_keys,
                  "folder with worker.key, worker.pub and broker.pub: connect with CURVE (docs/security.md)")

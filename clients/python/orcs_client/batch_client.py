@@ -107,7 +107,7 @@ class BatchClient:
     def __init__(self, endpoint, heartbeat=1.0, liveness=5, connect_timeout=3.0, reconnect_timeout=30.0,
                  max_submit_bytes=4 << 20, log=None):
         """endpoint: the broker's client endpoint, e.g. "tcp://127.0.0.1:5555". heartbeat: seconds between
-        heartbeats, the broker's value. liveness: heartbeats of silence after which the broker counts as lost.
+        heartbeats (said to the broker, which waits for the slower of its pace and this one). liveness: heartbeats of silence after which the broker counts as lost.
         connect_timeout: seconds submit() waits for a broker that has never answered. reconnect_timeout: seconds
         the client keeps trying after the broker was lost. max_submit_bytes: about how large one SUBMIT gets.
         log: a function taking one line (connection events); None = stderr. Raises ValueError for a bad value."""
@@ -123,6 +123,7 @@ class BatchClient:
             raise ValueError("BatchClient: max_submit_bytes must be positive, found %r" % (max_submit_bytes,))
         self.endpoint = endpoint
         self._heartbeat = float(heartbeat)
+        self._liveness = liveness
         self._liveness_period = float(heartbeat) * liveness
         self._connect_timeout = float(connect_timeout)
         self._reconnect_timeout = float(reconnect_timeout)
@@ -378,7 +379,7 @@ class BatchClient:
                 continue
             now = time.monotonic()
             if now >= self._next_heartbeat:
-                self._send(self._envelope(heartbeat=broker_pb2.Heartbeat()))
+                self._send(self._envelope(heartbeat=broker_pb2.Heartbeat(interval_ms=self._heartbeat_ms())))
                 self._next_heartbeat = now + self._heartbeat
             if not self._heard:
                 if now - self._active_since >= self._connect_timeout:
@@ -429,11 +430,16 @@ class BatchClient:
                 self._accepted_through = max(self._accepted_through, self._latest_sent)
                 self._changed.notify_all()
 
+    def _heartbeat_ms(self):
+        """This client's heartbeat interval as the protocol says it, ms."""
+        return max(1, int(round(self._heartbeat * 1000)))
+
     def _send_jobs(self, batch_id, jobs, submission):
         start = 0
         while True:
             message = self._envelope(submit=broker_pb2.Submit(batch_id=batch_id, client_id=self.client_id,
-                                                                owner_token=self._owner_token))
+                                                                owner_token=self._owner_token,
+                                                                heartbeat_ms=self._heartbeat_ms()))
             size = 0
             end = start
             while end < len(jobs):
@@ -471,7 +477,11 @@ class BatchClient:
         if self._warned_silence:
             self._log("the broker at %s answers again" % self.endpoint)
             self._warned_silence = False
-        if body == "accepted":
+        if body == "heartbeat":
+            # A broker slower than this client is waited for at its pace (up to a minute's), not taken for dead.
+            broker_seconds = min(message.heartbeat.interval_ms / 1000.0, 60.0)
+            self._liveness_period = max(self._heartbeat, broker_seconds) * self._liveness
+        elif body == "accepted":
             self._on_accepted()
         elif body == "result":
             self._on_result(message.result)

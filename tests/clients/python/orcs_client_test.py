@@ -168,6 +168,25 @@ class RealBrokerTest(unittest.TestCase):
         self.assertIn("/No/Such/Path", results["bad-override"].message)
         self.assertEqual(results["good"].status, "ok", results["good"].message)
 
+    def test_a_client_slower_than_the_broker_is_not_taken_for_lost(self):
+        # The broker beats every HEARTBEAT s and calls a peer silent for 5 of them (1 s) lost; this client beats
+        # every 2.5 s and says so, and the broker waits for it at its pace through a batch of several seconds.
+        def broker_log():
+            with open(os.path.join(cluster.folder, "broker.log"), errors="replace") as log:
+                return log.read()
+        longer = Scenario.load(self.files.write("hips-2s.json", json.dumps(dict(SCENARIO, duration=2.0))))
+        before = broker_log().count(" lost")
+        client = BatchClient(cluster.clients, heartbeat=2.5)
+        self.addCleanup(client.close)
+        started = time.monotonic()
+        batch = client.submit([longer.job(genome, seed=seed, job_id="slow-%d-%d" % (g, seed))
+                               for g, genome in enumerate(GENOMES) for seed in SEEDS])
+        results = list(batch.results(timeout=120))
+        self.assertGreater(time.monotonic() - started, 1.0, "too short to tell")
+        self.assertEqual(len(results), len(GENOMES) * len(SEEDS))
+        self.assertTrue(all(r.status == "ok" for r in results), [r.message for r in results])
+        self.assertEqual(broker_log().count(" lost"), before, broker_log()[-2000:])
+
     def test_no_broker_is_a_clean_error_in_bounded_time(self):
         endpoint = "tcp://127.0.0.1:%d" % unused_port()
         client = self.client(endpoint, connect_timeout=1.0)
