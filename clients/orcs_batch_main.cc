@@ -7,6 +7,7 @@
 // broker answers.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include "clients/batch/batch_input.h"
 #include "clients/batch/batch_manifest.h"
 #include "clients/batch/plot_script.h"
+#include "clients/batch/progress_file.h"
 #include "clients/batch/run_comparison.h"
 #include "clients/batch/batch_options.h"
 #include "clients/batch/batch_session.h"
@@ -118,6 +120,16 @@ int LocalWorkerCount(const BatchOptions& options, std::size_t jobs) {
   return std::max(1, std::min(workers, static_cast<int>(std::min<std::size_t>(jobs, 4096))));
 }
 
+// progress.json's "command".
+const char* CommandName(Command command) {
+  switch (command) {
+    case Command::kSubmit: return "submit";
+    case Command::kSweep: return "sweep";
+    case Command::kRegress: return "regress";
+    default: return "run";
+  }
+}
+
 // Runs the session against `endpoint`; prints the summary (and, for a sweep, the table).
 int RunAgainst(const std::string& endpoint, const BatchOptions& options, const Plan& plan, ResultsWriter& writer) {
   broker::BatchClientOptions client_options;
@@ -126,10 +138,13 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   client_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
   client_options.batch_size = plan.source->size();  // the broker's status shows progress and time left
   broker::BatchClient client(client_options);
-  ProgressDisplay progress(std::cerr, plan.to_run().size(), isatty(STDERR_FILENO) != 0,
-                           ProgressDisplay::Clock::now());
-  std::ostringstream discard;
-  ProgressDisplay quiet(discard, plan.to_run().size(), false, ProgressDisplay::Clock::now());
+  // Counts run over the whole batch (RunSession counts a resumed batch's earlier results too); the rate over
+  // this session's.
+  ProgressDisplay progress(std::cerr, plan.source->size(), isatty(STDERR_FILENO) != 0, ProgressDisplay::Clock::now());
+  std::ostream discard(nullptr);
+  ProgressDisplay quiet(discard, plan.source->size(), false, ProgressDisplay::Clock::now());
+  progress.SetEarlier(plan.earlier_results.size());
+  quiet.SetEarlier(plan.earlier_results.size());
   SessionOptions session;
   session.stop = &stop_requested;
   session.keep_results = options.command == Command::kSweep || plan.regress.has_value();
@@ -142,9 +157,24 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
       return std::nullopt;  // the batch client reports a lost broker itself
     }
   };
+  // progress.json, for orcs-view following the run (and for the dashboard's links from a job to its replay).
+  ProgressFile file(plan.out, CommandName(options.command));
+  file.Set("broker_batch", client.batch_id());
+  file.Set("earlier", plan.earlier_results.size());
+  const auto earlier_ok = static_cast<std::size_t>(
+      std::count_if(plan.earlier_results.begin(), plan.earlier_results.end(),
+                    [](const v1::Result& result) { return result.status() == v1::Result::OK; }));
+  file.Merge(progress.StatusJson(earlier_ok, plan.earlier_results.size() - earlier_ok, ProgressDisplay::Clock::now()));
+  file.Update(ProgressDisplay::Clock::now(), true);  // a batch waiting for its first worker shows its counts
+  (options.quiet ? quiet : progress).WriteTo(&file);
   const BatchSummary summary = RunSession(client, plan.to_run(), writer, options.quiet ? quiet : progress, session);
   if (!summary.interrupted) writer.Finish();
-  if (plan.regress) return regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);
+  const std::string end = summary.interrupted ? "interrupted" : "finished";
+  if (plan.regress) {
+    const int code = regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);
+    file.Finish(end);
+    return code;
+  }
   if (options.command == Command::kSweep) {
     const std::vector<SweepRow> rows = SweepRows(plan.points, *plan.source, summary.results);
     if (plan.sampling == SweepSampling::kGrid) std::cout << SweepTable(plan.axes, rows);  // lhs: in sweep.csv
@@ -156,6 +186,7 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
               << ", robustness report in " << (std::filesystem::path(plan.out) / "robustness.md").string()
               << "; plot it with scripts/plot_sweep.py " << plan.out << "\n";
   }
+  file.Finish(end);
   std::cout << SummaryText(summary, writer.results_path()) << std::flush;
   return summary.exit_code();
 }

@@ -18,7 +18,8 @@ constexpr double kMaxTimeLimitOption = 1e7;
 // What every command that runs a batch shares: where results go, the connection, the progress display.
 void AddSessionOptions(CLI::App& command, BatchOptions& o, const std::string& out_help) {
   command.add_option("--out", o.out, out_help);
-  command.add_option("--heartbeat", o.heartbeat_seconds, "seconds between heartbeats; match the broker's (default 1)")
+  command.add_option("--heartbeat", o.heartbeat_seconds,
+                 "seconds between heartbeats (default 1; the broker waits for the slower of its pace and this)")
       ->check(cli::NumberIn(0.001, 3600.0));
   command.add_flag("--quiet", o.quiet, "no progress display");
   command.add_option("--curve-keys", o.curve_keys, "folder of CURVE keys: encrypt and authenticate (docs/security.md)")

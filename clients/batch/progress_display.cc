@@ -28,13 +28,32 @@ ProgressDisplay::ProgressDisplay(std::ostream& out, std::size_t total, bool term
                                  std::chrono::milliseconds plain_interval)
     : out_(out), total_(total), terminal_(terminal), start_(start), interval_(plain_interval), last_drawn_(start) {}
 
+double ProgressDisplay::Rate(std::size_t done, Clock::time_point now) const {
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const std::size_t since = done > earlier_ ? done - earlier_ : 0;
+  return since > 0 && elapsed > 0 ? static_cast<double>(since) / elapsed : 0.0;
+}
+
+nlohmann::json ProgressDisplay::StatusJson(std::size_t ok, std::size_t failed, Clock::time_point now) const {
+  const std::size_t done = ok + failed;
+  const double rate = Rate(done, now);
+  std::string label = label_;
+  while (!label.empty() && (label.back() == ' ' || label.back() == ':')) label.pop_back();
+  return {{"label", label},
+          {"done", done},
+          {"ok", ok},
+          {"failed", failed},
+          {"total", total_},
+          {"jobs_per_second", rate},
+          {"eta_seconds", rate > 0 && done < total_ ? nlohmann::json(static_cast<double>(total_ - done) / rate)
+                                                     : nlohmann::json(nullptr)}};
+}
+
 std::string ProgressDisplay::StatusText(std::size_t ok, std::size_t failed, Clock::time_point now) const {
   const std::size_t done = ok + failed;
-  const double elapsed = std::chrono::duration<double>(now - start_).count();
   std::string text = label_ + std::to_string(done) + "/" + std::to_string(total_) + " jobs (ok " + std::to_string(ok) +
                      ", failed " + std::to_string(failed) + ")";
-  if (done > 0 && elapsed > 0) {
-    const double rate = static_cast<double>(done) / elapsed;
+  if (const double rate = Rate(done, now); rate > 0) {
     text += ", " + Fixed(rate, rate < 10 ? 2 : 1) + " jobs/s";
     if (done < total_) text += ", ETA " + FormatDuration(static_cast<double>(total_ - done) / rate);
   }
@@ -42,6 +61,10 @@ std::string ProgressDisplay::StatusText(std::size_t ok, std::size_t failed, Cloc
 }
 
 void ProgressDisplay::Update(std::size_t ok, std::size_t failed, Clock::time_point now) {
+  if (file_ != nullptr && file_->Due(now)) {
+    file_->Merge(StatusJson(ok, failed, now));
+    file_->Update(now, true);
+  }
   const auto interval = terminal_ ? kTerminalInterval : interval_;
   if (drawn_ && now - last_drawn_ < interval) return;
   Draw(ok, failed, now);
@@ -54,6 +77,10 @@ void ProgressDisplay::Notice(const std::string& line) {
 }
 
 void ProgressDisplay::Finish(std::size_t ok, std::size_t failed, Clock::time_point now) {
+  if (file_ != nullptr) {
+    file_->Merge(StatusJson(ok, failed, now));
+    file_->Update(now, true);
+  }
   Draw(ok, failed, now);
   if (terminal_) out_ << '\n';
   out_ << std::flush;

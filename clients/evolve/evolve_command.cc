@@ -16,6 +16,7 @@
 #include "clients/batch/local_cluster.h"
 #include "clients/batch/plot_script.h"
 #include "clients/batch/progress_display.h"
+#include "clients/batch/progress_file.h"
 #include "clients/batch/results_writer.h"
 #include "clients/evolve/evolution.h"
 #include "clients/evolve/evolution_checkpoint.h"
@@ -96,7 +97,11 @@ std::string Short(double value) {
 // it ends; elsewhere (a log, CI) a plain line at most every 10 s.
 class GenerationProgress {
  public:
-  GenerationProgress(bool shown, int generations) : shown_(shown), generations_(generations) {}
+  /// `shown`: on stderr; `file`: progress.json, kept up to date whether shown or not.
+  GenerationProgress(bool shown, int generations, batch::ProgressFile& file)
+      : shown_(shown), generations_(generations), file_(file) {
+    file_.Set("generations", generations_);
+  }
 
   /// The next generation's number (after a resume).
   void SetGeneration(int generation) { generation_ = generation; }
@@ -104,10 +109,17 @@ class GenerationProgress {
   void Start(std::size_t jobs) {
     fitness_.clear();
     ok_ = failed_ = 0;
-    if (!shown_) return;
-    display_ = std::make_unique<batch::ProgressDisplay>(std::cerr, jobs, isatty(STDERR_FILENO) != 0,
+    display_ = std::make_unique<batch::ProgressDisplay>(shown_ ? std::cerr : discard_, jobs,
+                                                        shown_ && isatty(STDERR_FILENO) != 0,
                                                         batch::ProgressDisplay::Clock::now());
     display_->SetLabel("generation " + std::to_string(generation_) + "/" + std::to_string(generations_) + ": ");
+    display_->WriteTo(&file_);
+    file_.Set("generation", generation_);
+    file_.Set("best_so_far", nullptr);
+    file_.Set("median_so_far", nullptr);
+    const auto now = batch::ProgressDisplay::Clock::now();
+    file_.Merge(display_->StatusJson(0, 0, now));  // the page shows the generation from its start
+    file_.Update(now, true);
   }
   void OnResult(const v1::Result& result) {
     if (result.status() == v1::Result::OK) {
@@ -116,16 +128,17 @@ class GenerationProgress {
     } else {
       ++failed_;
     }
-    if (!display_) return;
     if (!fitness_.empty()) {
       std::vector<double> sorted = fitness_;
       std::sort(sorted.begin(), sorted.end());
       display_->SetDetail("; best " + Short(sorted.back()) + ", median " + Short(sorted[sorted.size() / 2]) +
                           " in this generation so far");
+      file_.Set("best_so_far", sorted.back());
+      file_.Set("median_so_far", sorted[sorted.size() / 2]);
     }
     display_->Update(ok_, failed_, batch::ProgressDisplay::Clock::now());
   }
-  /// The generation's summary line, in place of the progress line.
+  /// The generation's summary line, in place of the progress line; fitness.csv has the generation now.
   void Finish(const std::string& line) {
     if (shown_) {
       if (display_) {
@@ -134,6 +147,9 @@ class GenerationProgress {
         std::cerr << line << "\n";
       }
     }
+    if (display_) file_.Merge(display_->StatusJson(ok_, failed_, batch::ProgressDisplay::Clock::now()));
+    file_.Set("last_generation", generation_);  // fitness.csv holds generations 0 to this
+    file_.Update(batch::ProgressDisplay::Clock::now(), true);
     display_.reset();
     ++generation_;
   }
@@ -141,6 +157,8 @@ class GenerationProgress {
  private:
   const bool shown_;
   const int generations_;
+  batch::ProgressFile& file_;
+  std::ostream discard_{nullptr};  ///< where an unshown display writes: nowhere
   int generation_ = 0;
   std::unique_ptr<batch::ProgressDisplay> display_;
   std::vector<double> fitness_;
@@ -279,7 +297,8 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   fs::create_directories(folder);
 
   batch::JobRunner runner(RunnerOptionsOf(options, folder));
-  GenerationProgress progress(!options.quiet, settings.generations);
+  batch::ProgressFile file(folder, "evolve");
+  GenerationProgress progress(!options.quiet, settings.generations, file);
   Evolution evolution(settings, BrokerEvaluator(runner, input, settings, options.time_limit_seconds, progress));
   if (!options.quiet) {
     std::cerr << "orcs-batch: evolving '" << input.scenario.name << "' (" << settings.bounds.size() << " genes) with "
@@ -304,6 +323,7 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
     progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
   }
   if (evolution.generation() < settings.generations) {
+    file.Finish("interrupted");
     std::cout << "orcs-batch: interrupted after generation " << evolution.generation() << "; continue with "
               << "--resume " << folder << "\n";
     return 1;
@@ -313,9 +333,13 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
               << (fs::path(folder) / "workers.log").string() << ")\n";
     return 1;
   }
+  file.Set("label", "replaying the winner");
+  file.Update(batch::ProgressDisplay::Clock::now(), true);
   const bool reproducible =
       WriteWinner(runner, input, settings, evolution.champion(), options.time_limit_seconds, folder);
   if (!options.no_plot) batch::RunPlotScript("plot_evolution.py", {folder}, std::cout);  // fitness.png
+  file.Set("label", nullptr);
+  file.Finish("finished");
   std::cout << "orcs-batch: best genome in " << (fs::path(folder) / "best_genome.json").string()
             << "; replay it with: orcs-sim --scenario " << options.scenario << " --genome @"
             << (fs::path(folder) / "best_genome.json").string() << " --seed " << settings.seed

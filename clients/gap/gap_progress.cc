@@ -1,6 +1,8 @@
 #include "clients/gap/gap_progress.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <vector>
 
 namespace orcs::gap {
 namespace {
@@ -19,8 +21,12 @@ std::string Elapsed(double seconds) {
 }  // namespace
 
 GapProgress::GapProgress(std::ostream& out, std::function<std::uint64_t()> replays_run,
-                         std::chrono::milliseconds interval)
-    : out_(out), replays_run_(std::move(replays_run)), interval_(interval), start_(std::chrono::steady_clock::now()) {
+                         std::chrono::milliseconds interval, batch::ProgressFile* file)
+    : out_(out),
+      replays_run_(std::move(replays_run)),
+      interval_(interval),
+      start_(std::chrono::steady_clock::now()),
+      file_(file) {
   ticker_ = std::thread([this] { Tick(); });
 }
 
@@ -33,14 +39,33 @@ GapProgress::~GapProgress() {
   ticker_.join();
 }
 
+// Wakes once a second for the progress file, and prints the status line every `interval_`.
 void GapProgress::Tick() {
+  const auto wake = std::min<std::chrono::milliseconds>(interval_, std::chrono::seconds(1));
+  auto next_line = std::chrono::steady_clock::now() + interval_;
   std::unique_lock lock(mutex_);
-  while (!stop_.wait_for(lock, interval_, [this] { return stopping_; })) {
+  while (!stop_.wait_for(lock, wake, [this] { return stopping_; })) {
     lock.unlock();
-    const std::string line = StatusLine();
+    const std::uint64_t replays = replays_run_();
+    const bool line_due = std::chrono::steady_clock::now() >= next_line;
+    const std::string line = line_due ? StatusLine() : "";
     lock.lock();
-    out_ << line << std::endl;
+    if (line_due) {
+      out_ << line << std::endl;
+      next_line += interval_;
+    }
+    WriteFile(replays);
   }
+}
+
+void GapProgress::WriteFile(std::uint64_t replays) {
+  if (file_ == nullptr) return;
+  file_->Set("replays", replays);
+  file_->Set("fits_done", finished_);
+  file_->Set("fitting", nlohmann::json(std::vector<std::string>(running_.begin(), running_.end())));
+  file_->Set("best", best_.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"effect", best_}, {"score", best_score_}});
+  file_->Set("fits", fits_);
+  file_->Update(std::chrono::steady_clock::now(), true);
 }
 
 std::string GapProgress::StatusLine() {
@@ -62,14 +87,17 @@ std::string GapProgress::StatusLine() {
 }
 
 void GapProgress::OnFit(const std::string& model, const identify::ModelScore* finished) {
+  const std::uint64_t replays = replays_run_();  // before the lock: the runner has its own
   std::lock_guard lock(mutex_);
   if (finished == nullptr) {
     running_.insert(model);
     out_ << "orcs-gap: fitting " << (model == "refit" ? "the model's own parameters (refit)" : model) << std::endl;
+    WriteFile(replays);
     return;
   }
   running_.erase(model);
   ++finished_;
+  fits_.push_back({{"effect", model}, {"holdout_rms_deg", finished->holdout_rms}, {"score", finished->score}});
   std::string line = "orcs-gap: " + model + " fitted: held-out gap " + Fixed(finished->holdout_rms, "%.3f") +
                      "° RMS, score " + Fixed(finished->score, "%.4g") + " deg²";
   if (model == "refit") {
@@ -80,6 +108,7 @@ void GapProgress::OnFit(const std::string& model, const identify::ModelScore* fi
     line += "; best so far";
   }
   out_ << line << std::endl;
+  WriteFile(replays);
 }
 
 }  // namespace orcs::gap

@@ -14,6 +14,7 @@
 #include <string>
 #include <thread>
 
+#include "clients/batch/progress_file.h"
 #include "model/identify/gap_diagnosis.h"
 
 namespace orcs::gap {
@@ -21,8 +22,11 @@ namespace orcs::gap {
 class GapProgress {
  public:
   /// Writes to `out`; `replays_run` says how many replays have run (the JobRunner's jobs); a line every `interval`.
+  /// `file` (not owned; nullptr = none), progress.json for orcs-view, is written at each fit's start and end and
+  /// once a second: {"replays", "fits_done", "fitting": [...], "best": {"effect", "score"}, "fits": [{"effect",
+  /// "holdout_rms_deg", "score"}]}.
   GapProgress(std::ostream& out, std::function<std::uint64_t()> replays_run,
-              std::chrono::milliseconds interval = std::chrono::seconds(10));
+              std::chrono::milliseconds interval = std::chrono::seconds(10), batch::ProgressFile* file = nullptr);
   /// Stops the periodic lines.
   ~GapProgress();
   GapProgress(const GapProgress&) = delete;
@@ -36,6 +40,8 @@ class GapProgress {
 
  private:
   void Tick();
+  /// Brings the progress file up to date; with mutex_ held.
+  void WriteFile(std::uint64_t replays);
 
   std::ostream& out_;
   const std::function<std::uint64_t()> replays_run_;
@@ -48,6 +54,8 @@ class GapProgress {
   double best_score_ = 0;          ///< its score, deg²
   int finished_ = 0;               ///< fits done
   bool stopping_ = false;
+  batch::ProgressFile* file_;      ///< progress.json, or nullptr
+  nlohmann::json fits_ = nlohmann::json::array();  ///< the finished fits, for the file
   std::thread ticker_;             ///< last: starts once everything above exists
 };
 

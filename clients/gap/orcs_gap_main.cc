@@ -131,8 +131,9 @@ int Diagnose(const GapOptions& o) {
             << "\n";
   BrokerReplays replays(runner);
   std::optional<Diagnosis> result;
+  batch::ProgressFile file(o.out, "gap");
   {
-    GapProgress progress(std::cerr, [&runner] { return runner.jobs_run(); });
+    GapProgress progress(std::cerr, [&runner] { return runner.jobs_run(); }, std::chrono::seconds(10), &file);
     options.on_fit = [&progress](const std::string& fitted, const identify::ModelScore* score) {
       progress.OnFit(fitted, score);
     };
@@ -143,6 +144,7 @@ int Diagnose(const GapOptions& o) {
   runs.insert(runs.end(), holdout.begin(), holdout.end());
   WriteReplays(o.out, diagnosis, rig, model, runs);
   WriteReport(o.out, diagnosis, rig, model, options);
+  file.Finish("finished");
   std::cout << diagnosis.verdict << "\n"
             << "orcs-gap: report in " << o.out << "/report.md, fitted model in " << o.out
             << "/model.val; plot with scripts/plot_gap.py " << o.out << "; watch the replays with orcs-view "

@@ -107,6 +107,7 @@ TEST_F(BatchResumeTest, ARunInterruptedAtHalfAndResumedHasTheBitsOfAnUninterrupt
   const std::vector<std::string> before = Interrupt(cut, Out("cut"), 8);
   ASSERT_GE(before.size(), 1u);
   ASSERT_LT(before.size(), 16u) << "the batch ended before it could be interrupted";
+  EXPECT_EQ(nlohmann::json::parse(dir_.Read(Out("cut") + "/progress.json"))["state"], "interrupted");
 
   // Refused, naming what is wrong, and nothing is touched.
   ProcessResult refused = RunProcess({kBatch, "run", "--resume", Out("cut"), "--jobs", "9"});
@@ -129,6 +130,12 @@ TEST_F(BatchResumeTest, ARunInterruptedAtHalfAndResumedHasTheBitsOfAnUninterrupt
   EXPECT_THAT(resumed.err, HasSubstr(std::to_string(before.size()) + " of 16 jobs have their result; running the other " +
                                      std::to_string(16 - before.size())));
   EXPECT_THAT(resumed.out, HasSubstr("(" + std::to_string(before.size()) + " of them before the interruption)"));
+  // orcs-view's page follows the resumed run: the jobs it ran, of how many, and its end.
+  const nlohmann::json progress = nlohmann::json::parse(dir_.Read(Out("cut") + "/progress.json"));
+  EXPECT_EQ(progress["state"], "finished");
+  EXPECT_EQ(progress["earlier"], before.size());
+  EXPECT_EQ(progress["done"], 16);
+  EXPECT_EQ(progress["total"], 16);
 
   const std::vector<std::string> after = Lines(Out("cut") + "/results.jsonl");
   ASSERT_EQ(after.size(), 16u) << "one line per job: a job that ran again would add a line";

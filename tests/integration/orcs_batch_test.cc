@@ -33,6 +33,7 @@ using test_support::ProcessResult;
 using test_support::RunProcess;
 using test_support::TempDir;
 using ::testing::HasSubstr;
+using ::testing::MatchesRegex;
 using ::testing::Not;
 
 const std::string kBin = ORCS_BINARY_DIR "/bin/";
@@ -268,6 +269,39 @@ TEST_F(OrcsBatchTest, SubmitRunsTheBatchOnARunningBroker) {
   const std::vector<nlohmann::json> lines = ReadLines(Out("remote") + "/results.jsonl");
   ASSERT_EQ(lines.size(), 3u);
   for (const nlohmann::json& line : lines) EXPECT_EQ(line["worker"], "remote");
+  // progress.json for orcs-view: the end, the counts, and the broker's batch id (the dashboard's key to the
+  // folder's recordings).
+  const nlohmann::json progress = nlohmann::json::parse(dir_.Read(Out("remote") + "/progress.json"));
+  EXPECT_EQ(progress["command"], "submit");
+  EXPECT_EQ(progress["state"], "finished");
+  EXPECT_EQ(progress["done"], 3);
+  EXPECT_EQ(progress["total"], 3);
+  EXPECT_THAT(progress["broker_batch"].get<std::string>(), MatchesRegex("[0-9a-f]{32}"));
+}
+
+// A broker at a fast pace (--heartbeat 0.1: peers silent for 0.5 s are lost) and a worker and a client left at the
+// default 1 s: each side says its pace, and the broker waits for the slower one. Before, the broker dropped the
+// client every 0.5 s and the client submitted its batch again, for ever.
+TEST_F(OrcsBatchTest, ABrokerFasterThanItsWorkerAndClientLosesNeither) {
+  BackgroundProcess broker({kBin + "orcs-broker", "--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
+  const std::optional<std::string> endpoints = broker.ReadLine(milliseconds(10000));
+  ASSERT_TRUE(endpoints.has_value()) << broker.err();
+  std::smatch match;
+  ASSERT_TRUE(std::regex_match(*endpoints, match, std::regex("orcs-broker clients=(\\S+) workers=(\\S+)")));
+  BackgroundProcess worker({kBin + "orcs-worker", "--connect", match[2], "--id", "steady"});
+  const ProcessResult result =
+      Batch({"submit", "--broker", match[1], Scenario(), "--jobs", "8", "--out", Out("paced"), "--quiet"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(ReadLines(Out("paced") + "/results.jsonl").size(), 8u);
+  broker.Signal(SIGTERM);
+  ASSERT_TRUE(broker.Wait(milliseconds(10000)).has_value());
+  const std::string log = broker.err();
+  EXPECT_THAT(log, Not(HasSubstr(" lost"))) << log;
+  std::size_t opened = 0;
+  for (std::size_t at = log.find("opened batch"); at != std::string::npos; at = log.find("opened batch", at + 1)) {
+    ++opened;
+  }
+  EXPECT_EQ(opened, 1u) << "the batch was submitted again: " << log;
 }
 
 // The channel of `name` (x, y or z of a vector) in the last frame.

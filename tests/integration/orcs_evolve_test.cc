@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cstdlib>
 #include <optional>
 #include <filesystem>
 #include <fstream>
@@ -157,6 +158,11 @@ TEST_F(OrcsEvolveTest, RunWritesItsFolderAndTheWinnerReplaysWithOrcsSimToTheSame
   ASSERT_EQ(csv.size(), 4u);
   EXPECT_EQ(csv[0], "generation,evaluations,failed,best,mean,median,worst,best_so_far,seconds");
   for (int g = 0; g <= 2; ++g) EXPECT_THAT(csv[g + 1], StartsWith(std::to_string(g) + ",5,")) << csv[g + 1];
+  const nlohmann::json progress = nlohmann::json::parse(dir_.Read(out + "/progress.json"));
+  EXPECT_EQ(progress["command"], "evolve");
+  EXPECT_EQ(progress["state"], "finished");
+  EXPECT_EQ(progress["last_generation"], 2);
+  EXPECT_EQ(progress["generations"], 2);
 
   // checkpoint.json and best_genome.json agree on the champion.
   const nlohmann::json checkpoint = Checkpoint(out);
@@ -263,6 +269,7 @@ TEST_F(OrcsEvolveTest, AnInterruptedRunResumedWithOnlyResumeKeepsItsSettingsAndE
     ASSERT_EQ(ended->exit_code, 1) << "interrupted before its 4 generations: " << ended->out << ended->err;
     EXPECT_THAT(ended->out, HasSubstr("interrupted after generation"));
   }
+  EXPECT_EQ(nlohmann::json::parse(dir_.Read(Out("cut") + "/progress.json"))["state"], "interrupted");
   const std::size_t done = Lines(dir_.Read(Out("cut") + "/fitness.csv")).size();
   ASSERT_LT(done, 6u);
 
@@ -287,6 +294,32 @@ TEST_F(OrcsEvolveTest, AnInterruptedRunResumedWithOnlyResumeKeepsItsSettingsAndE
       RunProcess({kBin + "orcs-batch", "evolve", "--resume", Out("cut"), "--population", "8", "--workers", "2"}));
 }
 
+// A pseudo-terminal's output as a reader would describe it: each state of the redrawn line while it ran, then the
+// screen at the end ('\r' returns to the line's start, "\x1b[K" erases the rest of it; the terminal ends lines with
+// "\r\n"). `folder`, the test's temporary one, is left out.
+std::string TerminalTranscript(std::string text, const std::string& command, const std::string& folder) {
+  const auto erase_all = [&text](const std::string& what, const std::string& with) {
+    for (std::size_t at; (at = text.find(what)) != std::string::npos;) text.replace(at, what.size(), with);
+  };
+  erase_all("\x1b[K", "");
+  erase_all("\r\n", "\n");
+  erase_all(folder + "/", "");
+  std::string frames, screen;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    std::vector<std::string> parts;
+    std::istringstream pieces(line);
+    for (std::string piece; std::getline(pieces, piece, '\r');) {
+      if (!piece.empty()) parts.push_back(piece);
+    }
+    if (parts.empty()) continue;
+    for (std::size_t i = 0; i + 1 < parts.size(); ++i) frames += "  " + parts[i] + "\n";
+    screen += "  " + parts.back() + "\n";
+  }
+  return "$ " + command + "\n\nwhile a generation runs, its line is redrawn in place:\n" + frames +
+         "\nthe screen when it has ended:\n" + screen;
+}
+
 // Issue 21: on a terminal (a pseudo-terminal from util-linux's `script`), a generation shows its progress while it
 // runs — jobs done of the population and the best and median fitness so far — and then its summary line.
 TEST_F(OrcsEvolveTest, OnATerminalEachGenerationShowsItsJobsAndFitnessWhileItRuns) {
@@ -298,6 +331,16 @@ TEST_F(OrcsEvolveTest, OnATerminalEachGenerationShowsItsJobsAndFitnessWhileItRun
   EXPECT_THAT(typed.out, HasSubstr("generation 1/1: 1/5 jobs (ok 1, failed 0)"));  // the first result is drawn
   EXPECT_THAT(typed.out, HasSubstr("in this generation so far"));
   EXPECT_THAT(typed.out, HasSubstr("\r\x1b[Kgeneration 1/1: best "));  // the summary replaces the progress line
+  // For docs/evolution.md: what the terminal showed, as text (ORCS_SCREENSHOT_DIR, like the browser tests'
+  // screenshots; relative to the repository).
+  if (const char* shots = std::getenv("ORCS_SCREENSHOT_DIR")) {
+    const fs::path folder = fs::path(shots).is_absolute() ? fs::path(shots) : fs::path(ORCS_SOURCE_DIR) / shots;
+    std::string shown = command.substr(command.find("orcs-batch"));  // without the build's and the test's folders
+    for (std::size_t at; (at = shown.find(dir_.path().string() + "/")) != std::string::npos;) {
+      shown.erase(at, dir_.path().string().size() + 1);
+    }
+    std::ofstream(folder / "evolve-progress.txt") << TerminalTranscript(typed.out, shown, dir_.path().string());
+  }
 }
 
 TEST_F(OrcsEvolveTest, BadInputExitsTwoWithOneLineBeforeAnythingRuns) {

@@ -24,6 +24,16 @@ TEST(ProgressDisplayTest, StatusTextHasCountsRateAndEta) {
   EXPECT_EQ(progress.StatusText(40, 0, start + seconds(2)), "40/40 jobs (ok 40, failed 0), 20.0 jobs/s");
 }
 
+// A resumed batch: 10 of its 40 jobs were done before; the rate and the time left count this run's jobs only.
+TEST(ProgressDisplayTest, AResumedBatchCountsItsEarlierJobsButNotInItsRate) {
+  std::ostringstream out;
+  const Clock::time_point start{};
+  ProgressDisplay progress(out, 40, false, start);
+  progress.SetEarlier(10);
+  EXPECT_EQ(progress.StatusText(10, 0, start + seconds(1)), "10/40 jobs (ok 10, failed 0)");
+  EXPECT_EQ(progress.StatusText(20, 0, start + seconds(5)), "20/40 jobs (ok 20, failed 0), 2.00 jobs/s, ETA 10 s");
+}
+
 TEST(ProgressDisplayTest, PlainOutputPrintsALineAtMostEveryInterval) {
   std::ostringstream out;
   const Clock::time_point start{};

@@ -8,6 +8,8 @@
 #include <atomic>
 #include <sstream>
 
+#include "tests/support/temp_dir.h"
+
 namespace orcs::gap {
 namespace {
 
@@ -47,6 +49,35 @@ TEST(GapProgressTest, SaysWhichFitsRunAndWhichCandidateIsBestSoFar) {
   EXPECT_THAT(text, HasSubstr("orcs-gap: refit fitted: held-out gap 9.400° RMS, score 88.8 deg² (nothing missing"));
   EXPECT_THAT(text, HasSubstr("orcs-gap: Backlash fitted: held-out gap 9.300° RMS, score 91.2 deg²; best so far\n"));
   EXPECT_THAT(text, HasSubstr("orcs-gap: TransportDelay fitted: held-out gap 0.189° RMS, score 0.0375 deg²; best so far"));
+}
+
+// The same progress, for orcs-view: progress.json says what is fitted, the finished fits and the best so far.
+TEST(GapProgressTest, KeepsProgressJsonUpToDateForThePage) {
+  test_support::TempDir dir;
+  std::ostringstream out;
+  batch::ProgressFile file(dir.path().string(), "gap");
+  const auto written = [&] { return nlohmann::json::parse(dir.Read(batch::kProgressFile)); };
+  {
+    GapProgress progress(out, [] { return std::uint64_t{42}; }, std::chrono::hours(1), &file);
+    progress.OnFit("Backlash", nullptr);
+    nlohmann::json now = written();
+    EXPECT_EQ(now["fitting"], nlohmann::json::array({"Backlash"}));
+    EXPECT_EQ(now["replays"], 42);
+    EXPECT_EQ(now["fits_done"], 0);
+    EXPECT_FALSE(now.contains("best"));
+    const identify::ModelScore score = Score("Backlash", 0.5, 0.25);
+    progress.OnFit("Backlash", &score);
+    now = written();
+    EXPECT_TRUE(now["fitting"].empty());
+    EXPECT_EQ(now["fits_done"], 1);
+    EXPECT_EQ(now["best"]["effect"], "Backlash");
+    EXPECT_DOUBLE_EQ(now["best"]["score"].get<double>(), 0.25);
+    ASSERT_EQ(now["fits"].size(), 1u);
+    EXPECT_DOUBLE_EQ(now["fits"][0]["holdout_rms_deg"].get<double>(), 0.5);
+    EXPECT_EQ(now["state"], "running");
+  }
+  file.Finish("finished");
+  EXPECT_EQ(written()["state"], "finished");
 }
 
 }  // namespace
