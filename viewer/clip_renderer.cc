@@ -107,7 +107,7 @@ ClipPlan PlanClip(const RenderOptions& r, const std::string& extension, ViewCata
   ClipPlan plan;
   plan.extension = extension;
   plan.still = extension == ".png";
-  for (const ViewItem& candidate : catalog.items()) {
+  for (const ViewItem& candidate : catalog.Items()) {
     if (candidate.kind == "recording") {
       plan.item = candidate.id;
       break;

@@ -15,6 +15,7 @@ namespace fs = std::filesystem;
 
 constexpr std::uintmax_t kMaxTableBytes = 256u << 20;  // results.jsonl, fitness.csv, report.json
 constexpr const char* kRecordingExtension = ".orcsrec";
+constexpr const char* kProgressFile = "progress.json";  // clients/batch/progress_file.h
 
 bool IsFile(const fs::path& path) {
   std::error_code error;
@@ -45,6 +46,18 @@ std::vector<fs::path> RecordingsIn(const fs::path& folder) {
   return found;
 }
 
+// The folder's progress.json (written by the command making it), or null when there is none or it is not one.
+nlohmann::json ProgressOf(const fs::path& folder) {
+  try {
+    const std::string text = ReadTable(folder / kProgressFile);
+    if (text.empty()) return nullptr;
+    nlohmann::json progress = nlohmann::json::parse(text);
+    return progress.is_object() && progress.value("format", "") == "orcs-progress" ? progress : nlohmann::json(nullptr);
+  } catch (const std::exception&) {
+    return nullptr;  // not ours, or unreadable: the page shows no progress rather than an error
+  }
+}
+
 nlohmann::json NumberOrNull(const std::string& text) {
   if (text.empty()) return nullptr;
   try {
@@ -65,6 +78,19 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
   return fields;
 }
 
+// What a folder holds by its files: "evolve", "gap", "batch", or "" (a folder of recordings). A run that has not
+// written its tables yet is known by its progress.json's command.
+std::string FolderKind(const fs::path& root) {
+  if (IsFile(root / "fitness.csv")) return "evolve";
+  if (IsFile(root / "report.json")) return "gap";
+  if (IsFile(root / "results.jsonl") || IsFile(root / "results.jsonl.partial")) return "batch";
+  const nlohmann::json progress = ProgressOf(root);
+  const std::string command = progress.is_object() ? progress.value("command", "") : "";
+  if (command == "evolve" || command == "gap") return command;
+  if (command == "run" || command == "submit" || command == "sweep" || command == "regress") return "batch";
+  return "";
+}
+
 }  // namespace
 
 ViewCatalog::ViewCatalog(const std::vector<std::string>& inputs) {
@@ -80,36 +106,62 @@ void ViewCatalog::AddInput(const std::string& input) {
   // Read whole now: a foreign, truncated or newer file is reported before the server starts.
   std::shared_ptr<const evaluation::Recording> recording =
       std::make_shared<evaluation::Recording>(evaluation::ReadRecording(input));
-  const std::string id = AddRecording(input, "", fs::path(input).filename().string());
+  std::string id;
+  {
+    std::lock_guard lock(items_mutex_);
+    id = AddRecording(input, "", fs::path(input).filename().string());
+  }
+  std::lock_guard lock(mutex_);
   cache_.emplace(id, std::move(recording));
 }
 
 void ViewCatalog::AddFolder(const std::string& folder) {
   const fs::path root(folder);
   const std::string name = root.filename().empty() ? root.parent_path().filename().string() : root.filename().string();
+  std::lock_guard lock(items_mutex_);
   const std::size_t before = items_.size();
-  if (IsFile(root / "fitness.csv")) {
-    const std::string id = AddItem("evolve", name, folder, "");
-    if (IsFile(root / "best" / "results.jsonl")) {
-      const std::string best = AddItem("batch", name + " / winner and validation", (root / "best").string(), id);
-      for (const fs::path& file : RecordingsIn(root / "best" / "recordings")) {
-        AddRecording(file.string(), best, file.stem().string());
-      }
-    }
-  } else if (IsFile(root / "report.json")) {
-    const std::string id = AddItem("gap", name, folder, "");
-    for (const fs::path& file : RecordingsIn(root / "replays")) AddRecording(file.string(), id, file.stem().string());
-  } else if (IsFile(root / "results.jsonl") || IsFile(root / "results.jsonl.partial")) {
-    const std::string id = AddItem("batch", name, folder, "");
-    for (const fs::path& file : RecordingsIn(root / "recordings")) AddRecording(file.string(), id, file.stem().string());
+  const std::string kind = FolderKind(root);
+  if (!kind.empty()) {
+    AddChildren(*FindLocked(AddItem(kind, name, folder, "")));
   } else {
     for (const fs::path& file : RecordingsIn(root)) AddRecording(file.string(), "", file.filename().string());
   }
   if (items_.size() == before) {
     throw InputError(folder, 0,
                      "nothing viewable: expected recordings (*.orcsrec), a batch (results.jsonl), an evolve run "
-                     "(fitness.csv) or a gap report (report.json)");
+                     "(fitness.csv), a gap report (report.json) or a run in progress (progress.json)");
   }
+}
+
+void ViewCatalog::AddChildren(const ViewItem& item) {
+  const fs::path root(item.path);
+  const auto add_new = [this](const fs::path& folder, const std::string& parent) {
+    for (const fs::path& file : RecordingsIn(folder)) {
+      if (recording_ids_.count(file.string()) == 0) AddRecording(file.string(), parent, file.stem().string());
+    }
+  };
+  if (item.kind == "evolve") {
+    std::string best;
+    for (const ViewItem& child : items_) {
+      if (child.parent == item.id && child.kind == "batch") best = child.id;
+    }
+    if (best.empty() && IsFile(root / "best" / "results.jsonl")) {
+      best = AddItem("batch", item.label + " / winner and validation", (root / "best").string(), item.id);
+    }
+    if (!best.empty()) add_new(root / "best" / "recordings", best);
+  } else if (item.kind == "gap") {
+    add_new(root / "replays", item.id);
+  } else if (item.kind == "batch") {
+    add_new(root / "recordings", item.id);
+  }
+}
+
+const ViewItem* ViewCatalog::Refreshed(std::string_view id, std::string_view kind) {
+  std::lock_guard lock(items_mutex_);
+  const ViewItem* item = FindLocked(id);
+  if (item == nullptr || item->kind != kind) return nullptr;
+  AddChildren(*item);
+  return item;
 }
 
 std::string ViewCatalog::AddItem(std::string kind, std::string label, std::string path, std::string parent) {
@@ -120,10 +172,22 @@ std::string ViewCatalog::AddItem(std::string kind, std::string label, std::strin
 }
 
 std::string ViewCatalog::AddRecording(const std::string& path, const std::string& parent, const std::string& label) {
-  return AddItem("recording", label, path, parent);
+  std::string id = AddItem("recording", label, path, parent);
+  recording_ids_.emplace(path, id);
+  return id;
+}
+
+std::vector<ViewItem> ViewCatalog::Items() const {
+  std::lock_guard lock(items_mutex_);
+  return {items_.begin(), items_.end()};
 }
 
 const ViewItem* ViewCatalog::Find(std::string_view id) const {
+  std::lock_guard lock(items_mutex_);
+  return FindLocked(id);
+}
+
+const ViewItem* ViewCatalog::FindLocked(std::string_view id) const {
   for (const ViewItem& item : items_) {
     if (item.id == id) return &item;
   }
@@ -131,15 +195,23 @@ const ViewItem* ViewCatalog::Find(std::string_view id) const {
 }
 
 std::string ViewCatalog::RecordingIdOf(const std::string& path) const {
+  std::lock_guard lock(items_mutex_);
+  const auto found = recording_ids_.find(path);
+  return found == recording_ids_.end() ? "" : found->second;
+}
+
+std::vector<ViewItem> ViewCatalog::ChildrenOf(const std::string& parent) const {
+  std::lock_guard lock(items_mutex_);
+  std::vector<ViewItem> children;
   for (const ViewItem& item : items_) {
-    if (item.kind == "recording" && fs::path(item.path) == fs::path(path)) return item.id;
+    if (item.parent == parent) children.push_back(item);
   }
-  return "";
+  return children;
 }
 
 nlohmann::json ViewCatalog::ItemsJson() const {
   nlohmann::json items = nlohmann::json::array();
-  for (const ViewItem& item : items_) {
+  for (const ViewItem& item : Items()) {
     nlohmann::json entry = {{"id", item.id}, {"kind", item.kind}, {"label", item.label}, {"path", item.path}};
     if (!item.parent.empty()) entry["parent"] = item.parent;
     items.push_back(std::move(entry));
@@ -160,9 +232,9 @@ std::shared_ptr<const evaluation::Recording> ViewCatalog::Recording(std::string_
   return recording;
 }
 
-std::optional<nlohmann::json> ViewCatalog::BatchJson(std::string_view id) const {
-  const ViewItem* item = Find(id);
-  if (item == nullptr || item->kind != "batch") return std::nullopt;
+std::optional<nlohmann::json> ViewCatalog::BatchJson(std::string_view id) {
+  const ViewItem* item = Refreshed(id, "batch");
+  if (item == nullptr) return std::nullopt;
   const fs::path folder(item->path);
   const fs::path file = IsFile(folder / "results.jsonl") ? folder / "results.jsonl" : folder / "results.jsonl.partial";
   std::istringstream lines(ReadTable(file));
@@ -191,12 +263,12 @@ std::optional<nlohmann::json> ViewCatalog::BatchJson(std::string_view id) const 
   }
   nlohmann::json columns = {"job", "status", "fitness", "seed"};
   for (const std::string& term : terms) columns.push_back(term);
-  return nlohmann::json{{"name", item->label}, {"columns", columns}, {"jobs", jobs}};
+  return nlohmann::json{{"name", item->label}, {"columns", columns}, {"jobs", jobs}, {"progress", ProgressOf(folder)}};
 }
 
-std::optional<nlohmann::json> ViewCatalog::EvolveJson(std::string_view id) const {
-  const ViewItem* item = Find(id);
-  if (item == nullptr || item->kind != "evolve") return std::nullopt;
+std::optional<nlohmann::json> ViewCatalog::EvolveJson(std::string_view id) {
+  const ViewItem* item = Refreshed(id, "evolve");
+  if (item == nullptr) return std::nullopt;
   const fs::path folder(item->path);
   std::istringstream lines(ReadTable(folder / "fitness.csv"));
   std::string line;
@@ -220,22 +292,24 @@ std::optional<nlohmann::json> ViewCatalog::EvolveJson(std::string_view id) const
   return nlohmann::json{{"name", item->label},
                         {"generations", generations},
                         {"best_genome", genome},
-                        {"recording", winner.empty() ? nlohmann::json(nullptr) : nlohmann::json(winner)}};
+                        {"recording", winner.empty() ? nlohmann::json(nullptr) : nlohmann::json(winner)},
+                        {"progress", ProgressOf(folder)}};
 }
 
-std::optional<nlohmann::json> ViewCatalog::GapJson(std::string_view id) const {
-  const ViewItem* item = Find(id);
-  if (item == nullptr || item->kind != "gap") return std::nullopt;
+std::optional<nlohmann::json> ViewCatalog::GapJson(std::string_view id) {
+  const ViewItem* item = Refreshed(id, "gap");
+  if (item == nullptr) return std::nullopt;
   const fs::path folder(item->path);
-  const nlohmann::json report = ParseJson(ReadTable(folder / "report.json"), (folder / "report.json").string());
+  const std::string report_text = ReadTable(folder / "report.json");  // "" while the diagnosis runs
+  const nlohmann::json report =
+      report_text.empty() ? nlohmann::json(nullptr) : ParseJson(report_text, (folder / "report.json").string());
   nlohmann::json effect = nullptr;
   if (report.is_object() && report.contains("verdict") && report["verdict"].is_object()) {
     effect = report["verdict"].value("effect", nlohmann::json(nullptr));
   }
   // replays/<run>.orcsrec (fitted model), <run>.given.orcsrec (model as given), <run>.measured.orcsrec (measured).
   std::map<std::string, nlohmann::json> runs;
-  for (const ViewItem& child : items_) {
-    if (child.parent != item->id) continue;
+  for (const ViewItem& child : ChildrenOf(item->id)) {
     std::string name = child.label;
     std::string role = "simulated";
     for (const char* suffix : {".given", ".measured"}) {
@@ -250,7 +324,21 @@ std::optional<nlohmann::json> ViewCatalog::GapJson(std::string_view id) const {
   }
   nlohmann::json list = nlohmann::json::array();
   for (auto& [name, run] : runs) list.push_back(std::move(run));
-  return nlohmann::json{{"name", item->label}, {"missing_effect", effect}, {"runs", list}};
+  return nlohmann::json{{"name", item->label}, {"missing_effect", effect}, {"runs", list}, {"progress", ProgressOf(folder)}};
+}
+
+nlohmann::json ViewCatalog::ReplaysJson() {
+  nlohmann::json replays = nlohmann::json::array();
+  for (const ViewItem& item : Items()) {
+    if (item.kind != "batch" || !item.parent.empty()) continue;
+    const nlohmann::json progress = ProgressOf(item.path);
+    if (!progress.is_object() || !progress.contains("broker_batch") || !progress["broker_batch"].is_string()) continue;
+    Refreshed(item.id, "batch");
+    for (const ViewItem& child : ChildrenOf(item.id)) {
+      replays.push_back({{"batch", progress["broker_batch"]}, {"job", child.label}, {"recording", child.id}});
+    }
+  }
+  return replays;
 }
 
 }  // namespace orcs::viewer

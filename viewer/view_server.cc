@@ -289,8 +289,8 @@ void ViewServer::AddFilesRoutes() {
     SendJson(response, {{"offsets", recording->contact_offsets},
                         {"contacts", ContactsJson(recording->contacts, 0, recording->contacts.size())}});
   });
-  const auto table_route = [this](const char* pattern, std::optional<nlohmann::json> (ViewCatalog::*get)(std::string_view)
-                                                            const) {
+  const auto table_route = [this](const char* pattern,
+                                  std::optional<nlohmann::json> (ViewCatalog::*get)(std::string_view)) {
     server_->Get(pattern, [this, get](const Request& request, Response& response) {
       const std::optional<nlohmann::json> table = (catalog_->*get)(request.matches[1].str());
       if (!table) return SendError(response, 404, "no such item");
@@ -300,6 +300,10 @@ void ViewServer::AddFilesRoutes() {
   table_route(R"(/api/batch/([A-Za-z0-9]+))", &ViewCatalog::BatchJson);
   table_route(R"(/api/evolve/([A-Za-z0-9]+))", &ViewCatalog::EvolveJson);
   table_route(R"(/api/gap/([A-Za-z0-9]+))", &ViewCatalog::GapJson);
+  // The dashboard's links from a finished job to its replay.
+  server_->Get("/api/replays", [this](const Request&, Response& response) {
+    SendJson(response, {{"replays", catalog_->ReplaysJson()}});
+  });
 }
 
 // The dashboard (orcs-view --broker): the broker's newest status, long-polled, and the history of its totals.

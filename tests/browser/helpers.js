@@ -67,6 +67,39 @@ export function startServer(args) {
   }));
 }
 
+/**
+ * Starts a program of the build's bin dir; its stderr is kept (child.stderrText()) for error messages and
+ * child.exited resolves to {code, signal}. Killed by stopChildren().
+ */
+export function startChild(program, args) {
+  const child = spawn(path.join(binDir, program), args, { cwd: repoRoot, stdio: ['ignore', 'pipe', 'pipe'] });
+  let stderr = '';
+  child.stderr.on('data', (d) => { stderr = (stderr + d).slice(-20_000); });
+  child.stderrText = () => stderr.trim();
+  child.exited = new Promise((resolve) => child.once('exit', (code, signal) => resolve({ code, signal })));
+  child.once('error', () => {});
+  return child;
+}
+
+/** Kills (SIGKILL) whichever of the children still run, and waits for them. */
+export async function stopChildren(children) {
+  const alive = children.filter((c) => c && c.exitCode === null && c.signalCode === null);
+  for (const child of alive) child.kill('SIGKILL');
+  await Promise.all(alive.map((c) => c.exited));
+}
+
+/** A real orcs-broker on loopback ephemeral ports: {child, clients, workers} (its two endpoints). */
+export async function startBroker(heartbeat = '0.1') {
+  const child = startChild('orcs-broker', ['--client-port', '0', '--worker-port', '0', '--heartbeat', heartbeat]);
+  const line = await new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`orcs-broker printed no endpoints in 10 s: ${child.stderrText()}`)), 10_000);
+    createInterface({ input: child.stdout }).once('line', (l) => { clearTimeout(timer); resolve(l); });
+  });
+  const m = /clients=(\S+) workers=(\S+)/.exec(line);
+  if (!m) throw new Error(`orcs-broker's endpoints line: ${line}`);
+  return { child, clients: m[1], workers: m[2] };
+}
+
 export function haveBinaries(...names) {
   return names.every((n) => existsSync(path.join(binDir, n)));
 }

@@ -21,6 +21,7 @@ const state = {
   ready: false,
   mode: null,
   item: null,
+  progress: null,     // the followed run's progress.json and its item, or null
   time: 0,
   frame: 0,
   playing: false,
@@ -124,8 +125,17 @@ function start() {
     onChange: (paths) => { state.plots = paths.slice(); },
     onSeek: (t) => { if (state.mode === 'files') seek(t); },
   });
-  items = new Items({ open, openRecording: (rid, opts) => openRecording(rid, opts) });
-  dashboard = new Dashboard({ state });
+  items = new Items({
+    open,
+    openRecording: (rid, opts) => openRecording(rid, opts),
+    onProgress: (progress) => { state.progress = progress; },
+    refreshSession: () => refreshSession().catch((err) => showError(err)),
+  });
+  dashboard = new Dashboard({
+    state,
+    openRecording: (rid, opts) => { dashboard.hide(); items.markCurrent(null); return openRecording(rid, opts); },
+    hasFiles: () => (session?.items || []).some((i) => i.kind !== 'broker' && i.kind !== 'live'),
+  });
   wireUi();
   boot().catch((err) => showError(err));
   if (!renderMode) requestAnimationFrame(tick);
@@ -155,6 +165,15 @@ async function boot() {
   if (renderMode) {
     await runRender({ world, rec, params, seekFrame: (f) => applyFrame(f, true), state });
   }
+}
+
+// The items again: a run in progress has written recordings since the page loaded.
+async function refreshSession() {
+  const fresh = await getJson('/api/session');
+  session.items = fresh.items;
+  items.setSession(session);
+  items.markCurrent(state.item);
+  fillCompare();
 }
 
 function fillCompare() {

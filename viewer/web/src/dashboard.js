@@ -1,13 +1,15 @@
 // orcs-view --broker ENDPOINT: the broker's dashboard (docs/viewer.md, "Watching a broker"). The server asks the
 // broker for its status once a second; this page long-polls /api/broker/status for each new answer (push, no page
 // reloads) and shows the totals, throughput and queue-depth charts over time, the workers (click one for its
-// recent jobs), the batches with their progress, and each batch's latest failures.
+// recent jobs), the batches with their progress, and each batch's latest failures. When orcs-view was also given
+// the batches' folders, a finished job that was recorded links to its replay (GET /api/replays).
 import uPlot from 'uplot';
 import { getJson } from './api.js';
 import { el, $, fmt, showError } from './util.js';
 
 const AXIS = { stroke: '#aeb6c2', grid: { stroke: '#2c323b' }, ticks: { stroke: '#3a414b' } };
 const HISTORY_POINTS = 3600;  // as the server keeps (viewer/broker_watch.h)
+const REPLAYS_MS = 3000;      // how often the recorded jobs are asked for again
 
 const seconds = (s) => {
   if (!(s >= 0)) return '—';
@@ -18,7 +20,7 @@ const seconds = (s) => {
 };
 
 export class Dashboard {
-  /** ctx: {state: window.orcsView, where the dashboard's figures go for tests} */
+  /** ctx: {state: window.orcsView, where the dashboard's figures go for tests; openRecording(rid, opts); hasFiles()} */
   constructor(ctx) {
     this.ctx = ctx;
     this.serial = 0;
@@ -27,6 +29,7 @@ export class Dashboard {
     this.charts = null;
     this.selectedWorker = null;
     this.latest = null;
+    this.replays = new Map();   // "batch\u0000job" → recording id
   }
 
   async show() {
@@ -55,6 +58,7 @@ export class Dashboard {
         const snapshot = await getJson(`/api/broker/status?since=${this.serial}`);
         if (snapshot.serial > this.serial) {
           this.serial = snapshot.serial;
+          await this.loadReplays();
           this.apply(snapshot);
         }
       } catch (err) {
@@ -62,6 +66,27 @@ export class Dashboard {
         await new Promise((resolve) => setTimeout(resolve, 1000));
       }
     }
+  }
+
+  /** The recorded jobs of the batch folders orcs-view was given, by broker batch and job id. */
+  async loadReplays() {
+    if (!this.ctx.hasFiles?.()) return;
+    // Each answer rescans the batch folders: every few seconds is soon enough for a replay link.
+    const now = performance.now();
+    if (this.replaysAt !== undefined && now - this.replaysAt < REPLAYS_MS) return;
+    this.replaysAt = now;
+    const answer = await getJson('/api/replays');
+    this.replays = new Map((answer.replays || []).map((r) => [`${r.batch}\u0000${r.job}`, r.recording]));
+  }
+
+  /** A "replay" button for a finished job that was recorded, or null. */
+  replayButton(batchId, jobId) {
+    const rid = batchId && jobId ? this.replays.get(`${batchId}\u0000${jobId}`) : undefined;
+    if (!rid) return null;
+    return el('button', {
+      class: 'small replay', title: `open the recording of ${jobId}`, dataset: { recording: rid },
+      onclick: () => this.ctx.openRecording(rid, { label: jobId }),
+    }, 'replay');
   }
 
   apply(snapshot) {
@@ -76,7 +101,7 @@ export class Dashboard {
     this.ctx.state.broker = status ? {
       serial: snapshot.serial, error: snapshot.error || '', workers: status.workers, busy: status.busy_workers,
       queued: status.queued, running: status.running, done: status.done, failed: status.failed,
-      batches: status.batch_list.length, points: this.points.length,
+      batches: status.batch_list.length, points: this.points.length, replays: this.replays.size,
     } : { serial: snapshot.serial, error: snapshot.error || 'no answer' };
   }
 
@@ -172,7 +197,8 @@ export class Dashboard {
     }
     $('dash-failures').replaceChildren(...(failures.length ? failures.map((f) => el('li', { class: 'failure' },
       el('span', { class: 'bad' }, f.status), ' ', el('span', { class: 'mono' }, f.job_id),
-      f.worker_id ? ` on ${f.worker_id}` : '', `, ${seconds(f.seconds_ago)} ago: `, f.message || '(no message)'))
+      f.worker_id ? ` on ${f.worker_id}` : '', `, ${seconds(f.seconds_ago)} ago: `, f.message || '(no message)', ' ',
+      this.replayButton(f.batch, f.job_id)))
       : [el('li', { class: 'muted' }, 'no failures in the live batches')]));
   }
 
@@ -181,7 +207,8 @@ export class Dashboard {
     $('dash-recent-title').textContent = worker ? `Recent jobs of ${worker.worker_id}` : 'Recent jobs (click a worker)';
     $('dash-recent').replaceChildren(...(worker ? (worker.recent_jobs.length ? worker.recent_jobs.map((j) => el('li', {},
       el('span', { class: j.status === 'OK' ? 'good' : 'bad' }, j.status), ' ',
-      el('span', { class: 'mono' }, j.job_id || "(another key's job)"), ` ${seconds(j.seconds)}, ${seconds(j.seconds_ago)} ago`))
+      el('span', { class: 'mono' }, j.job_id || "(another key's job)"), ` ${seconds(j.seconds)}, ${seconds(j.seconds_ago)} ago `,
+      this.replayButton(j.batch_id, j.job_id)))
       : [el('li', { class: 'muted' }, 'no job finished yet')]) : []));
   }
 }

@@ -1,18 +1,34 @@
 // The session's items (GET /api/session) as a side panel, and what an item shows when opened: a batch's job
-// table (sortable), an evolve run's fitness curve and winner, a gap report's runs (simulated + measured).
+// table (sortable), an evolve run's fitness curve and winner, a gap report's runs (simulated + measured). A run
+// still in progress (its progress.json says "running") is followed: its progress line and its table or curve are
+// asked for again every second until it ends (docs/viewer.md, "Runs in progress").
 import uPlot from 'uplot';
 import { getJson } from './api.js';
-import { el, $, fmt } from './util.js';
+import { el, $, fmt, put, showError } from './util.js';
+
+/** "8 s", "3 min 20 s", "2 h 5 min". */
+function duration(s) {
+  if (!(s >= 0)) return '—';
+  if (s < 60) return `${Math.round(s)} s`;
+  if (s < 3600) return `${Math.floor(s / 60)} min ${Math.round(s % 60)} s`;
+  return `${Math.floor(s / 3600)} h ${Math.floor((s % 3600) / 60)} min`;
+}
+
+const FOLLOW_MS = 1000;       // how often a running item is asked for again
+const STALE_SECONDS = 120;    // no news for this long: the command may have stopped
 
 const KIND_ICON = { recording: '▶', batch: '▦', evolve: '↗', gap: '≈', live: '●', broker: '⛁' };
 
 export class Items {
-  /** ctx: {openRecording(rid, opts), showError(msg), onOpened(item)} */
+  /** ctx: {open(id), openRecording(rid, opts), onProgress(progress or null), refreshSession()} */
   constructor(ctx) {
     this.ctx = ctx;
     this.items = [];
-    this.current = null;
+    this.current = null;        // the batch, evolve or gap item shown
     this.fitnessPlot = null;
+    this.batchSort = { key: null, dir: -1 };
+    this.followTimer = null;
+    this.shownBody = '';        // the answer (without its progress) now drawn: redraw only when it changed
   }
 
   setSession(session) {
@@ -35,15 +51,93 @@ export class Items {
 
   clearDetail() {
     if (this.fitnessPlot) { this.fitnessPlot.destroy(); this.fitnessPlot = null; }
+    clearTimeout(this.followTimer);
+    this.followTimer = null;
+    this.current = null;
+    this.shownBody = '';
     this.detail().replaceChildren();
+    this.ctx.onProgress?.(null);
   }
 
-  async showBatch(id) {
-    const batch = await getJson(`/api/batch/${encodeURIComponent(id)}`);
-    this.clearDetail();
+  showBatch(id) { return this.show(id, 'batch', (answer) => this.renderBatch(id, answer)); }
+  showEvolve(id) { return this.show(id, 'evolve', (answer) => this.renderEvolve(id, answer)); }
+  showGap(id) { return this.show(id, 'gap', (answer) => this.renderGap(id, answer)); }
+
+  /** Asks for the item, draws it, and while its run is in progress asks again every second. `follow`: a
+   * repeated ask, which is dropped when another item was opened meanwhile. */
+  async show(id, kind, render, follow = false) {
+    const answer = await getJson(`/api/${kind}/${encodeURIComponent(id)}`);
+    if (follow && this.current !== id) return;
+    const same = this.current === id;
+    const { progress = null, ...body } = answer;
+    const bodyText = JSON.stringify(body);
+    if (!same || bodyText !== this.shownBody) {
+      const scroll = same ? this.detail().querySelector('.table-wrap')?.scrollTop : 0;
+      if (!same) this.clearDetail();
+      else this.detail().replaceChildren();
+      if (this.fitnessPlot) { this.fitnessPlot.destroy(); this.fitnessPlot = null; }
+      this.current = id;
+      this.shownBody = bodyText;
+      this.detail().append(el('div', { id: 'run-progress' }));
+      render(answer);
+      const table = this.detail().querySelector('.table-wrap');
+      if (table && scroll) table.scrollTop = scroll;  // a growing table keeps the reader's place
+      if (same) this.ctx.refreshSession?.();  // recordings may have appeared: list them
+    }
+    this.renderProgress(kind, progress);
+    this.ctx.onProgress?.(progress ? { item: id, ...progress } : null);
+    clearTimeout(this.followTimer);
+    if (progress && progress.state === 'running') {
+      this.followTimer = setTimeout(() => {
+        if (this.current !== id) return;
+        this.show(id, kind, render, true).catch((err) => showError(err));
+      }, FOLLOW_MS);
+    }
+  }
+
+  /** The line above a run in progress (or one that ended early): what it does now. */
+  renderProgress(kind, p) {
+    const box = $('run-progress');
+    if (!box) return;
+    if (!p) { box.replaceChildren(); box.className = ''; return; }
+    const parts = [];
+    if (p.label) parts.push(p.label);
+    if (typeof p.done === 'number' && typeof p.total === 'number') {
+      parts.push(`${p.done}/${p.total} jobs (ok ${p.ok ?? p.done}, failed ${p.failed ?? 0})`);
+      if (p.jobs_per_second > 0) parts.push(`${fmt(p.jobs_per_second, 3)} jobs/s`);
+      if (p.eta_seconds >= 0 && p.state === 'running') parts.push(`ETA ${duration(p.eta_seconds)}`);
+    }
+    if (kind === 'evolve' && typeof p.best_so_far === 'number' && p.state === 'running') {
+      parts.push(`best ${fmt(p.best_so_far, 4)}, median ${fmt(p.median_so_far, 4)} in this generation so far`);
+    }
+    if (kind === 'gap') {
+      if (typeof p.replays === 'number') parts.push(`${p.replays} replays`);
+      parts.push(`${p.fits_done ?? 0} fits done`);
+      if (Array.isArray(p.fitting) && p.fitting.length) parts.push(`fitting ${p.fitting.join(', ')}`);
+      if (p.best) parts.push(`best so far ${p.best.effect} (score ${fmt(p.best.score, 4)} deg²)`);
+    }
+    const age = typeof p.updated_unix === 'number' ? Date.now() / 1000 - p.updated_unix : 0;
+    const words = {
+      running: age > STALE_SECONDS ? `no news for ${duration(age)}: the command (pid ${p.pid}) may have stopped`
+        : `${p.command} running`,
+      finished: `${p.command} finished`,
+      interrupted: `${p.command} interrupted: continue it with --resume`,
+      failed: `${p.command} ended with an error (see its output)`,
+    };
+    box.className = `run-progress state-${p.state}${age > STALE_SECONDS && p.state === 'running' ? ' stale' : ''}`;
+    box.dataset.state = p.state;
+    const done = typeof p.total === 'number' && p.total > 0 ? Math.min(1, p.done / p.total) : null;
+    box.replaceChildren();
+    put(box, el('b', {}, words[p.state] || p.state),
+      done !== null && p.state === 'running' ? el('div', { class: 'progress', title: `${p.done} of ${p.total}` },
+        el('div', { class: 'progress-done', style: `width: ${(100 * done).toFixed(1)}%` })) : null,
+      el('span', { class: 'muted' }, parts.join(' · ')));
+  }
+
+  renderBatch(id, batch) {
     const columns = Array.isArray(batch.columns) && batch.columns.length ? batch.columns : ['job', 'status', 'fitness', 'seed'];
     const jobs = Array.isArray(batch.jobs) ? batch.jobs.slice() : [];
-    let sortKey = null, sortDir = -1;
+    const sort = this.batchSort;
     const cell = (job, col) => {
       if (col in job) return job[col];
       if (job.terms && col in job.terms) return job.terms[col];
@@ -52,13 +146,13 @@ export class Items {
     const tbody = el('tbody');
     const renderRows = () => {
       const rows = jobs.slice();
-      if (sortKey) {
+      if (sort.key) {
         rows.sort((a, b) => {
-          const x = cell(a, sortKey), y = cell(b, sortKey);
+          const x = cell(a, sort.key), y = cell(b, sort.key);
           if (x === y) return 0;
           if (x === null || x === undefined) return 1;
           if (y === null || y === undefined) return -1;
-          return (typeof x === 'number' && typeof y === 'number' ? x - y : String(x).localeCompare(String(y))) * sortDir;
+          return (typeof x === 'number' && typeof y === 'number' ? x - y : String(x).localeCompare(String(y))) * sort.dir;
         });
       }
       tbody.replaceChildren(...rows.map((job) => el('tr', {
@@ -72,39 +166,38 @@ export class Items {
       }))));
     };
     const headRow = el('tr', {}, columns.map((col) => el('th', {
-      class: 'sortable', title: `sort by ${col}`,
+      class: `sortable${sort.key === col ? (sort.dir > 0 ? ' asc' : ' desc') : ''}`, title: `sort by ${col}`,
       onclick: (e) => {
-        sortDir = sortKey === col ? -sortDir : (col === 'fitness' ? -1 : 1);
-        sortKey = col;
+        sort.dir = sort.key === col ? -sort.dir : (col === 'fitness' ? -1 : 1);
+        sort.key = col;
         for (const th of headRow.children) th.classList.remove('asc', 'desc');
-        e.currentTarget.classList.add(sortDir > 0 ? 'asc' : 'desc');
+        e.currentTarget.classList.add(sort.dir > 0 ? 'asc' : 'desc');
         renderRows();
       },
     }, col)));
     renderRows();
-    this.detail().append(
+    put(this.detail(),
       el('h2', {}, `Batch: ${batch.name || id}`),
       el('div', { class: 'muted' }, `${jobs.length} jobs; click a row with a recording to open it; click a column to sort`),
       el('div', { class: 'table-wrap' }, el('table', { class: 'grid', id: 'batch-table' }, el('thead', {}, headRow), tbody)));
   }
 
-  async showEvolve(id) {
-    const evo = await getJson(`/api/evolve/${encodeURIComponent(id)}`);
-    this.clearDetail();
+  renderEvolve(id, evo) {
     const gens = Array.isArray(evo.generations) ? evo.generations : [];
     const plotDiv = el('div', { class: 'chart', id: 'fitness-plot' });
     const winner = el('button', {
       disabled: !evo.recording,
       onclick: () => evo.recording && this.ctx.openRecording(evo.recording, { label: `${evo.name || id} · winner` }),
     }, evo.recording ? 'Open the winner' : 'no winner recording');
-    this.detail().append(el('h2', {}, `Evolution: ${evo.name || id}`),
+    put(this.detail(), el('h2', {}, `Evolution: ${evo.name || id}`),
       el('div', { class: 'muted' }, `${gens.length} generations`), plotDiv,
       el('div', { class: 'row' }, winner),
       Array.isArray(evo.best_genome) ? el('div', { class: 'muted mono genome' }, `best genome: [${evo.best_genome.map((g) => fmt(g, 3)).join(', ')}]`) : null);
     const axis = { stroke: '#aeb6c2', grid: { stroke: '#2c323b' }, ticks: { stroke: '#3a414b' } };
     const width = Math.max(220, Math.floor(this.detail().getBoundingClientRect().width) - 8);
     this.fitnessPlot = new uPlot({
-      width, height: 180,
+      title: 'Fitness (higher is better)',
+      width, height: 200,
       scales: { x: { time: false } },
       axes: [{ ...axis, label: 'generation' }, { ...axis, label: 'fitness', size: 52 }],
       series: [{ label: 'generation' },
@@ -114,11 +207,9 @@ export class Items {
     }, [gens.map((g, i) => g.generation ?? i), gens.map((g) => g.best ?? null), gens.map((g) => g.median ?? null), gens.map((g) => g.worst ?? null)], plotDiv);
   }
 
-  async showGap(id) {
-    const gap = await getJson(`/api/gap/${encodeURIComponent(id)}`);
-    this.clearDetail();
+  renderGap(id, gap) {
     const runs = Array.isArray(gap.runs) ? gap.runs : [];
-    this.detail().append(el('h2', {}, `Gap: ${gap.name || id}`),
+    put(this.detail(), el('h2', {}, `Gap: ${gap.name || id}`),
       gap.missing_effect ? el('div', {}, 'missing effect: ', el('b', {}, gap.missing_effect)) : null,
       el('div', { class: 'muted' }, 'open a run: its simulated replay, the measured run overlaid and drawn as a ghost'),
       el('ul', { class: 'list', id: 'gap-runs' }, runs.map((run) => el('li', {

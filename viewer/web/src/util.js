@@ -20,6 +20,11 @@ export function el(tag, attrs = {}, ...children) {
 
 export const $ = (id) => document.getElementById(id);
 
+/** Appends the children to `parent`, skipping null, undefined and false (which DOM append would write as text). */
+export function put(parent, ...children) {
+  parent.append(...children.flat().filter((c) => c !== undefined && c !== null && c !== false));
+}
+
 const errorListeners = [];
 /** Registers who else hears of errors (the state object's `errors`). */
 export function onError(listener) { errorListeners.push(listener); }
