@@ -268,9 +268,7 @@ void BrokerCore::Restore(TimePoint now) {
     batch.client_id = std::move(stored.client_id);
     batch.owner_token = std::move(stored.owner_token);
     batch.client_key = std::move(stored.client_key);
-    // Its client finds the broker restarted within its own liveness, which may be longer than the broker's (a
-    // client at the default 1 s pace).
-    batch.claim_deadline = now_ + 2 * std::max(liveness_period_, LivenessFor(1000));
+    batch.claim_deadline = now_ + 2 * liveness_period_;
     batch.opened_at = now_;
   }
   std::uint64_t in_flight = 0;
