@@ -2,7 +2,7 @@
 // fixed to a host body, from finite differences of its position, plus gravity, projected on two sensing axes;
 // with a cut-off that holds the last in-range pair, a moving average, Gaussian noise and the output range.
 // Pure computation: the caller passes the host body's pose after each physics step and stores the result as
-// <board>/AccelAxis1 and AccelAxis2. No allocation. Decisions: docs/motor-model.md, "Sensors".
+// <board>/AccelAxis1 and AccelAxis2. No allocation. Decisions: docs/model.md, "Sensors".
 #pragma once
 
 #include <Eigen/Core>

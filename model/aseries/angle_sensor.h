@@ -1,6 +1,6 @@
 // The Dynamixel's angle sensor (spec/aseries.md §6d): the joint angle in degrees, with Gaussian noise, clamped
 // to the sensor range. Pure computation; the caller reads the joint angle after the physics step and stores
-// the result as <motor>/JointAngle. Decisions: docs/motor-model.md, "Sensors".
+// the result as <motor>/JointAngle. Decisions: docs/model.md, "Sensors".
 #pragma once
 
 #include <array>

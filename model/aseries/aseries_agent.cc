@@ -40,6 +40,10 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     motor.motor_torque = &values.Add(path + "MotorTorque", 0.0);
     values.Add(path + "MinAngle", spec.min_degrees);
     values.Add(path + "MaxAngle", spec.max_degrees);
+    // The angle sensor's range, published as the original did (spec §4d); informative: the sensor model reads
+    // its own parameters (kAngleSensorParameterTable).
+    values.Add(path + "MinSensorAngle", -150.0);
+    values.Add(path + "MaxSensorAngle", 150.0);
   }
   boards_.resize(layout_.boards.size());
   for (size_t b = 0; b < boards_.size(); ++b) {

@@ -69,7 +69,7 @@ DynamixelCommand Update(const DynamixelParameters& parameters, DynamixelState& s
   }
 
   // 8–9. Command, and remember what the next step needs. The torque limit follows DesiredTorque and
-  // FMaxFactor every step (§6c, decided in docs/motor-model.md).
+  // FMaxFactor every step (§6c, decided in docs/model.md, "Torque limit (quirk 6)").
   state.previous_angle = angle;
   state.previous_error = error;
   state.max_torque = TorqueLimit(parameters, desired_torque_raw);

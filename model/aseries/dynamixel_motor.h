@@ -4,7 +4,7 @@
 // DynamixelParameters from the repository (kDynamixelParameterTable), keeps one DynamixelState per motor,
 // calls Update before every physics step with the joint angle, and applies the returned command to the
 // engine (AMotor target velocity and FMax, hinge friction FMax with target velocity 0). No allocation.
-// Decisions on the original's quirks: docs/motor-model.md.
+// Decisions on the original's quirks: docs/model.md, "The Dynamixel motor and the A-Series sensors: decisions".
 #pragma once
 
 #include <array>

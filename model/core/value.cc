@@ -16,14 +16,18 @@ struct NamedColor {
   Color color;
 };
 
-// Names the original's environment files use, plus the usual basic colours.
-constexpr std::array<NamedColor, 16> kNamedColors{{
-    {"black", {0, 0, 0, 255}},       {"white", {255, 255, 255, 255}},  {"red", {255, 0, 0, 255}},
-    {"green", {0, 255, 0, 255}},     {"blue", {0, 0, 255, 255}},       {"yellow", {255, 255, 0, 255}},
-    {"cyan", {0, 255, 255, 255}},    {"magenta", {255, 0, 255, 255}},  {"orange", {255, 165, 0, 255}},
-    {"gray", {128, 128, 128, 255}},  {"grey", {128, 128, 128, 255}},   {"lightgray", {211, 211, 211, 255}},
-    {"darkgray", {64, 64, 64, 255}}, {"brown", {139, 69, 19, 255}},    {"purple", {128, 0, 128, 255}},
-    {"transparent", {0, 0, 0, 0}},
+// The original's colour names: Qt's global colours (Qt::darkYellow and the rest, with Qt's values), which its
+// environment files and Simulation Properties used; then a few common names orcs adds (orange, brown, purple,
+// grey). Names match without regard to case ("lightgray", "LightGray").
+constexpr std::array<NamedColor, 22> kNamedColors{{
+    {"white", {255, 255, 255, 255}},  {"black", {0, 0, 0, 255}},         {"red", {255, 0, 0, 255}},
+    {"darkRed", {128, 0, 0, 255}},    {"green", {0, 255, 0, 255}},       {"darkGreen", {0, 128, 0, 255}},
+    {"blue", {0, 0, 255, 255}},       {"darkBlue", {0, 0, 128, 255}},    {"cyan", {0, 255, 255, 255}},
+    {"darkCyan", {0, 128, 128, 255}}, {"magenta", {255, 0, 255, 255}},   {"darkMagenta", {128, 0, 128, 255}},
+    {"yellow", {255, 255, 0, 255}},   {"darkYellow", {128, 128, 0, 255}}, {"gray", {160, 160, 164, 255}},
+    {"darkGray", {128, 128, 128, 255}}, {"lightGray", {192, 192, 192, 255}}, {"transparent", {0, 0, 0, 0}},
+    {"grey", {160, 160, 164, 255}},   {"orange", {255, 165, 0, 255}},    {"brown", {139, 69, 19, 255}},
+    {"purple", {128, 0, 128, 255}},
 }};
 
 std::optional<bool> ParseBool(std::string_view text) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -153,8 +154,11 @@ ObjectDescription ReadObject(const XMLElement& element, const std::string& sourc
                              "texture", "dynamic", "mass"});
   ObjectDescription object;
   object.line = reader.line();
-  object.name = reader.RequiredString("name");
-  CheckName(reader, object.name);
+  // The original named an object without `name` after its type ("box", "sphere"): NameUnnamedObjects().
+  if (reader.Has("name")) {
+    object.name = reader.RequiredString("name");
+    CheckName(reader, object.name);
+  }
   const std::string type = reader.RequiredString("type");
   if (text::EqualsIgnoreCase(type, "box")) {
     object.type = ObjectType::kBox;
@@ -246,6 +250,35 @@ void ReadAgents(const XMLElement& section, const std::string& source, Environmen
   }
 }
 
+// An object without a name gets its type's, as in the original ("box", "sphere"); a second one of the type
+// "box_2", and so on, since names are repository paths and must differ (docs/formats.md).
+void NameUnnamedObjects(EnvironmentDescription& environment) {
+  std::set<std::string> taken{"Floor"};
+  for (const ObjectDescription& object : environment.objects) taken.insert(object.name);
+  for (const AgentDescription& agent : environment.agents) taken.insert(agent.name);
+  for (ObjectDescription& object : environment.objects) {
+    if (!object.name.empty()) continue;
+    const std::string base = object.type == ObjectType::kBox ? "box" : "sphere";
+    object.name = base;
+    for (int n = 2; taken.count(object.name) != 0; ++n) object.name = base + "_" + std::to_string(n);
+    taken.insert(object.name);
+  }
+}
+
+// The original added a file's robots to its default A-Series, "Humanoid" at the origin. So does orcs, unless the
+// file names its own Humanoid (which takes the default's place), holds a rig (<Pendulum>, an orcs addition: a rig
+// experiment stands alone), or says defaultRobot="false" (docs/formats.md, "The default robot").
+void AddDefaultRobot(EnvironmentDescription& environment, std::optional<bool> wanted) {
+  const AgentDescription robot;
+  bool named = false, rig = false;
+  for (const AgentDescription& agent : environment.agents) {
+    named = named || agent.name == robot.name;
+    rig = rig || agent.type == "Pendulum";
+  }
+  if (named || !wanted.value_or(!rig)) return;
+  environment.agents.insert(environment.agents.begin(), robot);
+}
+
 // Object and agent names share one namespace (/Sim/<name>/...); "Floor" is taken by the floor plane.
 void CheckUniqueNames(const EnvironmentDescription& environment) {
   std::set<std::string> names{"Floor"};
@@ -281,7 +314,7 @@ EnvironmentDescription EnvironmentReader::ReadString(const std::string& xml, con
   if (std::string_view(root->Name()) != "ORCS") {
     FailAt(source, *root, "expected root element <ORCS>, found <" + std::string(root->Name()) + ">");
   }
-  const ElementReader root_reader(*root, source, {"version"});
+  const ElementReader root_reader(*root, source, {"version", "defaultRobot"});
   const std::string version = root_reader.String("version", "");
   if (version != kFormatVersion) {
     root_reader.Fail("attribute 'version' expected \"1.0\", found " + text::Quote(version));
@@ -298,6 +331,10 @@ EnvironmentDescription EnvironmentReader::ReadString(const std::string& xml, con
       FailAt(source, *section, "unknown element <" + std::string(name) + "> (expected <Environment> or <Agent>)");
     }
   }
+  AddDefaultRobot(environment, root_reader.Has("defaultRobot")
+                                   ? std::optional<bool>(root_reader.Bool("defaultRobot", true))
+                                   : std::nullopt);
+  NameUnnamedObjects(environment);
   CheckUniqueNames(environment);
   return environment;
 }

@@ -1,8 +1,8 @@
 // Reads ORCS XML environments, format v1.0:
 //
-//   <ORCS version="1.0">
+//   <ORCS version="1.0" [defaultRobot="true|false"]>
 //     <Environment>
-//       <object type="box|sphere" name="..." position="(x,y,z)" dimension="(w,h,d)|(r)" [orientation="(a,b,c)"]
+//       <object type="box|sphere" [name="..."] position="(x,y,z)" dimension="(w,h,d)|(r)" [orientation="(a,b,c)"]
 //               [material="ABS"] [color="red|(r,g,b[,a])"] [texture="..."] [dynamic="true|false"] [mass="0.1"]/>
 //     </Environment>
 //     <Agent>
@@ -10,7 +10,9 @@
 //     </Agent>
 //   </ORCS>
 //
-// Every problem is an InputError naming the file, the line and what was expected (docs/formats.md).
+// As in the original, the file's robots join the default A-Series "Humanoid" at the origin, unless the file names
+// its own Humanoid, holds a <Pendulum> rig or says defaultRobot="false"; an object without a name is named after
+// its type. Every problem is an InputError naming the file, the line and what was expected (docs/formats.md).
 #pragma once
 
 #include <string>

@@ -193,8 +193,11 @@ TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
 
   const nlohmann::json& bodies = world["bodies"];
   ASSERT_TRUE(bodies.is_array());
-  ASSERT_EQ(bodies.size(), 3u + 24u);  // floor, two objects, the A-Series' 24 bodies
-  EXPECT_EQ(bodies[3]["name"], "SecondASeries/Right/Foot");
+  // The floor, two objects, and 24 bodies of each A-Series: the default Humanoid, to which the original added the
+  // file's SecondASeries.
+  ASSERT_EQ(bodies.size(), 3u + 2u * 24u);
+  EXPECT_EQ(bodies[3]["name"], "Humanoid/Right/Foot");
+  EXPECT_EQ(bodies[3u + 24u]["name"], "SecondASeries/Right/Foot");
   EXPECT_EQ(bodies[0]["name"], "Floor");
   EXPECT_EQ(bodies[0]["shape"], "plane");
   EXPECT_EQ(bodies[0]["material"], "PVC");
@@ -214,12 +217,14 @@ TEST_F(OrcsSimTest, DescribePrintsTheWorldAsJson) {
   EXPECT_EQ(bodies[2]["size"], nlohmann::json({0.05}));
   EXPECT_EQ(bodies[2]["material"], "ABS");
 
-  EXPECT_EQ(world["joints"].size(), 21u + 2u);  // the robot's motorised hinges and fixed joints
+  EXPECT_EQ(world["joints"].size(), 2u * (21u + 2u));  // each robot's motorised hinges and fixed joints
   const nlohmann::json& agents = world["agents"];
-  ASSERT_EQ(agents.size(), 1u);
-  EXPECT_EQ(agents[0]["name"], "SecondASeries");
-  EXPECT_EQ(agents[0]["type"], "ASeries");
-  EXPECT_EQ(agents[0]["position"], nlohmann::json({0.5, 0.001, -0.5}));
+  ASSERT_EQ(agents.size(), 2u);
+  EXPECT_EQ(agents[0]["name"], "Humanoid");
+  EXPECT_EQ(agents[0]["position"], nlohmann::json({0.0, 0.0, 0.0}));
+  EXPECT_EQ(agents[1]["name"], "SecondASeries");
+  EXPECT_EQ(agents[1]["type"], "ASeries");
+  EXPECT_EQ(agents[1]["position"], nlohmann::json({0.5, 0.001, -0.5}));
   // spec/aseries.md §4c and §9a: 21 motors in motor order with their ranges; 2.3844 kg within 1 %.
   const nlohmann::json& motors = agents[0]["motors"];
   ASSERT_EQ(motors.size(), 21u);
@@ -303,6 +308,40 @@ TEST_F(OrcsSimTest, DefaultRunStandsTheASeriesForTenSecondsAndSummarises) {
   EXPECT_THAT(result.out, HasSubstr("simulated 10.000 s in 1000 steps"));
   EXPECT_THAT(result.out, HasSubstr("wall time"));
   EXPECT_THAT(result.out, HasSubstr("real-time factor"));
+}
+
+// Issue 22: the original's example environment from its manual, unchanged, makes a world of two robots — the
+// default A-Series and the file's SecondASeries — and runs; -nogui, the original's flag, is accepted. Both robots
+// stand through the run (their heads at standing height at its end).
+TEST_F(OrcsSimTest, TheManualsExampleRunsWithBothRobotsStanding) {
+  const ProcessResult result = Run({"-env", kExample, "-nogui", "--duration", "2", "--log", ".*/Middle/Head/Position",
+                                    "--out", dir_.PathOf("heads.csv")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const Csv csv = ReadCsv(dir_.PathOf("heads.csv"));
+  for (const char* robot : {"Humanoid", "SecondASeries"}) {
+    const int y = csv.Column(std::string("/Sim/") + robot + "/Middle/Head/Position.y");
+    ASSERT_GE(y, 0) << robot << " is not in the world";
+    EXPECT_GT(csv.rows.back()[static_cast<std::size_t>(y)], 0.3) << robot << "'s head at the end, m";
+  }
+  ExpectBadInput(Run({"-gui", "-nogui"}));
+}
+
+// Issue 22, item 11: the original's fitted motor set (spec §6e, Set B) ships as a value file; loaded, it sets
+// every /AngularMotor value to the spec's and the default robot stands with it.
+TEST_F(OrcsSimTest, TheOriginalsFittedMotorSetLoadsAndTheRobotStandsWithIt) {
+  const std::string fitted = std::string(ORCS_SOURCE_DIR) + "/scenarios/values/dynamixel_fitted.val";
+  const ProcessResult values = Run({"-val", fitted, "--print-values", "/AngularMotor/.*"});
+  ASSERT_EQ(values.exit_code, 0) << values.err;
+  EXPECT_THAT(values.out, HasSubstr("/AngularMotor/PID/Integral=18.2368306244975\n"));
+  EXPECT_THAT(values.out, HasSubstr("/AngularMotor/FMaxFactor=1.16320990542266\n"));
+  EXPECT_THAT(values.out, HasSubstr("/AngularMotor/DynamicFrictionOffset=0.19221690480294\n"));
+  const ProcessResult run = Run({"-val", fitted, "--duration", "3", "--log", ".*Middle/Head/Position", "--out",
+                                 dir_.PathOf("fitted.csv")});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Csv csv = ReadCsv(dir_.PathOf("fitted.csv"));
+  const int y = csv.Column("/Sim/Humanoid/Middle/Head/Position.y");
+  ASSERT_GE(y, 0);
+  EXPECT_NEAR(csv.rows.back()[static_cast<std::size_t>(y)], 0.4037, 0.01) << "head height after 3 s, m";
 }
 
 TEST_F(OrcsSimTest, RunsTheEmptyEnvironment) {

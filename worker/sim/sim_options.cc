@@ -42,6 +42,9 @@ void AddModeOptions(CLI::App& app, SimOptions& o) {
   app.add_flag("--gui", o.gui,
                "open the world in orcs-view's live mode (the original's GUI) instead of running headless "
                "(-gui also accepted)");
+  // The original's -nogui: a run without a window, which is what orcs-sim does anyway.
+  app.add_flag("--nogui", o.nogui, "run headless, as without --gui (the original's -nogui; -nogui also accepted)")
+      ->excludes("--gui");
   app.add_option("--print-values", o.print_values, "print matching repository values as path=value and exit");
   app.add_flag("--describe", o.describe, "print the bodies, joints and agents as JSON and exit");
   app.add_option("--export-mjcf", o.export_mjcf,
@@ -100,7 +103,7 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
   AddWorldOptions(app, o);
   AddModeOptions(app, o);
   const auto validate = [&] { CheckCombinations(app, o); };
-  parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port", "gui"}, validate);
+  parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port", "gui", "nogui"}, validate);
   return parsed;
 }
 

@@ -22,6 +22,7 @@ struct SimOptions {
   std::string record;                            ///< --record FILE: the run's recording ("" = none)
   int record_set = 0;                            ///< --record-set K: the scenario's parameter set recorded
   bool gui = false;                              ///< -gui: orcs-view --live on this world instead of a headless run
+  bool nogui = false;                            ///< -nogui: headless, as without -gui (the original's flag)
   std::string print_values;                      ///< --print-values REGEX: print matching values and exit
   bool describe = false;                         ///< --describe: print the world as JSON and exit
   std::string export_mjcf;                       ///< --export-mjcf FILE: write the world's MuJoCo model and exit

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -112,11 +114,24 @@ TEST(ValueTest, ColorByName) {
   EXPECT_EQ(value.SetFromString("red"), "");
   EXPECT_EQ(value.as_color(), (Color{255, 0, 0, 255}));
   EXPECT_EQ(value.SetFromString(" LightGray "), "");
-  EXPECT_EQ(value.as_color(), (Color{211, 211, 211, 255}));
+  EXPECT_EQ(value.as_color(), (Color{192, 192, 192, 255}));  // Qt's, as the original had
   EXPECT_EQ(value.SetFromString("transparent"), "");
   EXPECT_EQ(value.as_color(), (Color{0, 0, 0, 0}));
   EXPECT_EQ(ParseColor("blue"), (Color{0, 0, 255, 255}));
   EXPECT_FALSE(ParseColor("reddish").has_value());
+}
+
+// The original's names are Qt's global colours: every one of them, with Qt's values (issue 22, item 3).
+TEST(ValueTest, EveryColourNameOfTheOriginalIsKnown) {
+  const std::map<std::string, Color> qt = {
+      {"white", {255, 255, 255, 255}}, {"black", {0, 0, 0, 255}},        {"red", {255, 0, 0, 255}},
+      {"darkRed", {128, 0, 0, 255}},   {"green", {0, 255, 0, 255}},      {"darkGreen", {0, 128, 0, 255}},
+      {"blue", {0, 0, 255, 255}},      {"darkBlue", {0, 0, 128, 255}},   {"cyan", {0, 255, 255, 255}},
+      {"darkCyan", {0, 128, 128, 255}}, {"magenta", {255, 0, 255, 255}}, {"darkMagenta", {128, 0, 128, 255}},
+      {"yellow", {255, 255, 0, 255}},  {"darkYellow", {128, 128, 0, 255}}, {"gray", {160, 160, 164, 255}},
+      {"darkGray", {128, 128, 128, 255}}, {"lightGray", {192, 192, 192, 255}}, {"transparent", {0, 0, 0, 0}}};
+  for (const auto& [name, color] : qt) EXPECT_EQ(ParseColor(name), color) << name;
+  EXPECT_EQ(ParseColor("DARKYELLOW"), (Color{128, 128, 0, 255}));
 }
 
 TEST(ValueTest, ColorByTuple) {

@@ -41,6 +41,10 @@ TEST_P(ASeriesSimulationTest, RegistersTheInterfaceValuesOfEveryMotorAndBoard) {
   EXPECT_EQ(values.Match("/Sim/Humanoid/.*/DesiredTorque").size(), 21u);
   EXPECT_EQ(values.Match("/Sim/Humanoid/.*/JointAngle").size(), 21u);
   EXPECT_EQ(values.Match("/Sim/Humanoid/AB../AccelAxis[12]").size(), 16u);
+  // The original's per-motor sensor range (spec §4d), which orcs did not publish before issue 22.
+  EXPECT_EQ(values.Match("/Sim/Humanoid/.*/MinSensorAngle").size(), 21u);
+  EXPECT_DOUBLE_EQ(Value("/Sim/Humanoid/Head/Tilt/MinSensorAngle"), -150.0);
+  EXPECT_DOUBLE_EQ(Value("/Sim/Humanoid/Waist/MaxSensorAngle"), 150.0);
   EXPECT_DOUBLE_EQ(Value("/Sim/Humanoid/Right/Knee/DesiredTorque"), 0.586810005);
   EXPECT_DOUBLE_EQ(Value("/AngularMotor/PID/Proportional"), 20.0);
 }

@@ -74,7 +74,7 @@ TEST(EnvironmentReaderTest, ReadsExampleFile) {
   EXPECT_EQ(env.source, ExamplePath());
   EXPECT_EQ(env.floor_material, "PVC");
   ASSERT_EQ(env.objects.size(), 2u);
-  ASSERT_EQ(env.agents.size(), 1u);
+  ASSERT_EQ(env.agents.size(), 2u);  // the default A-Series and the file's, as in the original
 
   const ObjectDescription& box = env.objects[0];
   EXPECT_EQ(box.name, "Box");
@@ -100,7 +100,9 @@ TEST(EnvironmentReaderTest, ReadsExampleFile) {
   EXPECT_EQ(sphere.mass, 0.1);
   EXPECT_EQ(sphere.line, 9);
 
-  const AgentDescription& agent = env.agents[0];
+  EXPECT_EQ(env.agents[0].name, "Humanoid");
+  EXPECT_EQ(env.agents[0].position, Eigen::Vector3d::Zero());
+  const AgentDescription& agent = env.agents[1];
   EXPECT_EQ(agent.type, "ASeries");
   EXPECT_EQ(agent.name, "SecondASeries");
   EXPECT_EQ(agent.position, Eigen::Vector3d(0.5, 0.001, -0.5));
@@ -122,7 +124,7 @@ TEST(EnvironmentReaderTest, NoXmlMeansOneASeriesAndXmlIsReadAsGiven) {
   ASSERT_EQ(fallback.agents.size(), 1u);
   EXPECT_EQ(fallback.agents[0].name, AgentDescription{}.name);
   const EnvironmentDescription given = EnvironmentReader::ReadStringOrDefault(
-      "<ORCS version=\"1.0\"><Agent><ASeries name=\"Other\"/></Agent></ORCS>", "job 8");
+      "<ORCS version=\"1.0\" defaultRobot=\"false\"><Agent><ASeries name=\"Other\"/></Agent></ORCS>", "job 8");
   ASSERT_EQ(given.agents.size(), 1u);
   EXPECT_EQ(given.agents[0].name, "Other");
   EXPECT_THROW(EnvironmentReader::ReadStringOrDefault("<ORCS", "job 9"), InputError);
@@ -270,9 +272,42 @@ TEST(EnvironmentReaderTest, UnknownObjectType) {
                 {"type", "cylinder"});
 }
 
-TEST(EnvironmentReaderTest, MissingName) {
-  ExpectErrorAt(WithObjectOnLine4(R"x(<object type="box" position="(0,0,0)" dimension="(1,1,1)"/>)x"), 4,
-                {"missing mandatory attribute 'name'"});
+// The original named an object without a name after its type; orcs numbers the next ones, names being paths.
+TEST(EnvironmentReaderTest, AnObjectWithoutANameIsNamedAfterItsType) {
+  const EnvironmentDescription env = EnvironmentReader::ReadString(
+      Lines({R"x(<ORCS version="1.0">)x", "<Environment>",
+             R"x(<object type="box" position="(0,0.1,0)" dimension="(0.1,0.1,0.1)"/>)x",
+             R"x(<object type="sphere" position="(1,0.1,0)" dimension="(0.05)"/>)x",
+             R"x(<object type="box" name="box_2" position="(2,0.1,0)" dimension="(0.1,0.1,0.1)"/>)x",
+             R"x(<object type="box" position="(3,0.1,0)" dimension="(0.1,0.1,0.1)"/>)x", "</Environment>", "</ORCS>"}),
+      kSource);
+  ASSERT_EQ(env.objects.size(), 4u);
+  EXPECT_EQ(env.objects[0].name, "box");
+  EXPECT_EQ(env.objects[1].name, "sphere");
+  EXPECT_EQ(env.objects[2].name, "box_2");  // given: kept
+  EXPECT_EQ(env.objects[3].name, "box_3");  // box and box_2 taken
+}
+
+// The original added the file's robots to its default A-Series (issue 22, item 2); a file that names its own
+// Humanoid, holds a rig or says defaultRobot="false" gets none.
+TEST(EnvironmentReaderTest, TheDefaultRobotJoinsTheFilesRobotsUnlessTheFileSaysOtherwise) {
+  const auto agents = [](const std::string& xml) {
+    std::vector<std::string> names;
+    for (const AgentDescription& agent : EnvironmentReader::ReadString(xml, kSource).agents) names.push_back(agent.name);
+    return names;
+  };
+  using Names = std::vector<std::string>;
+  EXPECT_EQ(agents(R"x(<ORCS version="1.0"/>)x"), Names{"Humanoid"});
+  EXPECT_EQ(agents(R"x(<ORCS version="1.0"><Agent><ASeries name="B" position="(1,0,0)"/></Agent></ORCS>)x"),
+            (Names{"Humanoid", "B"}));
+  EXPECT_EQ(agents(R"x(<ORCS version="1.0"><Agent><ASeries name="Humanoid" position="(1,0,0)"/></Agent></ORCS>)x"),
+            Names{"Humanoid"});
+  EXPECT_EQ(agents(R"x(<ORCS version="1.0"><Agent><Pendulum/></Agent></ORCS>)x"), Names{"Pendulum"});
+  EXPECT_EQ(agents(R"x(<ORCS version="1.0" defaultRobot="true"><Agent><Pendulum position="(1,0.5,0)"/></Agent></ORCS>)x"),
+            (Names{"Humanoid", "Pendulum"}));
+  EXPECT_EQ(agents(R"x(<ORCS version="1.0" defaultRobot="false"><Agent><ASeries name="B"/></Agent></ORCS>)x"),
+            Names{"B"});
+  ExpectErrorAt(R"x(<ORCS version="1.0" defaultRobot="maybe"/>)x", 1, {"defaultRobot", "maybe"});
 }
 
 TEST(EnvironmentReaderTest, EmptyName) {

@@ -17,7 +17,7 @@ class RigSimulationTest : public ::testing::TestWithParam<std::string> {
  protected:
   void Load(const std::string& agent_xml) {
     simulation_.LoadEnvironment(EnvironmentReader::ReadString(
-        "<ORCS version=\"1.0\"><Agent>" + agent_xml + "</Agent></ORCS>", "rig.xml"));
+        "<ORCS version=\"1.0\" defaultRobot=\"false\"><Agent>" + agent_xml + "</Agent></ORCS>", "rig.xml"));
     simulation_.repository().Set("/Simulation/Engine", GetParam());
     simulation_.Build();
     simulation_.Reset(0);

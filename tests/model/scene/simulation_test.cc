@@ -20,8 +20,8 @@ constexpr double kRadius = 0.05;
 constexpr double kGravity = 9.81;
 
 // A dynamic ball 0.5 m above the floor, a static box standing on the floor away from it, and a second ball
-// above the box.
-const char* const kWorld = R"x(<ORCS version="1.0">
+// above the box; no robot.
+const char* const kWorld = R"x(<ORCS version="1.0" defaultRobot="false">
   <Environment>
     <object type="sphere" name="Ball" position="(0, 0.5, 0)" dimension="(0.05)" material="ABS" dynamic="true" mass="0.1"/>
     <object type="box" name="Block" position="(1, 0.1, 1)" dimension="(0.2, 0.2, 0.2)" material="Wood"/>

@@ -25,7 +25,8 @@ class StartPoseTest : public ::testing::Test {
     if (agent_xml.empty()) {
       environment.agents.push_back(AgentDescription{});
     } else {
-      environment = EnvironmentReader::ReadString("<ORCS version=\"1.0\"><Agent>" + agent_xml + "</Agent></ORCS>",
+      environment = EnvironmentReader::ReadString("<ORCS version=\"1.0\" defaultRobot=\"false\"><Agent>" + agent_xml +
+                                                      "</Agent></ORCS>",
                                                   "agent.xml");
     }
     simulation_.LoadEnvironment(environment);

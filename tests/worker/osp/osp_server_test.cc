@@ -22,7 +22,7 @@ Datagram Init(std::uint16_t port) {
 TEST(OspServerTest, InitsBeyondMaxClientsAreIgnored) {
   scene::Simulation simulation;
   simulation.LoadEnvironment(
-      scene::EnvironmentReader::ReadString(R"(<ORCS version="1.0"><Agent><ASeries name="A"/></Agent></ORCS>)", "t"));
+      scene::EnvironmentReader::ReadString(R"(<ORCS version="1.0" defaultRobot="false"><Agent><ASeries name="A"/></Agent></ORCS>)", "t"));
   simulation.Build();
   OspServerOptions options;
   options.port = 0;
