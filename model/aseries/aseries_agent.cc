@@ -18,6 +18,13 @@ void WatchParameters(VariableRepository& values, const std::array<ParameterField
 
 }  // namespace
 
+void ASeriesAgent::AddSharedParameters(VariableRepository& values) {
+  AddParameters(values, kDynamixelParameterTable);
+  AddParameters(values, kAngleSensorParameterTable);
+  AddParameters(values, kAccelerometerParameterTable);
+  AddParameters(values, kMotorEffectsTable);
+}
+
 ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout layout, int index,
                            VariableRepository& values)
     : layout_(std::move(layout)), index_(index), values_(values) {

@@ -35,6 +35,11 @@ class ASeriesAgent {
   /// `index` numbers the agents of a world (0, 1, ...) and selects this agent's random streams.
   ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout layout, int index, VariableRepository& values);
 
+  /// Registers the parameters every agent shares (/AngularMotor/..., the sensors' and the motor effects') with
+  /// their defaults, where they are not yet: before the world is built, so that initial value files (-ival) can
+  /// set them as in the original.
+  static void AddSharedParameters(VariableRepository& values);
+
   const std::string& name() const { return layout_.agent_name; }
   const ASeriesLayout& layout() const { return layout_; }
   int motor_count() const { return static_cast<int>(motors_.size()); }

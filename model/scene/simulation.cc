@@ -138,6 +138,7 @@ void Simulation::RegisterMujocoValues() {
 void Simulation::LoadEnvironment(const EnvironmentDescription& environment) {
   assert(!built() && "LoadEnvironment() after Build()");
   WorldModel::RegisterObjectValues(environment, repository_);
+  if (!environment.agents.empty()) aseries::ASeriesAgent::AddSharedParameters(repository_);  // for -ival
   environment_ = environment;
 }
 

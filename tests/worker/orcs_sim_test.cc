@@ -344,6 +344,26 @@ TEST_F(OrcsSimTest, TheOriginalsFittedMotorSetLoadsAndTheRobotStandsWithIt) {
   EXPECT_NEAR(csv.rows.back()[static_cast<std::size_t>(y)], 0.4037, 0.01) << "head height after 3 s, m";
 }
 
+// Issue 22, item 5: -ival sets the motor model's values before the world is built, as the original's did.
+TEST_F(OrcsSimTest, InitialValueFilesSetTheMotorModel) {
+  const std::string ival = dir_.Write("motor.val", "/AngularMotor/PID/Proportional=25\n/AngularMotor/MaxVelocity=3\n");
+  const ProcessResult result = Run({"-ival", ival, "--print-values", "/AngularMotor/(PID/Proportional|MaxVelocity)"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("/AngularMotor/PID/Proportional=25\n"));
+  EXPECT_THAT(result.out, HasSubstr("/AngularMotor/MaxVelocity=3\n"));
+  // And they take effect: motors of a hundredth of their torque cannot hold the robot up.
+  const std::string weak = dir_.Write("weak.val", "/AngularMotor/FMaxFactor=0.01\n");
+  ASSERT_EQ(Run({"-ival", weak, "--duration", "2", "--log", ".*Middle/Head/Position", "--out", dir_.PathOf("w.csv")})
+                .exit_code,
+            0);
+  const Csv csv = ReadCsv(dir_.PathOf("w.csv"));
+  const int y = csv.Column("/Sim/Humanoid/Middle/Head/Position.y");
+  ASSERT_GE(y, 0);
+  EXPECT_LT(csv.rows.back()[static_cast<std::size_t>(y)], 0.3) << "the weak robot's head after 2 s, m";
+  // In the empty world there is no motor, and the path is unknown there.
+  ExpectBadInput(Run({"-env", "scenarios/environments/empty.xml", "-ival", ival}));
+}
+
 TEST_F(OrcsSimTest, RunsTheEmptyEnvironment) {
   const ProcessResult result = Run({"-env", "scenarios/environments/empty.xml", "--duration", "0.5"});
   EXPECT_EQ(result.exit_code, 0) << result.err;
