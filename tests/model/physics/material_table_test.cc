@@ -77,6 +77,19 @@ TEST(MaterialTableTest, DefaultTimesPlasticsWhiteIsTheOneAsymmetricCell) {
   }
 }
 
+// Issue 22, item 7. The original's manual says Default "behaves like Latex on Carpet"; its code (which orcs
+// keeps) gives Default Latex-on-Carpet's dynamic coefficient but Latex-on-PVC's static one, against every
+// material but Light. The check pins what orcs does, and the manual's half that holds.
+TEST(MaterialTableTest, DefaultHasLatexOnCarpetsDynamicFrictionAndLatexOnPvcsStatic) {
+  for (int other = 0; other < kLight; ++other) {
+    EXPECT_DOUBLE_EQ(Table(kDefault, other).static_friction, Table(kLatex, kPvc).static_friction) << other;
+    if (other == kPlasticsWhite) continue;  // the asymmetric cell, above
+    EXPECT_DOUBLE_EQ(Table(kDefault, other).dynamic_friction, Table(kLatex, kCarpet).dynamic_friction) << other;
+  }
+  EXPECT_NE(Table(kDefault, kPvc).static_friction, Table(kLatex, kCarpet).static_friction)
+      << "if Default's static friction became Latex-on-Carpet's, docs/model.md's item 7 must say so";
+}
+
 TEST(MaterialTableTest, RestitutionCells) {
   EXPECT_DOUBLE_EQ(Table(kPvc, kDefault).restitution, 0.5);
   EXPECT_DOUBLE_EQ(Table(kDefault, kWood).restitution, 0.5);
