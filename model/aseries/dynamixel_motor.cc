@@ -24,6 +24,21 @@ double TorqueLimit(const DynamixelParameters& parameters, double desired_torque_
   return parameters.fmax_factor * std::max(0.0, kDesiredTorqueRange.ClampRaw(desired_torque_raw));
 }
 
+double SuccessorFriction(const DynamixelParameters& parameters, double measured_velocity) {
+  const double speed = std::abs(measured_velocity);
+  return std::max(0.0, (speed < parameters.static_friction_border ? parameters.static_friction : 0.0) +
+                           parameters.dynamic_friction * speed + parameters.dynamic_friction_offset);
+}
+
+double OriginalFriction(const DynamixelParameters& parameters, double commanded_velocity) {
+  // Literally f = fs + αd·v + od for |v| ≤ bs (and without fs above it): signed, not floored. The floor
+  // below is the engine's, made explicit: a hinge motor with FMax ≤ 0 adds no force.
+  const double f = (std::abs(commanded_velocity) <= parameters.static_friction_border ? parameters.static_friction
+                                                                                       : 0.0) +
+                   parameters.dynamic_friction * commanded_velocity + parameters.dynamic_friction_offset;
+  return std::max(0.0, f);
+}
+
 DynamixelCommand Update(const DynamixelParameters& parameters, DynamixelState& state, double angle_rad,
                         double desired_angle_deg, double desired_torque_raw, double dt, RandomStream* noise) {
   assert(dt > 0.0);
@@ -57,11 +72,9 @@ DynamixelCommand Update(const DynamixelParameters& parameters, DynamixelState& s
     velocity = std::clamp(velocity, -parameters.max_velocity, parameters.max_velocity);
   }
 
-  // 6. Friction brake on the hinge.
-  const double speed = std::abs(angular_velocity);
-  const double friction = std::max(
-      0.0, (speed < parameters.static_friction_border ? parameters.static_friction : 0.0) +
-               parameters.dynamic_friction * speed + parameters.dynamic_friction_offset);
+  // 6. Friction brake on the hinge, in the successor's form or the original's.
+  const double friction = parameters.original_friction ? OriginalFriction(parameters, velocity)
+                                                       : SuccessorFriction(parameters, angular_velocity);
 
   // 7. Motor noise, after the clip as in the original.
   if (parameters.include_noise && parameters.motor_noise > 0.0 && noise != nullptr) {

@@ -32,12 +32,17 @@ struct DynamixelParameters {
   double dynamic_friction_offset = 0.0;   ///< od, N·m, /AngularMotor/DynamicFrictionOffset
   double motor_noise = 0.0;       ///< σ of the noise on the commanded velocity, rad/s, /AngularMotor/MotorNoise
   bool include_noise = true;      ///< motor and angle-sensor noise switch, /AngularMotor/IncludeNoise
+  /// Friction form, /AngularMotor/OriginalFriction. false (default): the successor's (NERD), from the measured
+  /// speed |ω|: f = max(0, fs·[|ω| < bs] + αd·|ω| + od). true: the original's (ORCS 1.0) as its manual wrote
+  /// it, from the commanded velocity v (signed): f = fs·[|v| ≤ bs] + αd·v + od, where a negative f brakes
+  /// nothing (an ODE hinge motor with FMax ≤ 0 applies no force). docs/model.md, "Differences", item 6.
+  bool original_friction = false;
 
   static constexpr int kMaxHistory = 64;  ///< capacity of the error history; history_size is clamped to it
 };
 
 /// Repository paths of every DynamixelParameters field, for AddParameters/ReadParameters.
-inline constexpr std::array<ParameterField<DynamixelParameters>, 12> kDynamixelParameterTable{{
+inline constexpr std::array<ParameterField<DynamixelParameters>, 13> kDynamixelParameterTable{{
     {"/AngularMotor/PID/Proportional", &DynamixelParameters::kp},
     {"/AngularMotor/PID/Integral", &DynamixelParameters::ki},
     {"/AngularMotor/PID/Differential", &DynamixelParameters::kd},
@@ -50,6 +55,7 @@ inline constexpr std::array<ParameterField<DynamixelParameters>, 12> kDynamixelP
     {"/AngularMotor/DynamicFrictionOffset", &DynamixelParameters::dynamic_friction_offset},
     {"/AngularMotor/MotorNoise", &DynamixelParameters::motor_noise},
     {"/AngularMotor/IncludeNoise", &DynamixelParameters::include_noise},
+    {"/AngularMotor/OriginalFriction", &DynamixelParameters::original_friction},
 }};
 
 /// The memory of one motor's controller. Value-initialise it, then Reset it at every simulation reset.
@@ -79,6 +85,10 @@ void Reset(DynamixelState& state, double angle_rad = 0.0);
 /// −1…1. Update uses it every step; use it also for the AMotor FMax at joint creation.
 double TorqueLimit(const DynamixelParameters& parameters, double desired_torque_raw);
 
+/// The successor's friction brake (N·m) for the measured joint velocity (rad/s), spec §6b step 6.
+double SuccessorFriction(const DynamixelParameters& parameters, double measured_velocity);
+/// The original's friction brake (N·m) for the commanded velocity v (rad/s, after the clip, before noise).
+double OriginalFriction(const DynamixelParameters& parameters, double commanded_velocity);
 /// One controller step (spec §6b steps 1–9, §6c): `angle_rad` is the current joint (AMotor) angle,
 /// `desired_angle_deg` the raw DesiredAngle (clamped to ±150° here), `desired_torque_raw` the raw
 /// DesiredTorque, `dt` > 0 the physics step in seconds. `noise` draws the motor noise; nullptr means none.

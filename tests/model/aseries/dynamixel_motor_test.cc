@@ -50,6 +50,7 @@ TEST_F(DynamixelMotorTest, SetADefaults) {
   EXPECT_EQ(p.dynamic_friction_offset, 0.0);
   EXPECT_EQ(p.motor_noise, 0.0);
   EXPECT_TRUE(p.include_noise);
+  EXPECT_FALSE(p.original_friction) << "the successor's friction form is the default";
 }
 
 TEST_F(DynamixelMotorTest, ProportionalTermWithSetA) {
@@ -186,6 +187,36 @@ TEST_F(DynamixelMotorTest, FrictionOffsetAndTheFloorAtZero) {
   EXPECT_NEAR(Update(p, state_, 0.007, 0.0, 0.5, kDt, nullptr).friction_torque, 0.021, kTight);
 }
 
+TEST_F(DynamixelMotorTest, OriginalFrictionFollowsTheSignedCommandWithAnInclusiveBorder) {
+  DynamixelParameters p;  // fs 0.001, bs 0.1, αd 0.16
+  p.dynamic_friction_offset = 0.2;
+  // At the border: the original includes fs (|v| ≤ bs), the successor does not (|ω| < bs).
+  EXPECT_NEAR(OriginalFriction(p, 0.1), 0.001 + 0.016 + 0.2, kTight);
+  EXPECT_NEAR(SuccessorFriction(p, 0.1), 0.016 + 0.2, kTight);
+  // Backwards: the original's αd·v is signed and lowers the brake; the successor's uses the speed.
+  EXPECT_NEAR(OriginalFriction(p, -1.0), -0.16 + 0.2, kTight);
+  EXPECT_NEAR(SuccessorFriction(p, -1.0), 0.16 + 0.2, kTight);
+  EXPECT_EQ(OriginalFriction(p, -2.0), 0.0) << "−0.32 + 0.2 < 0: a hinge motor with FMax ≤ 0 brakes nothing";
+}
+
+TEST_F(DynamixelMotorTest, OriginalFrictionUsesTheCommandedNotTheMeasuredVelocity) {
+  DynamixelParameters p;
+  p.dynamic_friction_offset = 0.2;
+  DynamixelState successor_state{};
+  Reset(successor_state, 0.02);
+  Reset(state_, 0.02);
+  // The joint swings from 0.02 to 0 rad in one step (ω = −2 rad/s) onto its target: the command is v = 0.
+  const DynamixelCommand successor = Update(p, successor_state, 0.0, 0.0, 0.5, kDt, nullptr);
+  EXPECT_NEAR(successor.friction_torque, 0.16 * 2.0 + 0.2, kTight);
+  p.original_friction = true;
+  const DynamixelCommand original = Update(p, state_, 0.0, 0.0, 0.5, kDt, nullptr);
+  EXPECT_EQ(original.velocity, 0.0);
+  EXPECT_NEAR(original.friction_torque, 0.001 + 0.2, kTight);
+  // Commanded towards 10° at v = 3.4906… rad/s (ProportionalTermWithSetA), with the joint at rest.
+  const DynamixelCommand driven = Update(p, state_, 0.0, 10.0, 0.5, kDt, nullptr);
+  EXPECT_NEAR(driven.friction_torque, 0.16 * driven.velocity + 0.2, kTight);
+}
+
 TEST_F(DynamixelMotorTest, VelocityEstimateHasNoZeroCrossingSpecialCase) {
   const DynamixelParameters set_a;
   Reset(state_, 0.01);
@@ -314,7 +345,7 @@ TEST(ValueRangeTest, RoundTrips) {
 TEST(DynamixelParameterTableTest, RegistersSetAAndReadsChanges) {
   VariableRepository repository;
   AddParameters(repository, kDynamixelParameterTable);
-  ASSERT_EQ(repository.size(), 12);
+  ASSERT_EQ(repository.size(), 13);
   EXPECT_EQ(repository.Get("/AngularMotor/PID/Proportional").as_double(), 20.0);
   EXPECT_EQ(repository.Get("/AngularMotor/PID/HistorySize").as_int(), 10);
   EXPECT_EQ(repository.Get("/AngularMotor/FMaxFactor").as_double(), 1.04803939);
@@ -324,18 +355,20 @@ TEST(DynamixelParameterTableTest, RegistersSetAAndReadsChanges) {
   repository.Set("/AngularMotor/PID/HistorySize", "4");
   repository.Set("/AngularMotor/IncludeNoise", "F");
   repository.Set("/AngularMotor/DynamicFrictionOffset", "0.19");
+  repository.Set("/AngularMotor/OriginalFriction", "T");
   DynamixelParameters parameters;
   ReadParameters(repository, kDynamixelParameterTable, parameters);
   EXPECT_EQ(parameters.ki, 18.25);
   EXPECT_EQ(parameters.history_size, 4);
   EXPECT_FALSE(parameters.include_noise);
   EXPECT_EQ(parameters.dynamic_friction_offset, 0.19);
+  EXPECT_TRUE(parameters.original_friction);
   EXPECT_EQ(parameters.kp, 20.0);
 
   // Registering again keeps the current values (first registration wins).
   AddParameters(repository, kDynamixelParameterTable);
   EXPECT_EQ(repository.Get("/AngularMotor/PID/Integral").as_double(), 18.25);
-  EXPECT_EQ(repository.size(), 12);
+  EXPECT_EQ(repository.size(), 13);
 }
 
 }  // namespace

@@ -392,6 +392,34 @@ TEST_P(MotorEffectsRigTest, StribeckStictionHoldsAReleasedPoleOnlyBelowTheBreaka
 }
 
 // ---------------------------------------------------------------------------------------------------------------
+// The original's friction form (/AngularMotor/OriginalFriction, docs/model.md "Differences", item 6)
+
+TEST_P(MotorEffectsRigTest, OriginalFrictionBrakesByTheCommandWhereTheSuccessorsBrakesByTheMotion) {
+  // The pole released at rest at 30° with the motor limp (DesiredTorque 0): gravity pulls with m·g·d·sin 30° =
+  // 0.368 N·m. The successor's brake follows the measured speed (fs at rest, then αd·|ω|): the pole falls either
+  // way and its swing is damped, so it stops short of −30°. The original's brake follows the commanded velocity:
+  // commanded up (+150°, v = +3.5 rad/s, f = αd·3.5 = 0.56 N·m > 0.368) it holds the pole where it was released;
+  // commanded down (−150°, v = −3.5, f = −0.56: no brake) the pole swings freely to the mirror angle.
+  const auto release = [](bool original, double desired) {
+    PendulumRig rig({{"/AngularMotor/OriginalFriction", original ? "true" : "false"}}, GetParam());
+    rig.Pose(30.0);
+    rig.Command(desired, 0.0);
+    double lowest = rig.Degrees();
+    for (int i = 0; i < 100 && rig.Step(); ++i) lowest = std::min(lowest, rig.Degrees());
+    return lowest;
+  };
+  PendulumRig rig({}, GetParam());
+  ASSERT_NEAR(rig.GravityTorque() * 0.5, 0.368, 1e-3);
+  EXPECT_GT(release(true, 150.0), 30.0 - 0.1) << "the original's brake holds the pole";
+  EXPECT_LT(release(true, -150.0), -29.5) << "the original's form brakes nothing: a free swing";
+  const double successor_up = release(false, 150.0);
+  const double successor_down = release(false, -150.0);
+  EXPECT_EQ(successor_up, successor_down) << "the successor's brake ignores the command";
+  EXPECT_LT(successor_up, 0.0) << "the successor's brake does not hold the pole";
+  EXPECT_GT(successor_up, -29.0) << "the successor's brake damps the swing";
+}
+
+// ---------------------------------------------------------------------------------------------------------------
 // LoadFriction
 
 TEST(MotorEffectsTest, LoadFrictionGrowsInProportionToTheMotorTorque) {
