@@ -92,6 +92,17 @@ std::vector<std::int32_t> Pose(const std::map<int, double>& angles) {
   return words;
 }
 
+// Get-motors as the original answers it: the angle sensors' words, each within `degrees` of `goals`' angle, then
+// the torque words exactly as in `set`.
+void ExpectSensed(const std::vector<std::int32_t>& words, const std::vector<std::int32_t>& goals,
+                  const std::vector<std::int32_t>& set, double degrees) {
+  ASSERT_EQ(words.size(), set.size());
+  for (std::size_t m = 0; m < kMotors; ++m) EXPECT_NEAR(AngleOf(words[m]), AngleOf(goals[m]), degrees) << "motor " << m;
+  EXPECT_EQ(std::vector<std::int32_t>(words.begin() + kMotors, words.end()),
+            std::vector<std::int32_t>(set.begin() + kMotors, set.end()))
+      << "the torque words as set";
+}
+
 // A UDP socket on 127.0.0.1.
 class UdpPeer {
  public:
@@ -264,11 +275,14 @@ TEST_F(OdcpTest, OrcsOspSetsMotorWordsPerAgentAndTheAnglesFollow) {
   ASSERT_NE(first.port(), second.port());
 
   ASSERT_TRUE(second.Connect());
-  const std::vector<std::int32_t> defaults = second.Get();
-  EXPECT_EQ(defaults, Pose({})) << "0° and the default torque after reset";
+  // Get-motors reports the angle sensors, as the original did (noise σ 0.19°): 0° and the default torque at
+  // first; after a set-motors, still the sensors until the joints move, with the torques as set.
+  ExpectSensed(second.Get(), Pose({}), Pose({}), 1.0);
   const std::vector<std::int32_t> pose = Pose({{kRightShoulderYaw, 45.0}, {kRightElbow, -30.0}});
   second.Set(pose);
-  EXPECT_EQ(second.Get(), pose) << "the words come back as they were set";
+  const std::vector<std::int32_t> before = second.Get();
+  ExpectSensed(before, Pose({}), pose, 1.0);
+  EXPECT_NE(before[kRightShoulderYaw], pose[kRightShoulderYaw]) << "the sensor, not the goal";
 
   OspStepper stepper;
   ASSERT_TRUE(stepper.Handshake(osp_port));
@@ -282,12 +296,14 @@ TEST_F(OdcpTest, OrcsOspSetsMotorWordsPerAgentAndTheAnglesFollow) {
   EXPECT_NEAR(outputs[1][kRightElbow], AngleOf(AngleWord(-30.0)), 2.0);
   EXPECT_NEAR(outputs[0][kRightShoulderYaw], 0.0, 2.0);
   EXPECT_NEAR(outputs[0][kRightElbow], 0.0, 2.0);
-  EXPECT_EQ(second.Get(), pose) << "NaN steps leave ODCP's settings alone";
+  ExpectSensed(second.Get(), pose, pose, 2.0);  // the sensors followed; NaN steps left the torques alone
   EXPECT_TRUE(second.Disconnect());
 }
 
 TEST_F(OdcpTest, BadOdcpDatagramsAreSurvived) {
-  BackgroundProcess server({kBin + "orcs-osp", "-port", "0", "-odcp_port", "0"});
+  // The successor's get-motors (the goal words as set), so that the clamping of each word shows.
+  const std::string goals = dir_.Write("goals.val", "/SimpleUdpMotorInterface/ReportGoalAngles=T\n");
+  BackgroundProcess server({kBin + "orcs-osp", "-ival", goals, "-port", "0", "-odcp_port", "0"});
   const std::uint16_t osp_port = PortOf(server.ReadLine(milliseconds(10000)), "orcs-osp osp");
   OdcpClient client(PortOf(server.ReadLine(milliseconds(5000)), "orcs-osp odcp Humanoid"));
   ASSERT_NE(client.port(), 0) << server.err();
@@ -325,14 +341,16 @@ TEST_F(OdcpTest, BadOdcpDatagramsAreSurvived) {
 
 TEST_F(OdcpTest, OrcsSimRealtimeServesOdcpWhileItRuns) {
   const std::string log = dir_.PathOf("realtime.csv");
-  BackgroundProcess sim({kBin + "orcs-sim", "--realtime", "-port", "0", "--duration", "1.5", "--log",
+  // The successor's get-motors: the goal words as set (ODCP's "report goal angles" switch in a value file).
+  const std::string goals = dir_.Write("goals.val", "/SimpleUdpMotorInterface/ReportGoalAngles=T\n");
+  BackgroundProcess sim({kBin + "orcs-sim", "--realtime", "-port", "0", "-val", goals, "--duration", "1.5", "--log",
                          "/Sim/Humanoid/Right/(ShoulderYaw|Elbow)/JointAngle", "--out", log});
   OdcpClient client(PortOf(sim.ReadLine(milliseconds(10000)), "orcs-sim odcp Humanoid"));
   ASSERT_NE(client.port(), 0) << sim.err();
   ASSERT_TRUE(client.Connect());
   const std::vector<std::int32_t> pose = Pose({{kRightShoulderYaw, 45.0}, {kRightElbow, -30.0}});
   client.Set(pose);
-  EXPECT_EQ(client.Get(), pose);
+  EXPECT_EQ(client.Get(), pose) << "the goal words as set";
   const std::optional<ProcessResult> result = sim.Wait(milliseconds(30000));
   ASSERT_TRUE(result.has_value());
   EXPECT_EQ(result->exit_code, 0) << result->err;

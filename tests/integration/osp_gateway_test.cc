@@ -176,19 +176,47 @@ class OspClient {
   struct StepResult {
     std::vector<float> outputs;
     std::vector<std::int32_t> events;
+    std::vector<std::pair<std::int32_t, std::string>> values;  // observed values: id, printed value
+    std::size_t bytes = 0;                                      // the datagram's size
   };
   StepResult ReceiveStepResult(std::int32_t agent) {
     Parsed reply = Expect(85);
     StepResult result;
+    result.bytes = reply.bytes.size();
     EXPECT_EQ(reply.Int(), agent);
     const std::int32_t outputs = reply.Int();
     EXPECT_EQ(reply.Int(), 0);  // no info values
     const std::int32_t events = reply.Int();
-    EXPECT_EQ(reply.Int(), 0);
+    const std::int32_t values = reply.Int();
     for (std::int32_t i = 0; i < outputs; ++i) result.outputs.push_back(reply.Float());
     for (std::int32_t i = 0; i < events; ++i) result.events.push_back(reply.Int());
+    for (std::int32_t i = 0; i < values; ++i) {
+      const std::int32_t id = reply.Int();
+      result.values.emplace_back(id, reply.String());
+    }
+    EXPECT_EQ(reply.at + 1, reply.bytes.size()) << "nothing between the last field and the 120";
     Send(Message().Byte(86));
     return result;
+  }
+  // The ids of every value whose path matches `pattern` (40/41/43).
+  std::vector<std::int32_t> ValueIds(const std::string& pattern) {
+    Send(Message().Byte(40).String(pattern));
+    const std::int32_t n = Expect(41).Int();
+    std::vector<std::int32_t> ids;
+    for (std::int32_t i = 0; i < n; ++i) {
+      Parsed entry = Expect(43);
+      entry.Int();
+      ids.push_back(entry.Int());
+      Send(Message().Byte(42));
+    }
+    return ids;
+  }
+  void Observe(const std::vector<std::int32_t>& ids) {
+    Message message;
+    message.Byte(54).Int(static_cast<std::int32_t>(ids.size()));
+    for (std::int32_t id : ids) message.Int(id);
+    Send(message);
+    EXPECT_EQ(Expect(55).Int(), static_cast<std::int32_t>(ids.size()));
   }
   void Reset(std::int32_t seed) {
     Send(Message().Byte(70).Int(seed));
@@ -365,6 +393,63 @@ TEST_F(OspGatewayTest, AnObservedCollisionEventShowsUpInTheStepReply) {
   }
   EXPECT_GT(first_step_with_event, 20);
   EXPECT_LT(first_step_with_event, 40);
+}
+
+// The original reported observed values after each step; the successor sends a count of 0 and clients poll
+// with 50. orcs sends them in the step reply (85) unless /UDPCommunication/ObservedValuesInStepReply is false.
+TEST_F(OspGatewayTest, ObservedValuesArriveWithEveryStepUnlessTheSuccessorsSwitchIsSet) {
+  Start();
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  const std::int32_t angle = client.ValueId("/Sim/Humanoid/Right/ShoulderYaw/JointAngle");
+  const std::int32_t time = client.ValueId("/Simulation/CurrentSimulationTime");
+  ASSERT_GT(angle, 0);
+  ASSERT_GT(time, 0);
+  client.Observe({time, angle});
+  ASSERT_TRUE(client.TakeControl(1));
+  constexpr std::size_t kRightShoulderYawOutput = 1;  // outputs: the 21 JointAngles in motor order first
+  for (int step = 1; step <= 20; ++step) {
+    client.SendStep(1, Inputs(0.2f));  // 30°
+    const OspClient::StepResult result = client.ReceiveStepResult(1);
+    ASSERT_EQ(result.values.size(), 2u) << "step " << step;
+    ASSERT_LT(time, angle);
+    EXPECT_EQ(result.values[0].first, time) << "in id order";
+    EXPECT_EQ(result.values[1].first, angle);
+    EXPECT_NEAR(std::stod(result.values[0].second), 0.01 * step, 1e-9) << "the value after this step";
+    EXPECT_EQ(result.values[0].second, client.Get(time)) << "the value as 50 reads it";
+    EXPECT_NEAR(std::stod(result.values[1].second), result.outputs[kRightShoulderYawOutput], 1e-4)
+        << "the value after this step, as its output";
+  }
+  EXPECT_EQ(client.Set(client.ValueId("/UDPCommunication/ObservedValuesInStepReply"), "F"), 1);
+  client.SendStep(1, Inputs(0.2f));
+  EXPECT_TRUE(client.ReceiveStepResult(1).values.empty()) << "the successor's count of 0";
+}
+
+TEST_F(OspGatewayTest, ObservedValuesBeyondOneDatagramAreLeftToPollingAndSaidOnce) {
+  Start();
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  const std::vector<std::int32_t> ids = client.ValueIds("/Sim/Humanoid/.*/(JointAngle|DesiredAngle|DesiredTorque)");
+  ASSERT_EQ(ids.size(), 63u);
+  client.Observe(ids);
+  ASSERT_TRUE(client.TakeControl(1));
+  std::size_t sent = 0;
+  for (int step = 0; step < 3; ++step) {
+    client.SendStep(1, Inputs(0.1f));
+    const OspClient::StepResult result = client.ReceiveStepResult(1);
+    EXPECT_LE(result.bytes, 1024u);
+    EXPECT_GT(result.values.size(), 10u);
+    EXPECT_LT(result.values.size(), ids.size()) << "63 values do not fit one datagram";
+    for (std::size_t i = 0; i < result.values.size(); ++i) EXPECT_EQ(result.values[i].first, ids[i]) << "the first ones";
+    if (step == 0) sent = result.values.size();  // the log speaks of the first overflowing reply
+  }
+  server_->Signal(SIGTERM);
+  const std::optional<test_support::ProcessResult> result = server_->Wait(milliseconds(10000));
+  ASSERT_TRUE(result.has_value());
+  const std::string said = "observes more values than a step reply carries; the first " + std::to_string(sent) +
+                           " of 63 are sent, read the others with 50";
+  EXPECT_THAT(result->err, ::testing::HasSubstr(said));
+  EXPECT_EQ(result->err.find(said), result->err.rfind(said)) << "said once";
 }
 
 TEST_F(OspGatewayTest, ResetWithASeedGivesTheSameSensorTraceTwice) {

@@ -35,6 +35,11 @@ std::int32_t OdcpWordOfAngle(double degrees) {
 
 std::int32_t OdcpWordOfTorque(double raw_torque) { return WordOfNormalised(2.0 * raw_torque - 1.0); }
 
+double AgentMotors::reported_angle(int m) const {
+  if (report_goal_angles_ != nullptr && report_goal_angles_->as_bool()) return angle(m);
+  return agent_.outputs[static_cast<std::size_t>(m)].value->as_double();  // the m-th output is its JointAngle
+}
+
 void AgentMotors::Set(std::span<const double> angles, std::span<const double> torques) {
   for (std::size_t m = 0; m < angles.size() && 2 * m + 1 < agent_.inputs.size(); ++m) {
     agent_.inputs[2 * m].value->Set(angles[m]);
@@ -112,7 +117,7 @@ void OdcpServer::OnSetMotors(std::span<const std::uint8_t> words) {
 void OdcpServer::ReplyGetMotors(const Endpoint& to) {
   DatagramWriter reply;
   reply.Byte(kOdcpGetMotorsReply);
-  for (int m = 0; m < motors_.motor_count(); ++m) reply.Int(OdcpWordOfAngle(motors_.angle(m)));
+  for (int m = 0; m < motors_.motor_count(); ++m) reply.Int(OdcpWordOfAngle(motors_.reported_angle(m)));
   for (int m = 0; m < motors_.motor_count(); ++m) reply.Int(OdcpWordOfTorque(motors_.torque(m)));
   try {
     Reply(reply.Finish(false), to);

@@ -4,7 +4,9 @@
 //   5 (connect)      → 6, int 15, int 1
 //   7 (disconnect)   → 8
 //   100, 2N × int    set motors: N goal-angle words, then N torque words, each 0..1023; no reply
-//   150 (get motors) → 151, 2N × int: the words of the current settings, in the layout of 100
+//   150 (get motors) → 151, 2N × int: N angle words, then the N torque words last set. The angles are the
+//                      motors' angle sensors, as the original described it, or the goal angles last set, as the
+//                      successor answers, with /SimpleUdpMotorInterface/ReportGoalAngles (protocol_values.h).
 // A word w is n = −1 + 2w/1023; the goal angle is 150·n degrees (DesiredAngle, spec/aseries.md §4d) and the
 // torque (n+1)/2 = w/1023 of the maximum, which is DesiredTorque's raw value (the motor uses max(0, raw) of its
 // maximum torque). Words outside 0..1023 are clamped; a set-motors with another word count, an unknown
@@ -59,9 +61,12 @@ class OdcpMotors {
  public:
   virtual ~OdcpMotors() = default;
   virtual int motor_count() const = 0;
-  /// The current goal angle (degrees) and raw DesiredTorque of motor `m` (what get-motors reports).
+  /// The current goal angle (degrees) and raw DesiredTorque of motor `m`.
   virtual double angle(int m) const = 0;
   virtual double torque(int m) const = 0;
+  /// The angle (degrees) get-motors reports for motor `m`: its angle sensor where there is one (the original's
+  /// answer), else the goal angle.
+  virtual double reported_angle(int m) const { return angle(m); }
   /// A set-motors command: one goal angle (degrees) and one raw torque (0…1) per motor.
   virtual void Set(std::span<const double> angles, std::span<const double> torques) = 0;
   /// A connect or a disconnect arrived (after its reply was sent).
@@ -70,20 +75,24 @@ class OdcpMotors {
 };
 
 /// An agent of a live simulation: set-motors writes its DesiredAngle and DesiredTorque repository values, which
-/// the next simulation step uses (the caller steps in the same thread).
+/// the next simulation step uses (the caller steps in the same thread). Get-motors reports its JointAngle sensors,
+/// or its goal angles while `report_goal_angles` (a repository bool, read at each request; nullptr = false) holds.
 class AgentMotors : public OdcpMotors {
  public:
-  explicit AgentMotors(AgentInterface agent) : agent_(std::move(agent)) {}
+  explicit AgentMotors(AgentInterface agent, const Value* report_goal_angles = nullptr)
+      : agent_(std::move(agent)), report_goal_angles_(report_goal_angles) {}
   int motor_count() const override { return static_cast<int>(agent_.inputs.size() / 2); }
   double angle(int m) const override { return agent_.inputs[2 * static_cast<std::size_t>(m)].value->as_double(); }
   double torque(int m) const override {
     return agent_.inputs[2 * static_cast<std::size_t>(m) + 1].value->as_double();
   }
+  double reported_angle(int m) const override;
   void Set(std::span<const double> angles, std::span<const double> torques) override;
   const std::string& name() const { return agent_.name; }
 
  private:
-  AgentInterface agent_;  // inputs in input order: DesiredAngle, DesiredTorque per motor
+  AgentInterface agent_;  // inputs: DesiredAngle, DesiredTorque per motor; outputs: JointAngle per motor first
+  const Value* report_goal_angles_;  // the successor's answer while true
 };
 
 struct OdcpServerOptions {

@@ -14,6 +14,7 @@
 #include "net/cli_style.h"
 #include "worker/osp/odcp_server.h"
 #include "worker/osp/osp_server.h"
+#include "worker/osp/protocol_values.h"
 #include "model/scene/world_setup.h"
 
 namespace {
@@ -35,10 +36,10 @@ struct OspOptions {
 };
 
 // The port of an option, or of its repository value when the option was not given; InputError when out of range.
-int PortOf(int option, const orcs::VariableRepository& repository, const std::string& path) {
+int PortOf(int option, const orcs::VariableRepository& repository, std::string_view path) {
   const std::int64_t port = option >= 0 ? option : repository.Get(path).as_int();
   if (port < 0 || port > 65535) {
-    throw orcs::InputError(path, 0, "expected a port 0..65535, found " + std::to_string(port));
+    throw orcs::InputError(std::string(path), 0, "expected a port 0..65535, found " + std::to_string(port));
   }
   return static_cast<int>(port);
 }
@@ -51,11 +52,13 @@ struct OdcpServers {
 
 OdcpServers StartOdcp(orcs::scene::Simulation& simulation, orcs::osp::OspServer& osp, const OspOptions& options) {
   OdcpServers odcp;
-  const int base = PortOf(options.odcp_port, simulation.repository(), "/SimpleUdpMotorInterface/ServerPort");
+  const int base = PortOf(options.odcp_port, simulation.repository(), orcs::osp::kOdcpServerPortPath);
   try {
     const std::vector<std::uint16_t> ports = orcs::osp::OdcpPorts(base, simulation.agent_count(), osp.endpoint().port);
     for (int a = 0; a < simulation.agent_count(); ++a) {
-      odcp.motors.push_back(std::make_unique<orcs::osp::AgentMotors>(orcs::osp::MakeAgentInterface(simulation, a)));
+      odcp.motors.push_back(std::make_unique<orcs::osp::AgentMotors>(
+          orcs::osp::MakeAgentInterface(simulation, a),
+          simulation.repository().Find(orcs::osp::kOdcpReportGoalAnglesPath)));
       orcs::osp::OdcpServerOptions server_options;
       server_options.bind_address = options.bind_address;
       server_options.port = ports[static_cast<std::size_t>(a)];
@@ -72,14 +75,13 @@ OdcpServers StartOdcp(orcs::scene::Simulation& simulation, orcs::osp::OspServer&
 int Serve(const OspOptions& options) {
   orcs::scene::Simulation simulation;
   // The original's port values, so that a value file can set them as it could there.
-  simulation.repository().Add("/UDPCommunication/ServerPort", 45454);
-  simulation.repository().Add("/SimpleUdpMotorInterface/ServerPort", 45453);
+  orcs::osp::AddProtocolValues(simulation.repository());
   orcs::scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   simulation.Reset(0);
   orcs::osp::OspServerOptions server_options;
   server_options.bind_address = options.bind_address;
   server_options.port =
-      static_cast<std::uint16_t>(PortOf(options.port, simulation.repository(), "/UDPCommunication/ServerPort"));
+      static_cast<std::uint16_t>(PortOf(options.port, simulation.repository(), orcs::osp::kOspServerPortPath));
   server_options.client_timeout = std::chrono::milliseconds(std::lround(options.client_timeout_seconds * 1000.0));
   std::unique_ptr<orcs::osp::OspServer> server;
   try {

@@ -1,5 +1,7 @@
 #include "worker/osp/osp_server.h"
 
+#include "worker/osp/protocol_values.h"
+
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
@@ -11,6 +13,7 @@
 
 #include "model/core/error.h"
 #include "worker/osp/osp_protocol.h"
+#include "worker/osp/protocol_values.h"
 
 namespace orcs::osp {
 namespace {
@@ -373,6 +376,7 @@ void OspServer::RunStep() {
 
 void OspServer::SendStepResults() {
   const std::vector<int>& occurred = simulation_.events().occurred();
+  const bool with_values = ProtocolSwitch(simulation_.repository(), kObservedValuesInStepReplyPath, true);
   for (auto& [id, session] : sessions_) {
     for (const auto& [agent, inputs] : session->step_inputs) {
       const std::vector<InterfaceValue>& outputs = agents_[agent].outputs;
@@ -381,15 +385,42 @@ void OspServer::SendStepResults() {
       for (int event : occurred) {
         if (session->observed_events.contains(event) && events.size() < room) events.push_back(WireId(event));
       }
+      const std::size_t bytes_left = kMaxDatagramBytes - 1 - kStepResultHeaderBytes - 4 * (outputs.size() + events.size());
+      const std::vector<ObservedValue> values = with_values ? ObservedValues(*session, bytes_left) : std::vector<ObservedValue>{};
       DatagramWriter reply = Reply(kStepResult);
       reply.Int(WireId(agent)).Int(static_cast<std::int32_t>(outputs.size())).Int(0);
-      reply.Int(static_cast<std::int32_t>(events.size())).Int(0);
+      reply.Int(static_cast<std::int32_t>(events.size())).Int(static_cast<std::int32_t>(values.size()));
       for (const InterfaceValue& output : outputs) reply.Float(static_cast<float>(output.value->as_double()));
       for (std::int32_t event : events) reply.Int(event);
+      for (const ObservedValue& value : values) reply.Int(value.id).String(value.text);
       Send(*session, reply);
     }
     session->step_inputs.clear();
   }
+}
+
+// The client's observed values in id order, as many as fit `room` bytes (each an int id and a NUL-terminated
+// string). Those that do not fit are left out of this step's reply (the client reads them with 50); the first
+// time, the log says so.
+std::vector<OspServer::ObservedValue> OspServer::ObservedValues(Session& session, std::size_t room) {
+  std::vector<ObservedValue> values;
+  std::size_t used = 0;
+  for (int id : session.observed_values) {
+    std::string text = simulation_.repository().value(id).ToString();
+    const std::size_t size = 4 + text.size() + 1;
+    if (used + size > room) {
+      if (!session.values_overflow_logged) {
+        session.values_overflow_logged = true;
+        Log("client " + std::to_string(session.id) + ": observes more values than a step reply carries; the first " +
+            std::to_string(values.size()) + " of " + std::to_string(session.observed_values.size()) +
+            " are sent, read the others with 50");
+      }
+      break;
+    }
+    used += size;
+    values.push_back({WireId(id), std::move(text)});
+  }
+  return values;
 }
 
 void OspServer::ResetIfEveryoneAsked() {

@@ -109,6 +109,13 @@ class OspServer {
     bool reset_requested = false;        // sent 70, waiting for the reset
     std::int32_t reset_seed = 0;         // the seed it asked for
     bool warned = false;                 // an ignored datagram was logged for it
+    bool values_overflow_logged = false; // said once that its observed values overflow the step reply
+  };
+
+  // One observed value as a step reply carries it.
+  struct ObservedValue {
+    std::int32_t id;   // wire value id
+    std::string text;  // its printed form, as 51 sends it
   };
 
   void ServeOnce();
@@ -128,6 +135,7 @@ class OspServer {
   void OnObserveValues(Session& session, DatagramReader& reader, bool observe);
   void OnResetSimulation(Session& session, DatagramReader& reader);
   void OnStep(Session& session, DatagramReader& reader);
+  std::vector<ObservedValue> ObservedValues(Session& session, std::size_t room);
   void OnAgentOverview(Session& session);
   void OnAgentInfo(Session& session, DatagramReader& reader);
   void OnTakeControl(Session& session, DatagramReader& reader);

@@ -20,6 +20,7 @@
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
 #include "net/cli_style.h"
+#include "worker/osp/protocol_values.h"
 #include "worker/sim/gui_launch.h"
 #include "worker/sim/realtime.h"
 #include "worker/sim/scenario_run.h"
@@ -128,6 +129,7 @@ void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
 
 int Run(const SimOptions& options) {
   scene::Simulation simulation;
+  osp::AddProtocolValues(simulation.repository());  // -port's ODCP switch, settable by -val as in the original
   scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   if (!options.engine.empty()) simulation.repository().Set("/Simulation/Engine", options.engine);  // Reset remakes
   simulation.Reset(options.seed);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "model/core/error.h"
+#include "worker/osp/protocol_values.h"
 
 namespace orcs::sim {
 namespace {
@@ -19,7 +20,8 @@ RealtimeRunner::RealtimeRunner(scene::Simulation& simulation, int odcp_base_port
   try {
     const std::vector<std::uint16_t> ports = osp::OdcpPorts(odcp_base_port, simulation.agent_count(), kOspDefaultPort);
     for (int a = 0; a < simulation.agent_count(); ++a) {
-      motors_.push_back(std::make_unique<osp::AgentMotors>(osp::MakeAgentInterface(simulation, a)));
+      motors_.push_back(std::make_unique<osp::AgentMotors>(
+          osp::MakeAgentInterface(simulation, a), simulation.repository().Find(osp::kOdcpReportGoalAnglesPath)));
       osp::OdcpServerOptions options;
       options.bind_address = bind_address;
       options.port = ports[static_cast<std::size_t>(a)];
