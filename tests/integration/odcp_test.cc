@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <csignal>
 #include <cmath>
 #include <map>
 #include <fstream>
@@ -364,6 +365,37 @@ TEST_F(OdcpTest, OrcsSimRealtimeServesOdcpWhileItRuns) {
   EXPECT_NEAR(last[trace.Column("/Sim/Humanoid/Right/Elbow/JointAngle")], AngleOf(AngleWord(-30.0)), 2.0);
 }
 
+// The original's interactive simulator: ODCP served without wall-clock pacing, each step followed by
+// /Simulation/Delay, running until stopped.
+TEST_F(OdcpTest, OrcsSimWithAPortRunsUntilStoppedDelayedPerStep) {
+  const std::string log = dir_.PathOf("until.csv");
+  BackgroundProcess sim({kBin + "orcs-sim", "-port", "0", "-val", dir_.Write("delay.val", "/Simulation/Delay=5\n"),
+                         "--log", "/Sim/Humanoid/Right/ShoulderYaw/JointAngle", "--out", log});
+  OdcpClient client(PortOf(sim.ReadLine(milliseconds(10000)), "orcs-sim odcp Humanoid"));
+  ASSERT_NE(client.port(), 0) << sim.err();
+  ASSERT_TRUE(client.Connect());
+  client.Set(Pose({{kRightShoulderYaw, 45.0}}));
+  // The arm follows (read through get-motors' angle sensors), however long the machine takes: the run has no end.
+  double angle = 0.0;
+  for (int i = 0; i < 500 && angle < 40.0; ++i) {
+    angle = AngleOf(client.Get()[kRightShoulderYaw]);
+    if (angle < 40.0) std::this_thread::sleep_for(milliseconds(20));  // the robot moves in simulated time
+  }
+  EXPECT_GE(angle, 40.0) << "the arm reached its goal";
+  EXPECT_EQ(sim.Wait(milliseconds(0)), std::nullopt) << "still running";
+  sim.Signal(SIGINT);
+  const std::optional<ProcessResult> result = sim.Wait(milliseconds(10000));
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->exit_code, 0) << result->err;
+  EXPECT_THAT(result->err, ::testing::HasSubstr("running until stopped"));
+  std::smatch summary;
+  ASSERT_TRUE(std::regex_search(result->out, summary, std::regex("in ([0-9]+) steps, wall time ([0-9.]+) s")))
+      << result->out;
+  const double steps = std::stod(summary[1]);
+  EXPECT_GE(std::stod(summary[2]), 0.9 * steps * 0.005) << "each step waited its 5 ms";
+  EXPECT_EQ(ReadLog(dir_.Read(log)).rows.size(), static_cast<std::size_t>(steps) + 1) << "the log is complete";
+}
+
 // The motion a test "editor" sends: arm poses, one every 100 ms.
 std::vector<std::int32_t> MotionPose(int k, int count) {
   const double phase = 2.0 * M_PI * k / count;
@@ -482,9 +514,13 @@ TEST_F(OdcpTest, TheSniffersRecordReplaysTheMotionThatWasSent) {
 }
 
 TEST_F(OdcpTest, BadCommandLinesExitTwoWithOneLine) {
-  const ProcessResult port_without_realtime = RunProcess({kBin + "orcs-sim", "-port", "0"});
-  EXPECT_EQ(port_without_realtime.exit_code, 2);
-  EXPECT_THAT(port_without_realtime.err, ::testing::HasSubstr("--realtime"));
+  const ProcessResult record_for_ever = RunProcess({kBin + "orcs-sim", "-port", "0", "--record", dir_.PathOf("r")});
+  EXPECT_EQ(record_for_ever.exit_code, 2);
+  EXPECT_THAT(record_for_ever.err, ::testing::HasSubstr("--record: needs --duration S with -port"));
+  const ProcessResult bad_delay = RunProcess(
+      {kBin + "orcs-sim", "-val", dir_.Write("bad.val", "/Simulation/Delay=-5\n"), "--duration", "0.1"});
+  EXPECT_EQ(bad_delay.exit_code, 2);
+  EXPECT_THAT(bad_delay.err, ::testing::HasSubstr("/Simulation/Delay: expected milliseconds between 0 and"));
   const ProcessResult no_file = RunProcess({kBin + "orcs-sniffer"});
   EXPECT_EQ(no_file.exit_code, 2);
   const ProcessResult bad_dir = RunProcess({kBin + "orcs-sniffer", dir_.PathOf("no/such/dir/x.csv"), "-port", "0"});

@@ -452,6 +452,39 @@ TEST_F(OspGatewayTest, ObservedValuesBeyondOneDatagramAreLeftToPollingAndSaidOnc
   EXPECT_EQ(result->err.find(said), result->err.rfind(said)) << "said once";
 }
 
+// The original's -play in the gateway: a keyframe record drives one robot in simulated time, which advances as the
+// clients step another; a reset starts the record again.
+TEST_F(OspGatewayTest, PlayDrivesARobotInSimulatedTimeAsTheClientsStepAndStartsAgainAtAReset) {
+  const auto row = [](int ms, double degrees) {
+    std::string line = std::to_string(ms);
+    for (int motor = 0; motor < 21; ++motor) line += motor == 1 ? "," + std::to_string(degrees) + ",1" : ",0,0.586810005";
+    return line + "\n";
+  };
+  const std::string record = dir_.Write("raise.csv", "# layout: raw\n" + row(0, 45.0) + row(500, 0.0));
+  Start({"-play", "SecondASeries", record});
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  const std::int32_t played = client.ValueId("/Sim/SecondASeries/Right/ShoulderYaw/JointAngle");
+  client.Observe({played});
+  ASSERT_TRUE(client.TakeControl(1));
+  const auto step_to = [&](int steps) {
+    OspClient::StepResult result;
+    for (int i = 0; i < steps; ++i) {
+      client.SendStep(1, Inputs(0.0f));
+      result = client.ReceiveStepResult(1);
+    }
+    EXPECT_EQ(result.values.size(), 1u);
+    EXPECT_NEAR(result.outputs.at(1), 0.0, 2.0) << "the client's robot keeps its arm down";
+    return result.values.empty() ? 0.0 : std::stod(result.values[0].second);
+  };
+  EXPECT_NEAR(step_to(40), 45.0, 2.0) << "at 0.4 s the record's first row has raised the arm";
+  EXPECT_NEAR(step_to(60), 0.0, 2.0) << "at 1.0 s its row at 500 ms has lowered it";
+  client.Reset(1);
+  client.Expect(75);
+  client.Send(Message().Byte(76));
+  EXPECT_NEAR(step_to(40), 45.0, 2.0) << "after the reset the record plays from its start";
+}
+
 TEST_F(OspGatewayTest, ResetWithASeedGivesTheSameSensorTraceTwice) {
   Start();
   OspClient client;

@@ -4,8 +4,8 @@
 // stdout once it listens, then one "orcs-osp odcp AGENT=ADDRESS:PORT" line per agent; logs events on stderr;
 // serves until SIGINT or SIGTERM.
 //
-//   orcs-osp [-env FILE] [-ival FILE]... [-val FILE]... [-port 45454] [-odcp_port 45453] [--bind 127.0.0.1]
-//            [--client-timeout 10]
+//   orcs-osp [-env FILE] [-ival FILE]... [-val FILE]... [-play AGENT RECORD]... [-port 45454]
+//            [-odcp_port 45453] [--bind 127.0.0.1] [--client-timeout 10]
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <iostream>
@@ -15,6 +15,7 @@
 #include "worker/osp/odcp_server.h"
 #include "worker/osp/osp_server.h"
 #include "worker/osp/protocol_values.h"
+#include "worker/sim/played_records.h"
 #include "model/scene/world_setup.h"
 
 namespace {
@@ -29,6 +30,7 @@ struct OspOptions {
   std::string environment;
   std::vector<std::string> initial_value_files;
   std::vector<std::string> value_files;
+  std::vector<std::pair<std::string, std::string>> play;  // -play AGENT RECORD...
   int port = -1;  // -1: /UDPCommunication/ServerPort
   int odcp_port = -1;  // base port of the ODCP servers; -1: /SimpleUdpMotorInterface/ServerPort
   std::string bind_address = "127.0.0.1";
@@ -78,11 +80,18 @@ int Serve(const OspOptions& options) {
   orcs::osp::AddProtocolValues(simulation.repository());
   orcs::scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   simulation.Reset(0);
+  std::vector<orcs::control::KeyframePlayer> players = orcs::sim::MakePlayers(options.play, simulation, "orcs-osp");
   orcs::osp::OspServerOptions server_options;
   server_options.bind_address = options.bind_address;
   server_options.port =
       static_cast<std::uint16_t>(PortOf(options.port, simulation.repository(), orcs::osp::kOspServerPortPath));
   server_options.client_timeout = std::chrono::milliseconds(std::lround(options.client_timeout_seconds * 1000.0));
+  server_options.before_step = [&players](double time) {
+    for (orcs::control::KeyframePlayer& player : players) player.Apply(time);
+  };
+  server_options.after_reset = [&players] {
+    for (orcs::control::KeyframePlayer& player : players) player.Reset();  // the record starts again at time 0
+  };
   std::unique_ptr<orcs::osp::OspServer> server;
   try {
     server = std::make_unique<orcs::osp::OspServer>(simulation, server_options);
@@ -116,6 +125,10 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_option("--val", options.value_files, "value file loaded after the world is built (repeatable)")
       ->allow_extra_args(false);
+  app.add_option("--play", options.play,
+                 "AGENT RECORD: play a keyframe record into the agent's inputs in simulated time, as the clients "
+                 "step (repeatable, one per agent; -play also accepted)")
+      ->allow_extra_args(false);
   app.add_option("--port", options.port, "OSP server port (default /UDPCommunication/ServerPort, 45454; 0 = any)")
       ->check(CLI::Range(0, 65535));
   app.add_option("--odcp_port,--odcp-port", options.odcp_port,
@@ -126,7 +139,7 @@ int main(int argc, char** argv) {
   app.add_option("--client-timeout", options.client_timeout_seconds,
                  "seconds of silence after which a client loses its agents (default 10)")
       ->check(orcs::cli::NumberIn(0.001, 1e6));
-  if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "port", "odcp_port"}); exit_code >= 0) {
+  if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port", "odcp_port"}); exit_code >= 0) {
     return exit_code;
   }
   try {

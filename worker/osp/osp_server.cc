@@ -357,6 +357,7 @@ void OspServer::StepIfEveryoneIsReady() {
 }
 
 void OspServer::RunStep() {
+  if (options_.before_step) options_.before_step(simulation_.time());
   for (auto& [id, session] : sessions_) {
     for (const auto& [agent, inputs] : session->step_inputs) {
       const std::vector<InterfaceValue>& values = agents_[agent].inputs;
@@ -436,6 +437,7 @@ void OspServer::ResetIfEveryoneAsked() {
   }
   if (!anyone_asked) return;
   simulation_.Reset(static_cast<std::uint32_t>(seed));
+  if (options_.after_reset) options_.after_reset();
   Log("simulation reset with seed " + std::to_string(static_cast<std::uint32_t>(seed)));
   for (auto& [id, session] : sessions_) {
     session->step_inputs.clear();

@@ -44,6 +44,11 @@ struct OspServerOptions {
   int max_clients = 64;
   /// Where log lines go (one event each, no newline); empty = stderr, prefixed "orcs-osp: ".
   std::function<void(std::string_view)> log;
+  /// Called before each step with the simulated time (s), before the clients' inputs are written, so that
+  /// what it writes (the -play records) a client's finite inputs override. Empty = nothing.
+  std::function<void(double time)> before_step;
+  /// Called after each simulation reset (70). Empty = nothing.
+  std::function<void()> after_reset;
 };
 
 /// Counters of a running server, for tests and logs. They only grow, but for `clients`.

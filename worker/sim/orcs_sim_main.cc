@@ -2,6 +2,8 @@
 // for a given simulated time and logs repository values to CSV (docs/orcs-sim.md).
 #include <algorithm>
 #include <chrono>
+#include <csignal>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -22,6 +24,7 @@
 #include "net/cli_style.h"
 #include "worker/osp/protocol_values.h"
 #include "worker/sim/gui_launch.h"
+#include "worker/sim/played_records.h"
 #include "worker/sim/realtime.h"
 #include "worker/sim/scenario_run.h"
 #include "worker/sim/sim_options.h"
@@ -90,35 +93,37 @@ std::vector<std::string> LogComments(const SimOptions& options) {
           "seed: " + std::to_string(options.seed), "duration: " + text::FormatDouble(options.duration) + " s"};
 }
 
-std::string AgentNames(scene::Simulation& simulation) {
-  std::string names;
-  for (int a = 0; a < simulation.agent_count(); ++a) names += (a ? ", " : "") + simulation.agent(a).name();
-  return names.empty() ? "none" : names;
+
+// The original's pause after each step, ms (0: none); ignored under --realtime, which paces to the wall clock.
+constexpr std::string_view kDelayPath = "/Simulation/Delay";
+constexpr double kLongestDelayMs = 3.6e6;  // an hour per step: anything longer is a slip
+
+volatile std::sig_atomic_t stop_requested = 0;
+extern "C" void OnStopSignal(int) { stop_requested = 1; }
+
+// The original ran until stopped: so does orcs-sim serving ODCP without --duration.
+bool UntilStopped(const SimOptions& options) { return options.odcp_port >= 0 && !options.duration_given; }
+
+// --duration in steps. Checks /Simulation/TimeStepSize and IterationsPerStep: a non-positive value would
+// silently give no steps.
+std::int64_t StepCount(const SimOptions& options, scene::Simulation& simulation) {
+  const double step_count = options.duration / simulation.StepDuration();
+  if (!(step_count < 1e15)) {  // NaN (CLI11's NonNegativeNumber lets "nan" through) or beyond llround's range
+    throw InputError("--duration", 0,
+                     "expected seconds that take fewer than 1e15 steps, found " +
+                         text::FormatDouble(options.duration) + " (" + text::FormatDouble(step_count) + " steps)");
+  }
+  return static_cast<std::int64_t>(std::llround(step_count));
 }
 
-// One player per -play AGENT RECORD; warnings about clamped inputs go to stderr.
-std::vector<control::KeyframePlayer> MakePlayers(const SimOptions& options, scene::Simulation& simulation) {
-  std::vector<control::KeyframePlayer> players;
-  std::vector<std::string> played;
-  for (const auto& [agent, file] : options.play) {
-    const int index = simulation.FindAgent(agent);
-    if (index < 0) {
-      throw InputError("-play", 0, "unknown agent " + text::Quote(agent) + " (agents: " + AgentNames(simulation) + ")");
-    }
-    if (std::find(played.begin(), played.end(), agent) != played.end()) {
-      throw InputError("-play", 0, "agent " + text::Quote(agent) + " is given a second record; one record per agent");
-    }
-    played.push_back(agent);
-    aseries::ASeriesAgent& target = simulation.agent(index);
-    control::KeyframeRecord record = control::ReadKeyframeRecord(file, target.motor_count());
-    if (record.layout_detected && record.layout == control::KeyframeLayout::kNormalised) {
-      std::cerr << "orcs-sim: " << file << ": every value lies within -1...1 and no '# layout:' line says "
-                << "otherwise: read as the older normalised layout\n";
-    }
-    players.emplace_back(std::move(record), agent, target.motor_names(), simulation.repository());
-    for (const std::string& warning : players.back().warnings()) std::cerr << "orcs-sim: " << warning << "\n";
+double DelaySeconds(const VariableRepository& repository) {
+  const double ms = repository.Get(kDelayPath).as_double();
+  if (!(ms >= 0.0 && ms <= kLongestDelayMs)) {
+    throw InputError(std::string(kDelayPath), 0,
+                     "expected milliseconds between 0 and " + text::FormatDouble(kLongestDelayMs) + ", found " +
+                         text::FormatDouble(ms));
   }
-  return players;
+  return ms / 1000.0;
 }
 
 void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
@@ -130,10 +135,11 @@ void PrintSummary(const scene::Simulation& simulation, double wall_seconds) {
 int Run(const SimOptions& options) {
   scene::Simulation simulation;
   osp::AddProtocolValues(simulation.repository());  // -port's ODCP switch, settable by -val as in the original
+  simulation.repository().Add(kDelayPath, 0.0);
   scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
   if (!options.engine.empty()) simulation.repository().Set("/Simulation/Engine", options.engine);  // Reset remakes
   simulation.Reset(options.seed);
-  std::vector<control::KeyframePlayer> players = MakePlayers(options, simulation);
+  std::vector<control::KeyframePlayer> players = MakePlayers(options.play, simulation, "orcs-sim");
 
   if (!options.print_values.empty()) {
     PrintValues(simulation.repository(), options.print_values);
@@ -150,14 +156,8 @@ int Run(const SimOptions& options) {
     return cli::kExitOk;
   }
 
-  // Checks /Simulation/TimeStepSize and IterationsPerStep: a non-positive value would silently give no steps.
-  const double step_count = options.duration / simulation.StepDuration();
-  if (!(step_count < 1e15)) {  // NaN (CLI11's NonNegativeNumber lets "nan" through) or beyond llround's range
-    throw InputError("--duration", 0,
-                     "expected seconds that take fewer than 1e15 steps, found " +
-                         text::FormatDouble(options.duration) + " (" + text::FormatDouble(step_count) + " steps)");
-  }
-  const auto steps = static_cast<std::int64_t>(std::llround(step_count));
+  const std::int64_t steps = UntilStopped(options) ? std::numeric_limits<std::int64_t>::max() : StepCount(options, simulation);
+  const double delay_seconds = DelaySeconds(simulation.repository());
 
   std::unique_ptr<ValueLogger> logger;
   if (!options.log.empty()) {
@@ -170,21 +170,28 @@ int Run(const SimOptions& options) {
     recorder = std::make_unique<evaluation::Recorder>(
         simulation, evaluation::RecordingSource{"orcs-sim", options.environment, "", options.seed, 0, nullptr});
   }
-  std::unique_ptr<RealtimeRunner> realtime;
-  if (options.realtime) {
-    realtime = std::make_unique<RealtimeRunner>(simulation, options.odcp_port, options.bind_address);
-    realtime->PrintEndpoints(std::cout);
+  std::unique_ptr<RealtimeRunner> pacer;  // the wall clock, the delay and ODCP
+  if (options.realtime || options.odcp_port >= 0 || delay_seconds > 0.0) {
+    pacer = std::make_unique<RealtimeRunner>(simulation, options.odcp_port, options.bind_address);
+    pacer->PrintEndpoints(std::cout);
+  }
+  if (UntilStopped(options)) {
+    std::signal(SIGINT, OnStopSignal);
+    std::signal(SIGTERM, OnStopSignal);
+    std::cerr << "orcs-sim: running until stopped (Ctrl-C or SIGTERM); --duration S ends it after S simulated "
+                 "seconds\n";
   }
   const auto start = std::chrono::steady_clock::now();
   evaluation::StepHooks hooks;
   hooks.drive = [&](std::int64_t i, double time) {
-    if (realtime) realtime->WaitForStep(i, simulation.StepDuration());
+    if (pacer && options.realtime) pacer->WaitForStep(i, simulation.StepDuration());
+    if (pacer && !options.realtime) pacer->Pause(delay_seconds);  // the original's delay after each step
     for (control::KeyframePlayer& player : players) player.Apply(time);
   };
   hooks.observe = [&](std::int64_t) {
     if (logger) logger->Sample(simulation.time());
     if (recorder) recorder->Sample();
-    return true;
+    return stop_requested == 0;
   };
   evaluation::RunSteps(simulation, steps, hooks);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

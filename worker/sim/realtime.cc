@@ -2,6 +2,7 @@
 
 #include <poll.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "model/core/error.h"
@@ -48,12 +49,19 @@ void RealtimeRunner::WaitForStep(std::int64_t index, double step_seconds) {
   ServeUntil(start_ + std::chrono::duration_cast<Clock::duration>(offset));
 }
 
+void RealtimeRunner::Pause(double seconds) {
+  const auto wait = std::chrono::duration<double>(std::max(0.0, seconds));
+  ServeUntil(Clock::now() + std::chrono::duration_cast<Clock::duration>(wait));
+}
+
 void RealtimeRunner::ServeUntil(Clock::time_point deadline) {
   std::vector<pollfd> fds;
   for (const auto& server : servers_) fds.push_back({server->fd(), POLLIN, 0});
-  // Bounded by the deadline: every pass either serves a datagram or waits until the deadline.
-  for (Clock::time_point now = Clock::now(); now < deadline; now = Clock::now()) {
-    const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - now);
+  // Bounded by the deadline: every pass either serves a datagram or waits until the deadline. The first pass
+  // runs even when the deadline has passed, so that what is waiting is answered between any two steps.
+  bool first = true;
+  for (Clock::time_point now = Clock::now(); first || now < deadline; now = Clock::now(), first = false) {
+    const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(std::max(deadline - now, Clock::duration{}));
     const timespec timeout{static_cast<time_t>(left.count() / 1000000000),
                            static_cast<long>(left.count() % 1000000000)};
     for (pollfd& entry : fds) entry.revents = 0;

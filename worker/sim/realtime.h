@@ -1,5 +1,6 @@
-// orcs-sim --realtime [-port BASE]: steps paced to the wall clock, and ODCP 1.0 served for every agent between
-// them (docs/osp.md), so that a motion editor or slider tool moves the robots of a running orcs-sim directly.
+// orcs-sim's pacing and ODCP: steps paced to the wall clock (--realtime) or delayed by the original's
+// /Simulation/Delay, and ODCP 1.0 served for every agent between them (-port, docs/osp.md), so that a motion
+// editor or slider tool moves the robots of a running orcs-sim directly.
 #pragma once
 
 #include <chrono>
@@ -26,9 +27,12 @@ class RealtimeRunner {
   /// Waits until step `index` is due — `index` step durations after the first call — answering ODCP datagrams
   /// meanwhile. A step that is late already is not waited for (the run catches up, it skips nothing).
   void WaitForStep(std::int64_t index, double step_seconds);
+  /// Waits `seconds` (≤ 0: not at all), answering ODCP datagrams meanwhile and those already waiting.
+  void Pause(double seconds);
 
  private:
   using Clock = std::chrono::steady_clock;
+  // Answers datagrams until `deadline`, and at least once those already waiting.
   void ServeUntil(Clock::time_point deadline);
 
   std::vector<std::unique_ptr<osp::AgentMotors>> motors_;  // what each server drives (outlives it)

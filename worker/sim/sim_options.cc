@@ -55,13 +55,12 @@ void AddModeOptions(CLI::App& app, SimOptions& o) {
                                                "print its result as one JSON line, as orcs-batch writes it");
   app.add_option("--genome", o.genome, "the job's genome as JSON text or @FILE (default: the scenario's \"genome\")")
       ->needs(scenario);
-  CLI::Option* realtime =
-      app.add_flag("--realtime", o.realtime, "pace the steps to the wall clock (one simulated second per second)");
+  app.add_flag("--realtime", o.realtime, "pace the steps to the wall clock (one simulated second per second)");
   CLI::Option* port = app.add_option("--port", o.odcp_port,
-                                     "with --realtime: serve ODCP 1.0 for each agent from this base port, skipping "
-                                     "45454 (-port also accepted; 0 = any free port)")
-                          ->check(CLI::Range(0, 65535))
-                          ->needs(realtime);
+                                     "serve ODCP 1.0 for each agent from this base port, skipping 45454, and run "
+                                     "until stopped unless --duration is given (-port also accepted; 0 = any free "
+                                     "port)")
+                          ->check(CLI::Range(0, 65535));
   app.add_option("--bind", o.bind_address, "interface the ODCP servers listen on (default 127.0.0.1; * = every one)")
       ->needs(port);
 }
@@ -72,10 +71,11 @@ void CheckCombinations(const CLI::App& app, const SimOptions& o) {
   if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
   const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
                              !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
-                             !o.export_mjcf.empty() || app.count("--duration") > 0 || o.realtime;
+                             !o.export_mjcf.empty() || app.count("--duration") > 0 || o.realtime ||
+                             o.odcp_port >= 0;
   const bool run_options = !o.play.empty() || !o.log.empty() || !o.record.empty() || !o.scenario.empty() ||
                            !o.print_values.empty() || o.describe || !o.export_mjcf.empty() || o.realtime ||
-                           app.count("--duration") > 0;
+                           app.count("--duration") > 0 || o.odcp_port >= 0;
   if (o.gui && run_options) {
     throw CLI::ValidationError("-gui", "opens the world (-env, -ival, -val, --seed) in orcs-view --live; run, log, "
                                        "play or record without -gui, or use orcs-view --live --port P for another "
@@ -84,6 +84,10 @@ void CheckCombinations(const CLI::App& app, const SimOptions& o) {
   if (o.gui && !o.engine.empty()) {
     throw CLI::ValidationError("--engine", "not with -gui: set /Simulation/Engine in a value file for the live view "
                                            "(-ival FILE)");
+  }
+  if (o.odcp_port >= 0 && !o.record.empty() && app.count("--duration") == 0) {
+    throw CLI::ValidationError("--record", "needs --duration S with -port: a run until stopped has no end to record "
+                                           "up to (a recording is held in memory)");
   }
   if (app.count("--record-set") > 0 && (o.scenario.empty() || o.record.empty())) {
     throw CLI::ValidationError("--record-set", "needs --scenario and --record FILE");
@@ -102,7 +106,10 @@ ParsedOptions ParseSimOptions(int argc, const char* const* argv) {
   CLI::App app{"orcs-sim: headless simulation of an ORCS environment", "orcs-sim"};
   AddWorldOptions(app, o);
   AddModeOptions(app, o);
-  const auto validate = [&] { CheckCombinations(app, o); };
+  const auto validate = [&] {
+    CheckCombinations(app, o);
+    o.duration_given = app.count("--duration") > 0;
+  };
   parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port", "gui", "nogui"}, validate);
   return parsed;
 }

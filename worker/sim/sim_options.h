@@ -13,6 +13,7 @@ struct SimOptions {
   std::vector<std::string> initial_value_files;  ///< -ival FILE...: loaded before the world is built
   std::vector<std::string> value_files;          ///< -val FILE...: loaded after the world is built
   double duration = 10.0;                        ///< --duration: simulated seconds
+  bool duration_given = false;                   ///< --duration was on the command line (else -port runs until stopped)
   std::uint64_t seed = 0;                        ///< --seed: seed of every random stream of the run
   std::string engine;                            ///< --engine: /Simulation/Engine, over value files and scenario ("" = theirs)
   std::vector<std::string> log;                  ///< --log REGEX...: repository values logged each step
@@ -29,7 +30,7 @@ struct SimOptions {
   std::string scenario;                          ///< --scenario FILE.json: evaluate one job and print its result
   std::string genome;                            ///< --genome JSON or @FILE: the job's genome ("" = the scenario's)
   bool realtime = false;                         ///< --realtime: steps paced to the wall clock
-  int odcp_port = -1;                            ///< -port BASE (needs --realtime): ODCP servers; −1 = none, 0 = any
+  int odcp_port = -1;                            ///< -port BASE: ODCP servers; −1 = none, 0 = any
   std::string bind_address = "127.0.0.1";        ///< --bind: interface the ODCP servers listen on
 };
 
