@@ -85,6 +85,8 @@ CLI::App* AddEvolveCommand(CLI::App& app, BatchOptions& o) {
       ->check(cli::Seed());
   evolve->add_option("--validate", o.validate, "fresh seeds the winner is run on at the end (default 8)")
       ->check(CLI::Range(0, 100000));
+  evolve->add_flag("--fresh-sets", o.fresh_sets,
+                   "new parameter sets every generation (a seed per generation) instead of the same sets throughout");
   AddEngineOption(*evolve, o, "physics engine of every job (/Simulation/Engine, over the scenario's values)");
   AddSessionOptions(*evolve, o, "output folder (default runs/<scenario name>-evolve)");
   evolve->add_option("--resume", o.resume,

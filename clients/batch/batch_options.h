@@ -51,6 +51,7 @@ struct BatchOptions {
   int population = 0;                ///< --population P (0 = unset)
   int generations = -1;              ///< --generations G (< 0 = unset)
   int validate = -1;                 ///< --validate N: fresh seeds the winner is re-run on (< 0 = unset)
+  bool fresh_sets = false;           ///< evolve --fresh-sets: new parameter sets every generation
   /// --resume DIR: evolve continues the run whose checkpoint is in DIR; run, submit and sweep complete the
   /// interrupted batch in DIR (its settings from DIR/batch.json, clients/batch/batch_manifest.h)
   std::string resume;

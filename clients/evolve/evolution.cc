@@ -95,7 +95,8 @@ pagmo::vector_double Evolution::DecisionVectorOf(const std::vector<double>& geno
 std::vector<double> Evolution::EvaluateBatch(const std::vector<pagmo::vector_double>& xs) {
   std::vector<std::vector<double>> genomes;
   for (const pagmo::vector_double& x : xs) genomes.push_back(GenomeOf(x));
-  const std::vector<Evaluation> evaluations = evaluate_(genomes);
+  const std::uint64_t seed = GenerationSeed(settings_, evaluating_);
+  const std::vector<Evaluation> evaluations = evaluate_(genomes, seed);
   if (evaluations.size() != genomes.size()) throw std::logic_error("GenomeEvaluator: one evaluation per genome");
   std::vector<double> objectives;
   for (std::size_t i = 0; i < evaluations.size(); ++i) {
@@ -103,7 +104,7 @@ std::vector<double> Evolution::EvaluateBatch(const std::vector<pagmo::vector_dou
     current_.push_back(e);
     objectives.push_back(e.ok ? -e.fitness : kFailedObjective);
     if (e.ok && (champion_.genome.empty() || e.fitness > champion_.fitness)) {
-      champion_ = {genomes[i], e.fitness, static_cast<int>(history_.size())};
+      champion_ = {genomes[i], e.fitness, static_cast<int>(history_.size()), seed};
     }
   }
   return objectives;
@@ -121,6 +122,7 @@ void Evolution::Initialise() {
     xs.push_back(std::move(x));
   }
   cache_->recorded = xs;
+  evaluating_ = 0;
   cache_->EvaluateRecorded();
   for (const pagmo::vector_double& x : xs) population_.push_back(x, {cache_->known.at(x)});
   CloseGeneration(0, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
@@ -129,6 +131,7 @@ void Evolution::Initialise() {
 void Evolution::Step() {
   const auto started = std::chrono::steady_clock::now();
   cache_->known.clear();  // a generation evaluates what it asks for: a resumed run repeats the same jobs
+  evaluating_ = generation() + 1;
   cache_->mode = GenerationCache::Mode::kRecord;
   pagmo::algorithm rehearsal = algorithm_;  // same random state: asks for what the real pass will
   rehearsal.evolve(population_);

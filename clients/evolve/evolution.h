@@ -28,8 +28,10 @@ struct Evaluation {
   bool ok = false;       ///< the job ran (status ok)
 };
 
-/// Evaluates genomes (in the genes' own units) as one batch; one Evaluation per genome, in order.
-using GenomeEvaluator = std::function<std::vector<Evaluation>(const std::vector<std::vector<double>>&)>;
+/// Evaluates genomes (in the genes' own units) as one batch of jobs with seed `seed` (the generation's,
+/// GenerationSeed); one Evaluation per genome, in order.
+using GenomeEvaluator =
+    std::function<std::vector<Evaluation>(const std::vector<std::vector<double>>&, std::uint64_t seed)>;
 
 /// One generation, as fitness.csv lists it.
 struct GenerationRecord {
@@ -49,6 +51,7 @@ struct Champion {
   std::vector<double> genome;  ///< genes in their own units ([] before any ok evaluation)
   double fitness = 0.0;        ///< its fitness
   int generation = -1;         ///< the generation that found it
+  std::uint64_t seed = 0;      ///< the seed of the job that scored it (its generation's): its replay's seed
 };
 
 /// Objective of a genome whose job failed: worse than any real fitness, finite for the algorithms' arithmetic.
@@ -100,6 +103,7 @@ class Evolution {
   std::vector<GenerationRecord> history_;
   Champion champion_;
   std::vector<Evaluation> current_;  ///< the evaluations of the generation under way
+  int evaluating_ = 0;               ///< the generation under way (its jobs' seed: GenerationSeed)
 };
 
 /// The pagmo2 algorithm the settings name, running one generation per evolve() call and keeping its adapted

@@ -81,6 +81,13 @@ void CheckFingerprint(const std::string& file, const nlohmann::ordered_json& fou
                        ": give the same settings to resume, or start afresh in another --out folder");
     }
   }
+  for (const auto& [key, value] : found.items()) {  // a setting only the checkpoint has (fresh_sets)
+    if (!expected.contains(key)) {
+      throw InputError(file + ": made with " + key + " " + Describe(value) +
+                       ", this run has none: give the same settings to resume, or start afresh in another --out "
+                       "folder");
+    }
+  }
 }
 
 }  // namespace
@@ -88,7 +95,7 @@ void CheckFingerprint(const std::string& file, const nlohmann::ordered_json& fou
 nlohmann::ordered_json Fingerprint(const batch::ScenarioInput& input, const EvolutionSettings& settings) {
   nlohmann::ordered_json bounds = nlohmann::ordered_json::array();
   for (const GeneBounds& b : settings.bounds) bounds.push_back({b.low, b.high});
-  return {{"scenario", input.scenario.name},
+  nlohmann::ordered_json fingerprint = {{"scenario", input.scenario.name},
           {"scenario_file", input.path},
           {"scenario_digest", Digest(input.resolved_json)},
           {"algorithm", AlgorithmName(settings.algorithm)},
@@ -97,6 +104,8 @@ nlohmann::ordered_json Fingerprint(const batch::ScenarioInput& input, const Evol
           {"sigma", settings.sigma},
           {"bounds", bounds},
           {"start", settings.start}};
+  if (settings.fresh_sets) fingerprint["fresh_sets"] = true;  // absent when false: older checkpoints stay valid
+  return fingerprint;
 }
 
 EvolutionCheckpoint CheckpointOf(const Evolution& evolution, nlohmann::ordered_json fingerprint,
@@ -136,7 +145,8 @@ void WriteCheckpoint(const std::string& folder, const EvolutionCheckpoint& check
                                            {"champion",
                                             {{"genome", checkpoint.champion.genome},
                                              {"fitness", checkpoint.champion.fitness},
-                                             {"generation", checkpoint.champion.generation}}},
+                                             {"generation", checkpoint.champion.generation},
+                                             {"seed", checkpoint.champion.seed}}},
                                            {"history", history},
                                            {"pagmo_state", checkpoint.pagmo_state},
                                            {"run", checkpoint.run}};
@@ -161,6 +171,9 @@ EvolutionCheckpoint ReadCheckpoint(const std::string& folder, const nlohmann::or
   checkpoint.champion.genome = champion.At("genome").Numbers("the champion's genes");
   checkpoint.champion.fitness = champion.At("fitness").Number("a fitness");
   checkpoint.champion.generation = champion.At("generation").Integer("a generation");
+  // Checkpoints from before fresh parameter sets hold no seed: their champion's jobs all had the run's seed.
+  checkpoint.champion.seed = champion.Has("seed") ? champion.At("seed").Unsigned("a seed ≥ 0")
+                                                  : expected_fingerprint.at("seed").get<std::uint64_t>();
   for (const JsonNode& record : root.At("history").Elements()) checkpoint.history.push_back(ReadRecord(record));
   if (checkpoint.history.empty()) root.At("history").Fail("at least generation 0");
   checkpoint.pagmo_state = root.At("pagmo_state").String("the algorithm's state");

@@ -5,6 +5,7 @@
 
 #include "model/control/controller_factory.h"
 #include "model/core/error.h"
+#include "model/core/random_stream.h"
 #include "model/core/json_node.h"
 #include "model/evaluation/evaluation.h"
 
@@ -59,8 +60,18 @@ std::size_t GenomeLength(const batch::ScenarioInput& input) {
   return static_cast<std::size_t>(length);
 }
 
+}  // namespace
+
+std::uint64_t GenerationSeed(const EvolutionSettings& settings, int generation) {
+  if (!settings.fresh_sets) return settings.seed;
+  RandomStream stream(settings.seed, "evolve-generation-sets", static_cast<std::uint64_t>(generation));
+  return stream.NextU64();
+}
+
+namespace {
+
 void ReadSection(const JsonNode& section, EvolutionSettings& settings) {
-  section.ExpectOnly({"bounds", "algorithm", "population", "generations", "seed", "sigma", "validate"});
+  section.ExpectOnly({"bounds", "algorithm", "population", "generations", "seed", "sigma", "validate", "fresh_sets"});
   if (section.Has("algorithm")) {
     const JsonNode node = section.At("algorithm");
     if (!ParseAlgorithm(node.String("an algorithm name"), settings.algorithm)) node.Fail(AlgorithmList());
@@ -78,6 +89,7 @@ void ReadSection(const JsonNode& section, EvolutionSettings& settings) {
     if (!(settings.sigma > 0.0 && settings.sigma <= 1.0))
       node.Fail("a step > 0 and ≤ 1, in units of each gene's range");
   }
+  if (section.Has("fresh_sets")) settings.fresh_sets = section.At("fresh_sets").Bool("true or false");
   if (section.Has("validate")) {
     const JsonNode node = section.At("validate");
     settings.validate = node.Integer("a number of seeds ≥ 0");
@@ -93,6 +105,7 @@ void ApplyOverrides(const EvolutionOverrides& overrides, EvolutionSettings& sett
   if (overrides.generations >= 0) settings.generations = overrides.generations;
   if (overrides.seed >= 0) settings.seed = static_cast<std::uint64_t>(overrides.seed);
   if (overrides.validate >= 0) settings.validate = overrides.validate;
+  if (overrides.fresh_sets) settings.fresh_sets = true;
 }
 
 void CheckPopulation(const batch::ScenarioInput& input, const EvolutionSettings& settings) {

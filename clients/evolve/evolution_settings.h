@@ -29,6 +29,9 @@ struct EvolutionSettings {
   std::uint64_t seed = 1;                   ///< "seed" / --seed: the jobs' seed (parameter sets) and the optimiser's
   double sigma = 0.3;                       ///< "sigma": CMA-ES/xNES initial step, in units of each gene's range
   int validate = 8;                         ///< "validate" / --validate: fresh seeds the winner is re-run on
+  /// "fresh_sets" / --fresh-sets: every generation's jobs get their own seed (GenerationSeed), so the genomes meet
+  /// new parameter sets each generation; false: every job has `seed`, the same K sets throughout.
+  bool fresh_sets = false;
   std::vector<GeneBounds> bounds;           ///< "bounds": one range per gene, genome order
   std::vector<double> start;                ///< the scenario's "genome", the first individual ([] = none)
 };
@@ -40,7 +43,13 @@ struct EvolutionOverrides {
   int generations = -1;    ///< < 0 = unset
   std::int64_t seed = -1;  ///< < 0 = unset
   int validate = -1;       ///< < 0 = unset
+  bool fresh_sets = false; ///< --fresh-sets given (false = the scenario's)
 };
+
+/// The seed of generation `generation`'s jobs: `seed` itself, or with fresh_sets one drawn from the stream
+/// (seed, "evolve-generation-sets", generation) — never one of the validation seeds seed+1…seed+validate but by a
+/// chance of 2⁻⁶⁴ per seed.
+std::uint64_t GenerationSeed(const EvolutionSettings& settings, int generation);
 
 /// "cmaes", "xnes", "sga", "de", "pso_gen" (the names docs/evolution.md uses).
 std::string AlgorithmName(Algorithm algorithm);

@@ -38,6 +38,7 @@ EvolutionOverrides OverridesOf(const batch::BatchOptions& options) {
   overrides.generations = options.generations;
   if (options.seed_given) overrides.seed = static_cast<std::int64_t>(options.seed);
   overrides.validate = options.validate;
+  overrides.fresh_sets = options.fresh_sets;
   return overrides;
 }
 
@@ -60,7 +61,8 @@ batch::Genome GenomeJson(const std::vector<double>& genes, const std::string& so
   return {nlohmann::json(genes), source, 0};
 }
 
-// One job per genome, all with the run's seed: every genome meets the same parameter sets (a fair comparison).
+// One job per genome, all with one seed (the generation's): every genome of a generation meets the same parameter
+// sets (a fair comparison).
 std::vector<v1::Job> JobsOf(const batch::ScenarioInput& input, const std::vector<std::vector<double>>& genomes,
                             std::uint64_t seed, double time_limit_seconds) {
   std::vector<batch::Genome> list;
@@ -165,11 +167,10 @@ class GenerationProgress {
   std::size_t ok_ = 0, failed_ = 0;
 };
 
-GenomeEvaluator BrokerEvaluator(batch::JobRunner& runner, const batch::ScenarioInput& input,
-                                const EvolutionSettings& settings, double time_limit_seconds,
+GenomeEvaluator BrokerEvaluator(batch::JobRunner& runner, const batch::ScenarioInput& input, double time_limit_seconds,
                                 GenerationProgress& progress) {
-  return [&runner, &input, seed = settings.seed, time_limit_seconds,
-          &progress](const std::vector<std::vector<double>>& genomes) {
+  return [&runner, &input, time_limit_seconds, &progress](const std::vector<std::vector<double>>& genomes,
+                                                          std::uint64_t seed) {
     progress.Start(genomes.size());
     const std::vector<v1::Result> results = runner.Run(
         JobsOf(input, genomes, seed, time_limit_seconds), [&](const v1::Result& result) { progress.OnResult(result); });
@@ -218,6 +219,7 @@ batch::BatchOptions WithCheckpointSettings(const batch::BatchOptions& given) {
     if (absent("--validate") && run.contains("validate")) options.validate = run["validate"].get<int>();
     if (absent("--algorithm")) options.algorithm = fingerprint.value("algorithm", "");
     if (absent("--population")) options.population = fingerprint.value("population", 0);
+    if (absent("--fresh-sets")) options.fresh_sets = fingerprint.value("fresh_sets", false);
     if (absent("--seed") && fingerprint.contains("seed")) {
       options.seed = fingerprint["seed"].get<std::uint64_t>();
       options.seed_given = true;
@@ -236,12 +238,12 @@ void SaveGeneration(const std::string& folder, const Evolution& evolution, const
   WriteBestGenome(folder, evolution.champion());
 }
 
-// DIR/best/: the winner once more with the run's seed (its logs and its recording, best/recordings/winner.orcsrec for
+// DIR/best/: the winner once more with the seed it was scored with (its logs and its recording, best/recordings/winner.orcsrec for
 // orcs-view, of parameter set 0; it must give the same fitness, bit for bit: recording changes no bits) and on
 // `validate` fresh seeds (how it fares on parameter sets it never met). Returns false when the replay differs.
 bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, const EvolutionSettings& settings,
                  const Champion& champion, double time_limit_seconds, const std::string& folder) {
-  std::vector<v1::Job> jobs = JobsOf(input, {champion.genome}, settings.seed, time_limit_seconds);
+  std::vector<v1::Job> jobs = JobsOf(input, {champion.genome}, champion.seed, time_limit_seconds);
   jobs.front().set_record(true);
   jobs.front().set_record_set(0);
   for (int v = 1; v <= settings.validate; ++v) {
@@ -254,7 +256,8 @@ bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, co
   std::vector<double> validation;
   for (std::size_t i = 0; i < results.size(); ++i) {
     results[i].set_job_id(i == 0 ? "winner" : "validate-" + std::to_string(i));
-    writer.Write(results[i], {{"seed", settings.seed + i}, {"role", i == 0 ? "winner" : "validation"}});
+    writer.Write(results[i], {{"seed", i == 0 ? champion.seed : settings.seed + i},
+                              {"role", i == 0 ? "winner" : "validation"}});
     if (i > 0 && results[i].status() == v1::Result::OK) validation.push_back(results[i].fitness());
   }
   writer.Finish();
@@ -299,7 +302,7 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   batch::JobRunner runner(RunnerOptionsOf(options, folder));
   batch::ProgressFile file(folder, "evolve");
   GenerationProgress progress(!options.quiet, settings.generations, file);
-  Evolution evolution(settings, BrokerEvaluator(runner, input, settings, options.time_limit_seconds, progress));
+  Evolution evolution(settings, BrokerEvaluator(runner, input, options.time_limit_seconds, progress));
   if (!options.quiet) {
     std::cerr << "orcs-batch: evolving '" << input.scenario.name << "' (" << settings.bounds.size() << " genes) with "
               << AlgorithmName(settings.algorithm) << ", " << settings.population << " genomes per generation, on "
@@ -342,7 +345,7 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   file.Finish("finished");
   std::cout << "orcs-batch: best genome in " << (fs::path(folder) / "best_genome.json").string()
             << "; replay it with: orcs-sim --scenario " << options.scenario << " --genome @"
-            << (fs::path(folder) / "best_genome.json").string() << " --seed " << settings.seed
+            << (fs::path(folder) / "best_genome.json").string() << " --seed " << evolution.champion().seed
             << (options.engine.empty() ? "" : " --engine " + options.engine) << "\n";
   if (fs::exists(fs::path(folder) / "best" / "recordings" / "winner.orcsrec")) {
     std::cout << "orcs-batch: watch the winner with: orcs-view " << folder << "\n";

@@ -29,7 +29,7 @@ EvolutionSettings Settings(Algorithm algorithm) {
   return settings;
 }
 
-std::vector<Evaluation> Analytic(const std::vector<std::vector<double>>& genomes) {
+std::vector<Evaluation> Analytic(const std::vector<std::vector<double>>& genomes, std::uint64_t) {
   std::vector<Evaluation> evaluations;
   for (const std::vector<double>& genome : genomes) evaluations.push_back({Fitness(genome), true});
   return evaluations;

@@ -43,7 +43,7 @@ std::string HipsScenario(const std::string& name = "hips", double duration = 0.1
 // the run `resumes` after it.
 GenomeEvaluator FirstBatchFails(bool resumes = false) {
   auto calls = std::make_shared<int>(resumes ? 1 : 0);
-  return [calls](const std::vector<std::vector<double>>& genomes) {
+  return [calls](const std::vector<std::vector<double>>& genomes, std::uint64_t) {
     std::vector<Evaluation> evaluations;
     for (const std::vector<double>& genome : genomes) {
       double sum = 0.0;
@@ -118,6 +118,7 @@ TEST_F(EvolutionCheckpointTest, ReadsBackWhatWasWrittenExactly) {
   EXPECT_EQ(read.champion.genome, evolution->champion().genome);
   EXPECT_EQ(Bits(read.champion.fitness), Bits(evolution->champion().fitness));
   EXPECT_EQ(read.champion.generation, evolution->champion().generation);
+  EXPECT_EQ(read.champion.seed, evolution->champion().seed);
   EXPECT_EQ(read.pagmo_state, evolution->SaveState());
 
   // Restored from the file, a run continues exactly as the one that wrote it.
@@ -185,6 +186,8 @@ TEST_F(EvolutionCheckpointTest, OtherSettingsAreRefusedNamingTheFieldAndBothValu
                     HasSubstr("this run has [[-1.0,1.0],[-1.0,1.0],[-1.0,2.0],")));
   EXPECT_THAT(error_with([](EvolutionSettings& s) { s.sigma = 0.5; }),
               AllOf(HasSubstr(Checkpoint()), HasSubstr("made with sigma 0.3, this run has 0.5")));
+  EXPECT_THAT(error_with([](EvolutionSettings& s) { s.fresh_sets = true; }),
+              AllOf(HasSubstr(Checkpoint()), HasSubstr("made with fresh_sets none, this run has true")));
   // What may change between runs: more generations, other validation seeds.
   EXPECT_NO_THROW(ReadCheckpoint(folder_, Fingerprint(input_, [&] {
                                    EvolutionSettings s = settings_;
@@ -192,6 +195,19 @@ TEST_F(EvolutionCheckpointTest, OtherSettingsAreRefusedNamingTheFieldAndBothValu
                                    s.validate = 0;
                                    return s;
                                  }())));
+}
+
+// fresh_sets is in the fingerprint only when on (older checkpoints stay valid), so a setting only the checkpoint
+// holds must be caught too: a fresh-sets run is not continued with the same sets throughout.
+TEST_F(EvolutionCheckpointTest, AFreshSetsCheckpointIsNotResumedWithoutThem) {
+  settings_.fresh_sets = true;
+  const std::unique_ptr<Evolution> evolution = RunAndCheckpoint();
+  EXPECT_NE(evolution->champion().seed, settings_.seed) << "scored on a generation's own sets";
+  EXPECT_EQ(ReadCheckpoint(folder_, Fingerprint(input_, settings_)).champion.seed, evolution->champion().seed);
+  EvolutionSettings same_sets = settings_;
+  same_sets.fresh_sets = false;
+  EXPECT_THAT(InputErrorOf([&] { ReadCheckpoint(folder_, Fingerprint(input_, same_sets)); }),
+              AllOf(HasSubstr(Checkpoint()), HasSubstr("made with fresh_sets true, this run has none")));
 }
 
 TEST_F(EvolutionCheckpointTest, ADamagedPagmoStateIsAnInputErrorNamingTheFile) {

@@ -18,6 +18,7 @@
 #include <pagmo/problem.hpp>
 #include <sstream>
 #include <utility>
+#include <set>
 #include <vector>
 
 #include "tests/support/input_error_of.h"
@@ -56,15 +57,17 @@ EvolutionSettings SettingsFor(Algorithm algorithm) {
 struct BatchLog {
   std::vector<std::vector<Genome>> genomes;          ///< the genomes of each call
   std::vector<std::vector<Evaluation>> evaluations;  ///< the answers of each call
+  std::vector<std::uint64_t> seeds;                  ///< the jobs' seed of each call
 };
 
 // An evaluator scoring each genome with `score` and logging every call into `log`.
 GenomeEvaluator Logging(BatchLog& log, std::function<Evaluation(const Genome&)> score) {
-  return [&log, score = std::move(score)](const std::vector<Genome>& genomes) {
+  return [&log, score = std::move(score)](const std::vector<Genome>& genomes, std::uint64_t seed) {
     std::vector<Evaluation> evaluations;
     for (const Genome& genome : genomes) evaluations.push_back(score(genome));
     log.genomes.push_back(genomes);
     log.evaluations.push_back(evaluations);
+    log.seeds.push_back(seed);
     return evaluations;
   };
 }
@@ -266,6 +269,41 @@ TEST(EvolutionTest, FailedJobsAreCountedAndNeverBecomeChampion) {
   EXPECT_EQ(evolution.history().back().best_so_far, best_ok);
 }
 
+// Without fresh sets every batch has the run's seed (the same K parameter sets throughout); with them every
+// generation has its own seed, GenerationSeed, none of them the run's seed or a validation seed S+1…S+8. The champion
+// keeps the seed it was scored with, so that its replay can be exact.
+TEST(EvolutionTest, FreshSetsGiveEveryGenerationItsOwnSeedAndTheChampionKeepsItsOwn) {
+  for (const bool fresh : {false, true}) {
+    SCOPED_TRACE(fresh ? "fresh sets" : "the same sets");
+    EvolutionSettings settings = SettingsFor(Algorithm::kCmaes);
+    settings.fresh_sets = fresh;
+    BatchLog log;
+    Evolution evolution(settings, Logging(log, SphereOk));
+    evolution.Initialise();
+    for (int generation = 1; generation <= 4; ++generation) evolution.Step();
+    ASSERT_EQ(log.seeds.size(), 5u);
+    std::set<std::uint64_t> distinct(log.seeds.begin(), log.seeds.end());
+    for (std::size_t g = 0; g < log.seeds.size(); ++g) {
+      EXPECT_EQ(log.seeds[g], GenerationSeed(settings, static_cast<int>(g)));
+      if (fresh) {
+        EXPECT_FALSE(log.seeds[g] >= settings.seed && log.seeds[g] <= settings.seed + 8) << "generation " << g;
+      } else {
+        EXPECT_EQ(log.seeds[g], settings.seed);
+      }
+    }
+    EXPECT_EQ(distinct.size(), fresh ? 5u : 1u);
+    const Champion& champion = evolution.champion();
+    EXPECT_EQ(champion.seed, log.seeds.at(static_cast<std::size_t>(champion.generation)));
+  }
+  // The generation seeds are the run seed's: another run seed, other seeds; the same, the same.
+  EvolutionSettings a = SettingsFor(Algorithm::kCmaes);
+  a.fresh_sets = true;
+  EvolutionSettings b = a;
+  b.seed = a.seed + 1;
+  EXPECT_NE(GenerationSeed(a, 3), GenerationSeed(b, 3));
+  EXPECT_EQ(GenerationSeed(a, 3), GenerationSeed(a, 3));
+}
+
 // A generation in which every job fails (a time limit too short, physics unstable everywhere): NaN statistics, no
 // champion, and the search goes on: the next generation evaluates genomes again. (pagmo's CMA-ES and xNES stop
 // before sampling when the population's objectives all lie within ftol: every failed job has the same objective.)
@@ -308,7 +346,7 @@ TEST(EvolutionTest, StatisticsAreOverTheGenerationsOkJobs) {
   // A population of 5 with fixed answers per position in the batch: 4, failed, 1, 2, 10 → ok: 4, 1, 2, 10.
   EvolutionSettings settings = SettingsFor(Algorithm::kDe);
   settings.population = 5;
-  Evolution evolution(settings, [](const std::vector<Genome>& genomes) {
+  Evolution evolution(settings, [](const std::vector<Genome>& genomes, std::uint64_t) {
     std::vector<Evaluation> answers = {{4.0, true}, {100.0, false}, {1.0, true}, {2.0, true}, {10.0, true}};
     answers.resize(genomes.size());
     return answers;
@@ -405,7 +443,7 @@ INSTANTIATE_TEST_SUITE_P(Algorithms, ResumableAlgorithmTest,
 // (CheckResumable) and add it to ResumableAlgorithmTest.
 TEST(EvolutionTest, PagmoLeavesPsoGensVelocitiesOutOfItsSavedState) {
   const EvolutionSettings settings = SettingsFor(Algorithm::kPsoGen);
-  Evolution evolution(settings, [](const std::vector<Genome>&) { return std::vector<Evaluation>{}; });
+  Evolution evolution(settings, [](const std::vector<Genome>&, std::uint64_t) { return std::vector<Evaluation>{}; });
   pagmo::population plain(pagmo::problem{DirectProblem{&evolution, nullptr}}, 8u, 11u);
   pagmo::algorithm algorithm = MakeAlgorithm(settings);
   plain = algorithm.evolve(plain);  // a first generation fills its memory
@@ -443,7 +481,7 @@ TEST(EvolutionTest, APsoGenRunIsNotResumedAndTheErrorSaysWhy) {
 
 TEST(EvolutionTest, GenomeOfMapsTheUnitBoxOntoTheBoundsAndClamps) {
   Evolution evolution(SettingsFor(Algorithm::kCmaes),
-                      [](const std::vector<Genome>&) { return std::vector<Evaluation>{}; });
+                      [](const std::vector<Genome>&, std::uint64_t) { return std::vector<Evaluation>{}; });
   // Bounds: [-2, 3], [0, 10], [-1, 1].
   EXPECT_EQ(evolution.GenomeOf({0.0, 0.0, 0.0}), (Genome{-2.0, 0.0, -1.0}));
   EXPECT_EQ(evolution.GenomeOf({1.0, 1.0, 1.0}), (Genome{3.0, 10.0, 1.0}));
