@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "model/control/keyframe_player.h"
@@ -28,7 +29,7 @@ std::string SourcePath(const std::string& relative) { return std::string(ORCS_SO
 class MotionRun {
  public:
   MotionRun(const std::string& engine, const std::string& environment, const std::string& record,
-            const std::string& agent = "Humanoid")
+            const std::string& agent = "Humanoid", const std::vector<std::pair<std::string, std::string>>& values = {})
       : agent_(agent) {
     if (environment.empty()) {
       environment_.agents.push_back(scene::AgentDescription{});
@@ -38,6 +39,7 @@ class MotionRun {
     simulation_.repository().Set("/Simulation/Engine", engine);
     simulation_.LoadEnvironment(environment_);
     simulation_.Build();
+    for (const auto& [path, value] : values) simulation_.repository().Set(path, value);
     simulation_.Reset(0);
     aseries::ASeriesAgent& target = simulation_.agent(simulation_.FindAgent(agent));
     motors_ = target.motor_names();
@@ -297,6 +299,174 @@ TEST_P(MotionsTest, PendulumHoldsThePoleLevelAtFullTorqueAndSagsAtTheDefaultTorq
       EXPECT_LT(std::abs(run.JointDegrees("Motor")), std::abs(target) - 20.0);
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The accelerometer boards during the original's experiments (issue 22, item 10). The original showed the boards'
+// traces during the waist bend, the leg swing and the arm movement; these tests hold their qualitative shape as the
+// sensor model (spec §5) gives it: at rest and in slow motion a board reads gravity turned into its frame (a pair
+// of radius g that turns with the joint), quick starts and stops add the motion's own acceleration, and where a
+// reading would pass 1.2 g the cut-off holds both axes at their last pair. Noise is off (/AccelSensor/Deviation 0)
+// so that a held pair is the previous one bit for bit.
+
+constexpr double kCutOff = 11.772;  // m/s², spec §5
+const std::vector<std::pair<std::string, std::string>> kQuietBoards = {{"/AccelSensor/Deviation", "0"}};
+
+// One board's readings, m/s², one pair per step.
+struct BoardTrace {
+  std::vector<double> axis1, axis2;
+  void Sample(const MotionRun& run, const std::string& board) {
+    axis1.push_back(run.Number("/Sim/Humanoid/" + board + "/AccelAxis1"));
+    axis2.push_back(run.Number("/Sim/Humanoid/" + board + "/AccelAxis2"));
+  }
+  double Radius(size_t i) const { return std::hypot(axis1[i], axis2[i]); }
+  double Largest() const {
+    double largest = 0.0;
+    for (size_t i = 0; i < axis1.size(); ++i) largest = std::max({largest, std::abs(axis1[i]), std::abs(axis2[i])});
+    return largest;
+  }
+  // Steps whose pair is the previous step's, bit for bit: the cut-off held it (noise off), while `moving` says
+  // the joint turned in that step (at rest an unchanged pair would be no sign of a hold).
+  std::vector<size_t> Held(const std::vector<bool>& moving) const {
+    std::vector<size_t> held;
+    for (size_t i = 1; i < axis1.size(); ++i) {
+      if (moving[i] && axis1[i] == axis1[i - 1] && axis2[i] == axis2[i - 1]) held.push_back(i);
+    }
+    return held;
+  }
+};
+
+// Whether the joint turned by more than 0.01° in each step.
+std::vector<bool> Moving(const std::vector<double>& angles) {
+  std::vector<bool> moving(angles.size(), false);
+  for (size_t i = 1; i < angles.size(); ++i) moving[i] = std::abs(angles[i] - angles[i - 1]) > 0.01;
+  return moving;
+}
+
+// Whether some held step lies in [from, to) s.
+bool HeldWithin(const std::vector<size_t>& held, const std::vector<double>& times, double from, double to) {
+  return std::any_of(held.begin(), held.end(), [&](size_t i) { return times[i] >= from && times[i] < to; });
+}
+
+TEST_P(MotionsTest, WaistBendTurnsGravityIntoTheTrunkBoardsAndTheQuickReturnTripsTheCutOff) {
+  MotionRun run(GetParam(), "", "scenarios/motions/waist_bend.csv", "Humanoid", kQuietBoards);
+  const double g = run.Number("/Simulation/Gravitation");
+  std::vector<double> times, waist, tilt;  // s, degrees, the trunk's tilt from upright in radians
+  BoardTrace right_trunk, left_trunk, right_femur;
+  run.RunUntil(run.record().frames.back().time_ms / 1000.0, [&] {
+    times.push_back(run.time());
+    waist.push_back(run.JointDegrees("Waist"));
+    tilt.push_back(std::acos(std::clamp(run.Axis("Middle/UpperBody", Eigen::Vector3d::UnitY()).y(), -1.0, 1.0)));
+    right_trunk.Sample(run, "ABSR");
+    left_trunk.Sample(run, "ABML");
+    right_femur.Sample(run, "ABHR");
+  });
+  // Standing straight, the trunk boards' axes are level: (0, 0); the femur board's Axis2 points up: −g.
+  EXPECT_NEAR(right_trunk.Radius(20), 0.0, 0.05);
+  EXPECT_NEAR(right_femur.axis2[20], -g, 0.05);
+  // Bent and held, gravity turns into the trunk boards' Axis1: g·sin(tilt), the trunk's tilt from upright (a little
+  // less than the waist angle: the legs lean back to balance it); the lateral Axis2 stays 0, and the two boards on
+  // the trunk read alike.
+  double target = 0.0;  // the record's bend, degrees
+  for (size_t row = 0; row < run.record().frames.size(); ++row) target = std::max(target, run.Recorded(row, "Waist"));
+  const size_t deepest = std::find_if(waist.begin(), waist.end(), [&](double a) { return a > target - 2.0; }) -
+                         waist.begin();  // first reached
+  size_t held_bend = deepest;            // the last step of the hold
+  while (held_bend + 1 < waist.size() && waist[held_bend + 1] > target - 2.0) ++held_bend;
+  ASSERT_GT(times[held_bend] - times[deepest], 1.0) << "the record holds the bend";
+  const size_t hold = (deepest + held_bend) / 2;  // deep in the hold, the trunk at rest
+  EXPECT_GT(tilt[hold] * kDegrees, 60.0);
+  EXPECT_NEAR(right_trunk.axis1[hold], g * std::sin(tilt[hold]), 0.15);
+  EXPECT_NEAR(right_trunk.axis2[hold], 0.0, 0.15);
+  EXPECT_NEAR(left_trunk.axis1[hold], right_trunk.axis1[hold], 0.05);
+  // On the way down, Axis1 follows the tilt. Each of the record's rows (every 50 ms) gives the trunk a small jolt,
+  // so the readings are compared as 0.1 s averages: within 1 m/s² of the static g·sin(tilt).
+  for (size_t i = 10; i + 10 <= deepest; i += 10) {
+    double reading = 0.0, expected = 0.0;
+    for (size_t k = i; k < i + 10; ++k) {
+      reading += right_trunk.axis1[k] / 10.0;
+      expected += g * std::sin(tilt[k]) / 10.0;
+    }
+    EXPECT_NEAR(reading, expected, 1.0) << "t = " << times[i];
+  }
+  // The legs stand still: the femur board keeps gravity on its Axis2.
+  for (size_t i = 20; i < times.size(); ++i) ASSERT_NEAR(right_femur.axis2[i], -g, 0.2) << "t = " << times[i];
+  // The return starts with a jolt at each of the record's rows: the trunk boards pass 1.2 g, and the cut-off
+  // holds their last pair; no board ever outputs beyond the cut-off.
+  const std::vector<size_t> held = right_trunk.Held(Moving(waist));
+  EXPECT_TRUE(HeldWithin(held, times, times[hold], times[held_bend] + 0.5)) << held.size() << " held steps";
+  EXPECT_FALSE(HeldWithin(held, times, 0.0, times[deepest])) << "the bend stays below 1.2 g";
+  for (const BoardTrace* board : {&right_trunk, &left_trunk, &right_femur}) EXPECT_LE(board->Largest(), kCutOff);
+}
+
+TEST_P(MotionsTest, LegSwingTurnsTheThighBoardsGravityByTheHipAngleAndEachJoltTripsTheFootBoardsCutOff) {
+  MotionRun run(GetParam(), "scenarios/environments/leg_swing.xml", "scenarios/motions/leg_swing.csv", "Humanoid",
+                kQuietBoards);
+  const double g = run.Number("/Simulation/Gravitation");
+  std::vector<double> times, hip, commands;
+  BoardTrace thigh, foot;
+  run.RunUntil(run.record().frames.back().time_ms / 1000.0, [&] {
+    times.push_back(run.time());
+    hip.push_back(run.JointDegrees("Right/HipYaw"));
+    commands.push_back(run.Number("/Sim/Humanoid/Right/HipYaw/DesiredAngle"));
+    thigh.Sample(run, "ABHR");
+    foot.Sample(run, "ABFR");
+  });
+  const size_t forward = std::find(commands.begin(), commands.end(), 150.0) - commands.begin();
+  const size_t back = std::find(commands.begin(), commands.end(), -15.0) - commands.begin();
+  ASSERT_LT(forward, back);
+  ASSERT_LT(back, times.size());
+  // Hanging at rest, the thigh board reads (0, −g). Held at its forward stop (≈130°, the step before the back
+  // command), the leg is still: the pair has radius g and has turned by the hip angle (clockwise in the
+  // board's (Axis1, Axis2) plane).
+  const size_t rest = forward - 1, stop = back - 1;
+  EXPECT_NEAR(thigh.axis1[rest], 0.0, 0.05);
+  EXPECT_NEAR(thigh.axis2[rest], -g, 0.05);
+  EXPECT_GT(hip[stop], 120.0);
+  EXPECT_NEAR(thigh.Radius(stop), g, 0.15);
+  const double turned = (std::atan2(thigh.axis2[stop], thigh.axis1[stop]) -
+                         std::atan2(thigh.axis2[rest], thigh.axis1[rest])) * kDegrees;
+  EXPECT_NEAR(std::remainder(turned + hip[stop], 360.0), 0.0, 2.0) << "turned " << turned << "°";
+  // Each command starts the swing with a jolt: within 30 ms the foot board, at the end of the leg, passes 1.2 g
+  // and the cut-off holds its pair. No output passes the cut-off.
+  const std::vector<size_t> held = foot.Held(Moving(hip));
+  EXPECT_TRUE(HeldWithin(held, times, times[forward], times[forward] + 0.03));
+  EXPECT_TRUE(HeldWithin(held, times, times[back], times[back] + 0.03));
+  EXPECT_LE(thigh.Largest(), kCutOff);
+  EXPECT_LE(foot.Largest(), kCutOff);
+}
+
+TEST_P(MotionsTest, ArmMovementShowsOnTheArmBoardsOnlyWhileTheArmsMoveAndTheQuickReturnTripsTheCutOff) {
+  MotionRun run(GetParam(), "", "scenarios/motions/arm_movement.csv", "Humanoid", kQuietBoards);
+  const double g = run.Number("/Simulation/Gravitation");
+  std::vector<double> times, elbow;
+  BoardTrace arm, trunk;
+  run.RunUntil(run.record().frames.back().time_ms / 1000.0, [&] {
+    times.push_back(run.time());
+    elbow.push_back(run.JointDegrees("Right/Elbow"));
+    arm.Sample(run, "ABAR");
+    trunk.Sample(run, "ABSR");
+  });
+  // The arm board reads gravity alone whenever the arm is still — before the ramps, held at the targets, back
+  // at the end: a pair of radius g — and more while the arms move.
+  const std::vector<bool> moving = Moving(elbow);
+  double still_off = 0.0, moving_off = 0.0;  // largest |radius − g| while still, while moving
+  for (size_t i = 20; i < times.size(); ++i) {
+    const bool settled = !moving[i] && !moving[i - 1] && std::abs(elbow[i] - elbow[i - 5]) < 0.05;
+    double& off = settled ? still_off : moving_off;
+    if (moving[i] || settled) off = std::max(off, std::abs(arm.Radius(i) - g));
+  }
+  EXPECT_LT(still_off, 0.3);
+  EXPECT_GT(moving_off, 1.0) << "the motion shows";
+  // The trunk stands still: its board stays near (0, 0) while the arms move (their reaction rocks it a little).
+  for (size_t i = 20; i < times.size(); ++i) ASSERT_LT(trunk.Radius(i), 2.0) << "t = " << times[i];
+  // The arms ramp out smoothly and stay below 1.2 g; the return starts with a jolt that trips the arm board's
+  // cut-off. No output passes it.
+  const std::vector<size_t> held = arm.Held(moving);
+  ASSERT_FALSE(held.empty());
+  const size_t out_end = std::find_if(times.begin(), times.end(), [](double t) { return t > 4.0; }) - times.begin();
+  EXPECT_FALSE(HeldWithin(held, times, 0.0, times[out_end])) << "the ramps out stay below 1.2 g";
+  EXPECT_LE(arm.Largest(), kCutOff);
 }
 
 INSTANTIATE_TEST_SUITE_P(Engines, MotionsTest, ::testing::Values("ODE", "MuJoCo"),
