@@ -286,8 +286,64 @@ class GapPlotTest(TempDirTest):
         self.assertIn(os.path.join(folder, "report.json"), err)
 
 
-if __name__ == "__main__":
-    unittest.main()
+
+@unittest.skipUnless(HAVE_MATPLOTLIB, NO_MATPLOTLIB)
+class GeneralisationPlotTest(TempDirTest):
+    """scripts/plot_generalisation.py: two evolutions' searches and their winners on unseen parameter sets."""
+
+    def setUp(self):
+        super().setUp()
+        self.module = load_script("plot_generalisation")
+        for name, best in (("same", [1.0, 2.0, 7.0]), ("fresh", [1.1, 3.9, 4.4])):
+            rows = [f"{g},6,0,{b},0,0,0,{b},1.0" for g, b in enumerate(best)]
+            self.write(f"{name}/fitness.csv", FITNESS_HEADER + "\n".join(rows) + "\n")
+            # Two jobs of three sets; "same" falls in two sets, "fresh" in none.
+            lines = []
+            for job in range(2):
+                sets = [{"index": k, "terms": {"sway": 0.6 - 0.1 * k + 0.01 * job,
+                                               "falls": 1.0 if name == "same" and k == job else 0.0}}
+                        for k in range(3)]
+                lines.append(json.dumps({"id": f"job-{job}", "status": "ok", "sets": sets}))
+            self.write(f"{name}/results.jsonl", "\n".join(lines) + "\n")
+
+    def arguments(self):
+        return ["--run", "same sets", os.path.join(self.dir, "same/fitness.csv"), os.path.join(self.dir, "same/results.jsonl"),
+                "--run", "fresh sets", os.path.join(self.dir, "fresh/fitness.csv"),
+                os.path.join(self.dir, "fresh/results.jsonl")]
+
+    def test_every_set_is_a_point_falls_are_counted_and_no_legend_covers_data(self):
+        runs = [("same sets", self.module.read_search(os.path.join(self.dir, "same/fitness.csv")),
+                 self.module.read_sets(os.path.join(self.dir, "same/results.jsonl"), "sway")),
+                ("fresh sets", self.module.read_search(os.path.join(self.dir, "fresh/fitness.csv")),
+                 self.module.read_sets(os.path.join(self.dir, "fresh/results.jsonl"), "sway"))]
+        self.assertEqual(len(runs[0][2]), 6)
+        figure = self.module.build_figure(runs, "sway", "m", "a title")
+        search, unseen = figure.axes
+        self.assertEqual(search.get_ylabel(), "fitness (higher is better)")
+        self.assertEqual(search.get_xlabel(), "generation")
+        self.assertEqual(unseen.get_ylabel(), "sway (m, higher is better)")
+        self.assertEqual(legend_texts(figure), ["same sets", "fresh sets", "same sets: 6 sets, 2 with a fall",
+                                                "a set with a fall", "fresh sets: 6 sets, 0 with a fall"])
+        self.assertEqual(legends_covering_axes(figure), [])
+        points = [len(collection.get_offsets()) for collection in unseen.collections]
+        self.assertEqual(points, [6, 2, 6], "every set a point, every fall a cross")
+        figure.canvas.draw()
+        ticks = [t for t in search.get_xticks() if search.get_xlim()[0] <= t <= search.get_xlim()[1]]
+        self.assertTrue(all(float(t).is_integer() for t in ticks), ticks)
+
+    def test_the_program_writes_a_png_and_bad_input_is_one_line_naming_the_line(self):
+        out = os.path.join(self.dir, "figure.png")
+        run = run_script("plot_generalisation", *self.arguments(), "--out", out)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertTrue(is_png(out))
+        self.write("same/results.jsonl", '{"sets": [{"terms": {"sway": 1}}]}\n{not json\n')
+        code, _, err = call_main(self.module, *self.arguments(), "--out", out)
+        self.assertEqual(code, 2)
+        self.assertEqual(err, f"plot_generalisation.py: {os.path.join(self.dir, 'same/results.jsonl')}:2: not a JSON line\n")
+        code, _, err = call_main(self.module, *self.arguments(), "--term", "height", "--out", out)
+        self.assertEqual(code, 2)
+        self.assertIn("results.jsonl:1: expected \"sets\" whose \"terms\" hold 'height'", err)
+
 
 
 @unittest.skipUnless(HAVE_MATPLOTLIB, NO_MATPLOTLIB)
@@ -319,3 +375,7 @@ class ComparePlotTest(TempDirTest):
         result = run_script("plot_compare", path)
         self.assertEqual(result.returncode, 2)
         self.assertIn(f"{path}:1: not a compare.csv", result.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
