@@ -15,7 +15,7 @@ constexpr char kSource[] = "A-Series placement";
 
 physics::GeomDescription BoxGeom(std::string name, const Eigen::Vector3d& size, const Eigen::Vector3d& offset,
                                  const Eigen::Quaterniond& rotation, std::string material, double mass,
-                                 const Rgba& color) {
+                                 const Rgba& color, std::string texture) {
   physics::GeomDescription geom;
   geom.name = std::move(name);
   geom.shape = physics::Shape::kBox;
@@ -25,6 +25,7 @@ physics::GeomDescription BoxGeom(std::string name, const Eigen::Vector3d& size, 
   geom.material = std::move(material);
   geom.mass = mass;
   geom.rgba = color;
+  geom.texture = std::move(texture);
   return geom;
 }
 
@@ -77,7 +78,8 @@ class Assembly {
       out.position = place_.Point(body.centre);
       out.orientation = place_.rotation;
       physics::GeomDescription main_box = BoxGeom("", body.size, Eigen::Vector3d::Zero(),
-                                                  Eigen::Quaterniond::Identity(), body.material, 0.0, body.color);
+                                                  Eigen::Quaterniond::Identity(), body.material, 0.0, body.color,
+                                                  body.texture);
       main_box.collides = !body.penetrable;  // the pelvis box (quirk 3)
       out.geoms.push_back(std::move(main_box));
       const int index = static_cast<int>(description_.bodies.size());
@@ -91,7 +93,7 @@ class Assembly {
     for (const MorphologyGeom& geom : morphology_.geoms) {
       physics::BodyDescription& host = description_.bodies[FindHost(geom.host, "geom '" + geom.name + "'")];
       host.geoms.push_back(BoxGeom(geom.name, geom.size, geom.offset, Eigen::Quaterniond::Identity(),
-                                   geom.material, geom.mass, geom.color));
+                                   geom.material, geom.mass, geom.color, geom.texture));
     }
   }
 
@@ -110,7 +112,7 @@ class Assembly {
       out.axis2 = rotation * board.axis2;
       layout_.boards.push_back(std::move(out));
       host.geoms.push_back(BoxGeom(board.name, board.size, board.position, rotation, board.material, board.mass,
-                                   board.color));
+                                   board.color, board.texture));
     }
   }
 

@@ -110,14 +110,16 @@ using ChannelOf = std::function<int(const std::string& path)>;
 nlohmann::json GeomsJson(const physics::BodyDescription& body) {
   nlohmann::json geoms = nlohmann::json::array();
   for (const physics::GeomDescription& geom : body.geoms) {
-    geoms.push_back({{"name", geom.name},
-                     {"shape", ShapeName(geom.shape)},
-                     {"size", GeomSizeJson(geom)},
-                     {"offset", Array(geom.offset)},
-                     {"rotation", Array(geom.rotation)},
-                     {"color", geom.rgba},
-                     {"material", geom.material},
-                     {"collides", geom.collides}});
+    nlohmann::json entry = {{"name", geom.name},
+                            {"shape", ShapeName(geom.shape)},
+                            {"size", GeomSizeJson(geom)},
+                            {"offset", Array(geom.offset)},
+                            {"rotation", Array(geom.rotation)},
+                            {"color", geom.rgba},
+                            {"material", geom.material},
+                            {"collides", geom.collides}};
+    if (!geom.texture.empty()) entry["texture"] = geom.texture;  // optional: absent means none
+    geoms.push_back(std::move(entry));
   }
   return geoms;
 }

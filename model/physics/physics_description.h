@@ -36,6 +36,9 @@ struct GeomDescription {
   /// Display colour red, green, blue, alpha, each 0…255 (MuJoCo's geom_rgba). Visual only: no engine reads it;
   /// recordings carry it to the viewer.
   std::array<int, 4> rgba = {255, 255, 255, 255};
+  /// Display texture of the original ("Dynamixel", "Alu", "AccelBoard", or an XML object's name for one); "" for
+  /// none. Visual only, like rgba: the viewer draws the known ones as simple patterns.
+  std::string texture;
 };
 
 /// A rigid body. Dynamic bodies move; static ones are fixed in the world (their geoms have no ODE body).

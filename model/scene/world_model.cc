@@ -37,6 +37,7 @@ physics::BodyDescription MakeBody(const ObjectDescription& object, const Variabl
   geom.material = values.Get(ObjectPath(name, "Material")).as_string();
   const Color color = values.Get(ObjectPath(name, "Color")).as_color();
   geom.rgba = {color.r, color.g, color.b, color.a};
+  geom.texture = values.Get(ObjectPath(name, "Texture")).as_string();
   if (object.type == ObjectType::kBox) {
     geom.shape = physics::Shape::kBox;
     geom.size = {PositiveValue(values, name, "Width", false), PositiveValue(values, name, "Height", false),

@@ -4,10 +4,12 @@
 
 #include <bit>
 #include <cstring>
+#include <map>
 
 #include "model/evaluation/recording_reader.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/world_setup.h"
+#include "tests/support/temp_dir.h"
 
 namespace orcs::evaluation {
 namespace {
@@ -118,6 +120,29 @@ TEST(RecorderTest, HeaderCarriesTheEnvironmentsColoursAndShapes) {
   }
   EXPECT_TRUE(found);
   EXPECT_EQ(recording.frame_count(), 1) << "frame 0 only";
+}
+
+// The original's textures are visual only; the header carries them for the viewer: the A-Series' servo cases
+// (spec §2a: Right/Tibia "Dynamixel") and boards ("AccelBoard"), an XML object's texture, and no field where none.
+TEST(RecorderTest, HeaderCarriesTexturesOnlyWhereThereAreAny) {
+  test_support::TempDir dir;
+  const std::string textured = dir.Write("textured.val", "/Sim/SecondSphere/Texture=Wood\n");  // as -ival does
+  scene::Simulation simulation;
+  scene::SetUpWorld(simulation, ORCS_SOURCE_DIR "/scenarios/environments/example.xml", {textured}, {});
+  simulation.Reset(0);
+  Recorder recorder(simulation, RecordingSource{});
+  const Recording recording = ParseRecording(recorder.Finish(), "test.orcsrec");
+  std::map<std::string, std::string> main_textures;  // body → its main geom's texture ("-" for none)
+  int boards = 0;
+  for (const nlohmann::json& body : recording.header["bodies"]) {
+    const nlohmann::json& geoms = body["geoms"];
+    main_textures[body["name"]] = geoms[0].value("texture", "-");
+    for (const nlohmann::json& geom : geoms) boards += geom.value("texture", "") == "AccelBoard" ? 1 : 0;
+  }
+  EXPECT_EQ(main_textures["Humanoid/Right/Tibia"], "Dynamixel");
+  EXPECT_EQ(main_textures["Humanoid/Right/Foot"], "-") << "no texture: no field";
+  EXPECT_EQ(main_textures["SecondSphere"], "Wood") << "the object's /Texture value";
+  EXPECT_EQ(boards, 16) << "both robots' eight boards";
 }
 
 }  // namespace

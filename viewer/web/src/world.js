@@ -15,6 +15,63 @@ function colorOf(rgba) {
   };
 }
 
+// The original's built-in textures as simple grey patterns (64 × 64 px, drawn once each), multiplied by the geom's
+// colour as three.js does with a material's map: "Dynamixel" (a servo's ribbed case with its four horn screws),
+// "Alu" (brushed metal), "AccelBoard" (a circuit board with its chip); any other name a checker, so that a
+// textured object still looks textured (docs/viewer.md, "Textures").
+const TEXTURE_PAINTERS = {
+  Dynamixel(g) {
+    g.fillStyle = '#b8b8b8';
+    g.fillRect(0, 0, 64, 64);
+    g.fillStyle = '#7a7a7a';
+    for (let x = 4; x < 64; x += 8) g.fillRect(x, 0, 3, 64);
+    g.fillStyle = '#ffffff';
+    for (const [x, y] of [[16, 16], [48, 16], [16, 48], [48, 48]]) {
+      g.beginPath();
+      g.arc(x, y, 4, 0, 2 * Math.PI);
+      g.fill();
+    }
+  },
+  Alu(g) {
+    for (let y = 0; y < 64; y++) {
+      const v = 200 + ((y * 37) % 11) * 5;  // fixed streaks: the same picture every time
+      g.fillStyle = `rgb(${v},${v},${v})`;
+      g.fillRect(0, y, 64, 1);
+    }
+  },
+  AccelBoard(g) {
+    g.fillStyle = '#d0d0d0';
+    g.fillRect(0, 0, 64, 64);
+    g.fillStyle = '#ffffff';
+    for (let x = 4; x < 64; x += 8) for (let y = 4; y < 64; y += 8) g.fillRect(x, y, 2, 2);
+    g.fillStyle = '#303030';
+    g.fillRect(22, 22, 20, 20);
+  },
+  checker(g) {
+    for (let x = 0; x < 64; x += 16) {
+      for (let y = 0; y < 64; y += 16) {
+        g.fillStyle = (x + y) % 32 === 0 ? '#ffffff' : '#8c8c8c';
+        g.fillRect(x, y, 16, 16);
+      }
+    }
+  },
+};
+const textures = new Map();
+
+function textureOf(name) {
+  if (!name) return null;
+  const key = Object.hasOwn(TEXTURE_PAINTERS, name) ? name : 'checker';
+  if (!textures.has(key)) {
+    const canvas = document.createElement('canvas');
+    canvas.width = canvas.height = 64;
+    TEXTURE_PAINTERS[key](canvas.getContext('2d'));
+    const texture = new THREE.CanvasTexture(canvas);
+    texture.colorSpace = THREE.SRGBColorSpace;
+    textures.set(key, texture);
+  }
+  return textures.get(key);
+}
+
 function vec(a, fallback = [0, 0, 0]) {
   const v = Array.isArray(a) && a.length >= 3 ? a : fallback;
   return new THREE.Vector3(v[0], v[1], v[2]);
@@ -190,7 +247,7 @@ export class World {
         const geometry = geometryOf(geom);
         if (!geometry) continue;
         const { color, opacity } = colorOf(geom.color);
-        const material = new THREE.MeshLambertMaterial({ color });
+        const material = new THREE.MeshLambertMaterial({ color, map: ghost ? null : textureOf(geom.texture) });
         if (ghost) {
           material.transparent = true;
           material.opacity = 0.28;
@@ -206,6 +263,7 @@ export class World {
         mesh.position.copy(vec(geom.offset));
         mesh.quaternion.copy(quat(geom.rotation));
         mesh.userData.body = body.name;
+        if (geom.texture) mesh.userData.texture = geom.texture;
         group.add(mesh);
         meshes.push(mesh);
       }
