@@ -21,7 +21,9 @@ void Reset(DynamixelState& state, double angle_rad) {
 }
 
 double TorqueLimit(const DynamixelParameters& parameters, double desired_torque_raw) {
-  return parameters.fmax_factor * std::max(0.0, kDesiredTorqueRange.ClampRaw(desired_torque_raw));
+  const double torque = kDesiredTorqueRange.ClampRaw(desired_torque_raw);
+  if (std::isnan(torque)) return 0.0;  // no command is no torque
+  return parameters.fmax_factor * (parameters.torque_control ? std::abs(torque) : std::max(0.0, torque));
 }
 
 double SuccessorFriction(const DynamixelParameters& parameters, double measured_velocity) {
@@ -48,8 +50,11 @@ DynamixelCommand Update(const DynamixelParameters& parameters, DynamixelState& s
   const double angle = angle_rad;
   const double angular_velocity = (angle - state.previous_angle) / dt;
 
-  // 3. Desired angle, clamped to the interface range, in radians.
-  const double desired_angle = DegreesToRadians(kDesiredAngleRange.ClampRaw(desired_angle_deg));
+  // 3. Desired angle, clamped to the interface range, in radians. Under torque control the goal is the end of the
+  // range the torque points to, so that the motor pushes with its torque limit (as on the real AX-12+).
+  const double goal_deg = parameters.torque_control ? std::copysign(kDesiredAngleRange.raw_max, desired_torque_raw)
+                                                    : kDesiredAngleRange.ClampRaw(desired_angle_deg);
+  const double desired_angle = DegreesToRadians(goal_deg);
 
   // 4. PID. The history behaves like the original's list of the last HistorySize errors: append, then drop
   // the oldest until at most HistorySize remain (so a smaller HistorySize takes effect at once, a larger one

@@ -37,12 +37,17 @@ struct DynamixelParameters {
   /// it, from the commanded velocity v (signed): f = fs·[|v| ≤ bs] + αd·v + od, where a negative f brakes
   /// nothing (an ODE hinge motor with FMax ≤ 0 applies no force). docs/model.md, "Differences", item 6.
   bool original_friction = false;
+  /// Motor mode, /AngularMotor/TorqueControl. false (default): position control, DesiredAngle is the goal and
+  /// DesiredTorque (−1…1, only its positive part) the torque limit. true: the original's torque-guided control of
+  /// the AX-12+ — DesiredTorque is a signed torque command: the goal is the end of the range in its direction
+  /// (+150° or −150°) and the torque limit FMaxFactor·|DesiredTorque|; DesiredAngle is not used.
+  bool torque_control = false;
 
   static constexpr int kMaxHistory = 64;  ///< capacity of the error history; history_size is clamped to it
 };
 
 /// Repository paths of every DynamixelParameters field, for AddParameters/ReadParameters.
-inline constexpr std::array<ParameterField<DynamixelParameters>, 13> kDynamixelParameterTable{{
+inline constexpr std::array<ParameterField<DynamixelParameters>, 14> kDynamixelParameterTable{{
     {"/AngularMotor/PID/Proportional", &DynamixelParameters::kp},
     {"/AngularMotor/PID/Integral", &DynamixelParameters::ki},
     {"/AngularMotor/PID/Differential", &DynamixelParameters::kd},
@@ -56,6 +61,7 @@ inline constexpr std::array<ParameterField<DynamixelParameters>, 13> kDynamixelP
     {"/AngularMotor/MotorNoise", &DynamixelParameters::motor_noise},
     {"/AngularMotor/IncludeNoise", &DynamixelParameters::include_noise},
     {"/AngularMotor/OriginalFriction", &DynamixelParameters::original_friction},
+    {"/AngularMotor/TorqueControl", &DynamixelParameters::torque_control},
 }};
 
 /// The memory of one motor's controller. Value-initialise it, then Reset it at every simulation reset.
@@ -82,7 +88,8 @@ struct DynamixelCommand {
 void Reset(DynamixelState& state, double angle_rad = 0.0);
 
 /// The angular motor's torque limit FMaxFactor × max(0, τ), N·m, with τ the raw DesiredTorque clamped to
-/// −1…1. Update uses it every step; use it also for the AMotor FMax at joint creation.
+/// −1…1 (under torque control FMaxFactor × |τ|). Update uses it every step; use it also for the AMotor FMax at
+/// joint creation.
 double TorqueLimit(const DynamixelParameters& parameters, double desired_torque_raw);
 
 /// The successor's friction brake (N·m) for the measured joint velocity (rad/s), spec §6b step 6.

@@ -108,7 +108,28 @@ void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const J
 
 bool MotorEffects::any() const {
   return transport_delay || dead_band || back_emf || stribeck || load_friction || backlash || elasticity ||
-         rotor_inertia;
+         rotor_inertia || lugre;
+}
+
+double LuGreFriction(const MotorEffects& effects, double rate, double dt, MotorEffectState& state) {
+  const double sigma0 = std::max(effects.bristle_stiffness, 1e-9);
+  const double coulomb = std::max(effects.coulomb_torque, 0.0);
+  const double stiction = std::max(effects.stiction_torque, coulomb);
+  if (std::abs(rate) <= kRestRate) {  // the brake holds: the bristles take whatever load up to Fs
+    state.resting = true;
+    return stiction;
+  }
+  if (state.resting) state.bristle = std::copysign(stiction / sigma0, rate);  // broken away: fully loaded
+  state.resting = false;
+  const double ratio = rate / std::max(effects.lugre_velocity, 1e-9);
+  const double g = std::max(coulomb + (stiction - coulomb) * std::exp(-ratio * ratio), 1e-12);  // N·m
+  // dz/dt = ω − σ0·|ω|·z/g is linear in z for a constant ω: z relaxes to its sliding value ω/|ω|·g/σ0 at the rate
+  // σ0·|ω|/g. The exact step stays stable however stiff the bristles are.
+  const double before = state.bristle;
+  const double sliding = std::copysign(g / sigma0, rate);
+  state.bristle = sliding + (before - sliding) * std::exp(-sigma0 * std::abs(rate) * dt / g);
+  const double rate_of_bristle = (state.bristle - before) / dt;
+  return std::abs(sigma0 * state.bristle + std::max(effects.bristle_damping, 0.0) * rate_of_bristle);
 }
 
 void ResetEffects(MotorEffectState& state, double angle_rad) {
@@ -145,6 +166,7 @@ EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const Mot
   if (effects.load_friction) {
     command.motor.friction_torque += std::max(effects.load_coefficient, 0.0) * std::abs(joint.motor_torque);
   }
+  if (effects.lugre) command.motor.friction_torque += LuGreFriction(effects, joint.rate, dt, effect_state);
   const double gear_velocity = command.motor.velocity;
   if (effects.elasticity) ApplyElasticity(effects, effect_state, joint, dt, command);
   if (effects.backlash) ApplyBacklash(effects, effect_state, joint, dt, gear_velocity, command);

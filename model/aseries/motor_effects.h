@@ -13,6 +13,12 @@
 //                   never pulls: the gap is crossed when the load changes sign)
 //   Elasticity      the gear train is a torsional spring `Stiffness` with damper `Damping` between motor and output
 //   RotorInertia    the motor's rotor, reflected through the gearbox, adds `Inertia` about the joint axis
+//   LuGre           friction of elastic bristles (Canudas de Wit et al. 1995): a bristle deflection z with
+//                   dz/dt = ω − σ0·|ω|·z/g(ω), g(ω) = Fc + (Fs − Fc)·exp(−(ω/vs)²), gives the friction
+//                   |σ0·z + σ1·dz/dt| (`BristleStiffness` σ0, `BristleDamping` σ1, `CoulombTorque` Fc,
+//                   `StictionTorque` Fs, `StribeckVelocity` vs): it holds up to Fs at rest, follows the Stribeck
+//                   curve when sliding, and lags behind a change of speed (frictional memory). Applied as the
+//                   brake, which holds rigidly: the presliding creep of a turn of load/σ0 is not reproduced.
 #pragma once
 
 #include <array>
@@ -43,12 +49,18 @@ struct MotorEffects {
   double damping = 0.02;         ///< N·m·s/rad across the spring, /Effects/Elasticity/Damping
   bool rotor_inertia = false;    ///< /Effects/RotorInertia/Enabled
   double inertia = 0.0;          ///< kg·m² about the joint axis, /Effects/RotorInertia/Inertia
+  bool lugre = false;            ///< /Effects/LuGre/Enabled
+  double bristle_stiffness = 100.0;  ///< σ0, N·m/rad of bristle deflection, /Effects/LuGre/BristleStiffness
+  double bristle_damping = 0.1;      ///< σ1, N·m·s/rad on the deflection's rate, /Effects/LuGre/BristleDamping
+  double coulomb_torque = 0.0;       ///< Fc, N·m of sliding friction, /Effects/LuGre/CoulombTorque
+  double stiction_torque = 0.0;      ///< Fs, N·m the bristles hold at rest, /Effects/LuGre/StictionTorque
+  double lugre_velocity = 0.1;       ///< vs, rad/s over which Fs falls to Fc, /Effects/LuGre/StribeckVelocity
 
   /// Whether any effect is on (the agent skips ApplyEffects otherwise, keeping the original's bits).
   bool any() const;
 };
 
-inline constexpr std::array<ParameterField<MotorEffects>, 18> kMotorEffectsTable{{
+inline constexpr std::array<ParameterField<MotorEffects>, 24> kMotorEffectsTable{{
     {"/Effects/TransportDelay/Enabled", &MotorEffects::transport_delay},
     {"/Effects/TransportDelay/Delay", &MotorEffects::delay},
     {"/Effects/DeadBand/Enabled", &MotorEffects::dead_band},
@@ -67,6 +79,12 @@ inline constexpr std::array<ParameterField<MotorEffects>, 18> kMotorEffectsTable
     {"/Effects/Elasticity/Damping", &MotorEffects::damping},
     {"/Effects/RotorInertia/Enabled", &MotorEffects::rotor_inertia},
     {"/Effects/RotorInertia/Inertia", &MotorEffects::inertia},
+    {"/Effects/LuGre/Enabled", &MotorEffects::lugre},
+    {"/Effects/LuGre/BristleStiffness", &MotorEffects::bristle_stiffness},
+    {"/Effects/LuGre/BristleDamping", &MotorEffects::bristle_damping},
+    {"/Effects/LuGre/CoulombTorque", &MotorEffects::coulomb_torque},
+    {"/Effects/LuGre/StictionTorque", &MotorEffects::stiction_torque},
+    {"/Effects/LuGre/StribeckVelocity", &MotorEffects::lugre_velocity},
 }};
 
 /// What the motor stage knows about a joint before the step.
@@ -87,7 +105,14 @@ struct MotorEffectState {
   bool engaged = true;      ///< backlash: the gap was closed in the last step
   int wall = 0;             ///< backlash: the wall the gear pushed in the last step, +1 upper, −1 lower, 0 none
   double spring_angle = 0.0;  ///< rad, motor-side angle of the elastic gear train
+  double bristle = 0.0;       ///< rad, LuGre's bristle deflection z
+  bool resting = true;        ///< LuGre: the joint was at rest in the last step (its bristles held the load)
 };
+
+/// LuGre's friction torque (N·m, ≥ 0, applied as the brake) for a step of `dt` s at joint rate `rate` (rad/s). At
+/// rest it is the stiction Fs; the first moving step starts from bristles loaded to Fs in the direction of motion
+/// (the load broke them away), and the deflection then advances exactly over each step for its constant rate.
+double LuGreFriction(const MotorEffects& effects, double rate, double dt, MotorEffectState& state);
 
 /// What the engine applies: the base command, possibly made compliant (elasticity).
 struct EffectCommand {

@@ -21,6 +21,10 @@ const std::vector<EffectDescription>& EffectCatalogue() {
        {{"/Effects/Elasticity/Stiffness", "N·m/rad", 0.5, 200.0, true}}},
       {"RotorInertia", "the reflected rotor inertia adds to the joint's", "acceleration",
        {{"/Effects/RotorInertia/Inertia", "kg·m²", 1e-4, 0.05, true}}},
+      {"LuGre", "friction of elastic bristles: stiction built up over a presliding turn, lag", "speed",
+       {{"/Effects/LuGre/StictionTorque", "N·m", 0.005, 0.5, true},
+        {"/Effects/LuGre/CoulombTorque", "N·m", 0.002, 0.3, true},
+        {"/Effects/LuGre/BristleStiffness", "N·m/rad", 1.0, 1000.0, true}}},
   };
   return catalogue;
 }

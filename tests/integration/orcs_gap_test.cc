@@ -84,7 +84,7 @@ TEST_P(GapDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
   EXPECT_LE(after, (std::string(engine) == "ODE" ? c.ode_ratio : c.mujoco_ratio) * before) << verdict.at("text");
   // The fitted model switches the effect on, and the report lists every candidate with its fitted values.
   EXPECT_EQ(report.at("model").at("/Effects/" + std::string(c.expected) + "/Enabled"), "T");
-  EXPECT_EQ(report.at("candidates").size(), 8u);
+  EXPECT_EQ(report.at("candidates").size(), 9u);
 }
 
 // The column `name` of an orcs-sim log (what orcs-gap synth writes), per row.

@@ -344,6 +344,31 @@ TEST_F(OrcsSimTest, TheOriginalsFittedMotorSetLoadsAndTheRobotStandsWithIt) {
   EXPECT_NEAR(csv.rows.back()[static_cast<std::size_t>(y)], 0.4037, 0.01) << "head height after 3 s, m";
 }
 
+// Issue 22, item 8: the torque-control model ships as a value file. On the pendulum rig (a 0.5 kg pole, gravity
+// torque m·g·d = 0.736 N·m level) a constant torque command holds the pole where gravity balances it, within the
+// band the LuGre stiction (0.05 N·m) leaves, on the side the torque points to.
+TEST_F(OrcsSimTest, TheTorqueControlModelHoldsThePendulumWhereGravityBalancesTheCommandedTorque) {
+  const std::string model = std::string(ORCS_SOURCE_DIR) + "/scenarios/values/torque_control_model.val";
+  const std::string rig = std::string(ORCS_SOURCE_DIR) + "/scenarios/environments/pendulum.xml";
+  constexpr double kFullTorque = 1.04803939, kGravity = 0.736, kStiction = 0.05;  // N·m
+  // 0.45 N·m for 3 s, then −0.3 N·m: raw DesiredTorque = torque / FMaxFactor.
+  const std::string record = dir_.Write("torque.csv", "# layout: raw\n0,0," + std::to_string(0.45 / kFullTorque) +
+                                                          "\n3000,0," + std::to_string(-0.3 / kFullTorque) + "\n");
+  const ProcessResult run = Run({"-env", rig, "-val", model, "-play", "Pendulum", record, "--duration", "6", "--log",
+                                 "/Sim/Pendulum/Motor/JointAngle", "--out", dir_.PathOf("torque.log.csv")});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Csv csv = ReadCsv(dir_.PathOf("torque.log.csv"));
+  const int angle = csv.Column("/Sim/Pendulum/Motor/JointAngle");
+  ASSERT_GE(angle, 0);
+  const auto degrees_at = [&](double torque) { return std::asin(torque / kGravity) * 180.0 / M_PI; };
+  const double held_up = csv.rows[290][static_cast<std::size_t>(angle)];  // 2.9 s
+  const double held_down = csv.rows.back()[static_cast<std::size_t>(angle)];
+  EXPECT_GT(held_up, degrees_at(0.45 - kStiction) - 1.0);
+  EXPECT_LT(held_up, degrees_at(0.45 + kStiction) + 1.0);
+  EXPECT_LT(held_down, degrees_at(-0.3 + kStiction) + 1.0);
+  EXPECT_GT(held_down, degrees_at(-0.3 - kStiction) - 1.0);
+}
+
 // Issue 22, item 5: -ival sets the motor model's values before the world is built, as the original's did.
 TEST_F(OrcsSimTest, InitialValueFilesSetTheMotorModel) {
   const std::string ival = dir_.Write("motor.val", "/AngularMotor/PID/Proportional=25\n/AngularMotor/MaxVelocity=3\n");

@@ -51,6 +51,7 @@ TEST_F(DynamixelMotorTest, SetADefaults) {
   EXPECT_EQ(p.motor_noise, 0.0);
   EXPECT_TRUE(p.include_noise);
   EXPECT_FALSE(p.original_friction) << "the successor's friction form is the default";
+  EXPECT_FALSE(p.torque_control) << "position control is the default";
 }
 
 TEST_F(DynamixelMotorTest, ProportionalTermWithSetA) {
@@ -217,6 +218,24 @@ TEST_F(DynamixelMotorTest, OriginalFrictionUsesTheCommandedNotTheMeasuredVelocit
   EXPECT_NEAR(driven.friction_torque, 0.16 * driven.velocity + 0.2, kTight);
 }
 
+TEST_F(DynamixelMotorTest, TorqueControlPushesTowardsTheRangesEndWithTheSignedCommandAsItsLimit) {
+  DynamixelParameters p;
+  p.torque_control = true;
+  // DesiredAngle (20°) is not used: the goal is +150° for a positive torque, so the PID asks for the velocity limit.
+  const DynamixelCommand forward = Update(p, state_, 0.0, 20.0, 0.5, kDt, nullptr);
+  EXPECT_EQ(forward.velocity, 3.5);
+  EXPECT_NEAR(forward.max_torque, 1.04803939 * 0.5, kTight);
+  // A negative torque is a torque the other way, not "no torque" as under position control.
+  const DynamixelCommand backward = Update(p, state_, 0.0, 20.0, -0.25, kDt, nullptr);
+  EXPECT_EQ(backward.velocity, -3.5);
+  EXPECT_NEAR(backward.max_torque, 1.04803939 * 0.25, kTight);
+  EXPECT_EQ(Update(p, state_, 0.0, 20.0, 0.0, kDt, nullptr).max_torque, 0.0) << "zero torque: limp";
+  EXPECT_EQ(Update(p, state_, 0.0, 20.0, std::nan(""), kDt, nullptr).max_torque, 0.0) << "no command: limp";
+  EXPECT_NEAR(Update(p, state_, 0.0, 20.0, -3.0, kDt, nullptr).max_torque, 1.04803939, kTight) << "clamped to −1";
+  p.torque_control = false;
+  EXPECT_EQ(Update(p, state_, 0.0, 20.0, -0.25, kDt, nullptr).max_torque, 0.0) << "position control: no torque";
+}
+
 TEST_F(DynamixelMotorTest, VelocityEstimateHasNoZeroCrossingSpecialCase) {
   const DynamixelParameters set_a;
   Reset(state_, 0.01);
@@ -345,7 +364,7 @@ TEST(ValueRangeTest, RoundTrips) {
 TEST(DynamixelParameterTableTest, RegistersSetAAndReadsChanges) {
   VariableRepository repository;
   AddParameters(repository, kDynamixelParameterTable);
-  ASSERT_EQ(repository.size(), 13);
+  ASSERT_EQ(repository.size(), 14);
   EXPECT_EQ(repository.Get("/AngularMotor/PID/Proportional").as_double(), 20.0);
   EXPECT_EQ(repository.Get("/AngularMotor/PID/HistorySize").as_int(), 10);
   EXPECT_EQ(repository.Get("/AngularMotor/FMaxFactor").as_double(), 1.04803939);
@@ -368,7 +387,7 @@ TEST(DynamixelParameterTableTest, RegistersSetAAndReadsChanges) {
   // Registering again keeps the current values (first registration wins).
   AddParameters(repository, kDynamixelParameterTable);
   EXPECT_EQ(repository.Get("/AngularMotor/PID/Integral").as_double(), 18.25);
-  EXPECT_EQ(repository.size(), 13);
+  EXPECT_EQ(repository.size(), 14);
 }
 
 }  // namespace

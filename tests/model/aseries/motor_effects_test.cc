@@ -392,6 +392,28 @@ TEST_P(MotorEffectsRigTest, StribeckStictionHoldsAReleasedPoleOnlyBelowTheBreaka
 }
 
 // ---------------------------------------------------------------------------------------------------------------
+// Torque control (/AngularMotor/TorqueControl, docs/model.md "Differences", item 8)
+
+TEST_P(MotorEffectsRigTest, TorqueControlHoldsThePoleWhereGravityBalancesTheCommandedTorque) {
+  // Under torque control the motor pushes with the commanded torque τ whatever the angle: the pole settles where
+  // gravity's m·g·d·sin θ equals τ, on the side τ points to. Friction (fs 0.001 N·m at rest) shifts that by less
+  // than 0.1°. Under position control the same command is a torque limit and the pole stays at its goal, 0°.
+  PendulumRig probe({}, GetParam());
+  const double gravity = probe.GravityTorque();  // m·g·d, N·m
+  const auto settle = [&](bool torque_control, double torque_nm) {
+    PendulumRig rig({{"/AngularMotor/TorqueControl", torque_control ? "true" : "false"}}, GetParam());
+    rig.Command(0.0, torque_nm / kFullTorque);
+    rig.Run(400);
+    return rig.Degrees();
+  };
+  for (const double torque : {0.2, 0.45, -0.3}) {
+    const double expected = std::asin(torque / gravity) * kDegrees;
+    EXPECT_NEAR(settle(true, torque), expected, 0.5) << torque << " N·m";
+  }
+  EXPECT_NEAR(settle(false, 0.45), 0.0, 0.5) << "position control holds its goal";
+}
+
+// ---------------------------------------------------------------------------------------------------------------
 // The original's friction form (/AngularMotor/OriginalFriction, docs/model.md "Differences", item 6)
 
 TEST_P(MotorEffectsRigTest, OriginalFrictionBrakesByTheCommandWhereTheSuccessorsBrakesByTheMotion) {
@@ -417,6 +439,69 @@ TEST_P(MotorEffectsRigTest, OriginalFrictionBrakesByTheCommandWhereTheSuccessors
   EXPECT_EQ(successor_up, successor_down) << "the successor's brake ignores the command";
   EXPECT_LT(successor_up, 0.0) << "the successor's brake does not hold the pole";
   EXPECT_GT(successor_up, -29.0) << "the successor's brake damps the swing";
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// LuGre
+
+TEST(MotorEffectsTest, LuGreHoldsAtRestFollowsTheStribeckCurveAndLagsBehindASpeedChange) {
+  MotorEffects effects;
+  effects.lugre = true;
+  effects.bristle_stiffness = 50.0;  // σ0, N·m/rad
+  effects.bristle_damping = 0.0;
+  effects.coulomb_torque = 0.05;     // Fc
+  effects.stiction_torque = 0.2;     // Fs
+  effects.lugre_velocity = 0.1;      // vs
+  const auto g = [](double rate) { return 0.05 + 0.15 * std::exp(-(rate / 0.1) * (rate / 0.1)); };
+  MotorEffectState state;
+  EXPECT_EQ(LuGreFriction(effects, 0.0, kDt, state), 0.2) << "at rest: the stiction";
+  // Sliding steadily, the friction settles on g(ω) = Fc + (Fs − Fc)·exp(−(ω/vs)²), from Fs near rest to Fc.
+  for (const double rate : {0.02, 0.1, 1.0, -0.3}) {
+    MotorEffectState sliding;
+    double friction = 0.0;
+    for (int i = 0; i < 2000; ++i) friction = LuGreFriction(effects, rate, kDt, sliding);
+    EXPECT_NEAR(friction, g(rate), 1e-9) << rate << " rad/s";
+    EXPECT_NEAR(sliding.bristle, std::copysign(g(rate) / 50.0, rate), 1e-12) << "the sliding deflection";
+  }
+  // Breaking away at 1 rad/s with soft bristles (σ0 = 2 N·m/rad: they relax at σ0·ω/g = 40 per second), the
+  // bristles start loaded to Fs and the friction falls towards Fc over several steps, not at once as a static
+  // Stribeck curve would.
+  effects.bristle_stiffness = 2.0;
+  MotorEffectState broken;
+  std::vector<double> after;
+  for (int i = 0; i < 40; ++i) after.push_back(LuGreFriction(effects, 1.0, kDt, broken));
+  EXPECT_GT(after[0], 0.12) << "just broken away: still near Fs";
+  EXPECT_NEAR(after[39], g(1.0), 0.02) << "settled on Fc";
+  for (std::size_t i = 1; i < after.size(); ++i) EXPECT_LE(after[i], after[i - 1] + 1e-12) << "falls steadily";
+  // However stiff the bristles, the exact step never overshoots the sliding deflection.
+  effects.bristle_stiffness = 1e7;
+  MotorEffectState stiff;
+  LuGreFriction(effects, 1.0, kDt, stiff);
+  EXPECT_LE(LuGreFriction(effects, 1.0, kDt, stiff), g(1.0) + 1e-9);
+}
+
+TEST_P(MotorEffectsRigTest, LuGreHoldsAReleasedPoleOnlyBelowTheStictionTorque) {
+  // The pole released at 10° with the motor limp and no viscous joint friction: gravity pulls with 0.128 N·m. A
+  // stiction torque of 0.15 N·m holds it where it is; 0.10 N·m does not, and once it moves the friction lags down
+  // to the Coulomb level: it swings through the bottom well past where a friction that stayed at 0.10 N·m
+  // would stop it (−5.6°, as in the Stribeck test above).
+  const auto release = [](double stiction) {
+    PendulumRig rig({{"/AngularMotor/DynamicFriction", "0"},
+                     {"/Effects/LuGre/Enabled", "true"},
+                     {"/Effects/LuGre/BristleStiffness", "50"},
+                     {"/Effects/LuGre/CoulombTorque", "0.01"},
+                     {"/Effects/LuGre/StictionTorque", text::FormatDouble(stiction)}},
+                    GetParam());
+    rig.Pose(10.0);
+    rig.Command(10.0, 0.0);
+    double lowest = rig.Degrees();
+    for (int i = 0; i < 150 && rig.Step(); ++i) lowest = std::min(lowest, rig.Degrees());
+    return lowest;
+  };
+  PendulumRig rig({}, GetParam());
+  ASSERT_NEAR(rig.GravityTorque() * std::sin(10.0 / kDegrees), 0.128, 1e-3);
+  EXPECT_GT(release(0.15), 10.0 - 1e-3) << "held";
+  EXPECT_LT(release(0.10), -7.0) << "not held: it swings through the bottom";
 }
 
 // ---------------------------------------------------------------------------------------------------------------
