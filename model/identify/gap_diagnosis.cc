@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <future>
 #include <sstream>
 
@@ -85,14 +86,22 @@ GapSnapshot Snapshot(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit
   GapSnapshot snapshot;
   snapshot.fit_rms = Rms(MeanSquaredError(replays, fit, model));
   snapshot.holdout_rms = Rms(MeanSquaredError(replays, holdout, model));
-  snapshot.traces = Traces(replays, Concatenate(fit, holdout), model, record ? &snapshot.recordings : nullptr);
+  const std::vector<ReplayRun> runs = Concatenate(fit, holdout);
+  snapshot.traces = Traces(replays, runs, model, record ? &snapshot.recordings : nullptr);
   std::vector<ChannelTrace> all;  // a replay that failed (unstable physics) has no trace to analyse
-  for (const auto& run : snapshot.traces) {
-    for (const ChannelTrace& trace : run) {
+  for (std::size_t r = 0; r < snapshot.traces.size(); ++r) {
+    bool failed = false;
+    for (const ChannelTrace& trace : snapshot.traces[r]) {
       if (std::all_of(trace.simulated.begin(), trace.simulated.end(), [](double v) { return std::isfinite(v); })) {
         all.push_back(trace);
+      } else {
+        failed = true;
       }
     }
+    constexpr double kMilliradiansPerDegree = 1000.0 * std::numbers::pi / 180.0;
+    const double nan = std::nan("");
+    snapshot.runs.push_back({runs[r].name, r >= fit.size(), failed ? nan : GapRms(snapshot.traces[r]),
+                             failed ? nan : GapMeanAbsolute(snapshot.traces[r]) * kMilliradiansPerDegree});
   }
   snapshot.channels = AnalyseChannels(all, step);
   return snapshot;

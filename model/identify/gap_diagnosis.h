@@ -49,11 +49,20 @@ struct ModelScore {
   FitOutcome fit;                     ///< budget, convergence
 };
 
+/// One run's gap under one model version.
+struct RunGap {
+  std::string run;                  ///< the run's name
+  bool held_out = false;            ///< scored, not fitted
+  double rms = 0.0;                 ///< degrees, over its channels' samples (NaN when its replay failed)
+  double mean_absolute_mrad = 0.0;  ///< mean absolute position error, mrad: the BAM project's metric
+};
+
 /// The gap of one model version, with the channel statistics over all runs (fit and holdout).
 struct GapSnapshot {
   double fit_rms = 0.0;      ///< degrees
   double holdout_rms = 0.0;  ///< degrees
   std::vector<ChannelStatistics> channels;  ///< per run and motor ("run:motor"), worst first
+  std::vector<RunGap> runs;                 ///< per run, fit runs first
   std::vector<std::vector<ChannelTrace>> traces;  ///< per run (fit runs, then holdout runs): the channels' traces
   /// run name → its replay's recording (docs/recording.md), for the snapshots orcs-gap writes to replays/: the
   /// model as given (before) and the fitted model (after); empty for the others

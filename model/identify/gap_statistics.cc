@@ -276,6 +276,17 @@ double GapRms(const std::vector<ChannelTrace>& traces) {
   return samples == 0 ? 0.0 : std::sqrt(sum_of_squares / static_cast<double>(samples));
 }
 
+double GapMeanAbsolute(const std::vector<ChannelTrace>& traces) {
+  double sum = 0.0;
+  std::size_t samples = 0;
+  for (const ChannelTrace& trace : traces) {
+    CheckLength(trace, "simulated", trace.simulated.size());
+    for (const double error : Residual(trace)) sum += std::abs(error);
+    samples += trace.measured.size();
+  }
+  return samples == 0 ? 0.0 : sum / static_cast<double>(samples);
+}
+
 std::vector<ChannelStatistics> AnalyseChannels(const std::vector<ChannelTrace>& traces, double step) {
   std::vector<ChannelStatistics> statistics;
   statistics.reserve(traces.size());

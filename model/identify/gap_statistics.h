@@ -89,6 +89,10 @@ ChannelStatistics AnalyseChannel(const ChannelTrace& trace, double step);
 /// Throws std::invalid_argument when a trace's measured and simulated differ in length.
 double GapRms(const std::vector<ChannelTrace>& traces);
 
+/// Mean of |measured − simulated| over all samples of all traces together, degrees (the BAM project's mean absolute
+/// position error, which it reports in mrad); 0 with no samples. Throws as GapRms.
+double GapMeanAbsolute(const std::vector<ChannelTrace>& traces);
+
 /// The channels sorted by rms, worst first (equal rms keep the traces' order).
 std::vector<ChannelStatistics> AnalyseChannels(const std::vector<ChannelTrace>& traces, double step);
 

@@ -133,6 +133,27 @@ TEST(GapReplaysTest, EveryRunGetsItsFittedGivenAndMeasuredRecording) {
   EXPECT_THAT(diagnosed.err, HasSubstr("orcs-gap: fitting TransportDelay"));
   EXPECT_THAT(diagnosed.err, HasSubstr("orcs-gap: TransportDelay fitted: held-out gap "));
   EXPECT_FALSE(std::filesystem::exists(report + "/replays/stale.orcsrec"));
+  // Issue 23: every run's gap, fitted and held out, as RMS and as the BAM project's mean absolute error (mrad),
+  // which is at most the RMS (in mrad).
+  std::ifstream json(report + "/report.json");
+  const nlohmann::json document = nlohmann::json::parse(json);
+  for (const char* snapshot : {"before", "refit", "after"}) {
+    const nlohmann::json& runs = document.at("gap").at(snapshot).at("runs");
+    ASSERT_EQ(runs.size(), 2u) << snapshot;
+    EXPECT_EQ(runs[0].at("run"), "pendulum_identification_a");
+    EXPECT_FALSE(runs[0].at("held_out").get<bool>());
+    EXPECT_EQ(runs[1].at("run"), "pendulum_identification_b");
+    EXPECT_TRUE(runs[1].at("held_out").get<bool>());
+    for (const nlohmann::json& run : runs) {
+      const double mae = run.at("mean_absolute_mrad").get<double>(), rms = run.at("rms").get<double>();
+      EXPECT_GT(mae, 0.0) << snapshot;
+      EXPECT_LE(mae, rms * 1000.0 * M_PI / 180.0 + 1e-9) << snapshot;
+    }
+  }
+  std::ifstream md(report + "/report.md");
+  const std::string markdown((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(markdown, HasSubstr("## Per run: mean absolute error / RMS"));
+  EXPECT_THAT(markdown, ::testing::ContainsRegex("\\| pendulum_identification_b \\| held out \\| [0-9.]+ mrad / [0-9.]+°"));
   for (const std::string run : {"pendulum_identification_a", "pendulum_identification_b"}) {
     const std::vector<double> measured =
         LogColumn(data + "/" + run + ".csv", "/Sim/Pendulum/Motor/JointAngle");

@@ -376,5 +376,15 @@ TEST(GapStatisticsTest, GapRmsPoolsAllSamplesOfAllChannels) {
   EXPECT_EQ(GapRms({}), 0.0);
 }
 
+TEST(GapStatisticsTest, GapMeanAbsolutePoolsTheSizesOfTheErrorsWhateverTheirSign) {
+  // The same traces: (100·1 + 300·3)/400 = 2.5°, below the RMS √7 = 2.65° (the RMS weighs the large errors more).
+  const ChannelTrace a = Trace("A", std::vector<double>(100, 1.0), std::vector<double>(100, 0.0));
+  const ChannelTrace b = Trace("B", std::vector<double>(300, -3.0), std::vector<double>(300, 0.0));
+  EXPECT_NEAR(GapMeanAbsolute({a, b}), 2.5, 1e-12);
+  EXPECT_NEAR(GapMeanAbsolute({Trace("C", {1.0, 2.0, 3.0}, {0.0, 2.0, 5.0})}), 1.0, 1e-12);
+  EXPECT_EQ(GapMeanAbsolute({}), 0.0);
+  EXPECT_THROW(GapMeanAbsolute({Trace("Bad", {1.0}, {})}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace orcs::identify
