@@ -1,5 +1,6 @@
 #include "model/aseries/aseries_agent.h"
 
+#include <algorithm>
 #include <deque>
 #include <map>
 
@@ -23,6 +24,7 @@ void ASeriesAgent::AddSharedParameters(VariableRepository& values) {
   AddParameters(values, kAngleSensorParameterTable);
   AddParameters(values, kAccelerometerParameterTable);
   AddParameters(values, kMotorEffectsTable);
+  AddParameters(values, kServoParameterTable);
 }
 
 ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout layout, int index,
@@ -32,6 +34,7 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
   WatchParameters(values, kAngleSensorParameterTable, parameters_changed_);
   WatchParameters(values, kAccelerometerParameterTable, parameters_changed_);
   WatchParameters(values, kMotorEffectsTable, parameters_changed_);
+  WatchParameters(values, kServoParameterTable, parameters_changed_);
   const std::string prefix = "/Sim/" + layout_.agent_name + "/";
   motors_.resize(morphology.motors.size());
   for (size_t m = 0; m < motors_.size(); ++m) {
@@ -99,7 +102,9 @@ void ASeriesAgent::ReadParameters() {
   aseries::ReadParameters(values_, kAngleSensorParameterTable, angle_parameters_);
   aseries::ReadParameters(values_, kAccelerometerParameterTable, accel_parameters_);
   aseries::ReadParameters(values_, kMotorEffectsTable, effects_);
+  aseries::ReadParameters(values_, kServoParameterTable, servo_);
   parameters_changed_ = false;
+  CheckEffectsFitServo(servo_, effects_);
 }
 
 void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed) {
@@ -123,7 +128,7 @@ void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed)
 
 void ASeriesAgent::MotorStage(physics::PhysicsWorld& world, double dt) {
   if (parameters_changed_) ReadParameters();
-  if (effects_.rotor_inertia && !rotor_inertia_added_) AddRotorInertia(world);
+  if ((effects_.rotor_inertia || servo_.enabled) && !rotor_inertia_added_) AddRotorInertia(world);
   for (Motor& motor : motors_) MoveMotor(world, motor, dt);
 }
 
@@ -132,9 +137,9 @@ void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double 
   const double desired_angle = motor.desired_angle->as_double();
   const double desired_torque = motor.desired_torque->as_double();
   DynamixelCommand command;
-  if (effects_.any()) {  // the original's bits stay untouched while every effect is off
+  if (effects_.any() || servo_.enabled) {  // the original's bits stay untouched while every effect is off
     const JointReading reading{angle, world.joint_rate(motor.joint), world.joint_motor_torque(motor.joint)};
-    const EffectCommand with_effects = UpdateWithEffects(motor_parameters_, effects_, motor.state,
+    const EffectCommand with_effects = UpdateWithEffects(motor_parameters_, servo_, effects_, motor.state,
                                                          motor.effect_state, reading, desired_angle, desired_torque,
                                                          dt, &*motor_noise_);
     world.SetJointMotorCompliance(motor.joint, with_effects.compliance);
@@ -147,8 +152,11 @@ void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double 
   motor.current_velocity->Set(command.velocity);
 }
 
+// The effect's rotor inertia and the servo mode's armature: both are the rotor's, reflected through the gearbox.
 void ASeriesAgent::AddRotorInertia(physics::PhysicsWorld& world) {
-  for (const Motor& motor : motors_) world.AddBodyInertia(motor.distal_body, motor.axis_in_body, effects_.inertia);
+  const double inertia = (effects_.rotor_inertia ? std::max(effects_.inertia, 0.0) : 0.0) +
+                         (servo_.enabled ? std::max(servo_.armature, 0.0) : 0.0);
+  for (const Motor& motor : motors_) world.AddBodyInertia(motor.distal_body, motor.axis_in_body, inertia);
   rotor_inertia_added_ = true;
 }
 

@@ -93,6 +93,7 @@ class ASeriesAgent {
   AngleSensorParameters angle_parameters_;
   AccelerometerParameters accel_parameters_;
   MotorEffects effects_;
+  ServoParameters servo_;
   bool rotor_inertia_added_ = false;  // since the last Reset (the world's Reset takes it away)
   bool parameters_changed_ = true;  // set by observers of the global parameter values
   std::optional<RandomStream> motor_noise_;

@@ -18,6 +18,7 @@ void Reset(DynamixelState& state, double angle_rad) {
   state.previous_error = 0.0;
   state.max_torque = 0.0;
   state.velocity = 0.0;
+  state.error_integral = 0.0;
 }
 
 double TorqueLimit(const DynamixelParameters& parameters, double desired_torque_raw) {

@@ -74,6 +74,7 @@ struct DynamixelState {
   double previous_error = 0.0;  ///< e_prev, rad
   double max_torque = 0.0;      ///< the last torque limit, N·m
   double velocity = 0.0;        ///< the last commanded velocity, rad/s (the repository's CurrentVelocity)
+  double error_integral = 0.0;  ///< servo mode (servo_motor.h): the firmware's Σ error·dt, rad·s
 };
 
 /// What the engine has to apply before the physics step.

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "model/aseries/value_range.h"
+#include "model/core/error.h"
 #include "model/core/rotation.h"
 
 namespace orcs::aseries {
@@ -107,8 +108,8 @@ void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const J
 }  // namespace
 
 bool MotorEffects::any() const {
-  return transport_delay || dead_band || back_emf || stribeck || load_friction || backlash || elasticity ||
-         rotor_inertia || lugre;
+  return transport_delay || dead_band || back_emf || stribeck || load_friction || back_drive || backlash ||
+         elasticity || rotor_inertia || lugre;
 }
 
 double LuGreFriction(const MotorEffects& effects, double rate, double dt, MotorEffectState& state) {
@@ -138,8 +139,15 @@ void ResetEffects(MotorEffectState& state, double angle_rad) {
   state.spring_angle = angle_rad;
 }
 
-EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const MotorEffects& effects,
-                                DynamixelState& state, MotorEffectState& effect_state, const JointReading& joint,
+void CheckEffectsFitServo(const ServoParameters& servo, const MotorEffects& effects) {
+  if (servo.enabled && effects.elasticity) {
+    throw InputError("/Effects/Elasticity/Enabled: the gear-train spring cannot be combined with /Servo/Enabled (the "
+                     "DC motor takes the motor row's compliance); turn one of them off");
+  }
+}
+
+EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const ServoParameters& servo,
+                                const MotorEffects& effects, DynamixelState& state, MotorEffectState& effect_state, const JointReading& joint,
                                 double desired_angle_deg, double desired_torque_raw, double dt, RandomStream* noise) {
   assert(dt > 0.0);
   // Stages that change what the controller sees.
@@ -151,8 +159,14 @@ EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const Mot
   }
   if (effects.dead_band) desired_angle_deg = DeadBandTarget(joint.angle, desired_angle_deg, effects.margin);
 
-  EffectCommand command{Update(parameters, state, joint.angle, desired_angle_deg, desired_torque_raw, dt, noise),
-                        0.0};
+  EffectCommand command;
+  if (servo.enabled) {
+    const ServoCommand base =
+        ServoUpdate(servo, state, joint.angle, joint.rate, desired_angle_deg, desired_torque_raw, dt);
+    command = {base.motor, base.compliance};
+  } else {
+    command = {Update(parameters, state, joint.angle, desired_angle_deg, desired_torque_raw, dt, noise), 0.0};
+  }
 
   // Stages that change what the motor can do.
   const double speed = std::abs(joint.rate);
@@ -165,6 +179,12 @@ EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const Mot
   }
   if (effects.load_friction) {
     command.motor.friction_torque += std::max(effects.load_coefficient, 0.0) * std::abs(joint.motor_torque);
+  }
+  if (effects.back_drive) {
+    if (speed > kRestRate) effect_state.back_driven = joint.rate * joint.motor_torque < 0.0;
+    if (effect_state.back_driven) {
+      command.motor.friction_torque += std::max(effects.back_drive_coefficient, 0.0) * std::abs(joint.motor_torque);
+    }
   }
   if (effects.lugre) command.motor.friction_torque += LuGreFriction(effects, joint.rate, dt, effect_state);
   const double gear_velocity = command.motor.velocity;

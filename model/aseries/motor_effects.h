@@ -9,6 +9,9 @@
 //   BackEmf         the torque limit falls linearly with speed, to 0 at `NoLoadSpeed`
 //   Stribeck        extra friction `BreakawayTorque`·exp(−(ω/`Velocity`)²) that vanishes once the joint moves
 //   LoadFriction    extra friction `Coefficient`·|motor torque|: a gearbox whose friction grows with its load
+//   BackDrive       extra friction `Coefficient`·|motor torque| while the load drives the gear train backwards
+//                   (the joint turns against the motor's torque; at rest, the direction it last moved decides):
+//                   a worm-like gearbox that is harder to back-drive than to drive
 //   Backlash        the output turns freely within a gap of `Width` between the gear and the output (a tooth pushes,
 //                   never pulls: the gap is crossed when the load changes sign)
 //   Elasticity      the gear train is a torsional spring `Stiffness` with damper `Damping` between motor and output
@@ -26,6 +29,7 @@
 
 #include "model/aseries/dynamixel_motor.h"
 #include "model/aseries/parameter_table.h"
+#include "model/aseries/servo_motor.h"
 
 namespace orcs::aseries {
 
@@ -42,6 +46,8 @@ struct MotorEffects {
   double stribeck_velocity = 0.1;  ///< rad/s over which it fades, /Effects/Stribeck/Velocity
   bool load_friction = false;    ///< /Effects/LoadFriction/Enabled
   double load_coefficient = 0.0;  ///< N·m of friction per N·m of motor torque, /Effects/LoadFriction/Coefficient
+  bool back_drive = false;       ///< /Effects/BackDrive/Enabled
+  double back_drive_coefficient = 0.0;  ///< N·m of friction per N·m of motor torque, back-driven, /Effects/BackDrive/Coefficient
   bool backlash = false;         ///< /Effects/Backlash/Enabled
   double backlash_width = 0.0;   ///< degrees, full width of the gap, /Effects/Backlash/Width
   bool elasticity = false;       ///< /Effects/Elasticity/Enabled
@@ -60,7 +66,7 @@ struct MotorEffects {
   bool any() const;
 };
 
-inline constexpr std::array<ParameterField<MotorEffects>, 24> kMotorEffectsTable{{
+inline constexpr std::array<ParameterField<MotorEffects>, 26> kMotorEffectsTable{{
     {"/Effects/TransportDelay/Enabled", &MotorEffects::transport_delay},
     {"/Effects/TransportDelay/Delay", &MotorEffects::delay},
     {"/Effects/DeadBand/Enabled", &MotorEffects::dead_band},
@@ -72,6 +78,8 @@ inline constexpr std::array<ParameterField<MotorEffects>, 24> kMotorEffectsTable
     {"/Effects/Stribeck/Velocity", &MotorEffects::stribeck_velocity},
     {"/Effects/LoadFriction/Enabled", &MotorEffects::load_friction},
     {"/Effects/LoadFriction/Coefficient", &MotorEffects::load_coefficient},
+    {"/Effects/BackDrive/Enabled", &MotorEffects::back_drive},
+    {"/Effects/BackDrive/Coefficient", &MotorEffects::back_drive_coefficient},
     {"/Effects/Backlash/Enabled", &MotorEffects::backlash},
     {"/Effects/Backlash/Width", &MotorEffects::backlash_width},
     {"/Effects/Elasticity/Enabled", &MotorEffects::elasticity},
@@ -107,6 +115,7 @@ struct MotorEffectState {
   double spring_angle = 0.0;  ///< rad, motor-side angle of the elastic gear train
   double bristle = 0.0;       ///< rad, LuGre's bristle deflection z
   bool resting = true;        ///< LuGre: the joint was at rest in the last step (its bristles held the load)
+  bool back_driven = false;   ///< BackDrive: the joint last moved against the motor's torque
 };
 
 /// LuGre's friction torque (N·m, ≥ 0, applied as the brake) for a step of `dt` s at joint rate `rate` (rad/s). At
@@ -123,11 +132,16 @@ struct EffectCommand {
 /// Clears the effect memory; `angle_rad` is the joint angle at the reset.
 void ResetEffects(MotorEffectState& state, double angle_rad);
 
-/// One motor step with the effects: delays and dead-bands the command, runs the base controller (Update), then
-/// shapes its torque limit, friction, backlash gap and compliance. With every effect off it returns Update's
-/// command unchanged.
-EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const MotorEffects& effects,
-                                DynamixelState& state, MotorEffectState& effect_state, const JointReading& joint,
+/// One motor step with the effects: delays and dead-bands the command, runs the base controller (Update, or
+/// ServoUpdate when `servo.enabled`), then shapes its torque limit, friction, backlash gap and compliance. With
+/// every effect off it returns the base controller's command unchanged. Elasticity needs the motor row's
+/// compliance, which the servo mode's DC motor takes: the caller refuses the two together
+/// (CheckEffectsFitServo).
+EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const ServoParameters& servo,
+                                const MotorEffects& effects, DynamixelState& state, MotorEffectState& effect_state, const JointReading& joint,
                                 double desired_angle_deg, double desired_torque_raw, double dt, RandomStream* noise);
+
+/// Throws InputError when the effects cannot combine with the motor mode: Elasticity with /Servo/Enabled.
+void CheckEffectsFitServo(const ServoParameters& servo, const MotorEffects& effects);
 
 }  // namespace orcs::aseries

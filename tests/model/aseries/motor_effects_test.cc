@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "model/aseries/value_range.h"
+#include "tests/model/aseries/pendulum_rig.h"
 #include "model/control/keyframe_player.h"
 #include "model/control/keyframe_record.h"
 #include "model/core/random_stream.h"
@@ -37,78 +38,8 @@ constexpr double kDegrees = 180.0 / kPi;
 
 // An angle in radians as the repository's text, in degrees (/Effects/DeadBand/Margin, /Effects/Backlash/Width).
 std::string DegreesText(double radians) { return text::FormatDouble(radians * kDegrees); }
-constexpr double kG = 9.81;
 constexpr double kFullTorque = 1.04803939;  // N·m: DesiredTorque 1 × FMaxFactor
 constexpr double kDefaultTorque = kFullTorque * kDefaultDesiredTorqueRaw;  // 0.615 N·m
-
-std::string SourcePath(const std::string& relative) { return std::string(ORCS_SOURCE_DIR) + "/" + relative; }
-
-using Values = std::vector<std::pair<std::string, std::string>>;
-
-// The driven pendulum rig on `engine`, noise off, with `values` assigned through the repository after the build
-// (as a -val file would), then reset. At angle 0 the pole hangs straight down; positive angles lift it towards +x.
-class PendulumRig {
- public:
-  explicit PendulumRig(const Values& values, const std::string& engine) {
-    simulation_.LoadEnvironment(scene::EnvironmentReader::ReadFile(SourcePath("scenarios/environments/pendulum.xml")));
-    simulation_.Build();
-    Set("/Simulation/Engine", engine);
-    Set("/AngularMotor/IncludeNoise", "false");
-    for (const auto& [path, value] : values) Set(path, value);
-    simulation_.Reset(0);
-    joint_ = simulation_.agent(0).layout().motors[0];
-  }
-
-  void Set(const std::string& path, const std::string& value) { simulation_.repository().Set(path, value); }
-  void Command(double degrees, double torque_raw = 1.0) {
-    simulation_.repository().Get("/Sim/Pendulum/Motor/DesiredAngle").Set(degrees);
-    simulation_.repository().Get("/Sim/Pendulum/Motor/DesiredTorque").Set(torque_raw);
-  }
-  // Poses the pole at rest at `degrees`, right after the construction.
-  void Pose(double degrees) { simulation_.SetAgentJointAngles(0, {degrees}); }
-  bool Step() { return simulation_.Step() == scene::SimulationStatus::kOk; }
-  // `steps` steps; false (and a test failure) at the first that is not ok.
-  bool Run(int steps) {
-    for (int i = 0; i < steps; ++i) {
-      if (!Step()) {
-        ADD_FAILURE() << simulation_.message();
-        return false;
-      }
-    }
-    return true;
-  }
-
-  double Degrees() const { return simulation_.physics().joint_angle(joint_) * kDegrees; }
-  double Rate() const { return simulation_.physics().joint_rate(joint_); }
-  scene::Simulation& simulation() { return simulation_; }
-  const physics::PhysicsModel& physics_model() const { return *simulation_.model().physics(); }
-  int joint() const { return joint_; }
-
-  // The pole's moment of inertia about the hinge, kg·m², from the rig's own description: a uniform box (the main
-  // geom's size, the body's mass) about its centre, plus m·d² for the centre's distance from the axis.
-  double Inertia() const {
-    const physics::PhysicsModel& model = physics_model();
-    const physics::JointDescription& hinge = model.joint(joint_);
-    const physics::BodyDescription& pole = model.body(model.joint_body1(joint_));
-    const Eigen::Vector3d axis = hinge.axis.normalized();
-    const Eigen::Vector3d size = pole.geoms.at(0).size;  // the rig's axis is +z: the box turns in its x-y plane
-    EXPECT_NEAR(std::abs(axis.z()), 1.0, 1e-12);
-    const Eigen::Vector3d arm = pole.position - hinge.anchor;
-    const double distance = (arm - arm.dot(axis) * axis).norm();
-    return pole.mass * (size.x() * size.x() + size.y() * size.y()) / 12.0 + pole.mass * distance * distance;
-  }
-  // m·g·d, N·m: gravity's torque with the pole horizontal.
-  double GravityTorque() const {
-    const physics::PhysicsModel& model = physics_model();
-    const physics::JointDescription& hinge = model.joint(joint_);
-    const physics::BodyDescription& pole = model.body(model.joint_body1(joint_));
-    return pole.mass * kG * (pole.position - hinge.anchor).norm();
-  }
-
- private:
-  scene::Simulation simulation_;
-  int joint_ = -1;
-};
 
 Values Effect(const std::string& name, const Values& parameters) {
   Values values{{"/Effects/" + name + "/Enabled", "true"}};
@@ -181,7 +112,7 @@ TEST(MotorEffectsTest, EveryEffectOffReturnsTheBaseCommandBitForBit) {
     const double torque = -0.2 + 1.5 * (0.5 + 0.5 * std::sin(0.03 * i));  // −0.2 … 1.3: both clamps
     const DynamixelCommand expected = Update(parameters, base_state, angle, desired, torque, kDt, &base_noise);
     const EffectCommand actual =
-        UpdateWithEffects(parameters, off, effect_state, memory, joint, desired, torque, kDt, &effect_noise);
+        UpdateWithEffects(parameters, ServoParameters{}, off, effect_state, memory, joint, desired, torque, kDt, &effect_noise);
     ASSERT_EQ(bits(actual.motor.velocity), bits(expected.velocity)) << "step " << i;
     ASSERT_EQ(bits(actual.motor.max_torque), bits(expected.max_torque)) << "step " << i;
     ASSERT_EQ(bits(actual.motor.friction_torque), bits(expected.friction_torque)) << "step " << i;
@@ -299,7 +230,7 @@ TEST(MotorEffectsTest, BackEmfTorqueLimitFallsLinearlyWithSpeedToZeroAtTheNoLoad
     Reset(state, 0.2);
     ResetEffects(memory, 0.2);
     const EffectCommand command =
-        UpdateWithEffects(parameters, effects, state, memory, {0.2, rate, 0.0}, 30.0, 1.0, kDt, nullptr);
+        UpdateWithEffects(parameters, ServoParameters{}, effects, state, memory, {0.2, rate, 0.0}, 30.0, 1.0, kDt, nullptr);
     EXPECT_NEAR(command.motor.max_torque, full * std::max(0.0, 1.0 - std::abs(rate) / 5.0), 1e-12) << rate;
     EXPECT_GE(command.motor.max_torque, 0.0) << rate;
   }
@@ -355,7 +286,7 @@ TEST(MotorEffectsTest, StribeckFrictionIsTheBreakawayTorqueAtRestAndVanishesWith
     // The base friction uses the finite-difference speed: give it the same angle step as the rate.
     const double angle = rate * kDt;
     const double base_friction = Update(parameters, base, angle, 0.0, 1.0, kDt, nullptr).friction_torque;
-    return UpdateWithEffects(parameters, effects, state, memory, {angle, rate, 0.0}, 0.0, 1.0, kDt, nullptr)
+    return UpdateWithEffects(parameters, ServoParameters{}, effects, state, memory, {angle, rate, 0.0}, 0.0, 1.0, kDt, nullptr)
                .motor.friction_torque -
            base_friction;
   };
@@ -521,7 +452,7 @@ TEST(MotorEffectsTest, LoadFrictionGrowsInProportionToTheMotorTorque) {
     ResetEffects(memory, 0.5);
     const double base_friction = Update(parameters, base, 0.5, 40.0, 1.0, kDt, nullptr).friction_torque;
     const double friction =
-        UpdateWithEffects(parameters, effects, state, memory, {0.5, 0.0, torque}, 40.0, 1.0, kDt, nullptr)
+        UpdateWithEffects(parameters, ServoParameters{}, effects, state, memory, {0.5, 0.0, torque}, 40.0, 1.0, kDt, nullptr)
             .motor.friction_torque;
     EXPECT_NEAR(friction - base_friction, 0.3 * std::abs(torque), 1e-12) << torque;
   }
@@ -584,7 +515,7 @@ TEST(MotorEffectsTest, BacklashOpenGapTakesTheMotorOffTheOutputUntilTheGearMeets
   const double desired = 1.0 * kDegrees;  // an error of 1 rad: v = 1 rad/s
   for (int i = 0; i < 8; ++i) {
     const EffectCommand command =
-        UpdateWithEffects(parameters, effects, state, memory, {0.0, 0.0, 0.0}, desired, 1.0, kDt, nullptr);
+        UpdateWithEffects(parameters, ServoParameters{}, effects, state, memory, {0.0, 0.0, 0.0}, desired, 1.0, kDt, nullptr);
     EXPECT_NEAR(command.motor.velocity, 1.0, 1e-12);
     if (i < 4) {  // the gear at 0.01 … 0.04 rad: inside the gap
       EXPECT_EQ(command.motor.max_torque, 0.0) << "step " << i;
@@ -614,7 +545,7 @@ TEST(MotorEffectsTest, BacklashToothPushesButNeverPulls) {
     memory.wall = 1;  // engaged on the upper wall in the last step, moving forwards with the gear
     memory.engaged = true;
     memory.gear_angle = 0.05;
-    return UpdateWithEffects(parameters, effects, state, memory, {0.0, 0.5, last_torque}, 10.0, 1.0, kDt, nullptr);
+    return UpdateWithEffects(parameters, ServoParameters{}, effects, state, memory, {0.0, 0.5, last_torque}, 10.0, 1.0, kDt, nullptr);
   };
   EXPECT_EQ(after(0.3).motor.max_torque, kFullTorque);
   EXPECT_EQ(after(0.0).motor.max_torque, kFullTorque);
