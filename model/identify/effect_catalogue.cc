@@ -8,8 +8,10 @@ const std::vector<EffectDescription>& EffectCatalogue() {
        {{"/Effects/TransportDelay/Delay", "s", 0.005, 0.15, true}}},
       {"DeadBand", "position errors within a margin are ignored", "command_error",
        {{"/Effects/DeadBand/Margin", "deg", 0.1, 6.0, true}}},
+      // The servo model has its DC motor's back-EMF, its own compliance and its armature: these three are the
+      // original model's stand-ins for them.
       {"BackEmf", "available torque falls with speed", "speed",
-       {{"/Effects/BackEmf/NoLoadSpeed", "rad/s", 1.0, 50.0, true}}},
+       {{"/Effects/BackEmf/NoLoadSpeed", "rad/s", 1.0, 50.0, true}}, true, false},
       {"Stribeck", "extra friction at low speed", "speed",
        {{"/Effects/Stribeck/BreakawayTorque", "N·m", 0.005, 0.5, true},
         {"/Effects/Stribeck/Velocity", "rad/s", 0.01, 1.0, true}}},
@@ -18,13 +20,16 @@ const std::vector<EffectDescription>& EffectCatalogue() {
       {"Backlash", "the output turns freely within a gap", "load",
        {{"/Effects/Backlash/Width", "deg", 0.1, 8.0, true}}},
       {"Elasticity", "the gear train is a torsional spring", "acceleration",
-       {{"/Effects/Elasticity/Stiffness", "N·m/rad", 0.5, 200.0, true}}},
+       {{"/Effects/Elasticity/Stiffness", "N·m/rad", 0.5, 200.0, true}}, true, false},
       {"RotorInertia", "the reflected rotor inertia adds to the joint's", "acceleration",
-       {{"/Effects/RotorInertia/Inertia", "kg·m²", 1e-4, 0.05, true}}},
+       {{"/Effects/RotorInertia/Inertia", "kg·m²", 1e-4, 0.05, true}}, true, false},
       {"LuGre", "friction of elastic bristles: stiction built up over a presliding turn, lag", "speed",
        {{"/Effects/LuGre/StictionTorque", "N·m", 0.005, 0.5, true},
         {"/Effects/LuGre/CoulombTorque", "N·m", 0.002, 0.3, true},
         {"/Effects/LuGre/BristleStiffness", "N·m/rad", 1.0, 1000.0, true}}},
+      // New with the servo model; the original model's diagnoses keep their nine candidates.
+      {"BackDrive", "the gearbox brakes harder when the load drives it backwards", "load",
+       {{"/Effects/BackDrive/Coefficient", "1", 0.01, 1.0, true}}, false, true},
   };
   return catalogue;
 }

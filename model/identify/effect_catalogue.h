@@ -16,6 +16,8 @@ struct EffectDescription {
   std::string_view summary;    ///< one line for reports
   std::string_view quantity;   ///< the signal its residual shows against (plot_gap.py): speed, velocity, load, ...
   std::vector<FitParameter> parameters;  ///< what a fit adjusts (other parameters keep their values); start unset
+  bool with_original = true;  ///< tried by default on the original's motor model
+  bool with_servo = true;     ///< tried (and allowed) on the physical servo model (/Servo/Enabled)
 };
 
 /// The catalogue, in a fixed order.

@@ -20,6 +20,16 @@ const std::vector<FitParameter> kBase = {
     {"/AngularMotor/FMaxFactor", "N·m", 0.3, 3.0},
     {"/AngularMotor/DynamicFriction", "N·m·s/rad", 0.005, 1.0},
 };
+// The physical servo's (servo_motor.h): the DC motor's torque per volt (kt, with R fixed: only kt/R and kt·ke/R
+// show in the motion) and back-EMF, the armature and the gearbox friction. Never the firmware gain: each run
+// gives its own. The gain's scale stays the datasheet's, so that one fit serves every gain.
+const std::vector<FitParameter> kServoBase = {
+    {"/Servo/TorqueConstant", "N·m/A", 0.02, 5.0},
+    {"/Servo/BackEmfConstant", "V·s/rad", 0.02, 5.0},
+    {"/Servo/Armature", "kg·m²", 1e-5, 0.05},
+    {"/Servo/CoulombFriction", "N·m", 1e-4, 0.5},
+    {"/Servo/ViscousFriction", "N·m·s/rad", 1e-4, 0.5},
+};
 
 std::vector<ReplayRun> Concatenate(const std::vector<ReplayRun>& a, const std::vector<ReplayRun>& b) {
   std::vector<ReplayRun> all = a;
@@ -128,15 +138,23 @@ std::vector<Override> ModelOf(const ModelScore& score, const std::string& effect
   return model;
 }
 
-std::vector<const EffectDescription*> Candidates(const std::vector<std::string>& names) {
+// The effects to try: the named ones, or the catalogue's defaults for the motor model (`servo`: the physical
+// servo's).
+std::vector<const EffectDescription*> Candidates(const std::vector<std::string>& names, bool servo) {
   std::vector<const EffectDescription*> candidates;
   if (names.empty()) {
-    for (const EffectDescription& effect : EffectCatalogue()) candidates.push_back(&effect);
+    for (const EffectDescription& effect : EffectCatalogue()) {
+      if (servo ? effect.with_servo : effect.with_original) candidates.push_back(&effect);
+    }
     return candidates;
   }
   for (const std::string& name : names) {
     const EffectDescription* effect = FindEffect(name);
     if (effect == nullptr) throw InputError("--effects: no effect '" + name + "' in the catalogue (docs/gap.md)");
+    if (servo && !effect->with_servo) {
+      throw InputError("--effects: '" + name + "' is part of the servo model (/Servo/Enabled) already or cannot "
+                       "combine with it (docs/gap.md, \"A real servo\")");
+    }
     candidates.push_back(effect);
   }
   return candidates;
@@ -173,10 +191,10 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
 }  // namespace
 
 std::vector<FitParameter> BaseParameters(const Rig& rig, const std::vector<ValueAssignment>& model) {
+  std::vector<FitParameter> parameters = UsesServo(rig, model) ? kServoBase : kBase;
   std::vector<std::string> paths;
-  for (const FitParameter& parameter : kBase) paths.push_back(parameter.path);
+  for (const FitParameter& parameter : parameters) paths.push_back(parameter.path);
   const std::vector<double> start = ModelValues(rig, model, paths);
-  std::vector<FitParameter> parameters = kBase;
   for (std::size_t i = 0; i < parameters.size(); ++i) parameters[i].start = start[i];
   return parameters;
 }
@@ -226,11 +244,11 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
 // Every candidate effect, fitted with the base parameters started from the refit, all at once; best first.
 std::vector<ModelScore> ScoreCandidates(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit,
                                         const std::vector<ReplayRun>& holdout, const std::vector<FitParameter>& base,
-                                        const ModelScore& refit, const DiagnosisOptions& options) {
+                                        const ModelScore& refit, const DiagnosisOptions& options, bool servo) {
   std::vector<FitParameter> refitted = base;
   for (std::size_t i = 0; i < base.size(); ++i) refitted[i].start = refit.fit.values[i];
   std::vector<std::future<ModelScore>> fits;
-  for (const EffectDescription* effect : Candidates(options.candidates)) {
+  for (const EffectDescription* effect : Candidates(options.candidates, servo)) {
     fits.push_back(std::async(std::launch::async, [&, effect] {
       return ScoreCandidate(replays, fit, holdout, refitted, *effect, options);
     }));
@@ -264,7 +282,7 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   if (options.on_fit) options.on_fit("refit", &d.base);
 
   // 3. Every candidate effect.
-  d.candidates = ScoreCandidates(replays, fit, holdout, base, d.base, options);
+  d.candidates = ScoreCandidates(replays, fit, holdout, base, d.base, options, UsesServo(rig, model));
 
   // 4. The verdict, and the gap of the model it leaves.
   const bool won = !d.candidates.empty() && d.candidates[0].score < options.win_ratio * d.base.score;

@@ -25,6 +25,7 @@ constexpr std::string_view kSimPrefix = "/Sim/";
 constexpr std::string_view kDesiredAngle = "DesiredAngle";
 constexpr std::string_view kDesiredTorque = "DesiredTorque";
 constexpr std::string_view kJointAngle = "JointAngle";
+constexpr std::string_view kFirmwareKpColumn = "/Servo/FirmwareKp";  // an orcs log's column of the servo's gain
 
 std::string Seconds(double value) { return text::FormatDouble(value) + " s"; }
 
@@ -113,6 +114,7 @@ std::vector<std::string> SplitFields(std::string_view line, char delimiter, cons
 struct Table {
   std::vector<std::string> columns;  // column names, trimmed and unquoted
   std::vector<Line> rows;            // data rows; blank and comment lines left out
+  std::vector<Line> comments;        // the '#' comment lines, for header keys ("# ... firmware_kp=400")
 };
 
 // The column list of a "# columns: a,b,c" comment, or nullopt for any other comment.
@@ -148,6 +150,7 @@ Table ReadTable(std::string_view text, const std::string& source, const ColumnMa
   for (const Line& line : SplitLines(text)) {
     if (IsBlank(line.text)) continue;
     if (IsComment(line.text)) {
+      table.comments.push_back(line);
       if (!mapping) NoteComment(line, header, table.rows, source);
     } else if (mapping && !header) {
       header = line;
@@ -279,6 +282,12 @@ std::vector<SeriesSource> NativePlan(const Table& table, const std::string& sour
     plan.push_back({table.columns[f.field], f.field, 1.0, 0.0, 0.0, &SeriesOf(run, f.quantity, f.motor), kUnbounded});
     if (f.quantity != kDesiredTorque) plan.back().max_magnitude = kMaxAngleDegrees;
   }
+  const auto gain = std::find(table.columns.begin(), table.columns.end(), kFirmwareKpColumn);
+  if (gain != table.columns.end()) {
+    run.firmware_kp_column = std::string(kFirmwareKpColumn);
+    plan.push_back({run.firmware_kp_column, static_cast<int>(gain - table.columns.begin()), 1.0, 0.0, 0.0,
+                    &run.firmware_kp, kUnbounded});
+  }
   return plan;
 }
 
@@ -297,6 +306,7 @@ std::string ChannelField(size_t index, std::string_view member = {}) {
 
 // A source must be a column or a constant; `column_only` ones (time, joint angles) must be a column.
 void CheckSource(const ColumnSource& s, const std::string& field, bool column_only, const std::string& source) {
+  if (!s.header.empty()) FieldError(source, field + ".header", "a column or a constant", "a header key");
   if (column_only && s.constant) FieldError(source, field, "a column", "a constant");
   if (s.constant && !s.column.empty()) FieldError(source, field, "either a column or a constant", "both");
   if (!s.constant && text::Trim(s.column).empty()) FieldError(source, field, "a column or a constant", "neither");
@@ -344,9 +354,20 @@ void CheckMapping(const ColumnMapping& m) {
 }
 
 ColumnSource ParseColumnSource(const JsonNode& node) {
-  node.ExpectOnly({"column", "scale", "offset", "constant"});
+  node.ExpectOnly({"column", "scale", "offset", "constant", "header"});
   ColumnSource s;
   if (node.Has("column") && node.Has("constant")) node.Fail("either \"column\" or \"constant\"", "both");
+  if (node.Has("header") && (node.Has("column") || node.Has("constant"))) {
+    node.Fail("\"header\" alone, without \"column\" or \"constant\"", "both");
+  }
+  if (node.Has("header")) {
+    s.header = std::string(text::Trim(node.At("header").String("a header key")));
+    if (s.header.empty() || s.header.find_first_of(" =") != std::string::npos) node.At("header").Fail("a header key");
+    for (const char* key : {"scale", "offset"}) {
+      if (node.Has(key)) node.At(key).Fail("nothing beside \"header\"");
+    }
+    return s;
+  }
   if (node.Has("constant")) {
     for (const char* key : {"scale", "offset"}) {
       if (node.Has(key)) node.At(key).Fail("nothing beside \"constant\"");
@@ -402,6 +423,37 @@ SeriesSource MappedSeries(const ColumnSource& s, const std::string& field, const
           kUnbounded};
 }
 
+// The value of `key` in the comment lines: the token "key=value" (tokens split at blanks).
+std::optional<std::string> HeaderValue(const Table& table, const std::string& key) {
+  const std::string prefix = key + "=";
+  for (const Line& comment : table.comments) {
+    for (std::string_view token : text::Split(text::Trim(comment.text.substr(1)), ' ')) {
+      if (token.substr(0, prefix.size()) == prefix) return std::string(token.substr(prefix.size()));
+    }
+  }
+  return std::nullopt;
+}
+
+SeriesSource FirmwareGainSeries(const ColumnSource& s, const Table& table, const ColumnMapping& m,
+                                const std::string& source, MeasuredRun& run) {
+  if (s.header.empty()) {
+    SeriesSource series = MappedSeries(s, "firmware_kp", table, m, source, run.firmware_kp);
+    run.firmware_kp_column = series.column;
+    return series;
+  }
+  run.firmware_kp_column = "header key '" + s.header + "'";
+  const std::optional<std::string> value = HeaderValue(table, s.header);
+  if (!value) {
+    throw InputError(source, 0, "no '" + s.header + "=' in the comment lines (named by " + m.source +
+                                    ", field 'firmware_kp.header'): the servo's firmware gain is missing");
+  }
+  const std::optional<double> number = text::ParseDouble(*value);
+  if (!number || !std::isfinite(*number)) {
+    throw InputError(source, 0, "header key '" + s.header + "': " + text::Quote(*value) + " is not a finite number");
+  }
+  return {run.firmware_kp_column, -1, 1.0, 0.0, *number, &run.firmware_kp, kUnbounded};
+}
+
 std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m, const std::string& source,
                                      MeasuredRun& run) {
   CheckMapping(m);
@@ -424,6 +476,7 @@ std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m,
       plan.back().max_magnitude = kMaxAngleDegrees;
     }
   }
+  if (m.firmware_kp) plan.push_back(FirmwareGainSeries(*m.firmware_kp, table, m, source, run));
   return plan;
 }
 
@@ -491,6 +544,24 @@ void CheckTimeBase(const std::string& column, MeasuredRun& run) {
   run.step = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
 }
 
+// One run has one firmware gain, and a gain is positive: a gain that changes within the run (a log of two
+// settings) or a non-positive one is an error naming the column and the line.
+void CheckFirmwareGain(const MeasuredRun& run) {
+  const std::vector<double>& gain = run.firmware_kp;
+  for (size_t i = 0; i < gain.size(); ++i) {
+    if (!(gain[i] > 0.0)) {
+      throw InputError(run.source, run.lines[i], run.firmware_kp_column + ": expected a positive firmware gain, found " +
+                                                     text::FormatDouble(gain[i]));
+    }
+    if (gain[i] != gain[0]) {
+      throw InputError(run.source, run.lines[i],
+                       run.firmware_kp_column + ": the firmware gain changes within the run, from " +
+                           text::FormatDouble(gain[0]) + " (line " + std::to_string(run.lines[0]) + ") to " +
+                           text::FormatDouble(gain[i]) + "; a run has one gain — split the log where it changes");
+    }
+  }
+}
+
 // The canonical form of a path, for comparing two names of one file.
 std::filesystem::path Canonical(const std::string& path) {
   std::error_code error;
@@ -501,6 +572,11 @@ std::filesystem::path Canonical(const std::string& path) {
 
 }  // namespace
 
+std::optional<double> FirmwareGain(const MeasuredRun& run) {
+  if (run.firmware_kp.empty()) return std::nullopt;
+  return run.firmware_kp.front();
+}
+
 std::string MotorColumn(const std::string& agent, const std::string& motor, const std::string& quantity) {
   return std::string(kSimPrefix) + agent + "/" + motor + "/" + quantity;
 }
@@ -510,13 +586,14 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
     throw InputError(source, 0, "expected a column mapping (a JSON object), found " + DescribeJson(j));
   }
   const JsonNode root(j, "", source);
-  root.ExpectOnly({"agent", "time", "channels", "delimiter"});
+  root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp"});
   ColumnMapping mapping;
   mapping.source = source;
   mapping.agent = root.At("agent").String("an agent name");
   mapping.time = ParseColumnSource(root.At("time"));
   for (const JsonNode& channel : root.At("channels").Elements()) mapping.channels.push_back(ParseChannel(channel));
   if (root.Has("delimiter")) mapping.delimiter = ParseDelimiter(root.At("delimiter"));
+  if (root.Has("firmware_kp")) mapping.firmware_kp = ParseColumnSource(root.At("firmware_kp"));
   CheckMapping(mapping);
   return mapping;
 }
@@ -533,6 +610,7 @@ MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source, c
       mapping ? MappedPlan(table, *mapping, source, run) : NativePlan(table, source, run);
   ReadRows(table, plan, mapping ? mapping->delimiter : kNativeDelimiter, source, run);
   CheckTimeBase(plan.front().column, run);
+  CheckFirmwareGain(run);
   return run;
 }
 

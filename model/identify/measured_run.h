@@ -33,7 +33,15 @@ struct MeasuredRun {
   std::map<std::string, std::vector<double>> desired_torque;  ///< raw −1…1
   std::map<std::string, std::vector<double>> joint_angle;     ///< degrees
   std::vector<int> lines;  ///< 1-based line of the source file per row (same length as time), for messages
+  /// The servo's firmware P gain during the run (/Servo/FirmwareKp, register units), per row, when the data has
+  /// it (empty otherwise); ParseMeasuredRun checks it is one value throughout. An input of the run for the
+  /// physical servo model (docs/model.md, "The physical servo"), never a fitted parameter.
+  std::vector<double> firmware_kp;
+  std::string firmware_kp_column;  ///< where it came from ("/Servo/FirmwareKp", a mapped column or header key)
 };
+
+/// The run's firmware gain, or nullopt when the data has none.
+std::optional<double> FirmwareGain(const MeasuredRun& run);
 
 /// Where one quantity's values come from in a CSV that is not an orcs log: value = raw · scale + offset, where
 /// raw is the number in `column`; or `constant` for every row (then `column` is empty).
@@ -42,6 +50,9 @@ struct ColumnSource {
   double scale = 1.0;               ///< factor from the file's unit to the quantity's unit (e.g. 0.001 for ms → s)
   double offset = 0.0;              ///< added after scaling, in the quantity's unit
   std::optional<double> constant;   ///< the value of every row instead of a column, in the quantity's unit
+  /// A key of the file's comment lines instead of a column: "firmware_kp" reads 400 from "# ... firmware_kp=400"
+  /// (only for the run-wide firmware_kp; then `column` is empty)
+  std::string header;
 };
 
 /// One motor of a mapped CSV: which columns hold its inputs and its measured angle.
@@ -58,6 +69,7 @@ struct ColumnMapping {
   ColumnSource time;                     ///< time column, seconds after scaling (scale e.g. 0.001 for ms)
   std::vector<ChannelMapping> channels;  ///< one per motor, in the order they become MeasuredRun::motors
   char delimiter = ',';                  ///< field separator of the CSV (',', ';', '\t', ...)
+  std::optional<ColumnSource> firmware_kp;  ///< the servo's firmware P gain: a column, a header key or a constant
   std::string source;                    ///< the mapping file, for messages
 };
 

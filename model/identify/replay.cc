@@ -64,6 +64,20 @@ void CheckRunFitsRig(const Rig& rig, const MeasuredRun& run) {
   }
 }
 
+// The run's firmware gain as a value of its replay, after the model's: the gain is the run's input, not the
+// model's. Without one the servo model cannot replay the run.
+void AddFirmwareGain(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model,
+                     nlohmann::json& values) {
+  const std::optional<double> gain = FirmwareGain(run);
+  if (gain) {
+    values["/Servo/FirmwareKp"] = text::FormatDouble(*gain);
+  } else if (UsesServo(rig, model)) {
+    throw InputError(run.source + ": no firmware gain: the servo model (/Servo/Enabled) needs the P gain the servo "
+                     "ran with; map 'firmware_kp' to its column, header key or a constant, or log the column "
+                     "'/Servo/FirmwareKp' (docs/gap_measured_data.md)");
+  }
+}
+
 }  // namespace
 
 Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vector<ValueAssignment>& model) {
@@ -102,6 +116,14 @@ std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignmen
   return values;
 }
 
+bool UsesServo(const Rig& rig, const std::vector<ValueAssignment>& model) {
+  scene::Simulation simulation;
+  simulation.LoadEnvironment(EnvironmentOf(rig));
+  simulation.Build();
+  ValueFile::ApplyAssignments(model, simulation.repository());
+  return simulation.repository().Get("/Servo/Enabled").as_bool();
+}
+
 ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model) {
   CheckRunFitsRig(rig, run);
   ReplayRun replay;
@@ -124,6 +146,7 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
       {"fitness", {{"terms", nlohmann::json::array({{{"type", "measured_error"}, {"angles", angles}}})}}},
       {"values", ValuesObject(model)},
   };
+  AddFirmwareGain(rig, run, model, scenario["values"]);
   if (!rig.environment_xml.empty()) {
     scenario["environment"] = {{"file", rig.environment_name}, {"xml", rig.environment_xml}};
   }

@@ -44,6 +44,9 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
 std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignment>& model,
                                 const std::vector<std::string>& paths);
 
+/// Whether the model runs the physical servo (/Servo/Enabled = true in the rig under `model`).
+bool UsesServo(const Rig& rig, const std::vector<ValueAssignment>& model);
+
 /// One measured run as a replay job template.
 struct ReplayRun {
   std::string name;                   ///< the file's stem, unique among the runs
@@ -54,8 +57,9 @@ struct ReplayRun {
   nlohmann::json scenario;            ///< the resolved scenario, without "log"
 };
 
-/// The replay of `run` on `rig` under `model` (noise off). Throws InputError naming the file and column when the
-/// run's agent, motors or time step do not fit the rig.
+/// The replay of `run` on `rig` under `model` (noise off), with the run's firmware gain as /Servo/FirmwareKp.
+/// Throws InputError naming the file and column when the run's agent, motors or time step do not fit the rig, or
+/// when the model is the servo's and the run has no firmware gain.
 ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model);
 
 /// The measured run as a recording (docs/recording.md) for orcs-view: the rig under `model` (noise off), posed

@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -201,6 +202,74 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<std::tuple<HiddenCase, const char*>>& param) {
       return std::string(std::get<0>(param.param).name) + "_" + std::get<1>(param.param);
     });
+
+// ---------------------------------------------------------------------------------------------------------------
+// The physical servo model on real logs (issue 23): the firmware gain is each run's input.
+
+namespace servo {
+
+const std::string kXl330 = ORCS_SOURCE_DIR "/scenarios/gap/xl330/";
+
+// A log of the XL330 rig's format: `gain` in the first comment (none when empty), `rows` rows of 5 ms.
+std::string Xl330Log(const std::string& gain, int rows) {
+  std::ostringstream log;
+  log << "# XL330 pendulum log: motor=xl330" << (gain.empty() ? "" : " firmware_kp=" + gain) << "\n"
+      << "time_s,goal_deg,position_deg,speed_deg_s,load,input_volts,temperature_c,torque_enable\n";
+  for (int i = 0; i < rows; ++i) log << i * 0.005 << ",10,0,0,0,7.4,30," << (i < rows / 2 ? 1 : 0) << "\n";
+  return log.str();
+}
+
+test_support::ProcessResult Gap(const std::vector<std::string>& runs, const std::string& mapping,
+                                const std::string& out) {
+  std::vector<std::string> command = {kGap, "--rig", "pendulum", "--pole-mass", "0.6533", "--pole-length", "0.15",
+                                      "--model", kXl330 + "model.val", "--mapping", mapping, "--measured"};
+  command.insert(command.end(), runs.begin(), runs.end());
+  command.insert(command.end(), {"--workers", "1", "--generations", "1", "--effects", "Stribeck", "--out", out});
+  return RunProcess(command);
+}
+
+TEST(GapServoTest, ARunWithoutItsFirmwareGainIsOneLineNamingFileAndColumnExit2) {
+  test_support::TempDir dir;
+  // The shipped mapping reads the gain from the header: a log without it cannot be replayed by the servo model.
+  const std::string without = dir.Write("no_gain.csv", Xl330Log("", 40));
+  const auto missing = Gap({without, dir.Write("ok.csv", Xl330Log("100", 40))}, kXl330 + "mapping.json", dir.PathOf("a"));
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_THAT(missing.err, HasSubstr(without + ": no 'firmware_kp=' in the comment lines"));
+  EXPECT_EQ(std::count(missing.err.begin(), missing.err.end(), '\n'), 1) << missing.err;
+  // A mapping without a gain at all: the servo model says what it needs.
+  std::string mapping_text;
+  {
+    std::ifstream in(kXl330 + "mapping.json");
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    mapping_text = buffer.str();
+  }
+  mapping_text.replace(mapping_text.find("\"firmware_kp\""), std::string("\"firmware_kp\": {\"header\": \"firmware_kp\"},").size(), "");
+  const std::string no_gain_mapping = dir.Write("no_gain.json", mapping_text);
+  const std::string run = dir.Write("run.csv", Xl330Log("100", 40));
+  const auto unmapped = Gap({run, dir.Write("run2.csv", Xl330Log("100", 41))}, no_gain_mapping, dir.PathOf("b"));
+  EXPECT_EQ(unmapped.exit_code, 2);
+  EXPECT_THAT(unmapped.err, HasSubstr(run + ": no firmware gain: the servo model (/Servo/Enabled) needs the P gain"));
+  EXPECT_EQ(std::count(unmapped.err.begin(), unmapped.err.end(), '\n'), 1) << unmapped.err;
+}
+
+TEST(GapServoTest, AGainThatChangesWithinARunIsOneLineNamingFileLineAndColumnExit2) {
+  test_support::TempDir dir;
+  std::string log = Xl330Log("100", 40);
+  const std::string mapping = dir.Write(
+      "by_column.json",
+      R"({"agent": "Pendulum", "time": {"column": "time_s"}, "firmware_kp": {"column": "temperature_c"},
+          "channels": [{"motor": "Motor", "desired_angle": {"column": "goal_deg"},
+          "desired_torque": {"column": "torque_enable"}, "joint_angle": {"column": "position_deg"}}]})");
+  log.replace(log.rfind(",7.4,30,"), 8, ",7.4,31,");  // the last row says another gain
+  const std::string changing = dir.Write("changing.csv", log);
+  const auto result = Gap({changing, dir.Write("ok.csv", Xl330Log("100", 40))}, mapping, dir.PathOf("out"));
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr(changing + ":42: temperature_c: the firmware gain changes within the run, from 30"));
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+}  // namespace servo
 
 }  // namespace
 }  // namespace orcs

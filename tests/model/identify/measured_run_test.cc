@@ -347,7 +347,7 @@ TEST(MeasuredRunTest, MappingErrorsNameTheField) {
   const std::string ok_time = R"("time": {"column": "t"})";
   auto error = [](const std::string& json) { return InputErrorOf([&] { Mapping(json); }); };
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + ", " + ok_channel + R"(, "agnet": 1})"),
-            "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter), found 'agnet'");
+            "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter, firmware_kp), found 'agnet'");
   EXPECT_EQ(error("{" + ok_time + ", " + ok_channel + "}"),
             "m.json: field 'agent' expected a value, found nothing (the field is missing)");
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_channel + "}"),
@@ -359,7 +359,7 @@ TEST(MeasuredRunTest, MappingErrorsNameTheField) {
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_time +
                   R"(, "channels": [{"motor": "M", "joint_angle": {"column": "a", "scal": 2}}]})"),
             "m.json: field 'channels[0].joint_angle.scal' expected no such field (allowed: column, scale, offset, "
-            "constant), found 'scal'");
+            "constant, header), found 'scal'");
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_time +
                   R"(, "channels": [{"motor": "M", "joint_angle": {"column": "a", "scale": "2"}}]})"),
             "m.json: field 'channels[0].joint_angle.scale' expected a finite number, found the string \"2\"");
@@ -479,6 +479,70 @@ MeasuredRun RunOf(const std::string& source, const std::string& agent, double st
   run.agent = agent;
   run.step = step;
   return run;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The servo's firmware gain (docs/gap_measured_data.md, "The firmware gain")
+
+// The head of a real XL330 log (../shared/data/xl330-pendulum/lift_and_drop_kp100.csv), two rows.
+constexpr const char* kXl330Log =
+    "# XL330 pendulum log: motor=xl330 load_mass_kg=0.49 load_distance_m=0.1 firmware_kp=100 supply_v=7.4 dt_s=0.005 "
+    "trajectory=lift_and_drop\n"
+    "time_s,goal_deg,position_deg,speed_deg_s,load,input_volts,temperature_c,torque_enable\n"
+    "0,0.00129535491,-0.791015625,0,3,7.3,29,1\n"
+    "0.005,-0.000518284001,-0.791015625,0,3,7.3,29,0\n";
+
+ColumnMapping Xl330Mapping(const std::string& gain) {
+  return Mapping(R"({"agent": "Pendulum", "time": {"column": "time_s"}, "firmware_kp": )" + gain +
+                 R"(, "channels": [{"motor": "Motor", "desired_angle": {"column": "goal_deg"},
+                   "desired_torque": {"column": "torque_enable"}, "joint_angle": {"column": "position_deg"}}]})");
+}
+
+TEST(MeasuredRunTest, TheFirmwareGainComesFromAHeaderKeyAColumnOrAConstant) {
+  const ColumnMapping header = Xl330Mapping(R"({"header": "firmware_kp"})");
+  const MeasuredRun run = ParseMeasuredRun(kXl330Log, "kp100.csv", &header);
+  EXPECT_EQ(FirmwareGain(run), 100.0);
+  EXPECT_THAT(run.desired_torque.at("Motor"), ElementsAre(1.0, 0.0)) << "torque_enable is the torque";
+  const ColumnMapping column = Xl330Mapping(R"({"column": "temperature_c"})");
+  EXPECT_EQ(FirmwareGain(ParseMeasuredRun(kXl330Log, "kp.csv", &column)), 29.0);
+  const ColumnMapping constant = Xl330Mapping(R"({"constant": 400})");
+  EXPECT_EQ(FirmwareGain(ParseMeasuredRun(kXl330Log, "kp.csv", &constant)), 400.0);
+  // An orcs log carries it as the column /Servo/FirmwareKp.
+  const MeasuredRun native = ParseMeasuredRun(
+      "# columns: time,/Sim/P/M/JointAngle,/Servo/FirmwareKp\n0,0,32\n0.01,1,32\n", "run.csv", nullptr);
+  EXPECT_EQ(FirmwareGain(native), 32.0);
+  EXPECT_FALSE(FirmwareGain(ParseMeasuredRun(kPendulumLog, "run.csv", nullptr)).has_value());
+}
+
+TEST(MeasuredRunTest, AFirmwareGainMissingFromTheHeaderOrChangingWithinARunIsOneLineNamingFileAndColumn) {
+  const ColumnMapping header = Xl330Mapping(R"({"header": "firmware_kp"})");
+  std::string without = kXl330Log;
+  without.replace(without.find("firmware_kp=100"), 15, "gain=100");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(without, "kp.csv", &header); }),
+            "kp.csv: no 'firmware_kp=' in the comment lines (named by m.json, field 'firmware_kp.header'): the servo's "
+            "firmware gain is missing");
+  std::string letters = kXl330Log;
+  letters.replace(letters.find("firmware_kp=100"), 15, "firmware_kp=hi");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(letters, "kp.csv", &header); }),
+            "kp.csv: header key 'firmware_kp': 'hi' is not a finite number");
+  const ColumnMapping column = Xl330Mapping(R"({"column": "load"})");
+  std::string changing = kXl330Log;
+  changing.replace(changing.rfind(",3,7.3"), 6, ",4,7.3");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(changing, "kp.csv", &column); }),
+            "kp.csv:4: load: the firmware gain changes within the run, from 3 (line 3) to 4; a run has one gain — "
+            "split the log where it changes");
+  EXPECT_EQ(InputErrorOf([&] {
+              ParseMeasuredRun("# columns: time,/Sim/P/M/JointAngle,/Servo/FirmwareKp\n0,0,0\n0.01,1,0\n", "run.csv",
+                               nullptr);
+            }),
+            "run.csv:2: /Servo/FirmwareKp: expected a positive firmware gain, found 0");
+  EXPECT_EQ(InputErrorOf([&] { Xl330Mapping(R"({"header": "firmware_kp", "scale": 2})"); }),
+            "m.json: field 'firmware_kp.scale' expected nothing beside \"header\", found the number 2");
+  EXPECT_EQ(InputErrorOf([&] {
+              Mapping(R"({"agent": "P", "time": {"column": "t"}, "channels": [{"motor": "M",
+                        "joint_angle": {"header": "a"}}]})");
+            }),
+            "m.json: field 'channels[0].joint_angle.header' expected a column or a constant, found a header key");
 }
 
 TEST(MeasuredRunTest, RunsMustShareAgentAndStep) {
