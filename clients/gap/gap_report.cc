@@ -1,6 +1,7 @@
 #include "clients/gap/gap_report.h"
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <filesystem>
 #include <sstream>
@@ -58,7 +59,8 @@ std::string RunCell(const RunGap& run) {
 nlohmann::json ScoreJson(const ModelScore& s) {
   nlohmann::json values = nlohmann::json::array();
   for (const FittedValue& v : s.values) {
-    values.push_back({{"path", v.path}, {"unit", v.unit}, {"start", v.start}, {"value", v.value}});
+    values.push_back({{"path", v.path}, {"unit", v.unit}, {"start", v.start}, {"value", v.value},
+                      {"ci95", RoundedOrNull(v.ci95)}, {"identified", v.identified}});
   }
   return {{"model", s.label},
           {"summary", s.summary},
@@ -69,7 +71,7 @@ nlohmann::json ScoreJson(const ModelScore& s) {
           {"holdout_rms", RoundedOrNull(s.holdout_rms)},
           {"score", RoundedOrNull(s.score)},
           {"fit", {{"generations", s.fit.generations}, {"evaluations", s.fit.evaluations},
-                   {"converged", s.fit.converged}, {"convergence", s.fit.convergence}}}};
+                   {"converged", s.fit.converged}, {"convergence", s.fit.convergence}, {"polish", s.fit.polish}}}};
 }
 
 // The motors of the worst channels, worst first, without repeats (for the plots).
@@ -81,6 +83,13 @@ std::vector<std::string> WorstChannels(const GapSnapshot& snapshot, std::size_t 
     if (worst.size() == count) break;
   }
   return worst;
+}
+
+// `digits` significant digits, for fitted values and their uncertainties.
+std::string Digits(double value, int digits) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
+  return buffer;
 }
 
 std::string Number(double value) { return std::isfinite(value) ? text::FormatDouble(value) : ""; }
@@ -202,7 +211,9 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
        << " | " << text::FormatDouble(std::round(s.score / d.base.score * 1000.0) / 1000.0) << " | "
        << (s.fit.converged ? "yes" : "no") << " |";
     for (const FittedValue& v : s.values) {
-      md << " " << v.path.substr(v.path.rfind('/') + 1) << " " << text::FormatDouble(v.value) << " " << v.unit << ";";
+      md << " " << v.path.substr(v.path.rfind('/') + 1) << " " << Digits(v.value, 4)
+         << (std::isfinite(v.ci95) ? " ± " + Digits(v.ci95, 3) : "") << " " << v.unit
+         << (v.identified ? "" : " (not identified)") << ";";
     }
     md << " |\n";
   };

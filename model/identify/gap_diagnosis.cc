@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "model/identify/effect_catalogue.h"
+#include "model/identify/least_squares_polish.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 
@@ -43,10 +44,12 @@ double MeanSquaredError(ReplayEvaluator& replays, const std::vector<ReplayRun>& 
   return ReplayObjective(replays, runs, {}).MeanSquaredErrors({model})[0];
 }
 
-std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
+std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, const FitOutcome& fit) {
   std::vector<FittedValue> report;
   for (std::size_t i = 0; i < parameters.size(); ++i) {
-    report.push_back({parameters[i].path, parameters[i].unit, parameters[i].start, values[i]});
+    const double ci95 = i < fit.ci95.size() ? fit.ci95[i] : std::numeric_limits<double>::quiet_NaN();
+    report.push_back({parameters[i].path, parameters[i].unit, parameters[i].start, fit.values[i], ci95,
+                      Identified(fit.values[i], ci95)});
   }
   return report;
 }
@@ -122,7 +125,7 @@ ModelScore ScoreFit(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit,
                     const FitOptions& options) {
   ModelScore score;
   score.fit = Fit(ReplayObjective(replays, fit, fixed), parameters, options);
-  score.values = Report(parameters, score.fit.values);
+  score.values = Report(parameters, score.fit);
   score.fit_rms = Rms(score.fit.mse);
   std::vector<Override> model = fixed;
   const std::vector<Override> fitted = OverridesOf(parameters, score.fit.values);

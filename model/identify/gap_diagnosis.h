@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -34,6 +35,8 @@ struct FittedValue {
   std::string unit;
   double start = 0.0;  ///< where the fit started
   double value = 0.0;  ///< where it ended
+  double ci95 = std::numeric_limits<double>::quiet_NaN();  ///< 95 % half-width in the unit; NaN = not determined
+  bool identified = false;  ///< the data determine it: a finite interval narrower than the value (Identified)
 };
 
 /// One model's fit and scores.

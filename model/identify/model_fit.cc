@@ -12,23 +12,11 @@
 #include <pagmo/problem.hpp>
 
 #include "model/identify/batch_problem.h"
+#include "model/identify/least_squares_polish.h"
 #include "model/core/text.h"
 
 namespace orcs::identify {
 namespace {
-
-double FromUnit(const FitParameter& p, double u) {
-  u = std::clamp(u, 0.0, 1.0);
-  return p.log_scale ? std::exp(std::log(p.lower) + u * (std::log(p.upper) - std::log(p.lower)))
-                     : p.lower + u * (p.upper - p.lower);
-}
-
-double ToUnit(const FitParameter& p, double value) {
-  value = std::clamp(value, p.lower, p.upper);
-  const double u = p.log_scale ? (std::log(value) - std::log(p.lower)) / (std::log(p.upper) - std::log(p.lower))
-                               : (value - p.lower) / (p.upper - p.lower);
-  return std::clamp(u, 0.0, 1.0);
-}
 
 std::vector<double> Values(const std::vector<FitParameter>& parameters, const double* unit) {
   std::vector<double> values;
@@ -84,6 +72,42 @@ std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::ve
   return errors;
 }
 
+std::vector<std::vector<double>> ReplayObjective::Residuals(const std::vector<std::vector<Override>>& points) const {
+  std::vector<ReplayRequest> requests;
+  for (const std::vector<Override>& point : points) {
+    std::vector<Override> overrides = fixed_;
+    overrides.insert(overrides.end(), point.begin(), point.end());
+    for (const ReplayRun& run : runs_) requests.push_back({&run, overrides, /*log=*/true});
+  }
+  const std::vector<ReplayOutcome> outcomes = replays_.Replay(requests);
+  std::vector<std::vector<double>> residuals;
+  std::size_t next = 0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    std::vector<double>& point = residuals.emplace_back();
+    bool failed = false;
+    for (const ReplayRun& run : runs_) {
+      const ReplayOutcome& outcome = outcomes[next++];
+      failed = failed || !outcome.ok;
+      for (const std::string& motor : run.channels) {
+        const std::vector<double>& measured = run.run->joint_angle.at(motor);
+        const std::string path = "/Sim/" + run.run->agent + "/" + motor + "/JointAngle";
+        const std::vector<double>* simulated = nullptr;
+        for (const auto& [name, values] : outcome.columns) {
+          if (name == path) simulated = &values;
+        }
+        if (simulated == nullptr || simulated->size() < measured.size()) {
+          failed = true;
+          continue;
+        }
+        for (std::size_t row = 1; row < measured.size(); ++row) point.push_back((*simulated)[row] - measured[row]);
+      }
+    }
+    const bool finite = std::all_of(point.begin(), point.end(), [](double r) { return std::isfinite(r); });
+    if (failed || !finite) point.clear();
+  }
+  return residuals;
+}
+
 std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
   std::vector<Override> overrides;
   for (std::size_t i = 0; i < parameters.size(); ++i) {
@@ -121,10 +145,16 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   polish = pagmo::algorithm{pagmo::compass_search(budget, kPolishStart, kPolishStop, 0.5)}.evolve(polish);
   const auto polish_evaluations = polish.get_problem().get_fevals();
 
+  // 3. Least squares: Levenberg–Marquardt on the residuals, and the confidence intervals.
+  const PolishOutcome squares =
+      PolishLeastSquares(objective, parameters, Values(parameters, polish.champion_x().data()));
+
   FitOutcome outcome;
-  outcome.values = Values(parameters, polish.champion_x().data());
-  outcome.mse = polish.champion_f()[0];
-  outcome.evaluations = static_cast<int>(swarm_evaluations + polish_evaluations);
+  outcome.values = squares.values;
+  outcome.mse = std::min(squares.mse, polish.champion_f()[0]);
+  outcome.polish = squares.summary;
+  outcome.ci95 = squares.ci95;
+  outcome.evaluations = static_cast<int>(swarm_evaluations + polish_evaluations) + squares.evaluations;
   outcome.generations = options.generations;
   outcome.converged = polish_evaluations < budget;
   outcome.convergence =

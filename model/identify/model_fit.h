@@ -23,6 +23,10 @@ class ReplayObjective {
   /// scores kFailedPoint.
   std::vector<double> MeanSquaredErrors(const std::vector<std::vector<Override>>& points) const;
 
+  /// Per point, the residuals (simulated − measured joint angle, degrees) of every run's channels at every row after
+  /// the first, in run and channel order; empty for a point whose replay failed.
+  std::vector<std::vector<double>> Residuals(const std::vector<std::vector<Override>>& points) const;
+
   static constexpr double kFailedPoint = 1e6;
 
  private:
@@ -45,12 +49,17 @@ struct FitOutcome {
   bool converged = false;        ///< the local polish stopped because its step fell below 0.2 % of every
                                  ///< parameter's range, not because its budget ran out (see convergence)
   std::string convergence;       ///< why it counts as converged or not, one line
+  std::string polish;            ///< what the Levenberg–Marquardt polish did, one line
+  /// Per parameter: the 95 % confidence interval's half-width in its unit, NaN = not determined by the data
+  /// (least_squares_polish.h).
+  std::vector<double> ci95;
 };
 
 /// The assignments of `values` to `parameters`' paths.
 std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values);
 
-/// Minimises the objective over `parameters` (≥ 1). Passes on what the evaluator throws (orcs-gap's: broker::BatchClientError
+/// Minimises the objective over `parameters` (≥ 1): the swarm's global search, a compass search, then a
+/// Levenberg–Marquardt polish on the residuals with confidence intervals (least_squares_polish.h). Passes on what the evaluator throws (orcs-gap's: broker::BatchClientError
 /// when the broker is lost).
 FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
                const FitOptions& options);

@@ -1,0 +1,34 @@
+// The last stage of a fit (docs/gap.md, "How a fit works"): Levenberg–Marquardt on the replay residuals (Ceres),
+// from the point the global search ended at, and the parameters' 95 % confidence intervals from the Jacobian
+// there — which tell the report what the data cannot identify. Every Jacobian is one batch of replays (forward
+// differences, one point per parameter), so it runs on all workers at once like a generation of the swarm.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "model/identify/fit_parameter.h"
+#include "model/identify/model_fit.h"
+
+namespace orcs::identify {
+
+struct PolishOutcome {
+  std::vector<double> values;  ///< the polished point, in each parameter's unit (the start when nothing improved)
+  double mse = 0.0;            ///< its objective, deg²
+  int evaluations = 0;         ///< points replayed
+  bool improved = false;       ///< the polish lowered the objective
+  std::string summary;         ///< Ceres's termination, one line
+  /// Per parameter: the half-width of its 95 % confidence interval, in its unit, NaN when the data do not
+  /// determine it (a singular Jacobian direction). From σ²·(JᵀJ)⁻¹ with σ² the residuals' variance, widened for
+  /// their correlation from step to step (an AR(1) estimate: successive rows of a replay are not independent).
+  std::vector<double> ci95;
+};
+
+/// Polishes `start` (one value per parameter, in its unit). `iterations` bounds Ceres's iterations.
+PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                                 const std::vector<double>& start, int iterations = 15);
+
+/// Whether a fitted value is determined by the data: its interval is finite and narrower than the value itself.
+bool Identified(double value, double ci95);
+
+}  // namespace orcs::identify
