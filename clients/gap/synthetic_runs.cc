@@ -36,6 +36,8 @@ nlohmann::json SynthScenario(const Rig& rig, const std::vector<ValueAssignment>&
       {"values", values},
       {"log", {"/Sim/" + rig.agent + "/.*/(DesiredAngle|DesiredTorque|JointAngle)"}},
   };
+  // Under the servo model the firmware gain is an input of each run (docs/gap_measured_data.md): it is logged.
+  if (UsesServo(rig, model)) scenario["log"].push_back("/Servo/FirmwareKp");
   if (!rig.environment_xml.empty()) {
     scenario["environment"] = {{"file", rig.environment_name}, {"xml", rig.environment_xml}};
   }

@@ -11,8 +11,11 @@
 namespace orcs::identify {
 namespace {
 
-// Forward-difference step in the normalised box: 0.1 % of a parameter's (log-)range.
+// Forward-difference steps in the normalised box: 0.1 % of a parameter's (log-)range for the polish's Jacobians,
+// 1 % for the intervals' — a parameter whose effect shows in whole simulation steps (a backlash's width: the gap is
+// crossed a step earlier or later) changes no residual over 0.1 % and would look undetermined.
 constexpr double kDifferenceStep = 1e-3;
+constexpr double kIntervalDifferenceStep = 1e-2;
 // z of a two-sided 95 % interval.
 constexpr double kZ95 = 1.959964;
 
@@ -25,13 +28,13 @@ std::vector<double> ValuesAt(const std::vector<FitParameter>& parameters, const 
 // The point itself and, for the Jacobian, one point per parameter moved by the difference step (backwards at the
 // top of the box). Returns the steps taken.
 std::vector<double> DifferencePoints(const std::vector<FitParameter>& parameters, const double* unit,
-                                     std::vector<std::vector<Override>>& points) {
+                                     std::vector<std::vector<Override>>& points, double step = kDifferenceStep) {
   const std::size_t n = parameters.size();
   std::vector<double> steps(n);
   points.push_back(OverridesOf(parameters, ValuesAt(parameters, unit)));
   for (std::size_t i = 0; i < n; ++i) {
     std::vector<double> moved(unit, unit + n);
-    steps[i] = moved[i] + kDifferenceStep <= 1.0 ? kDifferenceStep : -kDifferenceStep;
+    steps[i] = moved[i] + step <= 1.0 ? step : -step;
     moved[i] += steps[i];
     points.push_back(OverridesOf(parameters, ValuesAt(parameters, moved.data())));
   }
@@ -105,7 +108,7 @@ std::vector<double> ConfidenceIntervals(const ReplayObjective& objective, const 
   const std::size_t n = parameters.size();
   std::vector<double> ci(n, std::numeric_limits<double>::quiet_NaN());
   std::vector<std::vector<Override>> points;
-  const std::vector<double> steps = DifferencePoints(parameters, unit.data(), points);
+  const std::vector<double> steps = DifferencePoints(parameters, unit.data(), points, kIntervalDifferenceStep);
   const std::vector<std::vector<double>> all = objective.Residuals(points);
   evaluations += static_cast<int>(points.size());
   const std::size_t m = all[0].size();
