@@ -5,7 +5,7 @@
 
 Reads REPORT_DIR/report.json and REPORT_DIR/traces/<run>.<motor, / as _>.csv (written by orcs-gap) and writes
   REPORT_DIR/plots/worst_channels.png      one panel per worst channel (up to 4), its first run's trace (runs
-                                           sorted by name): measured (dark grey) against the initial model
+                                           sorted by name; --run NAME shows that run's): measured (dark grey) against the initial model
                                            (before), the base parameters refitted (refit) and the model with
                                            the winning effect (after), the RMS of each in the title ("after" is
                                            the refit when no effect won); below it, on the same time axis, the
@@ -324,14 +324,21 @@ def plot_residuals(traces, rig, effect, quantity, text, out):
 def main(argv=None):
     parser = argparse.ArgumentParser(description="Plot an orcs-gap report (REPORT_DIR/report.json, traces/).")
     parser.add_argument("folder", help="the report folder orcs-gap wrote")
+    parser.add_argument("--run", help="show this run's trace in the panels (default: the first run by name)")
     arguments = parser.parse_args(argv)
     rig, effect, quantity, text, worst = read_report(os.path.join(arguments.folder, "report.json"))
     panels, pooled = [], []
     for motor in worst:
         files = trace_files(arguments.folder, motor)
         traces = [read_trace(path) for path in files]
+        shown = 0
+        if arguments.run is not None:
+            runs = [run_of(path, motor) for path in files]
+            if arguments.run not in runs:
+                fail(f"--run {arguments.run}: no such run in {arguments.folder}/traces (runs: {', '.join(runs)})")
+            shown = runs.index(arguments.run)
         if len(panels) < MAX_PANELS:
-            panels.append((motor, run_of(files[0], motor), traces[0]))
+            panels.append((motor, run_of(files[shown], motor), traces[shown]))
         pooled.extend(traces)
     plots = os.path.join(arguments.folder, "plots")
     os.makedirs(plots, exist_ok=True)

@@ -54,6 +54,9 @@ void AddRigOptions(CLI::App& app, GapOptions& o) {
   app.add_option("--env", o.rig.environment_file, "aseries: the ORCS XML environment the runs were made in");
   app.add_option("--pole-mass", o.rig.pole_mass, "pendulum: pole mass, kg (default 0.5)");
   app.add_option("--pole-length", o.rig.pole_length, "pendulum: pole length, m (default 0.3)");
+  app.add_flag("--start-measured", o.rig.start_measured,
+               "start each replay at the run's first measured angles (real logs; orcs-sim logs start at the built "
+               "pose)");
   app.add_option("--model", o.model, "value file of the current model (default: the original's)");
   app.add_option("--engine", o.engine, "physics engine of every run (/Simulation/Engine, over the model file)")
       ->transform(CLI::IsMember(scene::EngineNames(), CLI::ignore_case));

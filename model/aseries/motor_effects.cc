@@ -108,8 +108,14 @@ void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const J
 }  // namespace
 
 bool MotorEffects::any() const {
-  return transport_delay || dead_band || back_emf || stribeck || load_friction || back_drive || backlash ||
-         elasticity || rotor_inertia || lugre;
+  return transport_delay || dead_band || back_emf || stribeck || load_friction || gear_efficiency || back_drive ||
+         backlash || elasticity || rotor_inertia || lugre;
+}
+
+double GearEfficiencyFriction(const MotorEffects& effects, double torque, double stall) {
+  const double mu = std::clamp(effects.efficiency_coefficient, 0.0, 1.0);
+  const double q = std::clamp(effects.efficiency_curvature, 0.0, 1.0) * (1.0 - mu) / (2.0 * std::max(stall, 1e-9));
+  return mu * std::abs(torque) + q * torque * torque;
 }
 
 double LuGreFriction(const MotorEffects& effects, double rate, double dt, MotorEffectState& state) {
@@ -179,6 +185,10 @@ EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const Ser
   }
   if (effects.load_friction) {
     command.motor.friction_torque += std::max(effects.load_coefficient, 0.0) * std::abs(joint.motor_torque);
+  }
+  if (effects.gear_efficiency) {
+    const double stall = servo.enabled ? StallTorque(servo) : parameters.fmax_factor;
+    command.motor.friction_torque += GearEfficiencyFriction(effects, joint.motor_torque, stall);
   }
   if (effects.back_drive) {
     if (speed > kRestRate) effect_state.back_driven = joint.rate * joint.motor_torque < 0.0;

@@ -9,6 +9,10 @@
 //   BackEmf         the torque limit falls linearly with speed, to 0 at `NoLoadSpeed`
 //   Stribeck        extra friction `BreakawayTorque`·exp(−(ω/`Velocity`)²) that vanishes once the joint moves
 //   LoadFriction    extra friction `Coefficient`·|motor torque|: a gearbox whose friction grows with its load
+//   GearEfficiency  friction `Coefficient`·|τ| + q·τ² with q = `Curvature`·(1 − `Coefficient`)/(2·τs), τ the motor's
+//                   torque and τs its largest (the servo's stall torque, the original's FMaxFactor): a gear train
+//                   whose efficiency falls as its load grows. Curvature 0…1 keeps the output torque τ − friction
+//                   growing with τ all the way to τs (at 1 it levels off there): friction never eats the motor
 //   BackDrive       extra friction `Coefficient`·|motor torque| while the load drives the gear train backwards
 //                   (the joint turns against the motor's torque; at rest, the direction it last moved decides):
 //                   a worm-like gearbox that is harder to back-drive than to drive
@@ -46,6 +50,9 @@ struct MotorEffects {
   double stribeck_velocity = 0.1;  ///< rad/s over which it fades, /Effects/Stribeck/Velocity
   bool load_friction = false;    ///< /Effects/LoadFriction/Enabled
   double load_coefficient = 0.0;  ///< N·m of friction per N·m of motor torque, /Effects/LoadFriction/Coefficient
+  bool gear_efficiency = false;  ///< /Effects/GearEfficiency/Enabled
+  double efficiency_coefficient = 0.0;  ///< μ, N·m of friction per N·m of motor torque, /Effects/GearEfficiency/Coefficient
+  double efficiency_curvature = 0.0;    ///< q's share of its largest monotone value, 0…1, /Effects/GearEfficiency/Curvature
   bool back_drive = false;       ///< /Effects/BackDrive/Enabled
   double back_drive_coefficient = 0.0;  ///< N·m of friction per N·m of motor torque, back-driven, /Effects/BackDrive/Coefficient
   bool backlash = false;         ///< /Effects/Backlash/Enabled
@@ -66,7 +73,7 @@ struct MotorEffects {
   bool any() const;
 };
 
-inline constexpr std::array<ParameterField<MotorEffects>, 26> kMotorEffectsTable{{
+inline constexpr std::array<ParameterField<MotorEffects>, 29> kMotorEffectsTable{{
     {"/Effects/TransportDelay/Enabled", &MotorEffects::transport_delay},
     {"/Effects/TransportDelay/Delay", &MotorEffects::delay},
     {"/Effects/DeadBand/Enabled", &MotorEffects::dead_band},
@@ -78,6 +85,9 @@ inline constexpr std::array<ParameterField<MotorEffects>, 26> kMotorEffectsTable
     {"/Effects/Stribeck/Velocity", &MotorEffects::stribeck_velocity},
     {"/Effects/LoadFriction/Enabled", &MotorEffects::load_friction},
     {"/Effects/LoadFriction/Coefficient", &MotorEffects::load_coefficient},
+    {"/Effects/GearEfficiency/Enabled", &MotorEffects::gear_efficiency},
+    {"/Effects/GearEfficiency/Coefficient", &MotorEffects::efficiency_coefficient},
+    {"/Effects/GearEfficiency/Curvature", &MotorEffects::efficiency_curvature},
     {"/Effects/BackDrive/Enabled", &MotorEffects::back_drive},
     {"/Effects/BackDrive/Coefficient", &MotorEffects::back_drive_coefficient},
     {"/Effects/Backlash/Enabled", &MotorEffects::backlash},
@@ -117,6 +127,9 @@ struct MotorEffectState {
   bool resting = true;        ///< LuGre: the joint was at rest in the last step (its bristles held the load)
   bool back_driven = false;   ///< BackDrive: the joint last moved against the motor's torque
 };
+
+/// GearEfficiency's friction (N·m) at motor torque `torque` (N·m) for a motor whose largest torque is `stall`.
+double GearEfficiencyFriction(const MotorEffects& effects, double torque, double stall);
 
 /// LuGre's friction torque (N·m, ≥ 0, applied as the brake) for a step of `dt` s at joint rate `rate` (rad/s). At
 /// rest it is the stiction Fs; the first moving step starts from bristles loaded to Fs in the direction of motion

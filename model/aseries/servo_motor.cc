@@ -20,6 +20,10 @@ double DutyLimit(const ServoParameters& servo, double desired_torque_raw) {
 
 }  // namespace
 
+double StallTorque(const ServoParameters& servo) {
+  return std::max(servo.torque_constant, kTiny) * std::max(servo.supply_voltage, 0.0) / std::max(servo.resistance, kTiny);
+}
+
 double ServoDuty(const ServoParameters& servo, double error, double error_integral, double error_rate,
                  double desired_torque_raw) {
   const double limit = DutyLimit(servo, desired_torque_raw);

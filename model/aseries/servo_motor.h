@@ -65,6 +65,9 @@ struct ServoCommand {
   double duty = 0.0;        ///< the PWM duty, −1…1 (0 when limp)
 };
 
+/// The motor's torque at full duty and rest, kt·V/R, N·m.
+double StallTorque(const ServoParameters& servo);
+
 /// The PWM duty the firmware commands for a position error (rad), its integral (rad·s) and rate (rad/s), clipped
 /// to ±PwmLimit·clamp(desired_torque, 0, 1).
 double ServoDuty(const ServoParameters& servo, double error, double error_integral, double error_rate,

@@ -1,5 +1,6 @@
 #include "model/evaluation/evaluation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -145,6 +146,23 @@ void StartPose(const scene::ParameterSet& set, SetRun& run, SetOutcome& outcome)
   }
 }
 
+// The scenario's fixed start pose ("start_angles"): the named motors posed, the others left at the built pose. A
+// drawn start pose (StartPose) then poses every motor again, so the two do not combine; scenarios use one or the
+// other (a replay uses the fixed one).
+void StartAngles(const scene::Scenario& scenario, SetRun& run) {
+  const std::vector<std::string>& motors = run.simulation.agent(run.agent).motor_names();
+  std::vector<double> degrees(motors.size(), 0.0);
+  for (const auto& [motor, angle] : scenario.start_angles) {
+    const auto found = std::find(motors.begin(), motors.end(), motor);
+    if (found == motors.end()) {
+      throw InputError(scenario.source, 0, "field 'start_angles." + motor + "' expected a motor of agent '" +
+                                               scenario.agent + "', found none of that name");
+    }
+    degrees[static_cast<std::size_t>(found - motors.begin())] = angle;
+  }
+  run.simulation.SetAgentJointAngles(run.agent, degrees);
+}
+
 // A hang lasts this long, far beyond any time limit a test sets, and then stops by itself.
 constexpr std::chrono::minutes kHangDuration{10};
 
@@ -177,6 +195,7 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
               SetOutcome& outcome, Clock::time_point deadline, std::size_t log_bytes) {
   scene::Simulation& simulation = run.simulation;
   simulation.Reset(SetSeed(request.seed, k));
+  if (!request.scenario.start_angles.empty()) StartAngles(request.scenario, run);
   if (set != nullptr) StartPose(*set, run, outcome);
   run.controller->Reset();
   run.fitness->Start(simulation);

@@ -28,6 +28,11 @@ const std::vector<EffectDescription>& EffectCatalogue() {
         {"/Effects/LuGre/CoulombTorque", "N·m", 0.002, 0.3, true},
         {"/Effects/LuGre/BristleStiffness", "N·m/rad", 1.0, 1000.0, true}}},
       // New with the servo model; the original model's diagnoses keep their nine candidates.
+      {"GearEfficiency", "gearbox friction grows with the transmitted torque, faster under high load", "load",
+       {{"/Effects/GearEfficiency/Coefficient", "1", 0.01, 1.0, true},
+        {"/Effects/GearEfficiency/Curvature", "1", 0.0, 1.0, false}},
+       false,
+       true},
       {"BackDrive", "the gearbox brakes harder when the load drives it backwards", "load",
        {{"/Effects/BackDrive/Coefficient", "1", 0.01, 1.0, true}}, false, true},
   };

@@ -84,6 +84,7 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
   Rig rig;
   rig.kind = options.kind;
   rig.agent = agent;
+  rig.start_measured = options.start_measured;
   if (options.kind == "pendulum") {
     rig.environment_name = "(pendulum rig)";
     rig.environment_xml = PendulumXml(options, agent);
@@ -147,6 +148,9 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
       {"values", ValuesObject(model)},
   };
   AddFirmwareGain(rig, run, model, scenario["values"]);
+  if (rig.start_measured) {
+    for (const std::string& motor : replay.channels) scenario["start_angles"][motor] = run.joint_angle.at(motor).front();
+  }
   if (!rig.environment_xml.empty()) {
     scenario["environment"] = {{"file", rig.environment_name}, {"xml", rig.environment_xml}};
   }

@@ -24,6 +24,9 @@ struct RigOptions {
   std::string environment_file;  ///< aseries: an ORCS XML environment; "" = one A-Series standing on the floor
   double pole_mass = 0.5;        ///< pendulum: kg
   double pole_length = 0.3;      ///< pendulum: m
+  /// Each replay starts with the measured motors at the run's first measured angles (scenario "start_angles"), as
+  /// a real robot starts where it was; false: at the built pose, as an orcs-sim log does (its row 0 is that pose).
+  bool start_measured = false;
 };
 
 /// The rig, ready to put into a scenario.
@@ -34,6 +37,7 @@ struct Rig {
   std::string agent;             ///< the agent the runs belong to
   std::vector<std::string> motors;  ///< its motors in input order
   double step = 0.01;            ///< s per simulation step under the model (/Simulation/TimeStepSize)
+  bool start_measured = false;   ///< RigOptions::start_measured
 };
 
 /// Builds the rig for agent `agent` under the model's values and checks it has that agent. Throws InputError for

@@ -255,7 +255,7 @@ FaultInjection ReadFault(const JsonNode& node) {
 Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode root(resolved, "", source);
   root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
-                   "randomisation", "log", "genome", "fault", "evolution", "record"});
+                   "randomisation", "start_angles", "log", "genome", "fault", "evolution", "record"});
   Scenario scenario;
   scenario.source = source;
   scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
@@ -280,6 +280,15 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
   scenario.fitness = fitness.value();
   ReadFitnessAggregate(fitness, scenario);
   if (root.Has("randomisation")) scenario.randomisation = ReadRandomisation(root.At("randomisation"));
+  if (root.Has("start_angles")) {
+    const JsonNode angles = root.At("start_angles");
+    if (!angles.value().is_object()) angles.Fail("an object of motor names and degrees");
+    for (const auto& [motor, value] : angles.value().items()) {
+      const double degrees = angles.At(motor).Number("degrees, −150…150");
+      if (!(std::abs(degrees) <= 150.0)) angles.At(motor).Fail("degrees, −150…150");
+      scenario.start_angles.emplace_back(motor, degrees);
+    }
+  }
   if (root.Has("log")) {
     for (const JsonNode& pattern : root.At("log").Elements()) {
       scenario.log.push_back(pattern.String("a regular expression"));

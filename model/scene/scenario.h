@@ -83,6 +83,9 @@ struct Scenario {
   Aggregate aggregate = Aggregate::kMean;  ///< over the parameter sets
   double quantile = 0.5;         ///< for Aggregate::kQuantile, 0…1
   Randomisation randomisation;
+  /// "start_angles": motor name → degrees, the pose every parameter set starts in (before a drawn start pose is
+  /// added): a replay of a measured run starts where the real joint was. Empty = the built pose.
+  std::vector<std::pair<std::string, double>> start_angles;
   std::vector<std::string> log;  ///< regular expressions of values logged every step ([] = no log)
   nlohmann::json genome;         ///< "genome": the genome of a job that brings none (flat array or network); null = none
   FaultInjection fault;          ///< "fault": a test hook for crash isolation; kind kNone = none

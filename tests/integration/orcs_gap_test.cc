@@ -4,8 +4,9 @@
 // the held-out gap must fall by at least half. Mistuned base parameters alone must give "no missing effect", and
 // two hidden effects at once must name the stronger one. Every case runs on both engines (issue 20): the runs are
 // made and diagnosed on ODE, and made and diagnosed on MuJoCo (orcs-gap --engine). Each diagnosis fits every
-// candidate (about 6,000 replay jobs, 60–80 s on 2 cores). Seven effects are named on this rig; Stribeck friction is not yet (docs/gap.md, "What
-// it cannot tell yet"), so it is not claimed here.
+// candidate (about 6,000–11,000 replay jobs, 45–150 s on 2 cores). Every effect of the catalogue is named on
+// this rig (docs/gap.md, "What it can and cannot tell"): since the coarse scan and the least-squares polish
+// (issue 23) also backlash of 1°, 2° and 4°, Stribeck friction and LuGre friction.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -191,6 +192,24 @@ INSTANTIATE_TEST_SUITE_P(
         HiddenCase{"LoadFriction", {"--effect", "LoadFriction", "--set", "/Effects/LoadFriction/Coefficient=0.1"},
                    "LoadFriction"},
         HiddenCase{"Backlash", {"--effect", "Backlash", "--set", "/Effects/Backlash/Width=3.4"}, "Backlash", 0.5, 0.6},
+        // Issue 23: widths around the one that used to stop in a local minimum (2° fitted as 0.30°), found since the
+        // coarse scan. A 1° gap is below the spec's noise (its held-out gap is 0.34° against σ 0.189°): measured
+        // with a 12-bit encoder's noise it is named and halved.
+        HiddenCase{"Backlash1DegreeQuietSensor",
+                   {"--effect", "Backlash", "--set", "/Effects/Backlash/Width=1", "--set",
+                    "/AngularMotor/SensorNoiseDeviation=0.05"},
+                   "Backlash"},
+        HiddenCase{"Backlash2Degrees", {"--effect", "Backlash", "--set", "/Effects/Backlash/Width=2"}, "Backlash"},
+        HiddenCase{"Backlash4Degrees", {"--effect", "Backlash", "--set", "/Effects/Backlash/Width=4"}, "Backlash"},
+        HiddenCase{"Stribeck",
+                   {"--effect", "Stribeck", "--set", "/Effects/Stribeck/BreakawayTorque=0.1", "--set",
+                    "/Effects/Stribeck/Velocity=0.2"},
+                   "Stribeck"},
+        HiddenCase{"LuGre",
+                   {"--effect", "LuGre", "--set", "/Effects/LuGre/StictionTorque=0.12", "--set",
+                    "/Effects/LuGre/CoulombTorque=0.04", "--set", "/Effects/LuGre/BristleStiffness=50", "--set",
+                    "/Effects/LuGre/StribeckVelocity=0.1"},
+                   "LuGre"},
         HiddenCase{"MistunedBaseOnly",
                    {"--set", "/AngularMotor/PID/Proportional=14", "--set", "/AngularMotor/FMaxFactor=0.9"},
                    ""},

@@ -829,3 +829,32 @@ TEST_P(MotorEffectsRigTest, RotorInertiaSlowsATorqueLimitedStart) {
 
 }  // namespace
 }  // namespace orcs::aseries
+
+namespace orcs::aseries {
+namespace {
+
+TEST(MotorEffectsTest, GearEfficiencyKeepsTheOutputGrowingUpToTheStallTorque) {
+  // Friction μ·|τ| + q·τ² with q = Curvature·(1 − μ)/(2·τs): the output τ − friction grows with τ up to τs, and at
+  // Curvature 1 levels off exactly there.
+  MotorEffects effects;
+  effects.efficiency_coefficient = 0.4;
+  effects.efficiency_curvature = 1.0;
+  const double stall = 1.2;
+  EXPECT_NEAR(GearEfficiencyFriction(effects, 0.5, stall), 0.4 * 0.5 + 0.6 / 2.4 * 0.25, 1e-12);
+  EXPECT_EQ(GearEfficiencyFriction(effects, -0.5, stall), GearEfficiencyFriction(effects, 0.5, stall));
+  double previous = 0.0;
+  for (double torque = 0.01; torque <= stall; torque += 0.01) {
+    const double output = torque - GearEfficiencyFriction(effects, torque, stall);
+    EXPECT_GE(output, previous) << torque;
+    previous = output;
+  }
+  const auto slope_at = [&](double torque) {
+    return (GearEfficiencyFriction(effects, torque + 1e-6, stall) - GearEfficiencyFriction(effects, torque, stall)) / 1e-6;
+  };
+  EXPECT_NEAR(slope_at(stall), 1.0, 1e-5) << "at the stall torque the friction takes all of a further newton-metre";
+  effects.efficiency_curvature = 0.0;
+  EXPECT_NEAR(GearEfficiencyFriction(effects, 0.5, stall), 0.2, 1e-12) << "no curvature: load friction";
+}
+
+}  // namespace
+}  // namespace orcs::aseries

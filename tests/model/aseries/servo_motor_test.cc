@@ -39,7 +39,7 @@ ServoParameters Xl330() {
   return servo;
 }
 
-double StallTorque(const ServoParameters& s) { return s.torque_constant * s.supply_voltage / s.resistance; }
+double ExpectedStall(const ServoParameters& s) { return s.torque_constant * s.supply_voltage / s.resistance; }
 
 TEST(ServoMotorTest, DutyIsTheGainTimesTheErrorClippedToThePwmLimitTimesTheTorqueEnable) {
   ServoParameters servo = Xl330();
@@ -143,7 +143,7 @@ double Equilibrium(const ServoParameters& s, double gravity_torque, double goal_
   double high = goal_rad;
   for (int i = 0; i < 100; ++i) {
     const double theta = 0.5 * (low + high);
-    const double motor = StallTorque(s) * std::min(1.0, s.firmware_kp * s.kp_scale * (goal_rad - theta));
+    const double motor = ExpectedStall(s) * std::min(1.0, s.firmware_kp * s.kp_scale * (goal_rad - theta));
     (motor > gravity_torque * std::sin(theta) ? low : high) = theta;
   }
   return 0.5 * (low + high);
@@ -177,7 +177,7 @@ TEST_P(ServoRigTest, AFullDutySwingFollowsTheTorqueSpeedLine) {
     ASSERT_TRUE(rig.Step());
     const double rate = rig.Rate();
     const double line = servo.torque_constant * (servo.supply_voltage - servo.back_emf_constant * rate) / servo.resistance;
-    EXPECT_NEAR(rig.simulation().physics().joint_motor_torque(rig.joint()), line, 0.01 * StallTorque(servo))
+    EXPECT_NEAR(rig.simulation().physics().joint_motor_torque(rig.joint()), line, 0.01 * ExpectedStall(servo))
         << "step " << i << " at " << rate << " rad/s";
     fastest = std::max(fastest, rate);
   }
