@@ -85,8 +85,8 @@ def table(runs, references):
     return "\n".join(lines) + "\n"
 
 
-def plot(runs, references, out):
-    figure, axes = plt.subplots(1, len(runs), figsize=(6.2 * len(runs), 4.6), squeeze=False)
+def build_figure(runs, references):
+    figure, axes = plt.subplots(1, len(runs), figsize=(6.2 * len(runs), 5.4), squeeze=False)
     for index, (label, report) in enumerate(runs):
         ax = axes[0][index]
         names = sorted(report["runs"])
@@ -101,26 +101,30 @@ def plot(runs, references, out):
         for (ref_label, values), (colour, style) in zip(references, REFERENCE_STYLES):
             if index < len(values):
                 ax.axhline(values[index], color=colour, linestyle=style, linewidth=1.5,
-                           label=f"{ref_label}: {values[index]:.1f}")
+                           label=f"{ref_label} (mean of 4): {values[index]:.1f}")
                 top = max(top, values[index])
         ax.set_xticks(range(len(names)))
         ax.set_xticklabels([n.rsplit("_kp", 1)[0] for n in names], rotation=15)
-        ax.set_ylim(0, top * 1.45)
+        ax.set_ylim(0, top * 1.1)
         ax.set_ylabel("mean absolute position error (mrad, lower is better)")
         ax.set_title(f"{label}\nnamed effect: {report['effect']}")
-        ax.legend(loc="upper left", fontsize=8, ncol=2, frameon=True)
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), fontsize=8, ncol=2, frameon=False)
     figure.suptitle("XL330 pendulum: a model fitted at one firmware gain, scored on the four runs at the other")
     figure.tight_layout()
-    figure.savefig(out, dpi=110)
+    return figure
 
 
-def main():
+def plot(runs, references, out):
+    build_figure(runs, references).savefig(out, dpi=110)
+
+
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--run", nargs=2, action="append", metavar=("LABEL", "REPORT_DIR"), required=True)
     parser.add_argument("--reference", action="append", default=[], metavar="LABEL=MRAD,MRAD")
     parser.add_argument("--out", required=True)
     parser.add_argument("--table")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     runs = [(label, read_report(folder)) for label, folder in args.run]
     references = [parse_reference(text) for text in args.reference]
     plot(runs, references, args.out)

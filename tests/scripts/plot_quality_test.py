@@ -347,6 +347,56 @@ class GeneralisationPlotTest(TempDirTest):
 
 
 @unittest.skipUnless(HAVE_MATPLOTLIB, NO_MATPLOTLIB)
+class ServoGainsPlotTest(TempDirTest):
+    """scripts/plot_servo_gains.py: held-out errors of two orcs-gap reports beside published references."""
+
+    def setUp(self):
+        super().setUp()
+        self.module = load_script("plot_servo_gains")
+        for name, scale, effect in (("a", 1.0, "GearEfficiency"), ("b", 2.0, None)):
+            runs = {}
+            for version, factor in (("before", 3.0), ("refit", 2.0), ("after", 1.0)):
+                runs[version] = {"runs": [{"run": "fit_run", "held_out": False, "mean_absolute_mrad": 5.0},
+                                          {"run": "x_kp4", "held_out": True, "mean_absolute_mrad": 10 * factor * scale},
+                                          {"run": "y_kp4", "held_out": True, "mean_absolute_mrad": 30 * factor * scale}]}
+            self.write(f"{name}/report.json", json.dumps({"gap": runs, "verdict": {"effect": effect}}))
+
+    def arguments(self):
+        return ["--run", "one way", os.path.join(self.dir, "a"), "--run", "the other", os.path.join(self.dir, "b"),
+                "--reference", "M1=50,90", "--reference", "M3=25,45"]
+
+    def test_every_held_out_run_is_a_bar_the_references_are_lines_and_no_legend_covers_data(self):
+        runs = [("one way", self.module.read_report(os.path.join(self.dir, "a"))),
+                ("the other", self.module.read_report(os.path.join(self.dir, "b")))]
+        figure = self.module.build_figure(runs, [("M1", [50.0, 90.0]), ("M3", [25.0, 45.0])])
+        first, second = figure.axes
+        self.assertEqual(first.get_ylabel(), "mean absolute position error (mrad, lower is better)")
+        self.assertEqual(first.get_title(), "one way\nnamed effect: GearEfficiency")
+        self.assertEqual(second.get_title(), "the other\nnamed effect: none")
+        self.assertEqual([t.get_text() for t in first.get_xticklabels()], ["x", "y"])
+        self.assertEqual(len(first.patches), 6, "two held-out runs × three model versions; the fit run is left out")
+        self.assertIn("final model (mean 20.0)", legend_texts(figure))
+        self.assertIn("M3 (mean of 4): 45.0", legend_texts(figure))
+        self.assertEqual(legends_covering_axes(figure), [])
+
+    def test_the_table_and_bad_input(self):
+        out = os.path.join(self.dir, "figure.png")
+        table = os.path.join(self.dir, "table.md")
+        run = run_script("plot_servo_gains", *self.arguments(), "--out", out, "--table", table)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertTrue(is_png(out))
+        with open(table, encoding="utf-8") as f:
+            text = f.read()
+        self.assertIn("| one way | **mean** | **60.0** | **40.0** | **20.0** | GearEfficiency |", text)
+        self.assertIn("| the other | M3 (mean, published) | | | 45.0 | |", text)
+        self.write("b/report.json", "{}")
+        code, _, err = call_main(self.module, *self.arguments(), "--out", out)
+        self.assertEqual(code, 2)
+        self.assertEqual(err, f"plot_servo_gains.py: {os.path.join(self.dir, 'b')}/report.json: not an orcs-gap report "
+                              "(missing 'gap')\n")
+
+
+@unittest.skipUnless(HAVE_MATPLOTLIB, NO_MATPLOTLIB)
 class ComparePlotTest(TempDirTest):
     """scripts/plot_compare.py (orcs-batch compare): B against A with the line B = A, and each job's change."""
 

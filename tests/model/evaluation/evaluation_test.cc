@@ -86,6 +86,46 @@ TEST(EvaluationTest, NetworkScenarioRunsItsSetsAndLogs) {
   EXPECT_EQ(outcome.fitness, std::min({outcome.sets[0].fitness, outcome.sets[1].fitness, outcome.sets[2].fitness}));
 }
 
+// A replay of a measured run starts where the real joint was (scenario "start_angles", docs/scenarios.md): the
+// first logged JointAngle is the start angle; an unknown motor is refused naming the field.
+TEST(EvaluationTest, StartAnglesPoseTheNamedMotorsBeforeTheRun) {
+  const std::string xml =
+      "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n    <Pendulum name=\"Pendulum\" "
+      "position=\"(0,0.5,0)\" poleMass=\"0.5\" poleLength=\"0.3\"/>\n  </Agent>\n</ORCS>\n";
+  nlohmann::json scenario = {
+      {"agent", "Pendulum"},
+      {"duration", 0.05},
+      {"environment", {{"file", "pendulum"}, {"xml", xml}}},
+      {"controller", {{"type", "keyframes"}, {"record", {{"file", "r.csv"}, {"text", "0,-12.5,1\n"}}}}},
+      {"fitness", {{"terms", nlohmann::json::array({{{"type", "energy"}}})}}},
+      {"values", {{"/AngularMotor/IncludeNoise", false}}},
+      {"start_angles", {{"Motor", -12.5}}},
+      {"log", {"/Sim/Pendulum/Motor/JointAngle"}},
+  };
+  EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome posed = Evaluate(request);
+  ASSERT_EQ(posed.status, EvaluationStatus::kOk) << posed.message;
+  std::istringstream log(posed.sets[0].log_csv);
+  std::string line;
+  while (std::getline(log, line) && line[0] == '#') {
+  }
+  EXPECT_EQ(line, "0,-12.5") << posed.sets[0].log_csv;
+
+  scenario["start_angles"] = {{"Elbow", 3.0}};
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome unknown = Evaluate(request);
+  EXPECT_NE(unknown.status, EvaluationStatus::kOk);
+  EXPECT_THAT(unknown.message, HasSubstr("field 'start_angles.Elbow' expected a motor of agent 'Pendulum'"));
+  scenario["start_angles"] = {{"Motor", 200.0}};
+  try {
+    scene::ParseScenario(scenario, "replay.json");
+    ADD_FAILURE() << "200° accepted";
+  } catch (const std::exception& error) {
+    EXPECT_THAT(error.what(), HasSubstr("start_angles.Motor"));
+  }
+}
+
 // The logs of a job share one bound over all its sets: the first set's log ends with the truncation line once the
 // bound is reached, the later sets' logs hold only their header and that line; the fitness is the same as unbounded.
 TEST(EvaluationTest, AJobsLogsStopAtTheirBoundAndTheRunGoesOn) {
