@@ -185,6 +185,8 @@ struct SeriesSource {
   double constant = 0.0;                  // the value when field is −1
   std::vector<double>* values = nullptr;  // the run's series it fills
   double max_magnitude = kUnbounded;      // a larger |value| is not a measurement
+  // A mapped goal: an empty cell is a limp row if this plan entry (its motor's torque) says 0 there; −1 = never
+  int limp_torque = -1;
 };
 
 // A joint angle (measured or commanded) beyond ±360° is not a measurement of a hinge; such a value (1e308° in a
@@ -466,6 +468,7 @@ std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m,
       plan.push_back(MappedSeries(*c.desired_angle, ChannelField(i, "desired_angle"), table, m, source,
                                   run.desired_angle[c.motor]));
       plan.back().max_magnitude = kMaxAngleDegrees;
+      plan.back().limp_torque = static_cast<int>(plan.size());  // the torque, next
       plan.push_back(MappedSeries(*c.desired_torque, ChannelField(i, "desired_torque"), table, m, source,
                                   run.desired_torque[c.motor]));
     }
@@ -504,6 +507,24 @@ double ValueOf(const SeriesSource& s, const std::vector<std::string>& fields, co
   return value;
 }
 
+// An empty goal cell of a mapped run: the servo was limp there, which only its torque column can say (0 = torque
+// off). The goal then stays the last one given (0 before any), since a limp servo ignores it. Without a torque
+// column saying 0 the row would be replayed holding a made-up goal: that is an error naming the line and column.
+void FillLimpGoal(const SeriesSource& goal, const SeriesSource& torque, const std::string& source, int line) {
+  std::vector<double>& goals = *goal.values;
+  const double torque_value = torque.values->back();
+  if (torque.field < 0 || !(torque_value <= 0.0)) {
+    const std::string said = torque.field < 0 ? "the mapping gives its torque as a constant"
+                                              : "column '" + torque.column + "' says " + text::FormatDouble(torque_value) +
+                                                    " (torque on)";
+    throw InputError(source, line,
+                     "column '" + goal.column + "' is empty, but " + said +
+                         ": an empty goal is a limp segment only where a torque-enable column says 0 — map "
+                         "'desired_torque' to the log's torque-enable column");
+  }
+  goals.back() = goals.size() >= 2 ? goals[goals.size() - 2] : 0.0;
+}
+
 void ReadRows(const Table& table, const std::vector<SeriesSource>& plan, char delimiter, const std::string& source,
               MeasuredRun& run) {
   for (const SeriesSource& s : plan) s.values->reserve(table.rows.size());
@@ -514,7 +535,13 @@ void ReadRows(const Table& table, const std::vector<SeriesSource>& plan, char de
                        "expected " + std::to_string(table.columns.size()) + " fields, found " +
                            std::to_string(fields.size()));
     }
-    for (const SeriesSource& s : plan) s.values->push_back(ValueOf(s, fields, source, row.number));
+    for (const SeriesSource& s : plan) {
+      const bool limp = s.limp_torque >= 0 && s.field >= 0 && text::Trim(fields[static_cast<size_t>(s.field)]).empty();
+      s.values->push_back(limp ? std::nan("") : ValueOf(s, fields, source, row.number));
+    }
+    for (const SeriesSource& s : plan) {
+      if (s.limp_torque >= 0 && std::isnan(s.values->back())) FillLimpGoal(s, plan[static_cast<size_t>(s.limp_torque)], source, row.number);
+    }
     run.lines.push_back(row.number);
   }
 }

@@ -545,6 +545,32 @@ TEST(MeasuredRunTest, AFirmwareGainMissingFromTheHeaderOrChangingWithinARunIsOne
             "m.json: field 'channels[0].joint_angle.header' expected a column or a constant, found a header key");
 }
 
+TEST(MeasuredRunTest, AnEmptyGoalIsALimpRowOnlyWhereTheTorqueEnableColumnSays0) {
+  const ColumnMapping header = Xl330Mapping(R"({"header": "firmware_kp"})");
+  const std::string head =
+      "# firmware_kp=100\ntime_s,goal_deg,position_deg,speed_deg_s,load,input_volts,temperature_c,torque_enable\n";
+  const MeasuredRun run =
+      ParseMeasuredRun(head + "0,5,0,0,0,7.4,30,1\n0.005,,-1,0,0,7.4,30,0\n0.01,,-2,0,0,7.4,30,0\n", "limp.csv", &header);
+  EXPECT_THAT(run.desired_angle.at("Motor"), ElementsAre(5.0, 5.0, 5.0)) << "a limp servo keeps its last goal";
+  EXPECT_THAT(run.desired_torque.at("Motor"), ElementsAre(1.0, 0.0, 0.0));
+  EXPECT_EQ(InputErrorOf([&] {
+              ParseMeasuredRun(head + "0,5,0,0,0,7.4,30,1\n0.005,,-1,0,0,7.4,30,1\n", "limp.csv", &header);
+            }),
+            "limp.csv:4: column 'goal_deg' is empty, but column 'torque_enable' says 1 (torque on): an empty goal is a "
+            "limp segment only where a torque-enable column says 0 — map 'desired_torque' to the log's torque-enable "
+            "column");
+  const ColumnMapping constant_torque = Mapping(
+      R"({"agent": "Pendulum", "time": {"column": "time_s"}, "channels": [{"motor": "Motor",
+          "desired_angle": {"column": "goal_deg"}, "desired_torque": {"constant": 1},
+          "joint_angle": {"column": "position_deg"}}]})");
+  EXPECT_EQ(InputErrorOf([&] {
+              ParseMeasuredRun(head + "0,5,0,0,0,7.4,30,1\n0.005,,-1,0,0,7.4,30,0\n", "limp.csv", &constant_torque);
+            }),
+            "limp.csv:4: column 'goal_deg' is empty, but the mapping gives its torque as a constant: an empty goal is "
+            "a limp segment only where a torque-enable column says 0 — map 'desired_torque' to the log's "
+            "torque-enable column");
+}
+
 TEST(MeasuredRunTest, RunsMustShareAgentAndStep) {
   EXPECT_NO_THROW(CheckRunsAgree({}));
   EXPECT_NO_THROW(CheckRunsAgree({RunOf("a.csv", "Humanoid", 0.01), RunOf("b.csv", "Humanoid", 0.01 + 5e-10)}));
