@@ -221,8 +221,10 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
   for (const ModelScore& s : d.candidates) row(s);
   md << "\nScore: held-out RMS² × (1 + " << options.penalty_per_parameter
      << " × added parameters); an effect is named when its score is below " << options.win_ratio
-     << " × the refit's. Fits: particle swarm (pagmo2 pso_gen), " << options.fit.generations << " generations, seed "
-     << options.fit.seed << ". " << d.jobs << " replay jobs in " << text::FormatDouble(std::round(d.seconds * 10) / 10)
+     << " × the refit's. Fits: each effect's main parameter scanned over its range, then a particle swarm (pagmo2 "
+     << "pso_gen), " << options.fit.generations << " generations, seed " << options.fit.seed
+     << ", a compass search and a Levenberg–Marquardt polish (Ceres); ± is the 95 % confidence interval from the "
+     << "Jacobian. " << d.jobs << " replay jobs in " << text::FormatDouble(std::round(d.seconds * 10) / 10)
      << " s.\n\nPlots: `scripts/plot_gap.py DIR` → DIR/plots/.\n";
   return md.str();
 }
