@@ -104,13 +104,14 @@ export function haveBinaries(...names) {
   return names.every((n) => existsSync(path.join(binDir, n)));
 }
 
-export async function launchBrowser() {
+export async function launchBrowser(extraArgs = []) {
   return chromium.launch({
     executablePath: chromiumPath,
     // Software compositing: the page's WebGL still runs on SwiftShader, but the browser does not composite the
     // whole window through it every frame (measured: a blank page's requestAnimationFrame 37 → 61 per second
     // on a busy 2-core machine).
-    args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox', '--disable-gpu-compositing'],
+    args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox', '--disable-gpu-compositing',
+      ...extraArgs],
   });
 }
 
