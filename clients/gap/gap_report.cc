@@ -71,7 +71,8 @@ nlohmann::json ScoreJson(const ModelScore& s) {
           {"holdout_rms", RoundedOrNull(s.holdout_rms)},
           {"score", RoundedOrNull(s.score)},
           {"fit", {{"generations", s.fit.generations}, {"evaluations", s.fit.evaluations},
-                   {"converged", s.fit.converged}, {"convergence", s.fit.convergence}, {"polish", s.fit.polish}}}};
+                   {"converged", s.fit.converged}, {"abandoned", s.fit.abandoned}, {"convergence", s.fit.convergence},
+                   {"polish", s.fit.polish}}}};
 }
 
 // The motors of the worst channels, worst first, without repeats (for the plots).
@@ -150,6 +151,8 @@ nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOpt
         {"penalty_per_parameter", options.penalty_per_parameter},
         {"win_ratio", options.win_ratio},
         {"generations", options.fit.generations},
+        {"stall_generations", options.fit.stall_generations},
+        {"abandon_share", std::isfinite(options.abandon_share) ? nlohmann::json(options.abandon_share) : nullptr},
         {"seed", options.fit.seed}}},
       {"cost", {{"seconds", d.seconds}, {"jobs", d.jobs}}},
   };
@@ -164,6 +167,24 @@ std::string ModelValueFile(const Diagnosis& d, const std::vector<ValueAssignment
   for (const Override& value : d.model_values) file << value.first << "=" << value.second << "\n";
   return file.str();
 }
+
+namespace {
+
+// The early stops of --early-stop, as said in report.md ("" without them).
+std::string EarlyStops(const DiagnosisOptions& options) {
+  std::ostringstream text;
+  if (options.fit.stall_generations > 0) {
+    text << " at most, stopping when its best falls by less than " << options.fit.stall_tolerance * 100.0 << " % over "
+         << options.fit.stall_generations << " generations";
+  }
+  if (std::isfinite(options.abandon_share)) {
+    text << "; a candidate still above " << options.abandon_share * 100.0 << " % of the refit's fit error after "
+         << options.fit.abandon_after << " generations is abandoned";
+  }
+  return text.str();
+}
+
+}  // namespace
 
 std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOptions& options) {
   std::ostringstream md;
@@ -209,11 +230,13 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
   const auto row = [&](const ModelScore& s) {
     md << "| " << s.label << " | " << s.added_parameters << " | " << Deg(s.fit_rms) << " | " << Deg(s.holdout_rms)
        << " | " << text::FormatDouble(std::round(s.score / d.base.score * 1000.0) / 1000.0) << " | "
-       << (s.fit.converged ? "yes" : "no") << " |";
+       << (s.fit.abandoned ? "abandoned after " + std::to_string(s.fit.generations) + " generations"
+                           : s.fit.converged ? "yes" : "no")
+       << " |";
     for (const FittedValue& v : s.values) {
       md << " " << v.path.substr(v.path.rfind('/') + 1) << " " << Digits(v.value, 4)
          << (std::isfinite(v.ci95) ? " ± " + Digits(v.ci95, 3) : "") << " " << v.unit
-         << (v.identified ? "" : " (not identified)") << ";";
+         << (v.identified || s.fit.abandoned ? "" : " (not identified)") << ";";
     }
     md << " |\n";
   };
@@ -222,8 +245,8 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
   md << "\nScore: held-out RMS² × (1 + " << options.penalty_per_parameter
      << " × added parameters); an effect is named when its score is below " << options.win_ratio
      << " × the refit's. Fits: each effect's main parameter scanned over its range, then a particle swarm (pagmo2 "
-     << "pso_gen), " << options.fit.generations << " generations, seed " << options.fit.seed
-     << ", a compass search and a Levenberg–Marquardt polish (Ceres); ± is the 95 % confidence interval from the "
+     << "pso_gen), " << options.fit.generations << " generations" << EarlyStops(options) << ", seed "
+     << options.fit.seed << ", a compass search and a Levenberg–Marquardt polish (Ceres); ± is the 95 % confidence interval from the "
      << "Jacobian. " << d.jobs << " replay jobs in " << text::FormatDouble(std::round(d.seconds * 10) / 10)
      << " s.\n\nPlots: `scripts/plot_gap.py DIR` → DIR/plots/.\n";
   return md.str();

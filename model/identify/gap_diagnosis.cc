@@ -249,7 +249,7 @@ void ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& f
 
 // One candidate effect fitted together with the (refitted) base parameters, scored with its penalty.
 ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
-                          const std::vector<FitParameter>& refitted, const EffectDescription& effect,
+                          const std::vector<FitParameter>& refitted, double refit_mse, const EffectDescription& effect,
                           const DiagnosisOptions& options) {
   std::vector<FitParameter> parameters = refitted;
   for (FitParameter p : effect.parameters) {
@@ -260,7 +260,9 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
   const std::vector<Override> enabled{{"/Effects/" + std::string(effect.name) + "/Enabled", "T"}};
   if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
   ScanMainParameter(replays, fit, enabled, parameters, refitted.size());
-  ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, options.fit);
+  FitOptions fit_options = options.fit;
+  if (std::isfinite(options.abandon_share)) fit_options.abandon_above = options.abandon_share * refit_mse;
+  ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, fit_options);
   score.label = std::string(effect.name);
   score.summary = std::string(effect.summary);
   score.quantity = std::string(effect.quantity);
@@ -280,7 +282,7 @@ std::vector<ModelScore> ScoreCandidates(ReplayEvaluator& replays, const std::vec
   std::vector<std::future<ModelScore>> fits;
   for (const EffectDescription* effect : Candidates(options.candidates, servo)) {
     fits.push_back(std::async(std::launch::async, [&, effect] {
-      return ScoreCandidate(replays, fit, holdout, refitted, *effect, options);
+      return ScoreCandidate(replays, fit, holdout, refitted, refit.fit.mse, *effect, options);
     }));
   }
   std::vector<ModelScore> scores;

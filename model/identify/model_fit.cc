@@ -41,6 +41,74 @@ constexpr double kPolishStart = 0.05;
 constexpr double kPolishStop = 0.002;
 constexpr unsigned kPolishBudgetPerDimension = 40;
 
+struct SwarmOutcome {
+  pagmo::population population;  // its champion is the swarm's best point
+  int generations = 0;           // generations run
+  bool abandoned = false;        // stopped above FitOptions::abandon_above
+  std::string why;               // why it stopped, one line
+};
+
+// The particle swarm in rounds of kSwarmRound generations: it stops at its budget, when its best stalled over the
+// last stall_generations, or, abandoned, when it is still above abandon_above after abandon_after.
+SwarmOutcome RunSwarm(pagmo::population population, const pagmo::bfe& batch, const FitOptions& options) {
+  const auto swarm_of = [&](int generations, unsigned seed) {
+    pagmo::pso_gen swarm(static_cast<unsigned>(generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, /*memory=*/true, seed);
+    swarm.set_bfe(batch);
+    return pagmo::algorithm{swarm};
+  };
+  SwarmOutcome outcome{population, 0, false, ""};
+  if (options.stall_generations <= 0 && std::isinf(options.abandon_above)) {  // no early stop: one run, no memory
+    pagmo::pso_gen swarm(static_cast<unsigned>(options.generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, false,
+                         options.seed);
+    swarm.set_bfe(batch);
+    outcome.population = pagmo::algorithm{swarm}.evolve(population);
+    outcome.generations = options.generations;
+    return outcome;
+  }
+  const pagmo::algorithm round = swarm_of(kSwarmRound, options.seed);
+  std::vector<double> best_after;  // the best objective after each generation run so far (at round ends)
+  while (outcome.generations < options.generations) {
+    const int left = options.generations - outcome.generations;
+    // A last, shorter round is a swarm of its own (its velocities start afresh, its generator from seed + 1).
+    outcome.population =
+        left >= kSwarmRound ? round.evolve(outcome.population) : swarm_of(left, options.seed + 1).evolve(outcome.population);
+    outcome.generations += std::min(left, kSwarmRound);
+    const double best = outcome.population.champion_f()[0];
+    best_after.resize(static_cast<std::size_t>(outcome.generations), best);
+    if (outcome.generations >= options.abandon_after && best > options.abandon_above) {
+      outcome.abandoned = true;
+      outcome.why = "abandoned after " + std::to_string(outcome.generations) + " generations: its best error, " +
+                    text::FormatDouble(best) + " deg², stayed above " + text::FormatDouble(options.abandon_above) +
+                    " deg², so it cannot win";
+      return outcome;
+    }
+    const int window = options.stall_generations;
+    if (window > 0 && outcome.generations > window && outcome.generations < options.generations) {
+      const double before = best_after[static_cast<std::size_t>(outcome.generations - window - 1)];
+      if (before - best < options.stall_tolerance * before) {
+        outcome.why = "the swarm stalled after " + std::to_string(outcome.generations) + " generations";
+        return outcome;
+      }
+    }
+  }
+  return outcome;
+}
+
+// A fit given up after its swarm: its best point as found, with no local stages and no confidence intervals.
+FitOutcome Abandoned(const std::vector<FitParameter>& parameters, const pagmo::population& population,
+                     const SwarmOutcome& swarm) {
+  FitOutcome outcome;
+  outcome.values = Values(parameters, population.champion_x().data());
+  outcome.mse = population.champion_f()[0];
+  outcome.generations = swarm.generations;
+  outcome.evaluations = static_cast<int>(population.get_problem().get_fevals());
+  outcome.abandoned = true;
+  outcome.convergence = "did not converge: " + swarm.why + " (the limit is set by the diagnosis)";
+  outcome.polish = "not run: the fit was abandoned";
+  outcome.ci95.assign(parameters.size(), std::numeric_limits<double>::quiet_NaN());
+  return outcome;
+}
+
 }  // namespace
 
 ReplayObjective::ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs,
@@ -132,11 +200,10 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
 
   // 1. Global: pagmo 2.18's CMA-ES evaluates one point at a time; its generational particle swarm takes a batch
   // evaluator, so a whole generation goes to the broker at once (docs/gap.md, "How a fit works").
-  pagmo::pso_gen swarm(static_cast<unsigned>(options.generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, false,
-                       options.seed);
-  swarm.set_bfe(batch);
-  population = pagmo::algorithm{swarm}.evolve(population);
+  const SwarmOutcome swarm = RunSwarm(population, batch, options);
+  population = swarm.population;
   const auto swarm_evaluations = population.get_problem().get_fevals();
+  if (swarm.abandoned) return Abandoned(parameters, population, swarm);
 
   // 2. Local: a compass search from the swarm's best point until its step is small — the convergence test.
   pagmo::population polish(problem, 0u, options.seed);
@@ -155,7 +222,7 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   outcome.polish = squares.summary;
   outcome.ci95 = squares.ci95;
   outcome.evaluations = static_cast<int>(swarm_evaluations + polish_evaluations) + squares.evaluations;
-  outcome.generations = options.generations;
+  outcome.generations = swarm.generations;
   outcome.converged = polish_evaluations < budget;
   outcome.convergence =
       outcome.converged
@@ -163,6 +230,9 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
                 " % of every parameter's range after " + std::to_string(polish_evaluations) + " evaluations"
           : "did not converge: the local search used its whole budget of " + std::to_string(budget) +
                 " evaluations with its step still above " + text::FormatDouble(kPolishStop * 100.0) + " % of the range";
+  outcome.convergence += swarm.why.empty()
+                             ? "; the swarm ran its whole budget of " + std::to_string(swarm.generations) + " generations"
+                             : "; " + swarm.why;
   return outcome;
 }
 

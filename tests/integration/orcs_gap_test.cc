@@ -45,11 +45,13 @@ struct HiddenCase {
   double mujoco_ratio = 0.5;
 };
 
-class GapDiagnosisTest : public ::testing::TestWithParam<std::tuple<HiddenCase, const char*>> {
+// Runs orcs-gap synth and a diagnosis on the pendulum rig.
+class GapRunTest : public ::testing::Test {
  protected:
   // Synthesises the two identification runs on `engine`, diagnoses A with B held out on it, and returns
   // report.json.
-  nlohmann::json Diagnose(const std::vector<std::string>& hidden, const std::string& engine) {
+  nlohmann::json Diagnose(const std::vector<std::string>& hidden, const std::string& engine,
+                          const std::vector<std::string>& options = {}) {
     const std::string data = dir_.PathOf("data");
     std::vector<std::string> synth = {kGap,   "synth",  "--rig", "pendulum", "--engine", engine, "--motion",
                                       kMotions + "pendulum_identification_a.csv",
@@ -58,9 +60,11 @@ class GapDiagnosisTest : public ::testing::TestWithParam<std::tuple<HiddenCase, 
     const auto made = RunProcess(synth);
     EXPECT_EQ(made.exit_code, 0) << made.err;
     const std::string report = dir_.PathOf("report");
-    const auto diagnosed = RunProcess({kGap, "--rig", "pendulum", "--engine", engine, "--measured",
-                                       data + "/pendulum_identification_a.csv", "--holdout",
-                                       data + "/pendulum_identification_b.csv", "--workers", "2", "--out", report});
+    std::vector<std::string> diagnose = {kGap, "--rig", "pendulum", "--engine", engine, "--measured",
+                                         data + "/pendulum_identification_a.csv", "--holdout",
+                                         data + "/pendulum_identification_b.csv", "--workers", "2", "--out", report};
+    diagnose.insert(diagnose.end(), options.begin(), options.end());
+    const auto diagnosed = RunProcess(diagnose);
     EXPECT_EQ(diagnosed.exit_code, 0) << diagnosed.err;
     std::ifstream in(report + "/report.json");
     return nlohmann::json::parse(in);
@@ -68,6 +72,10 @@ class GapDiagnosisTest : public ::testing::TestWithParam<std::tuple<HiddenCase, 
 
   test_support::TempDir dir_;
 };
+
+class GapDiagnosisTest : public GapRunTest,
+                         public ::testing::WithParamInterface<std::tuple<HiddenCase, const char*>> {};
+using GapEarlyStopTest = GapRunTest;
 
 TEST_P(GapDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
   const auto& [c, engine] = GetParam();
@@ -87,6 +95,34 @@ TEST_P(GapDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
   // The fitted model switches the effect on, and the report lists every candidate with its fitted values.
   EXPECT_EQ(report.at("model").at("/Effects/" + std::string(c.expected) + "/Enabled"), "T");
   EXPECT_EQ(report.at("candidates").size(), 9u);
+  // The winner ran its fit to the end; only candidates far behind the refit are abandoned (docs/gap.md).
+  for (const nlohmann::json& candidate : report.at("candidates")) {
+    if (candidate.at("model") == c.expected) {
+      EXPECT_FALSE(candidate.at("fit").at("abandoned").get<bool>());
+    }
+  }
+}
+
+// --early-stop: the delay is still named, and candidates far behind the refit are abandoned after 10 generations,
+// saving replays (docs/gap.md, "How a fit works").
+TEST_F(GapEarlyStopTest, NamesTheDelayAndAbandonsCandidatesFarBehind) {
+  const nlohmann::json report =
+      Diagnose({"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04"}, "ODE", {"--early-stop"});
+  const nlohmann::json& verdict = report.at("verdict");
+  ASSERT_FALSE(verdict.at("effect").is_null()) << verdict.at("text");
+  EXPECT_EQ(verdict.at("effect").get<std::string>(), "TransportDelay") << verdict.at("text");
+  EXPECT_EQ(report.at("criterion").at("abandon_share").get<double>(), 0.8);
+  int abandoned = 0;
+  for (const nlohmann::json& candidate : report.at("candidates")) {
+    const nlohmann::json& fit = candidate.at("fit");
+    if (fit.at("abandoned").get<bool>()) {
+      ++abandoned;
+      EXPECT_EQ(fit.at("generations").get<int>(), 10) << candidate.at("model");
+    } else {
+      EXPECT_LE(fit.at("generations").get<int>(), 40) << candidate.at("model");
+    }
+  }
+  EXPECT_GT(abandoned, 0);
 }
 
 // The column `name` of an orcs-sim log (what orcs-gap synth writes), per row.
