@@ -4,7 +4,7 @@
 # movement (fitted) and of the waist bend (held out), diagnosed among all nine effects with 1 and then 2 local
 # workers. Loopback only.
 # Usage: scripts/bench_gap.sh [SECONDS=2] [GENERATIONS] [HOLDOUT_SECONDS=SECONDS]
-#   (GENERATIONS: orcs-gap's default, 40, unless given; GAP_OPTIONS: more orcs-gap options, e.g. --early-stop)
+#   (GENERATIONS: orcs-gap's default, 40, unless given; GAP_OPTIONS: more orcs-gap options, e.g. --race)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-2}

@@ -6,6 +6,7 @@
 #   scripts/gap_xl330.sh [DATA_DIR] [OUT_DIR] [WORKERS]
 #
 # DATA_DIR defaults to ../shared/data/xl330-pendulum, OUT_DIR to build/gap-xl330, WORKERS to the number of cores.
+# GAP_OPTIONS passes more orcs-gap options (e.g. GAP_OPTIONS=--race).
 # Writes OUT_DIR/kp100_to_kp400/ and OUT_DIR/kp400_to_kp100/ (orcs-gap reports, with scripts/plot_gap.py's
 # plots), OUT_DIR/servo_gains.png and OUT_DIR/servo_gains.md. About 4 minutes on 2 cores.
 set -euo pipefail
@@ -31,7 +32,7 @@ diagnose() {  # FIT_GAIN HELD_OUT_GAIN
   echo "gap_xl330.sh: fitting on kp$1, scoring on kp$2 → $report" >&2
   "$gap" --rig pendulum --pole-mass 0.6533 --pole-length 0.15 --start-measured \
     --model scenarios/gap/xl330/model.val --mapping scenarios/gap/xl330/mapping.json \
-    --measured "${fit[@]}" --holdout "${held[@]}" --workers "$workers" --out "$report"
+    --measured "${fit[@]}" --holdout "${held[@]}" --workers "$workers" ${GAP_OPTIONS:-} --out "$report"
   scripts/plot_gap.py "$report" --run "sin_sin_kp$2"  # a held-out run in the panels
 }
 diagnose 100 400

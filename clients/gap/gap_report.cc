@@ -151,7 +151,6 @@ nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOpt
         {"penalty_per_parameter", options.penalty_per_parameter},
         {"win_ratio", options.win_ratio},
         {"generations", options.fit.generations},
-        {"stall_generations", options.fit.stall_generations},
         {"abandon_share", std::isfinite(options.abandon_share) ? nlohmann::json(options.abandon_share) : nullptr},
         {"seed", options.fit.seed}}},
       {"cost", {{"seconds", d.seconds}, {"jobs", d.jobs}}},
@@ -170,16 +169,13 @@ std::string ModelValueFile(const Diagnosis& d, const std::vector<ValueAssignment
 
 namespace {
 
-// The early stops of --early-stop, as said in report.md ("" without them).
+// The race of --race, as said in report.md ("" without it).
 std::string EarlyStops(const DiagnosisOptions& options) {
   std::ostringstream text;
-  if (options.fit.stall_generations > 0) {
-    text << " at most, stopping when its best falls by less than " << options.fit.stall_tolerance * 100.0 << " % over "
-         << options.fit.stall_generations << " generations";
-  }
   if (std::isfinite(options.abandon_share)) {
-    text << "; a candidate still above " << options.abandon_share * 100.0 << " % of the refit's fit error after "
-         << options.fit.abandon_after << " generations is abandoned";
+    text << "; a candidate whose best point after " << options.fit.abandon_after << " generations has a fit error above "
+         << kRaceFitShare * 100.0 << " % of the refit's and a held-out score above " << options.abandon_share * 100.0
+         << " % of the refit's is abandoned";
   }
   return text.str();
 }

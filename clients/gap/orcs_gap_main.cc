@@ -39,7 +39,7 @@ struct GapOptions {
   std::string broker;
   std::string out = "gap-report";
   int generations = 40;
-  bool early_stop = false;
+  bool race = true;
   unsigned seed = 1;
   std::vector<std::string> effects;
   // synth
@@ -122,10 +122,7 @@ int Diagnose(const GapOptions& o) {
 
   DiagnosisOptions options;
   options.fit.generations = o.generations;
-  if (o.early_stop) {
-    options.fit.stall_generations = kEarlyStopStall;
-    options.abandon_share = kEarlyStopAbandonShare;
-  }
+  if (o.race) options.abandon_share = kRaceAbandonShare;
   options.fit.seed = o.seed;
   options.candidates = o.effects;
   std::filesystem::create_directories(o.out);
@@ -179,9 +176,9 @@ int main(int argc, char** argv) {
       ->excludes(workers);
   app.add_option("--out", o.out, "output folder (default gap-report)");
   app.add_option("--generations", o.generations, "optimiser generations per fit (default 40)")->check(CLI::Range(1, 10000));
-  app.add_flag("--early-stop", o.early_stop,
-               "stop a fit's swarm when it stalls and abandon candidates far behind the refit after 10 generations: "
-               "about 3x fewer replays, but an effect whose fit improves late can be missed (docs/gap.md)");
+  app.add_flag("--race,!--no-race", o.race,
+               "race the candidates (default): one that after 10 generations scores no better than the refit on the "
+               "held-out runs is abandoned; --no-race fits every candidate to the end (docs/gap.md)");
   app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");

@@ -249,7 +249,7 @@ void ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& f
 
 // One candidate effect fitted together with the (refitted) base parameters, scored with its penalty.
 ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
-                          const std::vector<FitParameter>& refitted, double refit_mse, const EffectDescription& effect,
+                          const std::vector<FitParameter>& refitted, const ModelScore& refit, const EffectDescription& effect,
                           const DiagnosisOptions& options) {
   std::vector<FitParameter> parameters = refitted;
   for (FitParameter p : effect.parameters) {
@@ -260,15 +260,34 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
   const std::vector<Override> enabled{{"/Effects/" + std::string(effect.name) + "/Enabled", "T"}};
   if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
   ScanMainParameter(replays, fit, enabled, parameters, refitted.size());
+  const int added = static_cast<int>(effect.parameters.size());
+  const auto penalised = [&](double holdout_mse) {
+    return holdout_mse * (1.0 + options.penalty_per_parameter * added);
+  };
   FitOptions fit_options = options.fit;
-  if (std::isfinite(options.abandon_share)) fit_options.abandon_above = options.abandon_share * refit_mse;
+  if (std::isfinite(options.abandon_share)) {
+    // A candidate stays in the race when its best point so far already fits the fit runs clearly better than the
+    // refit, or scores no worse on the held-out runs (the selection criterion itself). Either alone loses effects:
+    // mid-fit, a Stribeck fit is far ahead on the fit runs and still behind on the held-out ones.
+    fit_options.abandon = [&](const std::vector<double>& values, double mse) -> std::string {
+      if (!(refit.score > 0.0) || !(refit.fit.mse > 0.0)) return "";  // a perfect refit: nothing to race against
+      const double fit_share = mse / refit.fit.mse;
+      if (fit_share <= kRaceFitShare) return "";
+      std::vector<Override> model = enabled;
+      const std::vector<Override> point = OverridesOf(parameters, values);
+      model.insert(model.end(), point.begin(), point.end());
+      const double share = penalised(MeanSquaredError(replays, holdout, model)) / refit.score;
+      if (share <= options.abandon_share) return "";
+      return "its fit error was " + Percent(fit_share) + " of the refit's (limit " + Percent(kRaceFitShare) +
+             ") and its penalised held-out score " + Percent(share) + " (limit " + Percent(options.abandon_share) + ")";
+    };
+  }
   ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, fit_options);
   score.label = std::string(effect.name);
   score.summary = std::string(effect.summary);
   score.quantity = std::string(effect.quantity);
-  score.added_parameters = static_cast<int>(effect.parameters.size());
-  score.score =
-      score.holdout_rms * score.holdout_rms * (1.0 + options.penalty_per_parameter * score.added_parameters);
+  score.added_parameters = added;
+  score.score = penalised(score.holdout_rms * score.holdout_rms);
   if (options.on_fit) options.on_fit(score.label, &score);
   return score;
 }
@@ -282,7 +301,7 @@ std::vector<ModelScore> ScoreCandidates(ReplayEvaluator& replays, const std::vec
   std::vector<std::future<ModelScore>> fits;
   for (const EffectDescription* effect : Candidates(options.candidates, servo)) {
     fits.push_back(std::async(std::launch::async, [&, effect] {
-      return ScoreCandidate(replays, fit, holdout, refitted, refit.fit.mse, *effect, options);
+      return ScoreCandidate(replays, fit, holdout, refitted, refit, *effect, options);
     }));
   }
   std::vector<ModelScore> scores;

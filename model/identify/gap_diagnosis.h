@@ -19,16 +19,18 @@ namespace orcs::identify {
 
 struct ModelScore;
 
-inline constexpr double kEarlyStopAbandonShare = 0.8;
+inline constexpr double kRaceAbandonShare = 1.0;  ///< abandoned when no better than "nothing missing"...
+inline constexpr double kRaceFitShare = 0.8;      ///< ...and its fit error above this share of the refit's
 
 struct DiagnosisOptions {
   FitOptions fit;                        ///< optimiser budget and seed of every fit
   std::vector<std::string> candidates;   ///< effect names to try; empty = the whole catalogue
   double penalty_per_parameter = 0.05;   ///< the score grows by this share per parameter an effect adds
   double win_ratio = 0.5;                ///< a winner's score must be below this share of "nothing missing"'s
-  /// A candidate whose fit error is still above this share of the refit's after FitOptions::abandon_after swarm
-  /// generations is abandoned there, and the diagnosis spends its replays on the others. Infinite = never;
-  /// orcs-gap --early-stop sets kEarlyStopAbandonShare.
+  /// The race (orcs-gap's default sets kRaceAbandonShare): after FitOptions::abandon_after swarm generations a
+  /// candidate whose best point so far has a fit error above kRaceFitShare of the refit's and a penalised
+  /// held-out score above this share of the refit's is abandoned; the diagnosis spends its replays on the others.
+  /// Infinite = never (--no-race).
   double abandon_share = std::numeric_limits<double>::infinity();
   /// Told when a fit starts (`finished` null; `model` is "refit" or the effect's name) and when it ends (its
   /// score), for progress. Candidates are fitted at once: it is called from several threads.

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <memory>
+#include <tuple>
 #include <pagmo/algorithm.hpp>
 #include <pagmo/algorithms/compass_search.hpp>
 #include <pagmo/algorithms/pso_gen.hpp>
@@ -24,89 +27,84 @@ std::vector<double> Values(const std::vector<FitParameter>& parameters, const do
   return values;
 }
 
+// What a fit's evaluations have seen, for the race (FitOptions::abandon): the best point and how many batches the
+// swarm has sent. Shared by the problem's evaluator and Fit.
+struct FitWatch {
+  const FitOptions* options = nullptr;
+  const std::vector<FitParameter>* parameters = nullptr;
+  pagmo::vector_double best_x;                             // the best point evaluated so far (unit box)
+  double best_f = std::numeric_limits<double>::infinity();  // its objective, deg²
+  std::uint64_t evaluated = 0;                             // points evaluated through the problem
+  int swarm_batches = -1;                                  // generations of the swarm so far; −1 before it starts
+};
+
+// Thrown out of the swarm's evaluator when the race abandons the fit: pagmo's evolve has no other way to stop.
+struct FitAbandoned {
+  std::string why;
+};
+
 // The pagmo problem: evolve's unit-box BatchProblem, whose cache evaluates what pagmo asks for as one batch of
-// replays (member_bfe calls batch_fitness; every generation is one call).
-pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::vector<FitParameter>& parameters) {
+// replays (member_bfe calls batch_fitness; every generation is one call). After the swarm's abandon_after-th
+// generation the race is asked about the best point so far.
+pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::shared_ptr<FitWatch>& watch) {
   auto cache = std::make_shared<GenerationCache>();
-  cache->evaluate = [&objective, &parameters](const std::vector<pagmo::vector_double>& xs) {
+  cache->evaluate = [&objective, watch](const std::vector<pagmo::vector_double>& xs) {
+    const std::vector<FitParameter>& parameters = *watch->parameters;
     std::vector<std::vector<Override>> points;
     for (const pagmo::vector_double& x : xs) points.push_back(OverridesOf(parameters, Values(parameters, x.data())));
-    return objective.MeanSquaredErrors(points);
+    const std::vector<double> errors = objective.MeanSquaredErrors(points);
+    watch->evaluated += xs.size();
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      if (errors[i] < watch->best_f) std::tie(watch->best_x, watch->best_f) = std::tie(xs[i], errors[i]);
+    }
+    const FitOptions& options = *watch->options;
+    if (watch->swarm_batches >= 0 && ++watch->swarm_batches == options.abandon_after && options.abandon) {
+      const std::string why = options.abandon(Values(parameters, watch->best_x.data()), watch->best_f);
+      if (!why.empty()) {
+        throw FitAbandoned{"abandoned after " + std::to_string(options.abandon_after) + " generations: " + why};
+      }
+    }
+    return errors;
   };
-  return pagmo::problem{BatchProblem(parameters.size(), std::move(cache))};
+  return pagmo::problem{BatchProblem(watch->parameters->size(), std::move(cache))};
 }
 
 // The polish stops when its step has shrunk below kPolishStop of the (normalised) range, or after its budget.
 constexpr double kPolishStart = 0.05;
 constexpr double kPolishStop = 0.002;
 constexpr unsigned kPolishBudgetPerDimension = 40;
+constexpr int kQuickLookIterations = 5;
 
-struct SwarmOutcome {
-  pagmo::population population;  // its champion is the swarm's best point
-  int generations = 0;           // generations run
-  bool abandoned = false;        // stopped above FitOptions::abandon_above
-  std::string why;               // why it stopped, one line
-};
-
-// The particle swarm in rounds of kSwarmRound generations: it stops at its budget, when its best stalled over the
-// last stall_generations, or, abandoned, when it is still above abandon_above after abandon_after.
-SwarmOutcome RunSwarm(pagmo::population population, const pagmo::bfe& batch, const FitOptions& options) {
-  const auto swarm_of = [&](int generations, unsigned seed) {
-    pagmo::pso_gen swarm(static_cast<unsigned>(generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, /*memory=*/true, seed);
-    swarm.set_bfe(batch);
-    return pagmo::algorithm{swarm};
-  };
-  SwarmOutcome outcome{population, 0, false, ""};
-  if (options.stall_generations <= 0 && std::isinf(options.abandon_above)) {  // no early stop: one run, no memory
-    pagmo::pso_gen swarm(static_cast<unsigned>(options.generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, false,
-                         options.seed);
-    swarm.set_bfe(batch);
-    outcome.population = pagmo::algorithm{swarm}.evolve(population);
-    outcome.generations = options.generations;
-    return outcome;
-  }
-  const pagmo::algorithm round = swarm_of(kSwarmRound, options.seed);
-  std::vector<double> best_after;  // the best objective after each generation run so far (at round ends)
-  while (outcome.generations < options.generations) {
-    const int left = options.generations - outcome.generations;
-    // A last, shorter round is a swarm of its own (its velocities start afresh, its generator from seed + 1).
-    outcome.population =
-        left >= kSwarmRound ? round.evolve(outcome.population) : swarm_of(left, options.seed + 1).evolve(outcome.population);
-    outcome.generations += std::min(left, kSwarmRound);
-    const double best = outcome.population.champion_f()[0];
-    best_after.resize(static_cast<std::size_t>(outcome.generations), best);
-    if (outcome.generations >= options.abandon_after && best > options.abandon_above) {
-      outcome.abandoned = true;
-      outcome.why = "abandoned after " + std::to_string(outcome.generations) + " generations: its best error, " +
-                    text::FormatDouble(best) + " deg², stayed above " + text::FormatDouble(options.abandon_above) +
-                    " deg², so it cannot win";
-      return outcome;
-    }
-    const int window = options.stall_generations;
-    if (window > 0 && outcome.generations > window && outcome.generations < options.generations) {
-      const double before = best_after[static_cast<std::size_t>(outcome.generations - window - 1)];
-      if (before - best < options.stall_tolerance * before) {
-        outcome.why = "the swarm stalled after " + std::to_string(outcome.generations) + " generations";
-        return outcome;
-      }
-    }
-  }
-  return outcome;
-}
-
-// A fit given up after its swarm: its best point as found, with no local stages and no confidence intervals.
-FitOutcome Abandoned(const std::vector<FitParameter>& parameters, const pagmo::population& population,
-                     const SwarmOutcome& swarm) {
+// A fit given up in its swarm: the best point seen (the quick look's included), with no local stages and no
+// confidence intervals.
+FitOutcome Abandoned(const std::vector<FitParameter>& parameters, const FitWatch& watch, const std::string& why,
+                     int look_evaluations) {
   FitOutcome outcome;
-  outcome.values = Values(parameters, population.champion_x().data());
-  outcome.mse = population.champion_f()[0];
-  outcome.generations = swarm.generations;
-  outcome.evaluations = static_cast<int>(population.get_problem().get_fevals());
+  outcome.values = Values(parameters, watch.best_x.data());
+  outcome.mse = watch.best_f;
+  outcome.generations = watch.swarm_batches;
+  outcome.evaluations = static_cast<int>(watch.evaluated) + look_evaluations;
   outcome.abandoned = true;
-  outcome.convergence = "did not converge: " + swarm.why + " (the limit is set by the diagnosis)";
+  outcome.convergence = "did not converge: " + why;
   outcome.polish = "not run: the fit was abandoned";
   outcome.ci95.assign(parameters.size(), std::numeric_limits<double>::quiet_NaN());
   return outcome;
+}
+
+// A quick local look for the race: a few Levenberg–Marquardt steps from the start. The swarm's first generations
+// seldom beat a good start, so without it the race would judge little more than the start; an effect that helps
+// nearby shows it here. Its point counts as seen (watch) but does not join the swarm, whose search stays the one
+// it would be without the race. Returns the replays it took.
+int QuickLook(const ReplayObjective& objective, const std::vector<FitParameter>& parameters, FitWatch& watch) {
+  std::vector<double> start;
+  for (const FitParameter& p : parameters) start.push_back(p.start);
+  const PolishOutcome look = PolishLeastSquares(objective, parameters, start, kQuickLookIterations);
+  if (look.improved && look.mse < watch.best_f) {
+    watch.best_x.clear();
+    for (std::size_t i = 0; i < parameters.size(); ++i) watch.best_x.push_back(ToUnit(parameters[i], look.values[i]));
+    watch.best_f = look.mse;
+  }
+  return look.evaluations;
 }
 
 }  // namespace
@@ -190,20 +188,31 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   const int size = options.population > 0
                        ? options.population
                        : std::max(16, 8 + static_cast<int>(std::floor(6.0 * std::log(dimension))));
-  pagmo::problem problem = ReplayProblem(objective, parameters);
+  auto watch = std::make_shared<FitWatch>();
+  watch->options = &options;
+  watch->parameters = &parameters;
+  pagmo::problem problem = ReplayProblem(objective, watch);
   const pagmo::bfe batch{pagmo::member_bfe{}};
   pagmo::population population(problem, batch, static_cast<pagmo::population::size_type>(size), options.seed);
   // The search starts from the given point: it replaces the worst of the random initial individuals.
   pagmo::vector_double start;
   for (const FitParameter& p : parameters) start.push_back(ToUnit(p, p.start));
   population.set_x(population.worst_idx(), start);
+  const int look_evaluations = options.abandon ? QuickLook(objective, parameters, *watch) : 0;
 
   // 1. Global: pagmo 2.18's CMA-ES evaluates one point at a time; its generational particle swarm takes a batch
   // evaluator, so a whole generation goes to the broker at once (docs/gap.md, "How a fit works").
-  const SwarmOutcome swarm = RunSwarm(population, batch, options);
-  population = swarm.population;
+  pagmo::pso_gen swarm(static_cast<unsigned>(options.generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, false,
+                       options.seed);
+  swarm.set_bfe(batch);
+  watch->swarm_batches = 0;
+  try {
+    population = pagmo::algorithm{swarm}.evolve(population);
+  } catch (const FitAbandoned& abandoned) {
+    return Abandoned(parameters, *watch, abandoned.why, look_evaluations);
+  }
+  watch->swarm_batches = -1;  // the race is over
   const auto swarm_evaluations = population.get_problem().get_fevals();
-  if (swarm.abandoned) return Abandoned(parameters, population, swarm);
 
   // 2. Local: a compass search from the swarm's best point until its step is small — the convergence test.
   pagmo::population polish(problem, 0u, options.seed);
@@ -221,8 +230,9 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   outcome.mse = std::min(squares.mse, polish.champion_f()[0]);
   outcome.polish = squares.summary;
   outcome.ci95 = squares.ci95;
-  outcome.evaluations = static_cast<int>(swarm_evaluations + polish_evaluations) + squares.evaluations;
-  outcome.generations = swarm.generations;
+  outcome.evaluations =
+      static_cast<int>(swarm_evaluations + polish_evaluations) + squares.evaluations + look_evaluations;
+  outcome.generations = options.generations;
   outcome.converged = polish_evaluations < budget;
   outcome.convergence =
       outcome.converged
@@ -230,9 +240,6 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
                 " % of every parameter's range after " + std::to_string(polish_evaluations) + " evaluations"
           : "did not converge: the local search used its whole budget of " + std::to_string(budget) +
                 " evaluations with its step still above " + text::FormatDouble(kPolishStop * 100.0) + " % of the range";
-  outcome.convergence += swarm.why.empty()
-                             ? "; the swarm ran its whole budget of " + std::to_string(swarm.generations) + " generations"
-                             : "; " + swarm.why;
   return outcome;
 }
 

@@ -4,6 +4,7 @@
 // cores to a cluster. The objective is the mean squared joint-angle error over all fit runs and channels.
 #pragma once
 
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -36,32 +37,24 @@ class ReplayObjective {
   std::vector<Override> fixed_;
 };
 
-/// With a stall or abandonment test, the swarm runs in rounds of this many generations; between rounds it checks
-/// them, and particles go on from their best positions with their velocities kept (pagmo's pso_gen `memory`).
-/// Without either, it is one run of the whole budget.
-inline constexpr int kSwarmRound = 5;
-inline constexpr int kEarlyStopStall = 10;  ///< orcs-gap --early-stop: stall_generations
-
 struct FitOptions {
   int generations = 40;   ///< generation budget of the swarm
   int population = 0;     ///< particles per generation; ≤ 0 = max(16, 8 + 6·ln(dimension))
   unsigned seed = 1;      ///< the optimiser's own generator: the same inputs give the same fit
-  /// The swarm stops before its budget when its best objective fell by less than `stall_tolerance` (a share of
-  /// it) over the last `stall_generations` generations; 0 = always run the whole budget. orcs-gap --early-stop
-  /// sets kEarlyStopStall.
-  int stall_generations = 0;
-  double stall_tolerance = 0.01;
-  /// A fit whose best objective is still above this after `abandon_after` generations stops there, without the
-  /// local stages (FitOutcome::abandoned): in a diagnosis, a candidate that cannot win. Infinite = never.
-  double abandon_above = std::numeric_limits<double>::infinity();
+  /// The race: asked once, after the swarm's `abandon_after`-th generation, with the best point seen so far (each
+  /// parameter's value in its unit) and its objective. A reason (one line) stops the fit there, without the local
+  /// stages (FitOutcome::abandoned); "" lets it go on, and the swarm runs on exactly as it would without the
+  /// question. Empty = never asked. With it, a quick local look (a few Levenberg–Marquardt steps from the start)
+  /// comes first, so that the question also sees the best point near the start.
+  std::function<std::string(const std::vector<double>& values, double mse)> abandon;
   int abandon_after = 10;
 };
 
 struct FitOutcome {
   std::vector<double> values;    ///< the best point found, in each parameter's unit
   double mse = 0.0;              ///< its objective, deg²
-  int generations = 0;           ///< swarm generations run (fewer than the budget when it stalled or was abandoned)
-  bool abandoned = false;        ///< stopped after the swarm's first generations: above FitOptions::abandon_above
+  int generations = 0;           ///< swarm generations run (fewer than the budget when abandoned)
+  bool abandoned = false;        ///< stopped after the swarm's first generations (FitOptions::abandon said why)
   int evaluations = 0;           ///< points evaluated (each = one replay per run)
   bool converged = false;        ///< the local polish stopped because its step fell below 0.2 % of every
                                  ///< parameter's range, not because its budget ran out (see convergence)
@@ -75,8 +68,8 @@ struct FitOutcome {
 /// The assignments of `values` to `parameters`' paths.
 std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values);
 
-/// Minimises the objective over `parameters` (≥ 1): the swarm's global search (its budget, or in rounds of
-/// kSwarmRound generations until a stall or abandonment), a compass search, then a Levenberg–Marquardt polish on
+/// Minimises the objective over `parameters` (≥ 1): the swarm's global search (abandoned when the race says so),
+/// a compass search, then a Levenberg–Marquardt polish on
 /// the residuals with confidence intervals (least_squares_polish.h). Passes on what the evaluator throws (orcs-gap's: broker::BatchClientError
 /// when the broker is lost).
 FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,

@@ -75,7 +75,7 @@ class GapRunTest : public ::testing::Test {
 
 class GapDiagnosisTest : public GapRunTest,
                          public ::testing::WithParamInterface<std::tuple<HiddenCase, const char*>> {};
-using GapEarlyStopTest = GapRunTest;
+using GapRaceTest = GapRunTest;
 
 TEST_P(GapDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
   const auto& [c, engine] = GetParam();
@@ -103,15 +103,17 @@ TEST_P(GapDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
   }
 }
 
-// --early-stop: the delay is still named, and candidates far behind the refit are abandoned after 10 generations,
-// saving replays (docs/gap.md, "How a fit works").
-TEST_F(GapEarlyStopTest, NamesTheDelayAndAbandonsCandidatesFarBehind) {
-  const nlohmann::json report =
-      Diagnose({"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04"}, "ODE", {"--early-stop"});
+// The race (on by default): candidates no better than the refit on the held-out runs after 10 generations are
+// abandoned, saving replays (docs/gap.md, "How a fit works"). BackEmf is the case that needs the quick local look:
+// the refit absorbs it into friction and torque, so the scan's best point is no better than the refit, and without
+// the look it was abandoned.
+TEST_F(GapRaceTest, NamesBackEmfAndAbandonsCandidatesFarBehind) {
+  const nlohmann::json report = Diagnose({"--effect", "BackEmf", "--set", "/Effects/BackEmf/NoLoadSpeed=5"}, "ODE");
   const nlohmann::json& verdict = report.at("verdict");
   ASSERT_FALSE(verdict.at("effect").is_null()) << verdict.at("text");
-  EXPECT_EQ(verdict.at("effect").get<std::string>(), "TransportDelay") << verdict.at("text");
-  EXPECT_EQ(report.at("criterion").at("abandon_share").get<double>(), 0.8);
+  EXPECT_EQ(verdict.at("effect").get<std::string>(), "BackEmf") << verdict.at("text");
+  EXPECT_LE(verdict.at("holdout_rms_after").get<double>(), 0.5 * verdict.at("holdout_rms_before").get<double>());
+  EXPECT_EQ(report.at("criterion").at("abandon_share").get<double>(), 1.0);
   int abandoned = 0;
   for (const nlohmann::json& candidate : report.at("candidates")) {
     const nlohmann::json& fit = candidate.at("fit");
@@ -123,6 +125,17 @@ TEST_F(GapEarlyStopTest, NamesTheDelayAndAbandonsCandidatesFarBehind) {
     }
   }
   EXPECT_GT(abandoned, 0);
+}
+
+// --no-race fits every candidate to the end, and report.json says the race was off.
+TEST_F(GapRaceTest, NoRaceIsRecordedAndAbandonsNothing) {
+  const nlohmann::json report = Diagnose({"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04"},
+                                         "ODE", {"--no-race", "--generations", "12", "--effects", "DeadBand,Backlash"});
+  EXPECT_TRUE(report.at("criterion").at("abandon_share").is_null());
+  for (const nlohmann::json& candidate : report.at("candidates")) {
+    EXPECT_FALSE(candidate.at("fit").at("abandoned").get<bool>()) << candidate.at("model");
+    EXPECT_EQ(candidate.at("fit").at("generations").get<int>(), 12) << candidate.at("model");
+  }
 }
 
 // The column `name` of an orcs-sim log (what orcs-gap synth writes), per row.

@@ -86,49 +86,58 @@ TEST(ModelFitTest, TheSameInputsGiveTheSameFitAndAnotherSeedSearchesElsewhere) {
   EXPECT_NE(a.values, c.values);
 }
 
-TEST(ModelFitTest, ASwarmThatStallsStopsBeforeItsBudgetAndTheFitStillFindsTheOptimum) {
+TEST(ModelFitTest, AFitTheRaceKeepsSearchesExactlyAsWithoutTheRace) {
   AnalyticEvaluator evaluator;
-  const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 0.0)};
+  const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 1.0)};
   const ReplayObjective objective(evaluator, runs, {});
-  FitOptions options;
-  options.generations = 200;
-  options.stall_generations = kEarlyStopStall;
-  const FitOutcome stalled = Fit(objective, kParameters, options);
-  EXPECT_LT(stalled.generations, 200);
-  EXPECT_GE(stalled.generations, options.stall_generations);
-  EXPECT_EQ(stalled.generations % kSwarmRound, 0);
-  EXPECT_NE(stalled.convergence.find("stalled after " + std::to_string(stalled.generations)), std::string::npos)
-      << stalled.convergence;
-  EXPECT_NEAR(stalled.values[0], kTrueA, 0.02 * kTrueA);
-  EXPECT_NEAR(stalled.values[1], kTrueB, 0.02);
-  EXPECT_FALSE(stalled.abandoned);
-
-  options.stall_generations = 0;  // the whole budget
-  const FitOutcome whole = Fit(objective, kParameters, options);
-  EXPECT_EQ(whole.generations, 200);
-  EXPECT_GT(whole.evaluations, stalled.evaluations);
+  const FitOutcome plain = Fit(objective, kParameters, FitOptions{});
+  FitOptions raced;
+  int asked = 0;
+  raced.abandon = [&](const std::vector<double>&, double) -> std::string {
+    ++asked;
+    return "";
+  };
+  const FitOutcome kept = Fit(objective, kParameters, raced);
+  EXPECT_EQ(asked, 1);
+  EXPECT_FALSE(kept.abandoned);
+  EXPECT_EQ(kept.values, plain.values);
+  EXPECT_EQ(kept.mse, plain.mse);
+  EXPECT_EQ(kept.generations, 40);
+  EXPECT_GT(kept.evaluations, plain.evaluations);  // the quick look's replays
 }
 
-TEST(ModelFitTest, AFitStillAboveItsLimitIsAbandonedAfterItsFirstGenerationsWithoutLocalStages) {
+TEST(ModelFitTest, AFitItsAbandonQuestionRejectsStopsAfterItsFirstGenerationsWithoutLocalStages) {
   AnalyticEvaluator evaluator;
   // The floor of 3° is 9 deg² that no parameter removes.
   const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 3.0)};
   const ReplayObjective objective(evaluator, runs, {});
   FitOptions options;
-  options.abandon_above = 8.0;
+  int asked = 0;
+  double limit = 8.0;
+  options.abandon = [&](const std::vector<double>& values, double mse) -> std::string {
+    ++asked;
+    EXPECT_EQ(values.size(), 2u);
+    return mse > limit ? "above the limit" : "";
+  };
   options.abandon_after = 10;
   const FitOutcome abandoned = Fit(objective, kParameters, options);
   EXPECT_TRUE(abandoned.abandoned);
+  EXPECT_EQ(asked, 1);
+  EXPECT_NE(abandoned.convergence.find("abandoned after 10 generations: above the limit"), std::string::npos)
+      << abandoned.convergence;
   EXPECT_FALSE(abandoned.converged);
   EXPECT_EQ(abandoned.generations, 10);
   EXPECT_GT(abandoned.mse, 8.0);
-  // The initial 16 particles, the start point put in place of the worst, ten generations of 16, nothing after.
-  EXPECT_EQ(abandoned.evaluations, 16 + 1 + 10 * 16);
-  EXPECT_EQ(evaluator.replays_run(), static_cast<std::uint64_t>(16 + 1 + 10 * 16));
+  // The initial 16 particles, the start point put in place of the worst, the quick local look (at least one
+  // point), ten generations of 16, and nothing after them.
+  EXPECT_EQ(static_cast<std::uint64_t>(abandoned.evaluations), evaluator.replays_run());
+  const int look = abandoned.evaluations - (16 + 1 + 10 * 16);
+  EXPECT_GE(look, 1);  // the analytic evaluator logs no columns: the look stops at its first point
+  EXPECT_LE(look, 40);
   ASSERT_EQ(abandoned.ci95.size(), 2u);
   EXPECT_TRUE(std::isnan(abandoned.ci95[0]));
 
-  options.abandon_above = 9.5;  // reachable: the fit goes on to its local stages
+  limit = 9.5;  // reachable: the fit goes on to its local stages
   const FitOutcome kept = Fit(objective, kParameters, options);
   EXPECT_FALSE(kept.abandoned);
   EXPECT_NEAR(kept.mse, 9.0, 0.05);
