@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Wall time of one full orcs-gap diagnosis of the A-Series example (docs/benchmarks.md, "Gap diagnosis"), at
+# Wall time of one full orcs-gap diagnosis of the A-Series example (docs/benchmarks.md, "The A-Series example"), at
 # orcs-gap's default settings: a hidden 40 ms transport delay in two A-Series runs, the first SECONDS of the arm
 # movement (fitted) and of the waist bend (held out), diagnosed among all nine effects with 1 and then 2 local
 # workers. Loopback only.
 # Usage: scripts/bench_gap.sh [SECONDS=2] [GENERATIONS] [HOLDOUT_SECONDS=SECONDS]
-#   (GENERATIONS: orcs-gap's default, 40, unless given; GAP_OPTIONS: more orcs-gap options, e.g. --race)
+#   (GENERATIONS: orcs-gap's default, 40, unless given; GAP_OPTIONS: more orcs-gap options, e.g. --no-race)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-2}

@@ -6,7 +6,7 @@
 #   scripts/gap_xl330.sh [DATA_DIR] [OUT_DIR] [WORKERS]
 #
 # DATA_DIR defaults to ../shared/data/xl330-pendulum, OUT_DIR to build/gap-xl330, WORKERS to the number of cores.
-# GAP_OPTIONS passes more orcs-gap options (e.g. GAP_OPTIONS=--race).
+# GAP_OPTIONS passes more orcs-gap options (e.g. GAP_OPTIONS=--no-race).
 # Writes OUT_DIR/kp100_to_kp400/ and OUT_DIR/kp400_to_kp100/ (orcs-gap reports, with scripts/plot_gap.py's
 # plots), OUT_DIR/servo_gains.png and OUT_DIR/servo_gains.md. About 4 minutes on 2 cores.
 set -euo pipefail
