@@ -225,6 +225,7 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
     run.fitness->Sample(simulation, dt);
     if (run.logger) run.logger->Sample(simulation.time());
     if (recorder && recorder->frame_count() < kMaxRecordedFrames) recorder->Sample();
+    if (run.fitness->finished()) return false;  // a term says the rest cannot matter ("stop_above")
     if (i % kStepsPerClockCheck == 0 && Clock::now() > deadline) {
       outcome.status = EvaluationStatus::kTimeout;
       outcome.message = "time limit of " + text::FormatDouble(request.time_limit_seconds) +

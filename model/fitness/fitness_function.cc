@@ -56,6 +56,13 @@ double FitnessFunction::fitness() const {
   return sum;
 }
 
+bool FitnessFunction::finished() const {
+  for (const Entry& entry : entries_) {
+    if (entry.term->finished()) return true;
+  }
+  return false;
+}
+
 void CheckFitness(const nlohmann::json& fitness, const std::string& source) {
   NamesAndWeights(JsonNode(fitness, "fitness", source));
 }

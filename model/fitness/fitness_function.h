@@ -27,6 +27,8 @@ class FitnessFunction {
   std::vector<std::pair<std::string, double>> terms() const;
   /// Σ weight · value.
   double fitness() const;
+  /// Whether a term has finished (FitnessTerm::finished): the run may stop.
+  bool finished() const;
 
  private:
   struct Entry {

@@ -1,6 +1,7 @@
 #include "model/fitness/fitness_terms.h"
 
 #include <cmath>
+#include <limits>
 
 #include "model/control/keyframe_record.h"
 #include "model/core/error.h"
@@ -128,12 +129,15 @@ class TrackingError : public FitnessTerm {
 
 class MeasuredError : public FitnessTerm {
  public:
-  MeasuredError(std::vector<std::vector<double>> measured, std::vector<const Value*> angles)
-      : measured_(std::move(measured)), angles_(std::move(angles)) {}
+  MeasuredError(std::vector<std::vector<double>> measured, std::vector<const Value*> angles, double stop_above)
+      : measured_(std::move(measured)), angles_(std::move(angles)), stop_above_(stop_above) {
+    for (const std::vector<double>& trace : measured_) listed_ += static_cast<long>(trace.size());
+  }
   void Start(const scene::Simulation&) override {
     sum_ = 0.0;
     count_ = 0;
     step_ = 0;
+    finished_ = false;
   }
   void Sample(const scene::Simulation&, double) override {
     for (std::size_t m = 0; m < angles_.size(); ++m) {
@@ -143,15 +147,24 @@ class MeasuredError : public FitnessTerm {
       ++count_;
     }
     ++step_;
+    // The entries still to come add nothing below: the RMS over all of them is a lower bound of the final value.
+    finished_ = listed_ > 0 && std::sqrt(sum_ / static_cast<double>(listed_)) > stop_above_;
   }
-  double value() const override { return count_ == 0 ? 0.0 : std::sqrt(sum_ / static_cast<double>(count_)); }
+  double value() const override {
+    if (finished_) return std::sqrt(sum_ / static_cast<double>(listed_));
+    return count_ == 0 ? 0.0 : std::sqrt(sum_ / static_cast<double>(count_));
+  }
+  bool finished() const override { return finished_; }
 
  private:
   std::vector<std::vector<double>> measured_;  // per listed motor: degrees after each step
   std::vector<const Value*> angles_;           // the motors' JointAngle values
-  double sum_ = 0.0;
-  long count_ = 0;
+  double stop_above_;                          // degrees RMS; +∞ = run to the end
+  long listed_ = 0;                            // entries over all motors
+  double sum_ = 0.0;                           // Σ error², deg²
+  long count_ = 0;                             // entries compared so far
   std::size_t step_ = 0;
+  bool finished_ = false;                      // the RMS over all listed entries exceeds stop_above_
 };
 
 class Falls : public FitnessTerm {
@@ -215,7 +228,12 @@ std::unique_ptr<FitnessTerm> MakeMeasuredError(const JsonNode& entry, const scen
     std::vector<double>& trace = measured.emplace_back();
     for (const JsonNode& element : list.Elements()) trace.push_back(element.Number("a finite angle in degrees"));
   }
-  return std::make_unique<MeasuredError>(std::move(measured), std::move(values));
+  double stop_above = std::numeric_limits<double>::infinity();
+  if (entry.Has("stop_above")) {
+    stop_above = entry.At("stop_above").Number("an RMS in degrees, at least 0");
+    if (stop_above < 0) entry.At("stop_above").Fail("an RMS in degrees, at least 0");
+  }
+  return std::make_unique<MeasuredError>(std::move(measured), std::move(values), stop_above);
 }
 
 }  // namespace
@@ -248,7 +266,7 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
     return MakeTrackingError(entry, simulation, agent_index);
   }
   if (type == "measured_error") {
-    entry.ExpectOnly({"type", "name", "weight", "angles"});
+    entry.ExpectOnly({"type", "name", "weight", "angles", "stop_above"});
     return MakeMeasuredError(entry, simulation, agent_index);
   }
   if (type == "falls") {

@@ -12,7 +12,10 @@
 //   falls           {"body": "Middle/Head", "min_height": 0.2}  times the body went from above to below the height
 //   measured_error  {"angles": {"Right/Knee": [deg, ...], ...}}  RMS of JointAngle − a measured run's angle after
 //                   each step (entry k after step k+1; steps beyond the list are not compared), pooled over the
-//                   listed motors, degrees: orcs-gap's objective (docs/gap.md)
+//                   listed motors, degrees: orcs-gap's objective (docs/gap.md). Optional "stop_above" (degrees,
+//                   ≥ 0): the run stops as soon as the value can no longer end at or below it — when the RMS so far,
+//                   counted over *every* listed entry, exceeds it. The value is then that RMS: a lower bound of the
+//                   whole run's, above stop_above. A fit's search uses it for points that cannot beat its best.
 #pragma once
 
 #include <memory>
@@ -32,6 +35,9 @@ class FitnessTerm {
   virtual void Sample(const scene::Simulation& simulation, double dt) = 0;
   /// The term's value for the run so far.
   virtual double value() const = 0;
+  /// Whether the run may stop here: further steps cannot change what the term was asked (measured_error's
+  /// "stop_above"). Most terms never finish.
+  virtual bool finished() const { return false; }
 };
 
 /// The term a fitness entry describes, for agent `agent_index` of `simulation` (built). Throws InputError naming

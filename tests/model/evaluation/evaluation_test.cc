@@ -126,6 +126,50 @@ TEST(EvaluationTest, StartAnglesPoseTheNamedMotorsBeforeTheRun) {
   }
 }
 
+// measured_error's "stop_above": a run whose RMS over all listed entries passes the bound stops there, with that
+// RMS as its value (a lower bound of the whole run's, above the bound); a bound the run stays under changes nothing.
+TEST(EvaluationTest, AMeasuredErrorRunStopsOnceItCannotEndBelowItsBound) {
+  const std::string xml =
+      "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n    <Pendulum name=\"Pendulum\" "
+      "position=\"(0,0.5,0)\" poleMass=\"0.5\" poleLength=\"0.3\"/>\n  </Agent>\n</ORCS>\n";
+  // The pole turns to −40° while the "measured" angles say it stays at 0: the error grows through the run.
+  nlohmann::json scenario = {
+      {"agent", "Pendulum"},
+      {"duration", 0.5},
+      {"environment", {{"file", "pendulum"}, {"xml", xml}}},
+      {"controller", {{"type", "keyframes"}, {"record", {{"file", "r.csv"}, {"text", "0,-40,1\n"}}}}},
+      {"fitness", {{"terms", {{{"type", "measured_error"}, {"angles", {{"Motor", std::vector<double>(50, 0.0)}}}}}}}},
+      {"values", {{"/AngularMotor/IncludeNoise", false}}},
+  };
+  EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome whole = Evaluate(request);
+  ASSERT_EQ(whole.status, EvaluationStatus::kOk) << whole.message;
+  const double full = whole.fitness;
+  ASSERT_GT(full, 10.0);
+  EXPECT_NEAR(whole.sets[0].simulated_seconds, 0.5, 1e-9);
+
+  scenario["fitness"]["terms"][0]["stop_above"] = full / 2;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome stopped = Evaluate(request);
+  ASSERT_EQ(stopped.status, EvaluationStatus::kOk) << stopped.message;
+  EXPECT_LT(stopped.sets[0].simulated_seconds, 0.45);
+  EXPECT_GT(stopped.fitness, full / 2);
+  EXPECT_LT(stopped.fitness, full);
+
+  scenario["fitness"]["terms"][0]["stop_above"] = full * 1.001;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome under = Evaluate(request);
+  EXPECT_EQ(under.fitness, full);
+  EXPECT_NEAR(under.sets[0].simulated_seconds, 0.5, 1e-9);
+
+  scenario["fitness"]["terms"][0]["stop_above"] = -1.0;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome refused = Evaluate(request);
+  EXPECT_EQ(refused.status, EvaluationStatus::kInvalidInput);
+  EXPECT_THAT(refused.message, HasSubstr("stop_above"));
+}
+
 // The logs of a job share one bound over all its sets: the first set's log ends with the truncation line once the
 // bound is reached, the later sets' logs hold only their header and that line; the fitness is the same as unbounded.
 TEST(EvaluationTest, AJobsLogsStopAtTheirBoundAndTheRunGoesOn) {
