@@ -14,10 +14,20 @@ using identify::ReplayOutcome;
 using identify::ReplayRequest;
 using identify::ReplayRun;
 
+namespace {
+
+// A replay that stopped at its bound simulated less than the run lasts (at least one step less).
+bool StoppedEarly(const v1::Result& result, const ReplayRun& run) {
+  constexpr double kClockSlack = 1e-6;  // s: far below a step, far above the rounding of summed steps
+  return result.timings().simulated_seconds() < run.scenario["duration"].get<double>() - kClockSlack;
+}
+
+}  // namespace
+
 std::vector<ReplayOutcome> BrokerReplays::Replay(const std::vector<ReplayRequest>& requests) {
   std::vector<v1::Job> jobs;
   for (const ReplayRequest& request : requests) {
-    jobs.push_back(MakeReplayJob(*request.run, request.overrides, request.log));
+    jobs.push_back(MakeReplayJob(*request.run, request.overrides, request.log, request.stop_above));
     jobs.back().set_record(request.record);
   }
   std::vector<v1::Result> results = jobs_.Run(std::move(jobs));
@@ -28,6 +38,8 @@ std::vector<ReplayOutcome> BrokerReplays::Replay(const std::vector<ReplayRequest
     outcome.ok = result.status() == v1::Result::OK;
     outcome.rms = result.fitness();
     outcome.recording = std::move(*result.mutable_recording());
+    outcome.stopped_early = outcome.ok && StoppedEarly(result, *requests[i].run);
+    if (outcome.stopped_early) ++stopped_early_;
     if (outcome.ok && requests[i].log && result.logs_size() > 0) {
       outcome.columns = ParseLogColumns(result.logs(0).csv(), requests[i].run->name);
     }
@@ -35,9 +47,10 @@ std::vector<ReplayOutcome> BrokerReplays::Replay(const std::vector<ReplayRequest
   return outcomes;
 }
 
-v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log) {
+v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log, double stop_above) {
   nlohmann::json scenario = replay.scenario;
   if (log) scenario["log"] = {"/Sim/" + scenario["agent"].get<std::string>() + "/.*/(JointAngle|MotorTorque)"};
+  if (std::isfinite(stop_above)) scenario["fitness"]["terms"][0]["stop_above"] = stop_above;
   v1::Job job;
   job.set_scenario_json(scenario.dump());
   job.set_genome_json("[]");

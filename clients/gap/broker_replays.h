@@ -3,7 +3,9 @@
 // "measured_error" is the replay's RMS error; its log carries the simulated joint angles and motor torques.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,14 +22,18 @@ class BrokerReplays : public identify::ReplayEvaluator {
 
   std::vector<identify::ReplayOutcome> Replay(const std::vector<identify::ReplayRequest>& requests) override;
   std::uint64_t replays_run() const override { return jobs_.jobs_run(); }
+  std::uint64_t replays_stopped_early() const override { return stopped_early_; }
 
  private:
   batch::JobEvaluator& jobs_;
+  std::atomic<std::uint64_t> stopped_early_{0};
 };
 
 /// The job of one replay: the run's scenario with the overrides; with `log`, the scenario logs the simulated
-/// JointAngle and MotorTorque of every motor of the run's agent.
-v1::Job MakeReplayJob(const identify::ReplayRun& replay, const std::vector<identify::Override>& overrides, bool log);
+/// JointAngle and MotorTorque of every motor of the run's agent; a finite `stop_above` (degrees) becomes the
+/// measured_error term's bound.
+v1::Job MakeReplayJob(const identify::ReplayRun& replay, const std::vector<identify::Override>& overrides, bool log,
+                      double stop_above = std::numeric_limits<double>::infinity());
 
 /// A simulated log (the CSV the worker returns) as columns: path → values per row. Throws InputError naming
 /// `source` when it has no "# columns:" line.

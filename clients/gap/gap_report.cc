@@ -152,8 +152,9 @@ nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOpt
         {"win_ratio", options.win_ratio},
         {"generations", options.fit.generations},
         {"abandon_share", std::isfinite(options.abandon_share) ? nlohmann::json(options.abandon_share) : nullptr},
+        {"early_stop", options.fit.stop_replays_early},
         {"seed", options.fit.seed}}},
-      {"cost", {{"seconds", d.seconds}, {"jobs", d.jobs}}},
+      {"cost", {{"seconds", d.seconds}, {"jobs", d.jobs}, {"jobs_stopped_early", d.jobs_stopped_early}}},
   };
 }
 
@@ -243,8 +244,9 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
      << " × the refit's. Fits: each effect's main parameter scanned over its range, then a particle swarm (pagmo2 "
      << "pso_gen), " << options.fit.generations << " generations" << EarlyStops(options) << ", seed "
      << options.fit.seed << ", a compass search and a Levenberg–Marquardt polish (Ceres); ± is the 95 % confidence interval from the "
-     << "Jacobian. " << d.jobs << " replay jobs in " << text::FormatDouble(std::round(d.seconds * 10) / 10)
-     << " s.\n\nPlots: `scripts/plot_gap.py DIR` → DIR/plots/.\n";
+     << "Jacobian. " << d.jobs << " replay jobs (" << d.jobs_stopped_early
+     << " stopped early: their point could not beat the search's best) in "
+     << text::FormatDouble(std::round(d.seconds * 10) / 10) << " s.\n\nPlots: `scripts/plot_gap.py DIR` → DIR/plots/.\n";
   return md.str();
 }
 

@@ -40,6 +40,7 @@ struct GapOptions {
   std::string out = "gap-report";
   int generations = 40;
   bool race = true;
+  bool early_stop = true;
   unsigned seed = 1;
   std::vector<std::string> effects;
   // synth
@@ -123,6 +124,7 @@ int Diagnose(const GapOptions& o) {
   DiagnosisOptions options;
   options.fit.generations = o.generations;
   if (o.race) options.abandon_share = kRaceAbandonShare;
+  options.fit.stop_replays_early = o.early_stop;
   options.fit.seed = o.seed;
   options.candidates = o.effects;
   std::filesystem::create_directories(o.out);
@@ -179,6 +181,9 @@ int main(int argc, char** argv) {
   app.add_flag("--race,!--no-race", o.race,
                "race the candidates (default): one that after 10 generations scores no better than the refit on the "
                "held-out runs is abandoned; --no-race fits every candidate to the end (docs/gap.md)");
+  app.add_flag("--early-stop,!--no-early-stop", o.early_stop,
+               "stop a search's replays once their point cannot beat the best it is compared with (default; the same "
+               "fits, sooner); --no-early-stop runs every replay to its end (docs/gap.md)");
   app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");

@@ -317,6 +317,7 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
                    const DiagnosisOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   const std::uint64_t replays_before = replays.replays_run();
+  const std::uint64_t stopped_before = replays.replays_stopped_early();
   Diagnosis d;
   std::vector<ReplayRun> fit, holdout;
   SplitRuns(fit_given, holdout_given, fit, holdout, d);
@@ -346,6 +347,7 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   d.verdict = Verdict(d, options);
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   d.jobs = replays.replays_run() - replays_before;
+  d.jobs_stopped_early = replays.replays_stopped_early() - stopped_before;
   return d;
 }
 

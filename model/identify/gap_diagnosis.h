@@ -95,6 +95,7 @@ struct Diagnosis {
   std::vector<Override> model_values;     ///< the fitted model: refit base values, winner's switch and values
   double seconds = 0.0;                   ///< wall clock
   std::uint64_t jobs = 0;                 ///< replays run (in orcs-gap each is one job)
+  std::uint64_t jobs_stopped_early = 0;   ///< of those, stopped where their point could not beat the search's best
 };
 
 /// Runs the whole workflow. `holdout` may be empty: then the last fit run is held out (when there are two or

@@ -152,7 +152,7 @@ std::vector<double> ConfidenceIntervals(const ReplayObjective& objective, const 
 bool Identified(double value, double ci95) { return std::isfinite(ci95) && ci95 < std::abs(value); }
 
 PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                                 const std::vector<double>& start, int iterations) {
+                                 const std::vector<double>& start, int iterations, bool intervals) {
   PolishOutcome outcome;
   outcome.values = start;
   std::vector<double> unit;
@@ -194,7 +194,8 @@ PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::ve
     outcome.improved = true;
     unit = polished;
   }
-  outcome.ci95 = ConfidenceIntervals(objective, parameters, unit, outcome.evaluations);
+  outcome.ci95 = intervals ? ConfidenceIntervals(objective, parameters, unit, outcome.evaluations)
+                           : std::vector<double>(parameters.size(), std::numeric_limits<double>::quiet_NaN());
   return outcome;
 }
 

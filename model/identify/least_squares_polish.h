@@ -24,9 +24,10 @@ struct PolishOutcome {
   std::vector<double> ci95;
 };
 
-/// Polishes `start` (one value per parameter, in its unit). `iterations` bounds Ceres's iterations.
+/// Polishes `start` (one value per parameter, in its unit). `iterations` bounds Ceres's iterations. Without
+/// `intervals` the last Jacobian is skipped and ci95 is all NaN (the race's quick look needs no intervals).
 PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                                 const std::vector<double>& start, int iterations = 15);
+                                 const std::vector<double>& start, int iterations = 15, bool intervals = true);
 
 /// Whether a fitted value is determined by the data: its interval is finite and narrower than the value itself.
 bool Identified(double value, double ci95);

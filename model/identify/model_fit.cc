@@ -1,9 +1,11 @@
 #include "model/identify/model_fit.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <memory>
 #include <tuple>
 #include <pagmo/algorithm.hpp>
@@ -36,6 +38,52 @@ struct FitWatch {
   double best_f = std::numeric_limits<double>::infinity();  // its objective, deg²
   std::uint64_t evaluated = 0;                             // points evaluated through the problem
   int swarm_batches = -1;                                  // generations of the swarm so far; −1 before it starts
+  // Early stops (FitOptions::stop_replays_early): per point, the objective above which its value no longer matters.
+  std::vector<double> particle_best;             // the swarm: each particle's best so far, as pso_gen keeps it
+  std::map<pagmo::vector_double, double> bounds;  // the swarm batch being evaluated: point → its particle's best
+  bool in_compass = false;                        // the compass search is running
+  double compass_best = std::numeric_limits<double>::infinity();  // its current point's objective (or above it)
+
+  // The bound of point x: past it, the search that asked for x ignores x's value.
+  double BoundOf(const pagmo::vector_double& x) const {
+    const auto found = bounds.find(x);
+    if (found != bounds.end()) return found->second;
+    return in_compass ? compass_best : std::numeric_limits<double>::infinity();
+  }
+};
+
+// pagmo's batch evaluator for the swarm: member_bfe's work (the problem's batch_fitness: the generation as one batch),
+// plus each particle's best so far as its new point's bound. pso_gen uses a particle's new objective for one thing
+// only, to ask whether it is at or below the particle's best (pso_gen.cpp, "update the particles memory"); its
+// batch lists the particles in order. So a replay that stops once its point is sure to lose that comparison, and
+// answers with a lower bound above the best, leaves the swarm's path exactly as it would be.
+struct SwarmBatch {
+  std::shared_ptr<FitWatch> watch;
+
+  pagmo::vector_double operator()(const pagmo::problem& problem, const pagmo::vector_double& xs) const {
+    FitWatch& w = *watch;
+    const std::size_t n = problem.get_nx();
+    assert(xs.size() == w.particle_best.size() * n && "the swarm's batch is one point per particle");
+    for (std::size_t p = 0; p < w.particle_best.size(); ++p) {
+      const auto first = xs.begin() + static_cast<std::ptrdiff_t>(p * n);
+      const auto [entry, added] = w.bounds.emplace(pagmo::vector_double(first, first + static_cast<std::ptrdiff_t>(n)),
+                                                   w.particle_best[p]);
+      // Two particles on one point: the looser bound serves both.
+      if (!added) entry->second = std::max(entry->second, w.particle_best[p]);
+    }
+    pagmo::vector_double objectives;
+    try {
+      objectives = pagmo::member_bfe{}(problem, xs);
+    } catch (...) {
+      w.bounds.clear();
+      throw;
+    }
+    w.bounds.clear();
+    for (std::size_t p = 0; p < w.particle_best.size(); ++p) {
+      w.particle_best[p] = std::min(w.particle_best[p], objectives[p]);
+    }
+    return objectives;
+  }
 };
 
 // Thrown out of the swarm's evaluator when the race abandons the fit: pagmo's evolve has no other way to stop.
@@ -52,12 +100,17 @@ pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::shared
     const std::vector<FitParameter>& parameters = *watch->parameters;
     std::vector<std::vector<Override>> points;
     for (const pagmo::vector_double& x : xs) points.push_back(OverridesOf(parameters, Values(parameters, x.data())));
-    const std::vector<double> errors = objective.MeanSquaredErrors(points);
+    const FitOptions& options = *watch->options;
+    std::vector<double> bounds;
+    if (options.stop_replays_early) {
+      for (const pagmo::vector_double& x : xs) bounds.push_back(watch->BoundOf(x));
+    }
+    const std::vector<double> errors = objective.MeanSquaredErrors(points, bounds);
     watch->evaluated += xs.size();
     for (std::size_t i = 0; i < xs.size(); ++i) {
       if (errors[i] < watch->best_f) std::tie(watch->best_x, watch->best_f) = std::tie(xs[i], errors[i]);
+      if (watch->in_compass) watch->compass_best = std::min(watch->compass_best, errors[i]);
     }
-    const FitOptions& options = *watch->options;
     if (watch->swarm_batches >= 0 && ++watch->swarm_batches == options.abandon_after && options.abandon) {
       const std::string why = options.abandon(Values(parameters, watch->best_x.data()), watch->best_f);
       if (!why.empty()) {
@@ -98,7 +151,8 @@ FitOutcome Abandoned(const std::vector<FitParameter>& parameters, const FitWatch
 int QuickLook(const ReplayObjective& objective, const std::vector<FitParameter>& parameters, FitWatch& watch) {
   std::vector<double> start;
   for (const FitParameter& p : parameters) start.push_back(p.start);
-  const PolishOutcome look = PolishLeastSquares(objective, parameters, start, kQuickLookIterations);
+  const PolishOutcome look =
+      PolishLeastSquares(objective, parameters, start, kQuickLookIterations, /*intervals=*/false);
   if (look.improved && look.mse < watch.best_f) {
     watch.best_x.clear();
     for (std::size_t i = 0; i < parameters.size(); ++i) watch.best_x.push_back(ToUnit(parameters[i], look.values[i]));
@@ -113,12 +167,27 @@ ReplayObjective::ReplayObjective(ReplayEvaluator& replays, const std::vector<Rep
                                  std::vector<Override> fixed)
     : replays_(replays), runs_(runs), fixed_(std::move(fixed)) {}
 
-std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::vector<Override>>& points) const {
+double ReplayObjective::RunBound(double bound, const ReplayRun& run) const {
+  double samples = 0.0;
+  for (const ReplayRun& each : runs_) samples += static_cast<double>(each.samples);
+  if (!std::isfinite(bound) || run.samples == 0) return std::numeric_limits<double>::infinity();
+  // One run alone beyond this RMS puts the pooled error above the bound, whatever the other runs give; the margin
+  // keeps that true through the rounding of rms² · samples.
+  constexpr double kRoundingMargin = 1e-9;
+  return std::sqrt(bound * samples / static_cast<double>(run.samples)) * (1.0 + kRoundingMargin);
+}
+
+std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::vector<Override>>& points,
+                                                       const std::vector<double>& bounds) const {
+  assert(bounds.empty() || bounds.size() == points.size());
   std::vector<ReplayRequest> requests;
-  for (const std::vector<Override>& point : points) {
+  for (std::size_t p = 0; p < points.size(); ++p) {
     std::vector<Override> overrides = fixed_;
-    overrides.insert(overrides.end(), point.begin(), point.end());
-    for (const ReplayRun& run : runs_) requests.push_back({&run, overrides});
+    overrides.insert(overrides.end(), points[p].begin(), points[p].end());
+    for (const ReplayRun& run : runs_) {
+      ReplayRequest& request = requests.emplace_back(ReplayRequest{&run, overrides});
+      if (!bounds.empty()) request.stop_above = RunBound(bounds[p], run);
+    }
   }
   const std::vector<ReplayOutcome> outcomes = replays_.Replay(requests);
   std::vector<double> errors;
@@ -204,7 +273,8 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   // evaluator, so a whole generation goes to the broker at once (docs/gap.md, "How a fit works").
   pagmo::pso_gen swarm(static_cast<unsigned>(options.generations), 0.7298, 2.05, 2.05, 0.5, 5, 2, 4, false,
                        options.seed);
-  swarm.set_bfe(batch);
+  swarm.set_bfe(pagmo::bfe{SwarmBatch{watch}});
+  for (const pagmo::vector_double& f : population.get_f()) watch->particle_best.push_back(f[0]);
   watch->swarm_batches = 0;
   try {
     population = pagmo::algorithm{swarm}.evolve(population);
@@ -218,7 +288,12 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   pagmo::population polish(problem, 0u, options.seed);
   polish.push_back(population.champion_x(), population.champion_f());
   const unsigned budget = kPolishBudgetPerDimension * static_cast<unsigned>(parameters.size());
+  // pagmo's compass search moves only to a trial point strictly better than its current one, so a trial's value
+  // matters only below the current point's: that is its bound.
+  watch->in_compass = true;
+  watch->compass_best = population.champion_f()[0];
   polish = pagmo::algorithm{pagmo::compass_search(budget, kPolishStart, kPolishStop, 0.5)}.evolve(polish);
+  watch->in_compass = false;
   const auto polish_evaluations = polish.get_problem().get_fevals();
 
   // 3. Least squares: Levenberg–Marquardt on the residuals, and the confidence intervals.

@@ -22,8 +22,10 @@ class ReplayObjective {
   ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs, std::vector<Override> fixed);
 
   /// The pooled mean squared error (deg²) of every point, in order. A point whose replay fails (unstable physics)
-  /// scores kFailedPoint.
-  std::vector<double> MeanSquaredErrors(const std::vector<std::vector<Override>>& points) const;
+  /// scores kFailedPoint. `bounds` (empty, or one per point; +∞ = none): a point whose error is sure to exceed its
+  /// bound may have its replays stopped early, and then scores a lower bound of its error that is above the bound.
+  std::vector<double> MeanSquaredErrors(const std::vector<std::vector<Override>>& points,
+                                        const std::vector<double>& bounds = {}) const;
 
   /// Per point, the residuals (simulated − measured joint angle, degrees) of every run's channels at every row after
   /// the first, in run and channel order; empty for a point whose replay failed.
@@ -32,6 +34,9 @@ class ReplayObjective {
   static constexpr double kFailedPoint = 1e6;
 
  private:
+  /// The RMS (degrees) above which `run` alone puts the pooled error above `bound` (deg²); +∞ for no bound.
+  double RunBound(double bound, const ReplayRun& run) const;
+
   ReplayEvaluator& replays_;
   const std::vector<ReplayRun>& runs_;
   std::vector<Override> fixed_;
@@ -48,6 +53,10 @@ struct FitOptions {
   /// comes first, so that the question also sees the best point near the start.
   std::function<std::string(const std::vector<double>& values, double mse)> abandon;
   int abandon_after = 10;
+  /// Stop a search's replays early where their point cannot beat the best it is compared with (the swarm: the
+  /// particle's best; the compass search: its current point). The search is the same bit for bit, only cheaper
+  /// (docs/gap.md, "How a fit works"); false runs every replay to its end.
+  bool stop_replays_early = true;
 };
 
 struct FitOutcome {

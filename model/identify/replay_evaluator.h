@@ -19,6 +19,9 @@ struct ReplayRequest {
   std::vector<Override> overrides;  ///< repository path → value text, applied in order
   bool log = false;                 ///< return the simulated JointAngle and MotorTorque of every motor
   bool record = false;              ///< return the replay's recording (docs/recording.md)
+  /// The replay may stop as soon as its RMS error can no longer end at or below this (degrees; measured_error's
+  /// "stop_above"): its rms is then a lower bound above it. +∞ = run to the end.
+  double stop_above = std::numeric_limits<double>::infinity();
 };
 
 /// What one replay gave.
@@ -29,6 +32,7 @@ struct ReplayOutcome {
   /// value per measured row; empty when the replay failed.
   std::vector<std::pair<std::string, std::vector<double>>> columns;
   std::string recording;  ///< with ReplayRequest::record: the recording's bytes ("" when none was made)
+  bool stopped_early = false;  ///< stopped at ReplayRequest::stop_above: rms is a lower bound, above it
 };
 
 class ReplayEvaluator {
@@ -40,6 +44,8 @@ class ReplayEvaluator {
 
   /// Replays run so far.
   virtual std::uint64_t replays_run() const = 0;
+  /// Of those, the ones that stopped early (ReplayRequest::stop_above); 0 for an evaluator that never stops.
+  virtual std::uint64_t replays_stopped_early() const { return 0; }
 };
 
 }  // namespace orcs::identify

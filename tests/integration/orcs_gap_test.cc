@@ -138,6 +138,26 @@ TEST_F(GapRaceTest, NoRaceIsRecordedAndAbandonsNothing) {
   }
 }
 
+// Replays stopped early (the default) leave every fit exactly as with every replay run to its end: the refit's and
+// each candidate's values, errors, scores and replay counts are equal to the last bit (docs/gap.md, "How a fit
+// works"), with real workers answering with the lower bounds they stopped at.
+TEST_F(GapRunTest, ReplaysStoppedEarlyGiveTheSameDiagnosisBitForBit) {
+  const std::vector<std::string> hidden = {"--effect", "TransportDelay", "--set", "/Effects/TransportDelay/Delay=0.04"};
+  const std::vector<std::string> options = {"--generations", "12", "--effects", "DeadBand,TransportDelay"};
+  const nlohmann::json early = Diagnose(hidden, "ODE", options);
+  std::vector<std::string> whole_options = options;
+  whole_options.push_back("--no-early-stop");
+  const nlohmann::json whole = Diagnose(hidden, "ODE", whole_options);
+  EXPECT_TRUE(early.at("criterion").at("early_stop").get<bool>());
+  EXPECT_FALSE(whole.at("criterion").at("early_stop").get<bool>());
+  EXPECT_GT(early.at("cost").at("jobs_stopped_early").get<int>(), early.at("cost").at("jobs").get<int>() / 10);
+  EXPECT_EQ(whole.at("cost").at("jobs_stopped_early").get<int>(), 0);
+  EXPECT_EQ(early.at("cost").at("jobs"), whole.at("cost").at("jobs"));
+  EXPECT_EQ(early.at("refit"), whole.at("refit"));
+  EXPECT_EQ(early.at("candidates"), whole.at("candidates"));
+  EXPECT_EQ(early.at("verdict"), whole.at("verdict"));
+}
+
 // The column `name` of an orcs-sim log (what orcs-gap synth writes), per row.
 std::vector<double> LogColumn(const std::string& path, const std::string& name) {
   std::ifstream in(path);

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -34,6 +35,12 @@ class AnalyticEvaluator : public ReplayEvaluator {
       if (outcome.ok) {
         const double da = 10.0 * std::log(a / kTrueA), db = 10.0 * (b - kTrueB);
         outcome.rms = std::sqrt(da * da + db * db + floor * floor);
+        // A replay past its bound stops with the least lower bound it may give: just above the bound.
+        if (outcome.rms > request.stop_above) {
+          outcome.rms = std::nextafter(request.stop_above, std::numeric_limits<double>::infinity());
+          outcome.stopped_early = true;
+          ++stopped_;
+        }
       }
       outcomes.push_back(outcome);
     }
@@ -41,9 +48,11 @@ class AnalyticEvaluator : public ReplayEvaluator {
     return outcomes;
   }
   std::uint64_t replays_run() const override { return replays_; }
+  std::uint64_t replays_stopped_early() const override { return stopped_; }
 
  private:
   std::atomic<std::uint64_t> replays_{0};
+  std::atomic<std::uint64_t> stopped_{0};
 };
 
 ReplayRun AnalyticRun(const std::string& name, std::size_t samples, double floor_deg) {
@@ -142,6 +151,48 @@ TEST(ModelFitTest, AFitItsAbandonQuestionRejectsStopsAfterItsFirstGenerationsWit
   EXPECT_FALSE(kept.abandoned);
   EXPECT_NEAR(kept.mse, 9.0, 0.05);
   EXPECT_TRUE(kept.converged) << kept.convergence;
+}
+
+// Replays stopped at their point's bound (the particle's best in the swarm, the current point in the compass search)
+// answer with a lower bound just above it; the fit must not notice: the same values, error and evaluations as with
+// every replay run to its end, with and without the race, over two runs of unequal length.
+TEST(ModelFitTest, ReplaysStoppedEarlyLeaveTheFitExactlyAsWithoutThem) {
+  for (const bool raced : {false, true}) {
+    SCOPED_TRACE(raced ? "raced" : "not raced");
+    AnalyticEvaluator evaluator;
+    const std::vector<ReplayRun> runs = {AnalyticRun("small", 100, 1.0), AnalyticRun("large", 300, 0.5)};
+    const ReplayObjective objective(evaluator, runs, {});
+    FitOptions whole;
+    whole.stop_replays_early = false;
+    if (raced) whole.abandon = [](const std::vector<double>&, double) { return std::string(); };
+    const FitOutcome reference = Fit(objective, kParameters, whole);
+    ASSERT_EQ(evaluator.replays_stopped_early(), 0u);
+    FitOptions early = whole;
+    early.stop_replays_early = true;
+    const FitOutcome stopped = Fit(objective, kParameters, early);
+    EXPECT_GT(evaluator.replays_stopped_early(), static_cast<std::uint64_t>(stopped.evaluations) / 4);
+    EXPECT_EQ(stopped.values, reference.values);
+    EXPECT_EQ(stopped.mse, reference.mse);
+    EXPECT_EQ(stopped.evaluations, reference.evaluations);
+    EXPECT_EQ(stopped.converged, reference.converged);
+    EXPECT_EQ(stopped.convergence, reference.convergence);
+  }
+}
+
+// Each run's bound is the RMS past which it alone puts the pooled error above the point's bound.
+TEST(ModelFitTest, APointsBoundBecomesEachRunsStopAboveAndItsLowerBoundExceedsIt) {
+  AnalyticEvaluator evaluator;
+  const std::vector<ReplayRun> runs = {AnalyticRun("small", 100, 1.0), AnalyticRun("large", 300, 3.0)};
+  const ReplayObjective objective(evaluator, runs, {});
+  // At the optimum the pooled error is 7 deg²: a bound of 8 stops nothing, a bound of 2 stops the large run
+  // (its 3² · 300 / 400 = 6.75 deg² alone exceeds 2).
+  const std::vector<std::vector<Override>> optimum = {{{"/A", "2"}, {"/B", "0.3"}}};
+  EXPECT_DOUBLE_EQ(objective.MeanSquaredErrors(optimum, {8.0})[0], 7.0);
+  EXPECT_EQ(evaluator.replays_stopped_early(), 0u);
+  const double lower = objective.MeanSquaredErrors(optimum, {2.0})[0];
+  EXPECT_GT(evaluator.replays_stopped_early(), 0u);
+  EXPECT_GT(lower, 2.0);
+  EXPECT_LE(lower, 7.0);
 }
 
 TEST(ModelFitTest, TheObjectivePoolsRunsBySamplesAndScoresAFailedReplayAsFailed) {
