@@ -27,6 +27,11 @@ EvaluationRequest Request(const std::string& example, nlohmann::json genome, std
   return request;
 }
 
+// One pendulum, for scenarios written inline.
+const std::string kPendulumXml =
+    "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n    <Pendulum name=\"Pendulum\" "
+    "position=\"(0,0.5,0)\" poleMass=\"0.5\" poleLength=\"0.3\"/>\n  </Agent>\n</ORCS>\n";
+
 const nlohmann::json kSwingGenome = {20, 0.5, 0, 0, 20, 0.5, 3.14159, 0};
 
 TEST(EvaluationTest, SameJobSameBitsDifferentSeedDifferentDraws) {
@@ -89,13 +94,10 @@ TEST(EvaluationTest, NetworkScenarioRunsItsSetsAndLogs) {
 // A replay of a measured run starts where the real joint was (scenario "start_angles", docs/scenarios.md): the
 // first logged JointAngle is the start angle; an unknown motor is refused naming the field.
 TEST(EvaluationTest, StartAnglesPoseTheNamedMotorsBeforeTheRun) {
-  const std::string xml =
-      "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n    <Pendulum name=\"Pendulum\" "
-      "position=\"(0,0.5,0)\" poleMass=\"0.5\" poleLength=\"0.3\"/>\n  </Agent>\n</ORCS>\n";
   nlohmann::json scenario = {
       {"agent", "Pendulum"},
       {"duration", 0.05},
-      {"environment", {{"file", "pendulum"}, {"xml", xml}}},
+      {"environment", {{"file", "pendulum"}, {"xml", kPendulumXml}}},
       {"controller", {{"type", "keyframes"}, {"record", {{"file", "r.csv"}, {"text", "0,-12.5,1\n"}}}}},
       {"fitness", {{"terms", nlohmann::json::array({{{"type", "energy"}}})}}},
       {"values", {{"/AngularMotor/IncludeNoise", false}}},
@@ -129,14 +131,11 @@ TEST(EvaluationTest, StartAnglesPoseTheNamedMotorsBeforeTheRun) {
 // measured_error's "stop_above": a run whose RMS over all listed entries passes the bound stops there, with that
 // RMS as its value (a lower bound of the whole run's, above the bound); a bound the run stays under changes nothing.
 TEST(EvaluationTest, AMeasuredErrorRunStopsOnceItCannotEndBelowItsBound) {
-  const std::string xml =
-      "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n    <Pendulum name=\"Pendulum\" "
-      "position=\"(0,0.5,0)\" poleMass=\"0.5\" poleLength=\"0.3\"/>\n  </Agent>\n</ORCS>\n";
   // The pole turns to −40° while the "measured" angles say it stays at 0: the error grows through the run.
   nlohmann::json scenario = {
       {"agent", "Pendulum"},
       {"duration", 0.5},
-      {"environment", {{"file", "pendulum"}, {"xml", xml}}},
+      {"environment", {{"file", "pendulum"}, {"xml", kPendulumXml}}},
       {"controller", {{"type", "keyframes"}, {"record", {{"file", "r.csv"}, {"text", "0,-40,1\n"}}}}},
       {"fitness", {{"terms", {{{"type", "measured_error"}, {"angles", {{"Motor", std::vector<double>(50, 0.0)}}}}}}}},
       {"values", {{"/AngularMotor/IncludeNoise", false}}},
