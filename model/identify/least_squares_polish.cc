@@ -152,7 +152,7 @@ std::vector<double> ConfidenceIntervals(const ReplayObjective& objective, const 
 bool Identified(double value, double ci95) { return std::isfinite(ci95) && ci95 < std::abs(value); }
 
 PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                                 const std::vector<double>& start, int iterations, bool intervals) {
+                                 const std::vector<double>& start, const PolishOptions& polish) {
   PolishOutcome outcome;
   outcome.values = start;
   std::vector<double> unit;
@@ -179,8 +179,10 @@ PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::ve
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = iterations;
+  options.max_num_iterations = polish.iterations;
   options.logging_type = ceres::SILENT;
+  // Without the line search, a step that leaves the box is clipped to it.
+  if (!polish.line_search) options.max_num_line_search_step_size_iterations = 0;
   options.num_threads = 1;  // the parallelism is the batch of replays behind each Jacobian
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
@@ -194,7 +196,7 @@ PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::ve
     outcome.improved = true;
     unit = polished;
   }
-  outcome.ci95 = intervals ? ConfidenceIntervals(objective, parameters, unit, outcome.evaluations)
+  outcome.ci95 = polish.intervals ? ConfidenceIntervals(objective, parameters, unit, outcome.evaluations)
                            : std::vector<double>(parameters.size(), std::numeric_limits<double>::quiet_NaN());
   return outcome;
 }

@@ -24,10 +24,19 @@ struct PolishOutcome {
   std::vector<double> ci95;
 };
 
-/// Polishes `start` (one value per parameter, in its unit). `iterations` bounds Ceres's iterations. Without
-/// `intervals` the last Jacobian is skipped and ci95 is all NaN (the race's quick look needs no intervals).
+struct PolishOptions {
+  int iterations = 15;  ///< bound on Ceres's iterations (successful and unsuccessful steps)
+  /// Whether to compute the confidence intervals at the end (one more Jacobian); without, ci95 is all NaN (the
+  /// race's quick look and the relaxed scan need none).
+  bool intervals = true;
+  /// Ceres's projected line search where a step leaves the box. Each of its steps costs a Jacobian, but it is what
+  /// takes a fit to a hidden Stribeck friction's values; quick relaxations do without it.
+  bool line_search = true;
+};
+
+/// Polishes `start` (one value per parameter, in its unit).
 PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                                 const std::vector<double>& start, int iterations = 15, bool intervals = true);
+                                 const std::vector<double>& start, const PolishOptions& polish = {});
 
 /// Whether a fitted value is determined by the data: its interval is finite and narrower than the value itself.
 bool Identified(double value, double ci95);

@@ -152,7 +152,8 @@ int QuickLook(const ReplayObjective& objective, const std::vector<FitParameter>&
   std::vector<double> start;
   for (const FitParameter& p : parameters) start.push_back(p.start);
   const PolishOutcome look =
-      PolishLeastSquares(objective, parameters, start, kQuickLookIterations, /*intervals=*/false);
+      PolishLeastSquares(objective, parameters, start,
+                         {.iterations = kQuickLookIterations, .intervals = false});
   if (look.improved && look.mse < watch.best_f) {
     watch.best_x.clear();
     for (std::size_t i = 0; i < parameters.size(); ++i) watch.best_x.push_back(ToUnit(parameters[i], look.values[i]));

@@ -101,6 +101,37 @@ TEST(LeastSquaresPolishTest, FindsTheLeastSquaresSolutionAndItsConfidenceInterva
   EXPECT_EQ(static_cast<std::uint64_t>(polished.evaluations), evaluator.replays_run());
 }
 
+// An optimum outside the box (a = 1.5 above /A's top, 1): the polish ends on the wall, within 1 % of the constrained
+// optimum's error, with Ceres's projected line search and without it (steps clipped to the box), and without it in
+// fewer replays.
+TEST(LeastSquaresPolishTest, AnOptimumBeyondTheBoxEndsOnItsWallWithOrWithoutTheLineSearch) {
+  LinearRig rig;
+  Eigen::VectorXd sine(kRows - 1), cosine(kRows - 1), y(kRows - 1);
+  for (int k = 1; k < kRows; ++k) {
+    sine(k - 1) = Sine(k);
+    cosine(k - 1) = Cosine(k);
+    y(k - 1) = rig.measured.joint_angle["Motor"][static_cast<std::size_t>(k)];
+  }
+  const double b_at_wall = cosine.dot(y - 1.0 * sine) / cosine.squaredNorm();  // the best b with a held at 1
+  const double mse_at_wall = (1.0 * sine + b_at_wall * cosine - y).squaredNorm() / (kRows - 1);
+  const std::vector<ReplayRun> runs = {rig.run};
+  const std::vector<FitParameter> parameters = {{"/A", "deg", -5.0, 1.0, false}, {"/B", "deg", -5.0, 5.0, false}};
+  int evaluations[2] = {0, 0};
+  for (const bool line_search : {true, false}) {
+    LinearEvaluator evaluator;
+    const ReplayObjective objective(evaluator, runs, {});
+    const PolishOutcome polished =
+        PolishLeastSquares(objective, parameters, {-2.0, 0.0}, {.intervals = false, .line_search = line_search});
+    ASSERT_TRUE(polished.improved) << polished.summary;
+    EXPECT_NEAR(polished.values[0], 1.0, 1e-4) << "line search " << line_search << ": " << polished.summary;
+    // Ceres's steps along the wall are the clipped free steps, so b stops near, not at, its constrained best.
+    EXPECT_NEAR(polished.values[1], b_at_wall, 0.05) << "line search " << line_search;
+    EXPECT_LT(polished.mse, 1.01 * mse_at_wall) << "line search " << line_search;
+    evaluations[line_search ? 0 : 1] = polished.evaluations;
+  }
+  EXPECT_LT(evaluations[1], evaluations[0]);
+}
+
 TEST(LeastSquaresPolishTest, AParameterTheDataDoNotSeeIsNotIdentified) {
   LinearRig rig;
   LinearEvaluator evaluator;
