@@ -4,8 +4,8 @@
 # movement (fitted) and of the waist bend (held out), diagnosed among all nine effects with 1 and then 2 local
 # workers. Loopback only.
 # Usage: scripts/bench_gap.sh [SECONDS=2] [GENERATIONS] [HOLDOUT_SECONDS=SECONDS]
-#   (GENERATIONS: orcs-gap's default, 40, unless given; GAP_OPTIONS: more orcs-gap options, e.g. --no-race or
-#   --no-early-stop)
+#   (GENERATIONS: orcs-gap's default, 40, unless given; GAP_OPTIONS: more orcs-gap options, e.g. --no-race,
+#   --no-early-stop or --relax-scan; BENCH_WORKERS: the worker counts to time, default "1 2")
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-2}
@@ -27,7 +27,7 @@ else
 fi
 echo "| workers | wall time (s) | replay jobs | stopped early | verdict |"
 echo "|---|---|---|---|---|"
-for workers in 1 2; do
+for workers in ${BENCH_WORKERS:-1 2}; do
   start=$(date +%s%N)
   verdict=$("$gap" --rig aseries --measured "$out/data/arm_movement.csv" --holdout "$out/data/waist_bend.csv" \
     --workers "$workers" "${generations[@]}" ${GAP_OPTIONS:-} --out "$out/report-$workers" 2>/dev/null | head -1)

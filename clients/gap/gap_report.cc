@@ -153,6 +153,7 @@ nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOpt
         {"generations", options.fit.generations},
         {"abandon_share", std::isfinite(options.abandon_share) ? nlohmann::json(options.abandon_share) : nullptr},
         {"early_stop", options.fit.stop_replays_early},
+        {"relax_scan", options.relax_scan},
         {"seed", options.fit.seed}}},
       {"cost", {{"seconds", d.seconds}, {"jobs", d.jobs}, {"jobs_stopped_early", d.jobs_stopped_early}}},
   };
@@ -241,7 +242,8 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
   for (const ModelScore& s : d.candidates) row(s);
   md << "\nScore: held-out RMS² × (1 + " << options.penalty_per_parameter
      << " × added parameters); an effect is named when its score is below " << options.win_ratio
-     << " × the refit's. Fits: each effect's main parameter scanned over its range, then a particle swarm (pagmo2 "
+     << " × the refit's. Fits: each effect's main parameter scanned over its range"
+     << (options.relax_scan ? " (its best points relaxed)" : "") << ", then a particle swarm (pagmo2 "
      << "pso_gen), " << options.fit.generations << " generations" << EarlyStops(options) << ", seed "
      << options.fit.seed << ", a compass search and a Levenberg–Marquardt polish (Ceres); ± is the 95 % confidence interval from the "
      << "Jacobian. " << d.jobs << " replay jobs (" << d.jobs_stopped_early

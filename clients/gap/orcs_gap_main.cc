@@ -41,6 +41,7 @@ struct GapOptions {
   int generations = 40;
   bool race = true;
   bool early_stop = true;
+  bool relax_scan = false;
   unsigned seed = 1;
   std::vector<std::string> effects;
   // synth
@@ -125,6 +126,7 @@ int Diagnose(const GapOptions& o) {
   options.fit.generations = o.generations;
   if (o.race) options.abandon_share = kRaceAbandonShare;
   options.fit.stop_replays_early = o.early_stop;
+  options.relax_scan = o.relax_scan;
   options.fit.seed = o.seed;
   options.candidates = o.effects;
   std::filesystem::create_directories(o.out);
@@ -184,6 +186,10 @@ int main(int argc, char** argv) {
   app.add_flag("--early-stop,!--no-early-stop", o.early_stop,
                "stop a search's replays once their point cannot beat the best it is compared with (default; the same "
                "fits, sooner); --no-early-stop runs every replay to its end (docs/gap.md)");
+  app.add_flag("--relax-scan", o.relax_scan,
+               "before each effect's fit, let the scan's best point and its neighbours relax the other parameters, "
+               "so that a basin the scan misjudges is found (a wide backlash); up to three short polishes more per "
+               "candidate (docs/gap.md)");
   app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");
