@@ -164,6 +164,11 @@ int Diagnose(const GapOptions& o) {
 }  // namespace
 }  // namespace orcs::gap
 
+// --relax-scan's default (docs/gap.md, "How a fit works"): on where replays are short (the pendulum rig), off for
+// the A-Series, where the relaxations' replays, which always run to their end, would take its example diagnosis
+// past 10 minutes on 2 cores (617 s against 521 s, docs/benchmarks.md).
+bool RelaxScanByDefault(const std::string& rig) { return rig == "pendulum"; }
+
 int main(int argc, char** argv) {
   using namespace orcs::gap;
   GapOptions o;
@@ -186,10 +191,11 @@ int main(int argc, char** argv) {
   app.add_flag("--early-stop,!--no-early-stop", o.early_stop,
                "stop a search's replays once their point cannot beat the best it is compared with (default; the same "
                "fits, sooner); --no-early-stop runs every replay to its end (docs/gap.md)");
-  app.add_flag("--relax-scan", o.relax_scan,
+  CLI::Option* relax_scan = app.add_flag("--relax-scan,!--no-relax-scan", o.relax_scan,
                "before each effect's fit, let the scan's best point and its neighbours relax the other parameters, "
                "so that a basin the scan misjudges is found (a wide backlash); up to three short polishes more per "
-               "candidate (docs/gap.md)");
+               "candidate. Default: on for the pendulum rig, off for the A-Series, whose replays would take its "
+               "diagnosis past 10 minutes on 2 cores (docs/gap.md)");
   app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");
@@ -205,6 +211,7 @@ int main(int argc, char** argv) {
     if (!synth->parsed() && o.measured.empty()) throw CLI::RequiredError("--measured");
   });
   if (parsed >= 0) return parsed;
+  if (relax_scan->count() == 0) o.relax_scan = RelaxScanByDefault(o.rig.kind);
   try {
     return synth->parsed() ? Synth(o) : Diagnose(o);
   } catch (const orcs::InputError& error) {

@@ -33,8 +33,9 @@ struct DiagnosisOptions {
   /// Infinite = never (--no-race).
   double abandon_share = std::numeric_limits<double>::infinity();
   /// After each effect's scan, the scan's best point and its neighbours relax the other parameters (Levenberg–
-  /// Marquardt) before the main parameter's start is chosen (--relax-scan; docs/gap.md, "How a fit works"). Finds
-  /// basins the scan misjudges at the refit's values; costs up to three short polishes per candidate.
+  /// Marquardt) before the main parameter's start is chosen (--relax-scan, orcs-gap's default on the pendulum rig;
+  /// docs/gap.md, "How a fit works"). Finds basins the scan misjudges at the refit's values; costs up to three
+  /// short polishes per candidate.
   bool relax_scan = false;
   /// Told when a fit starts (`finished` null; `model` is "refit" or the effect's name) and when it ends (its
   /// score), for progress. Candidates are fitted at once: it is called from several threads.
