@@ -27,6 +27,7 @@
 
 #include "broker/client.h"
 #include "tests/support/background_process.h"
+#include "tests/support/batch_collector.h"
 #include "tests/support/broker_process.h"
 #include "tests/support/temp_dir.h"
 
@@ -321,15 +322,8 @@ TEST_F(AdversarialInputTest, ARawJobWithANonFiniteTimeLimitIsInvalidInputNamingT
     job.set_time_limit_seconds(limits[i]);
     jobs.push_back(std::move(job));
   }
-  broker::BatchClientOptions options;
-  options.endpoint = broker.clients;
-  options.heartbeat_interval = milliseconds(100);
-  broker::BatchClient client(options);
-  client.Submit(std::move(jobs));
-  std::map<std::string, v1::Result> results;
-  for (int polls = 0; results.size() < limits.size() && polls < 600; ++polls) {  // 60 s at most
-    if (std::optional<v1::Result> result = client.Next(milliseconds(100))) results[result->job_id()] = *result;
-  }
+  const std::map<std::string, v1::Result> results =
+      test_support::CollectBatch(broker.clients, std::move(jobs), std::chrono::seconds(60)).results;
   ASSERT_EQ(results.size(), limits.size());
   for (std::size_t i = 0; i + 1 < limits.size(); ++i) {
     SCOPED_TRACE(limits[i]);

@@ -8,15 +8,14 @@
 #include <map>
 #include <regex>
 
-#include "broker/client.h"
 #include "model/scene/scenario.h"
 #include "tests/support/background_process.h"
+#include "tests/support/batch_collector.h"
 #include "tests/support/broker_process.h"
 
 namespace orcs {
 namespace {
 
-using std::chrono::milliseconds;
 using test_support::BackgroundProcess;
 using ::testing::HasSubstr;
 
@@ -62,22 +61,12 @@ class BatchTest : public ::testing::Test {
   }
   // Submits `jobs` and collects results by job id, failing on a duplicate.
   std::map<std::string, v1::Result> RunBatch(std::vector<v1::Job> jobs, const std::function<void(int)>& on_result = {}) {
-    broker::BatchClientOptions options;
-    options.endpoint = clients_;
-    options.heartbeat_interval = milliseconds(100);
-    broker::BatchClient client(options);
     const std::size_t count = jobs.size();
-    client.Submit(std::move(jobs));
-    std::map<std::string, v1::Result> results;
-    for (int polls = 0; results.size() < count && polls < 1200; ++polls) {  // bounded: 120 s at most
-      std::optional<v1::Result> result = client.Next(milliseconds(100));
-      if (!result) continue;
-      EXPECT_FALSE(results.contains(result->job_id())) << "duplicate " << result->job_id();
-      results[result->job_id()] = *result;
-      if (on_result) on_result(static_cast<int>(results.size()));
-    }
-    EXPECT_EQ(results.size(), count);
-    return results;
+    test_support::CollectedBatch batch =
+        test_support::CollectBatch(clients_, std::move(jobs), std::chrono::seconds(120), on_result);
+    EXPECT_THAT(batch.duplicate_ids, ::testing::IsEmpty());
+    EXPECT_EQ(batch.results.size(), count);
+    return std::move(batch.results);
   }
   std::vector<v1::Job> Jobs() {
     const std::string scenario = ScenarioJson();

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "broker/client.h"
 #include "model/scene/scenario.h"
 #include "tests/support/background_process.h"
+#include "tests/support/batch_collector.h"
 #include "worker/job/job_translation.h"
 
 namespace orcs {
@@ -83,24 +83,10 @@ class WorkerFaultsTest : public ::testing::Test {
   // `duplicates` counts results for a job id already received.
   std::map<std::string, v1::Result> RunBatch(std::vector<v1::Job> jobs, int& duplicates,
                                              const std::function<void(int)>& on_result = {}) {
-    broker::BatchClientOptions options;
-    options.endpoint = clients_;
-    options.heartbeat_interval = milliseconds(100);
-    broker::BatchClient client(options);
-    const std::size_t count = jobs.size();
-    client.Submit(std::move(jobs));
-    std::map<std::string, v1::Result> results;
-    for (int polls = 0; results.size() < count && polls < 3000; ++polls) {  // bounded: 300 s at most
-      std::optional<v1::Result> result = client.Next(milliseconds(100));
-      if (!result) continue;
-      if (results.contains(result->job_id())) {
-        ++duplicates;
-        continue;
-      }
-      results[result->job_id()] = *result;
-      if (on_result) on_result(static_cast<int>(results.size()));
-    }
-    return results;
+    test_support::CollectedBatch batch =
+        test_support::CollectBatch(clients_, std::move(jobs), std::chrono::seconds(300), on_result);
+    duplicates += static_cast<int>(batch.duplicate_ids.size());
+    return std::move(batch.results);
   }
 
   std::unique_ptr<BackgroundProcess> broker_;

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "broker/client.h"
 #include "model/scene/scenario.h"
 #include "tests/support/background_process.h"
+#include "tests/support/batch_collector.h"
 #include "tests/support/broker_process.h"
 
 namespace orcs {
@@ -91,21 +91,12 @@ class WorkerReconnectTest : public ::testing::Test {
   }
   // Runs `jobs` through a client of the current broker; every result ok and from the one worker.
   void RunBatchAllOk(std::vector<v1::Job> jobs) {
-    broker::BatchClientOptions options;
-    options.endpoint = clients_;
-    options.heartbeat_interval = milliseconds(100);
-    broker::BatchClient client(options);
     const std::size_t count = jobs.size();
-    client.Submit(std::move(jobs));
-    std::map<std::string, v1::Result> results;
-    for (int polls = 0; results.size() < count && polls < 600; ++polls) {  // bounded: 60 s at most
-      std::optional<v1::Result> result = client.Next(milliseconds(100));
-      if (!result) continue;
-      EXPECT_FALSE(results.contains(result->job_id())) << "duplicate " << result->job_id();
-      results[result->job_id()] = *result;
-    }
-    ASSERT_EQ(results.size(), count) << "worker stderr:\n" << worker_->err();
-    for (const auto& [id, result] : results) {
+    const test_support::CollectedBatch batch =
+        test_support::CollectBatch(clients_, std::move(jobs), std::chrono::seconds(60));
+    EXPECT_THAT(batch.duplicate_ids, ::testing::IsEmpty());
+    ASSERT_EQ(batch.results.size(), count) << "worker stderr:\n" << worker_->err();
+    for (const auto& [id, result] : batch.results) {
       EXPECT_EQ(result.status(), v1::Result::OK) << id << ": " << result.message();
       EXPECT_EQ(result.worker_id(), kWorkerId) << id;
     }
