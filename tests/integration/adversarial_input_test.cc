@@ -4,12 +4,9 @@
 // INITs, and numbers that make no sense (time steps, seeds, time limits, joint angles, endpoints). Every case must
 // end in one clear line naming the file or field and exit 2 (command line), INVALID_INPUT (a job) or an OSP
 // refusal — never a hang, a crash or a silent "ok". docs/reliability.md, "Hostile and careless input (issue 18)".
-#include <arpa/inet.h>
 #include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <poll.h>
-#include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -30,6 +27,7 @@
 #include "tests/support/batch_collector.h"
 #include "tests/support/broker_process.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/udp_peer.h"
 
 namespace orcs {
 namespace {
@@ -342,42 +340,9 @@ using Bytes = std::vector<std::uint8_t>;
 
 Bytes Init() { return {5, 1, 1}; }
 
-// A UDP socket on 127.0.0.1, written from docs/osp.md alone.
-class Udp {
+// A UDP socket on 127.0.0.1 that speaks OSP's handshake, written from docs/osp.md alone.
+class Udp : public test_support::UdpPeer {
  public:
-  Udp() {
-    fd_ = socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in local{};
-    local.sin_family = AF_INET;
-    local.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local);
-  }
-  ~Udp() { Close(); }
-  Udp(const Udp&) = delete;
-  Udp& operator=(const Udp&) = delete;
-  void Close() {
-    if (fd_ >= 0) close(fd_);
-    fd_ = -1;
-  }
-  void SendTo(std::uint16_t port, const Bytes& bytes) {
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    to.sin_port = htons(port);
-    sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
-  }
-  std::optional<Bytes> Receive(milliseconds timeout, std::uint16_t* from_port = nullptr) {
-    pollfd entry{fd_, POLLIN, 0};
-    if (poll(&entry, 1, static_cast<int>(timeout.count())) <= 0) return std::nullopt;
-    Bytes buffer(4096);
-    sockaddr_in from{};
-    socklen_t length = sizeof from;
-    const ssize_t n = recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &length);
-    if (n < 0) return std::nullopt;
-    buffer.resize(static_cast<std::size_t>(n));
-    if (from_port != nullptr) *from_port = ntohs(from.sin_port);
-    return buffer;
-  }
   // INIT and its ACK within `timeout`: the handler port, or 0 when no ACK came.
   std::uint16_t Handshake(std::uint16_t server, milliseconds timeout = milliseconds(2000)) {
     SendTo(server, Init());
@@ -385,9 +350,6 @@ class Udp {
     const std::optional<Bytes> ack = Receive(timeout, &from);
     return ack && *ack == Bytes{6, 1, 1, 120} ? from : 0;
   }
-
- private:
-  int fd_ = -1;
 };
 
 Bytes Int32(Bytes bytes, std::int32_t value) {

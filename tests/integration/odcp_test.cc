@@ -2,12 +2,8 @@
 // orcs-osp's per-agent servers (set motor words, step through OSP, read the angles back; bad datagrams),
 // orcs-sim --realtime -port, and orcs-sniffer, whose record replayed with orcs-sim -play is compared with the
 // replay of the motion that was sent.
-#include <arpa/inet.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <bit>
@@ -24,6 +20,7 @@
 #include "tests/support/background_process.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/udp_peer.h"
 
 namespace orcs {
 namespace {
@@ -104,43 +101,7 @@ void ExpectSensed(const std::vector<std::int32_t>& words, const std::vector<std:
       << "the torque words as set";
 }
 
-// A UDP socket on 127.0.0.1.
-class UdpPeer {
- public:
-  UdpPeer() {
-    fd_ = socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in local{};
-    local.sin_family = AF_INET;
-    local.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local);
-  }
-  ~UdpPeer() { close(fd_); }
-  UdpPeer(const UdpPeer&) = delete;
-  UdpPeer& operator=(const UdpPeer&) = delete;
-
-  void SendTo(std::uint16_t port, const Bytes& bytes) {
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    to.sin_port = htons(port);
-    sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
-  }
-  std::optional<Bytes> Receive(milliseconds timeout = milliseconds(5000), std::uint16_t* from_port = nullptr) {
-    pollfd entry{fd_, POLLIN, 0};
-    if (poll(&entry, 1, static_cast<int>(timeout.count())) <= 0) return std::nullopt;
-    Bytes buffer(4096);
-    sockaddr_in from{};
-    socklen_t length = sizeof from;
-    const ssize_t n = recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &length);
-    if (n < 0) return std::nullopt;
-    buffer.resize(static_cast<std::size_t>(n));
-    if (from_port != nullptr) *from_port = ntohs(from.sin_port);
-    return buffer;
-  }
-
- private:
-  int fd_ = -1;
-};
+using test_support::UdpPeer;
 
 // An ODCP client of one server.
 class OdcpClient {

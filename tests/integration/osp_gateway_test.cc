@@ -2,12 +2,8 @@
 // own encoding below; nothing of the server's code): the handshake, agent overview and info, exclusive control,
 // lock-step stepping of two clients, values by id, an observed collision event, reset with a seed, silent
 // clients, communication reset, and every kind of bad datagram.
-#include <arpa/inet.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <bit>
 #include <cmath>
@@ -17,6 +13,7 @@
 
 #include "tests/support/background_process.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/udp_peer.h"
 
 namespace orcs {
 namespace {
@@ -79,37 +76,13 @@ struct Parsed {
 // A client: one UDP socket; after the handshake it talks to the handler port.
 class OspClient {
  public:
-  OspClient() {
-    fd_ = socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in local{};
-    local.sin_family = AF_INET;
-    local.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local);
-  }
-  ~OspClient() { close(fd_); }
-  OspClient(const OspClient&) = delete;
-  OspClient& operator=(const OspClient&) = delete;
-
-  void SendTo(std::uint16_t port, const Bytes& bytes) {
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    to.sin_port = htons(port);
-    sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
-  }
+  void SendTo(std::uint16_t port, const Bytes& bytes) { socket_.SendTo(port, bytes); }
   void Send(const Message& message) { SendTo(handler_port_, message.bytes); }
   // The next datagram within `timeout` (and the port it came from).
   std::optional<Parsed> Receive(milliseconds timeout = milliseconds(5000), std::uint16_t* from_port = nullptr) {
-    pollfd entry{fd_, POLLIN, 0};
-    if (poll(&entry, 1, static_cast<int>(timeout.count())) <= 0) return std::nullopt;
-    Bytes buffer(4096);
-    sockaddr_in from{};
-    socklen_t length = sizeof from;
-    const ssize_t n = recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &length);
-    if (n < 0) return std::nullopt;
-    buffer.resize(static_cast<std::size_t>(n));
-    if (from_port != nullptr) *from_port = ntohs(from.sin_port);
-    return Parsed{buffer};
+    std::optional<Bytes> bytes = socket_.Receive(timeout, from_port);
+    if (!bytes) return std::nullopt;
+    return Parsed{std::move(*bytes)};
   }
   // The next datagram, which must start with `code` and end with 120.
   Parsed Expect(std::uint8_t code) {
@@ -226,7 +199,7 @@ class OspClient {
   std::uint16_t handler_port() const { return handler_port_; }
 
  private:
-  int fd_ = -1;
+  test_support::UdpPeer socket_;
   std::uint16_t handler_port_ = 0;
 };
 
