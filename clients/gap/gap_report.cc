@@ -154,6 +154,7 @@ nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOpt
         {"abandon_share", std::isfinite(options.abandon_share) ? nlohmann::json(options.abandon_share) : nullptr},
         {"early_stop", options.fit.stop_replays_early},
         {"relax_scan", options.relax_scan},
+        {"islands", options.fit.islands},
         {"seed", options.fit.seed}}},
       {"cost", {{"seconds", d.seconds}, {"jobs", d.jobs}, {"jobs_stopped_early", d.jobs_stopped_early}}},
   };
@@ -180,6 +181,16 @@ std::string EarlyStops(const DiagnosisOptions& options) {
          << " % of the refit's is abandoned";
   }
   return text.str();
+}
+
+// The CMA-ES islands of --islands, as said in report.md ("" without them).
+std::string Islands(const DiagnosisOptions& options) {
+  if (options.fit.islands <= 0) return "";
+  const int islands = options.fit.islands;
+  return "; " + std::to_string(islands) + (islands == 1 ? " CMA-ES island" : " CMA-ES islands") +
+         " (pagmo2 cmaes, " + std::to_string(options.fit.island_generations) +
+         " generations each) from the swarm's last generation, whose best point starts a second compass search and "
+         "polish (the better fit is kept)";
 }
 
 }  // namespace
@@ -245,7 +256,8 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
      << " × the refit's. Fits: each effect's main parameter scanned over its range"
      << (options.relax_scan ? " (its best points relaxed)" : "") << ", then a particle swarm (pagmo2 "
      << "pso_gen), " << options.fit.generations << " generations" << EarlyStops(options) << ", seed "
-     << options.fit.seed << ", a compass search and a Levenberg–Marquardt polish (Ceres); ± is the 95 % confidence interval from the "
+     << options.fit.seed << ", a compass search and a Levenberg–Marquardt polish (Ceres)" << Islands(options)
+     << "; ± is the 95 % confidence interval from the "
      << "Jacobian. " << d.jobs << " replay jobs (" << d.jobs_stopped_early
      << " stopped early: their point could not beat the search's best) in "
      << text::FormatDouble(std::round(d.seconds * 10) / 10) << " s.\n\nPlots: `scripts/plot_gap.py DIR` → DIR/plots/.\n";

@@ -42,6 +42,7 @@ struct GapOptions {
   bool race = true;
   bool early_stop = true;
   bool relax_scan = false;
+  int islands = 0;
   unsigned seed = 1;
   std::vector<std::string> effects;
   // synth
@@ -127,6 +128,7 @@ int Diagnose(const GapOptions& o) {
   if (o.race) options.abandon_share = kRaceAbandonShare;
   options.fit.stop_replays_early = o.early_stop;
   options.relax_scan = o.relax_scan;
+  options.fit.islands = o.islands;
   options.fit.seed = o.seed;
   options.candidates = o.effects;
   std::filesystem::create_directories(o.out);
@@ -196,6 +198,12 @@ int main(int argc, char** argv) {
                "so that a basin the scan misjudges is found (a wide backlash); up to three short polishes more per "
                "candidate. Default: on for the pendulum rig, off for the A-Series, whose replays would take its "
                "diagnosis past 10 minutes on 2 cores (docs/gap.md)");
+  app.add_option("--islands", o.islands,
+                 "after each fit's swarm, this many CMA-ES runs side by side from its last generation (default 0: "
+                 "none); their best point is a second start for the local search. Finds minima in narrow diagonal "
+                 "valleys (LuGre friction on the servo model, with --no-race); each island costs about 2,400 replays "
+                 "per fit (docs/gap.md)")
+      ->check(CLI::Range(0, 64));
   app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <future>
 #include <map>
 #include <memory>
 #include <tuple>
 #include <pagmo/algorithm.hpp>
+#include <pagmo/algorithms/cmaes.hpp>
 #include <pagmo/algorithms/compass_search.hpp>
 #include <pagmo/algorithms/pso_gen.hpp>
 #include <pagmo/batch_evaluators/member_bfe.hpp>
@@ -127,6 +129,8 @@ constexpr double kPolishStart = 0.05;
 constexpr double kPolishStop = 0.002;
 constexpr unsigned kPolishBudgetPerDimension = 40;
 constexpr int kQuickLookIterations = 5;
+// The CMA-ES islands' first step, as a share of the unit box: wide enough to leave the swarm's basin.
+constexpr double kIslandStep = 0.3;
 
 // A fit given up in its swarm: the best point seen (the quick look's included), with no local stages and no
 // confidence intervals.
@@ -252,6 +256,88 @@ std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, c
   return overrides;
 }
 
+namespace {
+
+// The local stages from one start: a compass search until its step is small (the convergence test), then
+// Levenberg–Marquardt on the residuals with the confidence intervals. `evaluations` counts both.
+FitOutcome LocalStages(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                       const pagmo::problem& problem, FitWatch& watch, const pagmo::vector_double& start_x,
+                       double start_f, unsigned seed) {
+  pagmo::population polish(problem, 0u, seed);
+  polish.push_back(start_x, {start_f});
+  const unsigned budget = kPolishBudgetPerDimension * static_cast<unsigned>(parameters.size());
+  // pagmo's compass search moves only to a trial point strictly better than its current one, so a trial's value
+  // matters only below the current point's: that is its bound.
+  watch.in_compass = true;
+  watch.compass_best = start_f;
+  const std::uint64_t replayed_before = watch.evaluated;
+  polish = pagmo::algorithm{pagmo::compass_search(budget, kPolishStart, kPolishStop, 0.5)}.evolve(polish);
+  watch.in_compass = false;
+  // Its budget counts the points it asks for; a point another local search of this fit asked for is cached.
+  const auto polish_evaluations = polish.get_problem().get_fevals();
+  const std::uint64_t polish_replays = watch.evaluated - replayed_before;
+
+  const PolishOutcome squares =
+      PolishLeastSquares(objective, parameters, Values(parameters, polish.champion_x().data()));
+
+  FitOutcome outcome;
+  outcome.values = squares.values;
+  outcome.mse = std::min(squares.mse, polish.champion_f()[0]);
+  outcome.polish = squares.summary;
+  outcome.ci95 = squares.ci95;
+  outcome.evaluations = static_cast<int>(polish_replays) + squares.evaluations;
+  outcome.converged = polish_evaluations < budget;
+  outcome.convergence =
+      outcome.converged
+          ? "converged: the local search's step fell below " + text::FormatDouble(kPolishStop * 100.0) +
+                " % of every parameter's range after " + std::to_string(polish_evaluations) + " evaluations"
+          : "did not converge: the local search used its whole budget of " + std::to_string(budget) +
+                " evaluations with its step still above " + text::FormatDouble(kPolishStop * 100.0) + " % of the range";
+  return outcome;
+}
+
+struct IslandsOutcome {
+  pagmo::vector_double best_x;  // the best point of all islands (unit box)
+  double best_f = std::numeric_limits<double>::infinity();
+  int evaluations = 0;
+};
+
+// FitOptions::islands CMA-ES runs from the swarm's last generation, each with its own seed and its own problem
+// (pagmo 2.18's cmaes evaluates one point at a time, so the islands run side by side to keep several replays in
+// flight). Every replay runs to its end: CMA-ES ranks all its points.
+IslandsOutcome RunIslands(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                          const FitOptions& options, const pagmo::population& swarm) {
+  FitOptions whole = options;
+  whole.stop_replays_early = false;
+  std::vector<std::future<std::pair<pagmo::population, std::uint64_t>>> runs;
+  for (int i = 0; i < options.islands; ++i) {
+    runs.push_back(std::async(std::launch::async, [&, i] {
+      auto watch = std::make_shared<FitWatch>();
+      watch->options = &whole;
+      watch->parameters = &parameters;
+      const unsigned seed = options.seed + 1000u + static_cast<unsigned>(i);
+      pagmo::population island(ReplayProblem(objective, watch), 0u, seed);
+      for (const pagmo::vector_double& x : swarm.get_x()) island.push_back(x);
+      const pagmo::cmaes cmaes(static_cast<unsigned>(options.island_generations), -1, -1, -1, -1, kIslandStep, 1e-6,
+                               1e-6, false, /*force_bounds=*/true, seed);
+      island = pagmo::algorithm{cmaes}.evolve(island);
+      return std::make_pair(std::move(island), watch->evaluated);  // points replayed (a repeated point is cached)
+    }));
+  }
+  IslandsOutcome outcome;
+  for (auto& run : runs) {
+    const auto [island, replayed] = run.get();
+    outcome.evaluations += static_cast<int>(replayed);
+    if (island.champion_f()[0] < outcome.best_f) {
+      outcome.best_x = island.champion_x();
+      outcome.best_f = island.champion_f()[0];
+    }
+  }
+  return outcome;
+}
+
+}  // namespace
+
 FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
                const FitOptions& options) {
   const auto dimension = static_cast<double>(parameters.size());
@@ -283,39 +369,22 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
     return Abandoned(parameters, *watch, abandoned.why, look_evaluations);
   }
   watch->swarm_batches = -1;  // the race is over
-  const auto swarm_evaluations = population.get_problem().get_fevals();
+  const auto swarm_evaluations = static_cast<int>(population.get_problem().get_fevals());
 
-  // 2. Local: a compass search from the swarm's best point until its step is small — the convergence test.
-  pagmo::population polish(problem, 0u, options.seed);
-  polish.push_back(population.champion_x(), population.champion_f());
-  const unsigned budget = kPolishBudgetPerDimension * static_cast<unsigned>(parameters.size());
-  // pagmo's compass search moves only to a trial point strictly better than its current one, so a trial's value
-  // matters only below the current point's: that is its bound.
-  watch->in_compass = true;
-  watch->compass_best = population.champion_f()[0];
-  polish = pagmo::algorithm{pagmo::compass_search(budget, kPolishStart, kPolishStop, 0.5)}.evolve(polish);
-  watch->in_compass = false;
-  const auto polish_evaluations = polish.get_problem().get_fevals();
-
-  // 3. Least squares: Levenberg–Marquardt on the residuals, and the confidence intervals.
-  const PolishOutcome squares =
-      PolishLeastSquares(objective, parameters, Values(parameters, polish.champion_x().data()));
-
-  FitOutcome outcome;
-  outcome.values = squares.values;
-  outcome.mse = std::min(squares.mse, polish.champion_f()[0]);
-  outcome.polish = squares.summary;
-  outcome.ci95 = squares.ci95;
-  outcome.evaluations =
-      static_cast<int>(swarm_evaluations + polish_evaluations) + squares.evaluations + look_evaluations;
+  // 2. Local stages from the swarm's best point; 3. from the CMA-ES islands' best, when asked for: the better wins.
+  FitOutcome outcome = LocalStages(objective, parameters, problem, *watch, population.champion_x(),
+                                   population.champion_f()[0], options.seed);
+  int evaluations = swarm_evaluations + outcome.evaluations;
+  if (options.islands > 0) {
+    const IslandsOutcome islands = RunIslands(objective, parameters, options, population);
+    evaluations += islands.evaluations;
+    FitOutcome from_islands = LocalStages(objective, parameters, problem, *watch, islands.best_x, islands.best_f,
+                                          options.seed);
+    evaluations += from_islands.evaluations;
+    if (from_islands.mse < outcome.mse) outcome = std::move(from_islands);
+  }
+  outcome.evaluations = evaluations + look_evaluations;
   outcome.generations = options.generations;
-  outcome.converged = polish_evaluations < budget;
-  outcome.convergence =
-      outcome.converged
-          ? "converged: the local search's step fell below " + text::FormatDouble(kPolishStop * 100.0) +
-                " % of every parameter's range after " + std::to_string(polish_evaluations) + " evaluations"
-          : "did not converge: the local search used its whole budget of " + std::to_string(budget) +
-                " evaluations with its step still above " + text::FormatDouble(kPolishStop * 100.0) + " % of the range";
   return outcome;
 }
 

@@ -57,6 +57,13 @@ struct FitOptions {
   /// particle's best; the compass search: its current point). The search is the same bit for bit, only cheaper
   /// (docs/gap.md, "How a fit works"); false runs every replay to its end.
   bool stop_replays_early = true;
+  /// CMA-ES islands after the swarm (docs/gap.md, "How a fit works"; orcs-gap --islands): this many independent
+  /// CMA-ES runs (pagmo's cmaes, `island_generations` generations each, different seeds) start from the swarm's
+  /// last generation, concurrently; the best island's point is a second start for the local stages, and the
+  /// better of the two finished fits is the result. CMA-ES adapts its search directions, so it follows the
+  /// diagonal valleys a swarm and a compass search stall in. 0 = none (the default).
+  int islands = 0;
+  int island_generations = 150;
 };
 
 struct FitOutcome {
