@@ -171,6 +171,10 @@ int Diagnose(const GapOptions& o) {
 // past 10 minutes on 2 cores (617 s against 521 s, docs/benchmarks.md).
 bool RelaxScanByDefault(const std::string& rig) { return rig == "pendulum"; }
 
+// --race's default: on, but off with --islands. The race judges a candidate after 10 generations of its swarm,
+// before any island has run, and abandons the very candidates the islands are for (LuGre on the servo model).
+bool RaceByDefault(int islands) { return islands == 0; }
+
 int main(int argc, char** argv) {
   using namespace orcs::gap;
   GapOptions o;
@@ -187,9 +191,10 @@ int main(int argc, char** argv) {
       ->excludes(workers);
   app.add_option("--out", o.out, "output folder (default gap-report)");
   app.add_option("--generations", o.generations, "optimiser generations per fit (default 40)")->check(CLI::Range(1, 10000));
-  app.add_flag("--race,!--no-race", o.race,
-               "race the candidates (default): one that after 10 generations scores no better than the refit on the "
-               "held-out runs is abandoned; --no-race fits every candidate to the end (docs/gap.md)");
+  CLI::Option* race = app.add_flag("--race,!--no-race", o.race,
+               "race the candidates (default, but off with --islands): one that after 10 generations scores no better "
+               "than the refit on the held-out runs is abandoned; --no-race fits every candidate to the end "
+               "(docs/gap.md)");
   app.add_flag("--early-stop,!--no-early-stop", o.early_stop,
                "stop a search's replays once their point cannot beat the best it is compared with (default; the same "
                "fits, sooner); --no-early-stop runs every replay to its end (docs/gap.md)");
@@ -201,8 +206,8 @@ int main(int argc, char** argv) {
   app.add_option("--islands", o.islands,
                  "after each fit's swarm, this many CMA-ES runs side by side from its last generation (default 0: "
                  "none); their best point is a second start for the local search. Finds minima in narrow diagonal "
-                 "valleys (LuGre friction on the servo model, with --no-race); each island costs about 2,400 replays "
-                 "per fit (docs/gap.md)")
+                 "valleys (LuGre friction on the servo model); turns the race off unless --race is given, since the "
+                 "race judges before any island runs; each island costs about 2,400 replays per fit (docs/gap.md)")
       ->check(CLI::Range(0, 64));
   app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
@@ -220,6 +225,11 @@ int main(int argc, char** argv) {
   });
   if (parsed >= 0) return parsed;
   if (relax_scan->count() == 0) o.relax_scan = RelaxScanByDefault(o.rig.kind);
+  if (race->count() == 0 && o.race != RaceByDefault(o.islands)) {
+    o.race = RaceByDefault(o.islands);
+    std::cerr << "orcs-gap: --islands turns the race off (it would judge the candidates before any island runs); "
+                 "--race keeps it\n";
+  }
   try {
     return synth->parsed() ? Synth(o) : Diagnose(o);
   } catch (const orcs::InputError& error) {

@@ -28,6 +28,7 @@ namespace orcs {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 using test_support::RunProcess;
 
@@ -145,6 +146,26 @@ TEST_F(GapRaceTest, NoRaceIsRecordedAndAbandonsNothing) {
     EXPECT_FALSE(candidate.at("fit").at("abandoned").get<bool>()) << candidate.at("model");
     EXPECT_EQ(candidate.at("fit").at("generations").get<int>(), 12) << candidate.at("model");
   }
+}
+
+// --islands turns the race off unless --race is given: the race judges after 10 generations, before any island
+// runs. Said on stderr before the runs are read (a missing run, exit 2, keeps this test short); LuGreWithIslands
+// below checks report.json's criterion.
+TEST(GapOptionsTest, IslandsTurnTheRaceOffUnlessRaceIsGiven) {
+  test_support::TempDir dir;
+  const auto diagnose = [&](std::vector<std::string> more) {
+    std::vector<std::string> command = {kGap, "--rig", "pendulum", "--measured", dir.PathOf("missing.csv"),
+                                        "--out", dir.PathOf("out")};
+    command.insert(command.end(), more.begin(), more.end());
+    return RunProcess(command);
+  };
+  const auto islands = diagnose({"--islands", "2"});
+  EXPECT_EQ(islands.exit_code, 2);
+  EXPECT_THAT(islands.err, HasSubstr("--islands turns the race off"));
+  const auto raced = diagnose({"--islands", "2", "--race"});
+  EXPECT_EQ(raced.exit_code, 2);
+  EXPECT_THAT(raced.err, Not(HasSubstr("race")));
+  EXPECT_THAT(diagnose({}).err, Not(HasSubstr("race")));  // no islands: the race stays on, nothing to say
 }
 
 // Replays stopped early (the default) leave every fit exactly as with every replay run to its end: the refit's and
@@ -305,7 +326,7 @@ INSTANTIATE_TEST_SUITE_P(
 // The physical servo model (issue 23, docs/gap.md "On the physical servo model"): runs synthesised under the AX-12's
 // servo parameters with a hidden effect, fitted on servo_identification_a (A with a limp swing, which tells
 // back-EMF from viscous friction) and scored on B. ODE only: the servo model is the same code on both engines.
-// LuGre friction is named with --no-race --islands 4 only (docs/gap.md).
+// LuGre friction is named with --islands 4 only, which turns the race off (docs/gap.md).
 class GapServoDiagnosisTest : public GapRunTest, public ::testing::WithParamInterface<HiddenCase> {};
 
 TEST_P(GapServoDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
@@ -321,6 +342,9 @@ TEST_P(GapServoDiagnosisTest, NamesTheHiddenEffectAndHalvesTheHeldOutGap) {
   // 0.02 N·m·s/rad in servo_ax12.val); without it the fit traded one for the other (2.05 and 0.006).
   EXPECT_NEAR(std::stod(report.at("model").at("/Servo/ViscousFriction").get<std::string>()), 0.02, 0.004);
   EXPECT_NEAR(std::stod(report.at("model").at("/Servo/BackEmfConstant").get<std::string>()), 1.942, 0.04);
+  // --islands without --race turns the race off: it would judge before any island runs.
+  const bool islands = std::find(c.options.begin(), c.options.end(), std::string("--islands")) != c.options.end();
+  EXPECT_EQ(report.at("criterion").at("abandon_share").is_null(), islands);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -351,7 +375,7 @@ INSTANTIATE_TEST_SUITE_P(
                                  "LuGre",
                                  0.5,
                                  0.5,
-                                 {"--no-race", "--islands", "4", "--effects", "LuGre,Stribeck,Backlash"}}),
+                                 {"--islands", "4", "--effects", "LuGre,Stribeck,Backlash"}}),
     [](const ::testing::TestParamInfo<HiddenCase>& param) { return std::string(param.param.name); });
 
 // ---------------------------------------------------------------------------------------------------------------
