@@ -20,8 +20,14 @@ double DutyLimit(const ServoParameters& servo, double desired_torque_raw) {
 
 }  // namespace
 
+double WindingResistance(const ServoParameters& servo) {
+  const double warming =
+      servo.resistance_temperature_coefficient * (servo.winding_temperature - servo.reference_temperature);
+  return std::max(servo.resistance * (1.0 + warming), kTiny);
+}
+
 double StallTorque(const ServoParameters& servo) {
-  return std::max(servo.torque_constant, kTiny) * std::max(servo.supply_voltage, 0.0) / std::max(servo.resistance, kTiny);
+  return std::max(servo.torque_constant, kTiny) * std::max(servo.supply_voltage, 0.0) / WindingResistance(servo);
 }
 
 double ServoDuty(const ServoParameters& servo, double error, double error_integral, double error_rate,
@@ -35,7 +41,7 @@ double ServoDuty(const ServoParameters& servo, double error, double error_integr
 ServoCommand ServoUpdate(const ServoParameters& servo, DynamixelState& state, double angle_rad, double rate,
                          double desired_angle_deg, double desired_torque_raw, double dt) {
   assert(dt > 0.0);
-  const double resistance = std::max(servo.resistance, kTiny);
+  const double resistance = WindingResistance(servo);
   const double kt = std::max(servo.torque_constant, kTiny);
   const double ke = std::max(servo.back_emf_constant, kTiny);
   const double friction = std::max(servo.coulomb_friction, 0.0) + std::max(servo.viscous_friction, 0.0) * std::abs(rate);

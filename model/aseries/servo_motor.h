@@ -33,14 +33,20 @@ struct ServoParameters {
   double pwm_limit = 1.0;          ///< largest |duty|, 0…1 (the PWM limit register over its maximum), /Servo/PwmLimit
   double supply_voltage = 12.0;    ///< V across the H-bridge, /Servo/SupplyVoltage
   double torque_constant = 1.0;    ///< kt, N·m per A at the output (gear ratio included), /Servo/TorqueConstant
-  double resistance = 8.0;         ///< R, Ω of the winding, /Servo/Resistance
+  double resistance = 8.0;         ///< R, Ω of the winding at ReferenceTemperature, /Servo/Resistance
+  /// °C of the winding during the run, /Servo/WindingTemperature. An input of the run like FirmwareKp: orcs-gap
+  /// takes it from the measured run when the data has it; otherwise it is the reference and R is as given.
+  double winding_temperature = 25.0;
+  double reference_temperature = 25.0;  ///< °C at which Resistance holds, /Servo/ReferenceTemperature
+  /// 1/K, the winding resistance's rise per kelvin (copper: 0.00393), /Servo/ResistanceTemperatureCoefficient
+  double resistance_temperature_coefficient = 0.00393;
   double back_emf_constant = 1.94;  ///< ke, V per rad/s of the output, /Servo/BackEmfConstant
   double armature = 0.0016;        ///< kg·m², the rotor's inertia reflected to the output, /Servo/Armature
   double coulomb_friction = 0.05;  ///< N·m, the gearbox's friction at any speed, /Servo/CoulombFriction
   double viscous_friction = 0.02;  ///< N·m·s/rad, the gearbox's friction per speed, /Servo/ViscousFriction
 };
 
-inline constexpr std::array<ParameterField<ServoParameters>, 15> kServoParameterTable{{
+inline constexpr std::array<ParameterField<ServoParameters>, 18> kServoParameterTable{{
     {"/Servo/Enabled", &ServoParameters::enabled},
     {"/Servo/FirmwareKp", &ServoParameters::firmware_kp},
     {"/Servo/FirmwareKi", &ServoParameters::firmware_ki},
@@ -52,6 +58,9 @@ inline constexpr std::array<ParameterField<ServoParameters>, 15> kServoParameter
     {"/Servo/SupplyVoltage", &ServoParameters::supply_voltage},
     {"/Servo/TorqueConstant", &ServoParameters::torque_constant},
     {"/Servo/Resistance", &ServoParameters::resistance},
+    {"/Servo/WindingTemperature", &ServoParameters::winding_temperature},
+    {"/Servo/ReferenceTemperature", &ServoParameters::reference_temperature},
+    {"/Servo/ResistanceTemperatureCoefficient", &ServoParameters::resistance_temperature_coefficient},
     {"/Servo/BackEmfConstant", &ServoParameters::back_emf_constant},
     {"/Servo/Armature", &ServoParameters::armature},
     {"/Servo/CoulombFriction", &ServoParameters::coulomb_friction},
@@ -65,7 +74,11 @@ struct ServoCommand {
   double duty = 0.0;        ///< the PWM duty, −1…1 (0 when limp)
 };
 
-/// The motor's torque at full duty and rest, kt·V/R, N·m.
+/// The winding's resistance at its temperature, Ω: R·(1 + α·(T − T_ref)), never below a tiny positive value. A
+/// warm servo is weaker: copper's α is 0.393 % per kelvin.
+double WindingResistance(const ServoParameters& servo);
+
+/// The motor's torque at full duty and rest, kt·V/R (R at the winding's temperature), N·m.
 double StallTorque(const ServoParameters& servo);
 
 /// The PWM duty the firmware commands for a position error (rad), its integral (rad·s) and rate (rad/s), clipped

@@ -26,6 +26,7 @@ constexpr std::string_view kDesiredAngle = "DesiredAngle";
 constexpr std::string_view kDesiredTorque = "DesiredTorque";
 constexpr std::string_view kJointAngle = "JointAngle";
 constexpr std::string_view kFirmwareKpColumn = "/Servo/FirmwareKp";  // an orcs log's column of the servo's gain
+constexpr std::string_view kWindingTemperatureColumn = "/Servo/WindingTemperature";  // and of its temperature, °C
 
 std::string Seconds(double value) { return text::FormatDouble(value) + " s"; }
 
@@ -284,12 +285,14 @@ std::vector<SeriesSource> NativePlan(const Table& table, const std::string& sour
     plan.push_back({table.columns[f.field], f.field, 1.0, 0.0, 0.0, &SeriesOf(run, f.quantity, f.motor), kUnbounded});
     if (f.quantity != kDesiredTorque) plan.back().max_magnitude = kMaxAngleDegrees;
   }
-  const auto gain = std::find(table.columns.begin(), table.columns.end(), kFirmwareKpColumn);
-  if (gain != table.columns.end()) {
-    run.firmware_kp_column = std::string(kFirmwareKpColumn);
-    plan.push_back({run.firmware_kp_column, static_cast<int>(gain - table.columns.begin()), 1.0, 0.0, 0.0,
-                    &run.firmware_kp, kUnbounded});
-  }
+  const auto run_input = [&](std::string_view column, std::string& name, std::vector<double>& values) {
+    const auto found = std::find(table.columns.begin(), table.columns.end(), column);
+    if (found == table.columns.end()) return;
+    name = std::string(column);
+    plan.push_back({name, static_cast<int>(found - table.columns.begin()), 1.0, 0.0, 0.0, &values, kUnbounded});
+  };
+  run_input(kFirmwareKpColumn, run.firmware_kp_column, run.firmware_kp);
+  run_input(kWindingTemperatureColumn, run.winding_temperature_column, run.winding_temperature);
   return plan;
 }
 
@@ -436,24 +439,27 @@ std::optional<std::string> HeaderValue(const Table& table, const std::string& ke
   return std::nullopt;
 }
 
-SeriesSource FirmwareGainSeries(const ColumnSource& s, const Table& table, const ColumnMapping& m,
-                                const std::string& source, MeasuredRun& run) {
+// A run-wide input of the servo (its firmware gain, its winding temperature) from a column, a constant or a header
+// key; `field` is the mapping's field and `what` says what is missing.
+SeriesSource RunInputSeries(const ColumnSource& s, const std::string& field, const std::string& what,
+                            const Table& table, const ColumnMapping& m, const std::string& source,
+                            std::vector<double>& values, std::string& column) {
   if (s.header.empty()) {
-    SeriesSource series = MappedSeries(s, "firmware_kp", table, m, source, run.firmware_kp);
-    run.firmware_kp_column = series.column;
+    SeriesSource series = MappedSeries(s, field, table, m, source, values);
+    column = series.column;
     return series;
   }
-  run.firmware_kp_column = "header key '" + s.header + "'";
+  column = "header key '" + s.header + "'";
   const std::optional<std::string> value = HeaderValue(table, s.header);
   if (!value) {
-    throw InputError(source, 0, "no '" + s.header + "=' in the comment lines (named by " + m.source +
-                                    ", field 'firmware_kp.header'): the servo's firmware gain is missing");
+    throw InputError(source, 0, "no '" + s.header + "=' in the comment lines (named by " + m.source + ", field '" +
+                                    field + ".header'): " + what + " is missing");
   }
   const std::optional<double> number = text::ParseDouble(*value);
   if (!number || !std::isfinite(*number)) {
     throw InputError(source, 0, "header key '" + s.header + "': " + text::Quote(*value) + " is not a finite number");
   }
-  return {run.firmware_kp_column, -1, 1.0, 0.0, *number, &run.firmware_kp, kUnbounded};
+  return {column, -1, 1.0, 0.0, *number, &values, kUnbounded};
 }
 
 std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m, const std::string& source,
@@ -479,7 +485,14 @@ std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m,
       plan.back().max_magnitude = kMaxAngleDegrees;
     }
   }
-  if (m.firmware_kp) plan.push_back(FirmwareGainSeries(*m.firmware_kp, table, m, source, run));
+  if (m.firmware_kp) {
+    plan.push_back(RunInputSeries(*m.firmware_kp, "firmware_kp", "the servo's firmware gain", table, m, source,
+                                  run.firmware_kp, run.firmware_kp_column));
+  }
+  if (m.winding_temperature) {
+    plan.push_back(RunInputSeries(*m.winding_temperature, "winding_temperature", "the servo's winding temperature",
+                                  table, m, source, run.winding_temperature, run.winding_temperature_column));
+  }
   return plan;
 }
 
@@ -589,6 +602,18 @@ void CheckFirmwareGain(const MeasuredRun& run) {
   }
 }
 
+// A winding temperature is one a servo can run at: −50 … 200 °C (a log in kelvin or °F would be far off).
+void CheckWindingTemperature(const MeasuredRun& run) {
+  const std::vector<double>& temperature = run.winding_temperature;
+  for (size_t i = 0; i < temperature.size(); ++i) {
+    if (temperature[i] < -50.0 || temperature[i] > 200.0) {
+      throw InputError(run.source, run.lines[i],
+                       run.winding_temperature_column + ": expected a winding temperature of −50 … 200 °C, found " +
+                           text::FormatDouble(temperature[i]));
+    }
+  }
+}
+
 // The canonical form of a path, for comparing two names of one file.
 std::filesystem::path Canonical(const std::string& path) {
   std::error_code error;
@@ -604,6 +629,13 @@ std::optional<double> FirmwareGain(const MeasuredRun& run) {
   return run.firmware_kp.front();
 }
 
+std::optional<double> WindingTemperature(const MeasuredRun& run) {
+  if (run.winding_temperature.empty()) return std::nullopt;
+  double sum = 0.0;
+  for (double t : run.winding_temperature) sum += t;
+  return sum / static_cast<double>(run.winding_temperature.size());
+}
+
 std::string MotorColumn(const std::string& agent, const std::string& motor, const std::string& quantity) {
   return std::string(kSimPrefix) + agent + "/" + motor + "/" + quantity;
 }
@@ -613,7 +645,7 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
     throw InputError(source, 0, "expected a column mapping (a JSON object), found " + DescribeJson(j));
   }
   const JsonNode root(j, "", source);
-  root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp"});
+  root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp", "winding_temperature"});
   ColumnMapping mapping;
   mapping.source = source;
   mapping.agent = root.At("agent").String("an agent name");
@@ -621,6 +653,7 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
   for (const JsonNode& channel : root.At("channels").Elements()) mapping.channels.push_back(ParseChannel(channel));
   if (root.Has("delimiter")) mapping.delimiter = ParseDelimiter(root.At("delimiter"));
   if (root.Has("firmware_kp")) mapping.firmware_kp = ParseColumnSource(root.At("firmware_kp"));
+  if (root.Has("winding_temperature")) mapping.winding_temperature = ParseColumnSource(root.At("winding_temperature"));
   CheckMapping(mapping);
   return mapping;
 }
@@ -638,6 +671,7 @@ MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source, c
   ReadRows(table, plan, mapping ? mapping->delimiter : kNativeDelimiter, source, run);
   CheckTimeBase(plan.front().column, run);
   CheckFirmwareGain(run);
+  CheckWindingTemperature(run);
   return run;
 }
 

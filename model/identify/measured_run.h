@@ -38,10 +38,16 @@ struct MeasuredRun {
   /// physical servo model (docs/model.md, "The physical servo"), never a fitted parameter.
   std::vector<double> firmware_kp;
   std::string firmware_kp_column;  ///< where it came from ("/Servo/FirmwareKp", a mapped column or header key)
+  /// The servo's winding temperature (/Servo/WindingTemperature, °C), per row, when the data has it (empty
+  /// otherwise); the replay takes the run's mean. An input of the run, like the firmware gain.
+  std::vector<double> winding_temperature;
+  std::string winding_temperature_column;  ///< where it came from, as firmware_kp_column
 };
 
 /// The run's firmware gain, or nullopt when the data has none.
 std::optional<double> FirmwareGain(const MeasuredRun& run);
+/// The run's mean winding temperature (°C), or nullopt when the data has none.
+std::optional<double> WindingTemperature(const MeasuredRun& run);
 
 /// Where one quantity's values come from in a CSV that is not an orcs log: value = raw · scale + offset, where
 /// raw is the number in `column`; or `constant` for every row (then `column` is empty).
@@ -51,7 +57,7 @@ struct ColumnSource {
   double offset = 0.0;              ///< added after scaling, in the quantity's unit
   std::optional<double> constant;   ///< the value of every row instead of a column, in the quantity's unit
   /// A key of the file's comment lines instead of a column: "firmware_kp" reads 400 from "# ... firmware_kp=400"
-  /// (only for the run-wide firmware_kp; then `column` is empty)
+  /// (only for the run-wide firmware_kp and winding_temperature; then `column` is empty)
   std::string header;
 };
 
@@ -70,6 +76,7 @@ struct ColumnMapping {
   std::vector<ChannelMapping> channels;  ///< one per motor, in the order they become MeasuredRun::motors
   char delimiter = ',';                  ///< field separator of the CSV (',', ';', '\t', ...)
   std::optional<ColumnSource> firmware_kp;  ///< the servo's firmware P gain: a column, a header key or a constant
+  std::optional<ColumnSource> winding_temperature;  ///< °C, the servo's temperature: as firmware_kp
   std::string source;                    ///< the mapping file, for messages
 };
 

@@ -64,10 +64,14 @@ void CheckRunFitsRig(const Rig& rig, const MeasuredRun& run) {
   }
 }
 
-// The run's firmware gain as a value of its replay, after the model's: the gain is the run's input, not the
-// model's. Without one the servo model cannot replay the run.
-void AddFirmwareGain(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model,
-                     nlohmann::json& values) {
+// The run's firmware gain and winding temperature as values of its replay, after the model's: they are the run's
+// inputs, not the model's. Without a gain the servo model cannot replay the run; without a temperature the
+// winding is at the model's.
+void AddRunInputs(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model,
+                  nlohmann::json& values) {
+  if (const std::optional<double> temperature = WindingTemperature(run)) {
+    values["/Servo/WindingTemperature"] = text::FormatDouble(*temperature);
+  }
   const std::optional<double> gain = FirmwareGain(run);
   if (gain) {
     values["/Servo/FirmwareKp"] = text::FormatDouble(*gain);
@@ -147,7 +151,7 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
       {"fitness", {{"terms", nlohmann::json::array({{{"type", "measured_error"}, {"angles", angles}}})}}},
       {"values", ValuesObject(model)},
   };
-  AddFirmwareGain(rig, run, model, scenario["values"]);
+  AddRunInputs(rig, run, model, scenario["values"]);
   if (rig.start_measured) {
     for (const std::string& motor : replay.channels) scenario["start_angles"][motor] = run.joint_angle.at(motor).front();
   }

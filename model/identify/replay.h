@@ -61,7 +61,8 @@ struct ReplayRun {
   nlohmann::json scenario;            ///< the resolved scenario, without "log"
 };
 
-/// The replay of `run` on `rig` under `model` (noise off), with the run's firmware gain as /Servo/FirmwareKp.
+/// The replay of `run` on `rig` under `model` (noise off), with the run's firmware gain as /Servo/FirmwareKp and its
+/// mean winding temperature, when the data has one, as /Servo/WindingTemperature.
 /// Throws InputError naming the file and column when the run's agent, motors or time step do not fit the rig, or
 /// when the model is the servo's and the run has no firmware gain.
 ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model);

@@ -82,6 +82,29 @@ TEST(ServoMotorTest, TheMotorRowYieldsAlongTheDcMotorsTorqueSpeedLine) {
   }
 }
 
+// A warm winding has a higher resistance (copper: 0.393 % per kelvin), so the same duty gives less torque and the
+// back-EMF brakes less; at the reference temperature the resistance is exactly the one given.
+TEST(ServoMotorTest, AWarmWindingHasTheCopperResistanceAndGivesLessTorque) {
+  ServoParameters servo = Xl330();
+  EXPECT_EQ(WindingResistance(servo), servo.resistance) << "25 °C, the reference";
+  const double cold_stall = StallTorque(servo);
+  servo.winding_temperature = 35.0;
+  EXPECT_NEAR(WindingResistance(servo), 3.401 * (1.0 + 0.00393 * 10.0), 1e-12);
+  EXPECT_NEAR(StallTorque(servo), cold_stall / (1.0 + 0.0393), 1e-12);
+  DynamixelState state;
+  Reset(state, 0.0);
+  const ServoCommand command = ServoUpdate(servo, state, 0.0, 2.0, 5.0, 1.0, kDt);
+  const double duty = 400.0 * 0.00575481 * 5.0 / kDegrees;
+  const double torque = (command.motor.velocity - 2.0) / command.compliance;
+  EXPECT_NEAR(torque, servo.torque_constant * (7.4 * duty - servo.back_emf_constant * 2.0) / WindingResistance(servo),
+              1e-9);
+  servo.reference_temperature = 35.0;
+  EXPECT_EQ(WindingResistance(servo), servo.resistance) << "the resistance is given at the reference";
+  servo.resistance_temperature_coefficient = 0.0;
+  servo.winding_temperature = 80.0;
+  EXPECT_EQ(WindingResistance(servo), servo.resistance) << "no coefficient, no change";
+}
+
 TEST(ServoMotorTest, ALimpServoHasNoMotorOnlyTheGearboxFriction) {
   ServoParameters servo = Xl330();
   servo.coulomb_friction = 0.02;

@@ -347,7 +347,8 @@ TEST(MeasuredRunTest, MappingErrorsNameTheField) {
   const std::string ok_time = R"("time": {"column": "t"})";
   auto error = [](const std::string& json) { return InputErrorOf([&] { Mapping(json); }); };
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + ", " + ok_channel + R"(, "agnet": 1})"),
-            "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter, firmware_kp), found 'agnet'");
+            "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter, firmware_kp, "
+            "winding_temperature), found 'agnet'");
   EXPECT_EQ(error("{" + ok_time + ", " + ok_channel + "}"),
             "m.json: field 'agent' expected a value, found nothing (the field is missing)");
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_channel + "}"),
@@ -543,6 +544,28 @@ TEST(MeasuredRunTest, AFirmwareGainMissingFromTheHeaderOrChangingWithinARunIsOne
                         "joint_angle": {"header": "a"}}]})");
             }),
             "m.json: field 'channels[0].joint_angle.header' expected a column or a constant, found a header key");
+}
+
+// The winding temperature (docs/gap_measured_data.md, "The winding temperature"): a column, a constant or a header
+// key like the gain; the replay takes the run's mean. Out of a servo's range it is one line naming file, line and
+// column.
+TEST(MeasuredRunTest, TheWindingTemperatureIsTheRunsMeanOfItsColumnAndOutOfRangeIsOneLine) {
+  ColumnMapping mapping = Xl330Mapping(R"({"header": "firmware_kp"})");
+  mapping.winding_temperature.emplace().column = "temperature_c";
+  std::string warming = kXl330Log;
+  warming.replace(warming.rfind(",7.3,29,"), 8, ",7.3,30,");
+  const MeasuredRun run = ParseMeasuredRun(warming, "kp100.csv", &mapping);
+  EXPECT_THAT(run.winding_temperature, ElementsAre(29.0, 30.0));
+  EXPECT_EQ(WindingTemperature(run), 29.5);
+  const ColumnMapping unmapped = Xl330Mapping(R"({"constant": 1})");
+  EXPECT_FALSE(WindingTemperature(ParseMeasuredRun(kXl330Log, "kp.csv", &unmapped)).has_value()) << "not mapped";
+  const MeasuredRun native = ParseMeasuredRun(
+      "# columns: time,/Sim/P/M/JointAngle,/Servo/WindingTemperature\n0,0,40\n0.01,1,42\n", "run.csv", nullptr);
+  EXPECT_EQ(WindingTemperature(native), 41.0);
+  std::string kelvin = kXl330Log;
+  kelvin.replace(kelvin.rfind(",7.3,29,"), 8, ",7.3,302,");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(kelvin, "kp.csv", &mapping); }),
+            "kp.csv:4: temperature_c: expected a winding temperature of −50 … 200 °C, found 302");
 }
 
 TEST(MeasuredRunTest, AnEmptyGoalIsALimpRowOnlyWhereTheTorqueEnableColumnSays0) {

@@ -1,0 +1,60 @@
+// The replay job of a measured run (model/identify/replay.h): the run's inputs — its firmware gain and its
+// winding temperature — are values of its replay after the model's, so one fitted model serves every run.
+#include "model/identify/replay.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "model/core/value_file.h"
+#include "model/identify/measured_run.h"
+
+namespace orcs::identify {
+namespace {
+
+constexpr const char* kXl330Model = ORCS_SOURCE_DIR "/scenarios/gap/xl330/model.val";
+
+// Two rows of an XL330 log (../shared/data/xl330-pendulum), the second one warmer.
+constexpr const char* kLog =
+    "# XL330 pendulum log: motor=xl330 firmware_kp=400\n"
+    "time_s,goal_deg,position_deg,speed_deg_s,load,input_volts,temperature_c,torque_enable\n"
+    "0,0,0,0,0,7.4,31,1\n"
+    "0.005,1,0,0,0,7.4,32,1\n";
+
+ColumnMapping Mapping(bool with_temperature) {
+  ColumnMapping mapping;
+  mapping.source = "m.json";
+  mapping.agent = "Pendulum";
+  mapping.time.column = "time_s";
+  ChannelMapping motor;
+  motor.motor = "Motor";
+  motor.desired_angle.emplace().column = "goal_deg";
+  motor.desired_torque.emplace().column = "torque_enable";
+  motor.joint_angle.emplace().column = "position_deg";
+  mapping.channels.push_back(motor);
+  mapping.firmware_kp.emplace().header = "firmware_kp";
+  if (with_temperature) mapping.winding_temperature.emplace().column = "temperature_c";
+  return mapping;
+}
+
+TEST(ReplayTest, TheRunsGainAndMeanWindingTemperatureAreValuesOfItsReplay) {
+  const std::vector<ValueAssignment> model = ValueFile::Read(kXl330Model);
+  RigOptions options;
+  options.kind = "pendulum";
+  const Rig rig = MakeRig(options, "Pendulum", model);
+  const ColumnMapping with = Mapping(true);
+  const MeasuredRun warm = ParseMeasuredRun(kLog, "kp400.csv", &with);
+  const ReplayRun replay = MakeReplayRun(rig, warm, model);
+  const nlohmann::json& values = replay.scenario.at("values");
+  EXPECT_EQ(values.at("/Servo/FirmwareKp"), "400");
+  EXPECT_EQ(values.at("/Servo/WindingTemperature"), "31.5");
+  const ColumnMapping without = Mapping(false);
+  const MeasuredRun unmapped = ParseMeasuredRun(kLog, "kp400.csv", &without);
+  const ReplayRun model_temperature = MakeReplayRun(rig, unmapped, model);
+  EXPECT_FALSE(model_temperature.scenario.at("values").contains("/Servo/WindingTemperature"))
+      << "no temperature in the data: the model's";
+}
+
+}  // namespace
+}  // namespace orcs::identify
