@@ -52,7 +52,7 @@ void CheckRunFitsRig(const Rig& rig, const MeasuredRun& run) {
   if (std::abs(run.step - rig.step) > 1e-9) {
     throw InputError(run.source + ": column 'time': steps of " + text::FormatDouble(run.step) +
                      " s, but the rig simulates steps of " + text::FormatDouble(rig.step) +
-                     " s (/Simulation/TimeStepSize)");
+                     " s (/Simulation/TimeStepSize × /Simulation/IterationsPerStep)");
   }
   for (const std::string& motor : run.motors) {
     bool known = false;

@@ -36,7 +36,9 @@ struct Rig {
   std::string environment_xml;   ///< the ORCS XML; "" = the default A-Series world
   std::string agent;             ///< the agent the runs belong to
   std::vector<std::string> motors;  ///< its motors in input order
-  double step = 0.01;            ///< s per simulation step under the model (/Simulation/TimeStepSize)
+  /// s per simulation step under the model, one logged row: /Simulation/TimeStepSize × IterationsPerStep (the
+  /// firmware and the physics run every iteration, with the row's goal held)
+  double step = 0.01;
   bool start_measured = false;   ///< RigOptions::start_measured
 };
 

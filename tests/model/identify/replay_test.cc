@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "model/core/error.h"
 #include "model/core/value_file.h"
 #include "model/identify/measured_run.h"
 
@@ -54,6 +55,30 @@ TEST(ReplayTest, TheRunsGainAndMeanWindingTemperatureAreValuesOfItsReplay) {
   const ReplayRun model_temperature = MakeReplayRun(rig, unmapped, model);
   EXPECT_FALSE(model_temperature.scenario.at("values").contains("/Servo/WindingTemperature"))
       << "no temperature in the data: the model's";
+}
+
+// A servo whose firmware runs faster than its log is replayed with sub-steps: each logged row is one simulation
+// step of IterationsPerStep physics steps, the row's goal held through them.
+TEST(ReplayTest, ARowIsTheStepTimesItsIterationsSoSubStepsReplayTheLogsTimeBase) {
+  std::vector<ValueAssignment> model = ValueFile::Read(kXl330Model);
+  model.push_back({"/Simulation/TimeStepSize", "0.001", "sub-steps", 0});
+  RigOptions options;
+  options.kind = "pendulum";
+  const ColumnMapping mapping = Mapping(false);
+  const MeasuredRun run = ParseMeasuredRun(kLog, "kp400.csv", &mapping);
+  try {
+    MakeReplayRun(MakeRig(options, "Pendulum", model), run, model);
+    ADD_FAILURE() << "1 ms steps replayed a log of 5 ms rows";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("steps of 0.005 s, but the rig simulates steps of 0.001 s "
+                                         "(/Simulation/TimeStepSize × /Simulation/IterationsPerStep)"),
+              std::string::npos)
+        << e.what();
+  }
+  model.push_back({"/Simulation/IterationsPerStep", "5", "sub-steps", 0});
+  const Rig rig = MakeRig(options, "Pendulum", model);
+  EXPECT_DOUBLE_EQ(rig.step, 0.005);
+  EXPECT_NO_THROW(MakeReplayRun(rig, run, model));
 }
 
 }  // namespace
