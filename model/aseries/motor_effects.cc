@@ -166,10 +166,15 @@ EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const Ser
   if (effects.dead_band) desired_angle_deg = DeadBandTarget(joint.angle, desired_angle_deg, effects.margin);
 
   EffectCommand command;
+  // The torque the gear train carries, for the friction that grows with it. The original's motor is a constraint
+  // whose torque is known only after the step, so the last step's serves; the DC motor's is known now, from this
+  // step's duty. At 5 ms steps the last step's lags enough to add a discretisation error of its own.
+  double load_torque = joint.motor_torque;
   if (servo.enabled) {
     const ServoCommand base =
         ServoUpdate(servo, state, joint.angle, joint.rate, desired_angle_deg, desired_torque_raw, dt);
     command = {base.motor, base.compliance};
+    load_torque = base.torque;
   } else {
     command = {Update(parameters, state, joint.angle, desired_angle_deg, desired_torque_raw, dt, noise), 0.0};
   }
@@ -184,16 +189,16 @@ EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const Ser
     command.motor.friction_torque += std::max(effects.breakaway_torque, 0.0) * std::exp(-ratio * ratio);
   }
   if (effects.load_friction) {
-    command.motor.friction_torque += std::max(effects.load_coefficient, 0.0) * std::abs(joint.motor_torque);
+    command.motor.friction_torque += std::max(effects.load_coefficient, 0.0) * std::abs(load_torque);
   }
   if (effects.gear_efficiency) {
     const double stall = servo.enabled ? StallTorque(servo) : parameters.fmax_factor;
-    command.motor.friction_torque += GearEfficiencyFriction(effects, joint.motor_torque, stall);
+    command.motor.friction_torque += GearEfficiencyFriction(effects, load_torque, stall);
   }
   if (effects.back_drive) {
-    if (speed > kRestRate) effect_state.back_driven = joint.rate * joint.motor_torque < 0.0;
+    if (speed > kRestRate) effect_state.back_driven = joint.rate * load_torque < 0.0;
     if (effect_state.back_driven) {
-      command.motor.friction_torque += std::max(effects.back_drive_coefficient, 0.0) * std::abs(joint.motor_torque);
+      command.motor.friction_torque += std::max(effects.back_drive_coefficient, 0.0) * std::abs(load_torque);
     }
   }
   if (effects.lugre) command.motor.friction_torque += LuGreFriction(effects, joint.rate, dt, effect_state);

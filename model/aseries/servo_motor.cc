@@ -73,6 +73,7 @@ ServoCommand ServoUpdate(const ServoParameters& servo, DynamixelState& state, do
   command.motor.velocity = voltage * duty / ke;
   command.compliance = resistance / (kt * ke);
   command.motor.max_torque = kt / resistance * (voltage + 2.0 * ke * std::abs(rate));
+  command.torque = kt / resistance * (voltage * duty - ke * rate);
   state.velocity = command.motor.velocity;
   state.max_torque = command.motor.max_torque;
   return command;

@@ -72,6 +72,7 @@ struct ServoCommand {
   DynamixelCommand motor;   ///< target velocity V·duty/ke (rad/s), torque bound (N·m), gearbox friction (N·m)
   double compliance = 0.0;  ///< R/(kt·ke), rad/s per N·m: the motor row yields like the DC motor; 0 = limp
   double duty = 0.0;        ///< the PWM duty, −1…1 (0 when limp)
+  double torque = 0.0;      ///< N·m, the motor's torque kt·(V·duty − ke·ω)/R at the step's start rate; 0 = limp
 };
 
 /// The winding's resistance at its temperature, Ω: R·(1 + α·(T − T_ref)), never below a tiny positive value. A
