@@ -1,5 +1,6 @@
 #include "clients/gap/gap_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -239,7 +240,8 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
   const auto row = [&](const ModelScore& s) {
     md << "| " << s.label << " | " << s.added_parameters << " | " << Deg(s.fit_rms) << " | " << Deg(s.holdout_rms)
        << " | " << text::FormatDouble(std::round(s.score / d.base.score * 1000.0) / 1000.0) << " | "
-       << (s.fit.abandoned ? "abandoned after " + std::to_string(s.fit.generations) + " generations"
+       << (s.fit.abandoned ? "abandoned after " + std::to_string(s.fit.generations) + " generations" +
+                                 (s.fit.abandoned_unmoved ? ", before its search moved" : "")
                            : s.fit.converged ? "yes" : "no")
        << " |";
     for (const FittedValue& v : s.values) {
@@ -251,6 +253,15 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
   };
   row(d.base);
   for (const ModelScore& s : d.candidates) row(s);
+  const auto unmoved = std::count_if(d.candidates.begin(), d.candidates.end(),
+                                     [](const ModelScore& s) { return s.fit.abandoned_unmoved; });
+  if (unmoved > 0) {
+    md << "\n"
+       << (unmoved == 1 ? "1 candidate was abandoned before its search moved: its best"
+                        : std::to_string(unmoved) + " candidates were abandoned before their search moved: their best")
+       << " had not changed since the swarm's first generation, so the race judged where the search started, not "
+          "where it could get. `--no-race` fits every candidate to the end.\n";
+  }
   md << "\nScore: held-out RMS² × (1 + " << options.penalty_per_parameter
      << " × added parameters); an effect is named when its score is below " << options.win_ratio
      << " × the refit's. Fits: each effect's main parameter scanned over its range"

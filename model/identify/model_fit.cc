@@ -40,6 +40,7 @@ struct FitWatch {
   double best_f = std::numeric_limits<double>::infinity();  // its objective, deg²
   std::uint64_t evaluated = 0;                             // points evaluated through the problem
   int swarm_batches = -1;                                  // generations of the swarm so far; −1 before it starts
+  double first_generation_best = std::numeric_limits<double>::infinity();  // best_f after the swarm's first, deg²
   // Early stops (FitOptions::stop_replays_early): per point, the objective above which its value no longer matters.
   std::vector<double> particle_best;             // the swarm: each particle's best so far, as pso_gen keeps it
   std::map<pagmo::vector_double, double> bounds;  // the swarm batch being evaluated: point → its particle's best
@@ -93,6 +94,15 @@ struct FitAbandoned {
   std::string why;
 };
 
+// What the race cannot tell apart: a swarm whose best has not changed since its first generation may not have
+// started to search yet (on the XL330 logs GearEfficiency's swarm sat at its start until generation 21, then
+// won). Said with the verdict, so that the user knows when --no-race is worth a run.
+std::string StalledSince(const FitWatch& watch) {
+  if (watch.best_f < watch.first_generation_best) return "";  // as FitOutcome::abandoned_unmoved
+  return "; its best had not changed since the swarm's first generation, so its search may not have started "
+         "(--no-race fits every candidate to the end)";
+}
+
 // The pagmo problem: evolve's unit-box BatchProblem, whose cache evaluates what pagmo asks for as one batch of
 // replays (member_bfe calls batch_fitness; every generation is one call). After the swarm's abandon_after-th
 // generation the race is asked about the best point so far.
@@ -113,10 +123,12 @@ pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::shared
       if (errors[i] < watch->best_f) std::tie(watch->best_x, watch->best_f) = std::tie(xs[i], errors[i]);
       if (watch->in_compass) watch->compass_best = std::min(watch->compass_best, errors[i]);
     }
-    if (watch->swarm_batches >= 0 && ++watch->swarm_batches == options.abandon_after && options.abandon) {
+    if (watch->swarm_batches >= 0 && ++watch->swarm_batches == 1) watch->first_generation_best = watch->best_f;
+    if (watch->swarm_batches == options.abandon_after && options.abandon) {
       const std::string why = options.abandon(Values(parameters, watch->best_x.data()), watch->best_f);
       if (!why.empty()) {
-        throw FitAbandoned{"abandoned after " + std::to_string(options.abandon_after) + " generations: " + why};
+        throw FitAbandoned{"abandoned after " + std::to_string(options.abandon_after) + " generations: " + why +
+                           StalledSince(*watch)};
       }
     }
     return errors;
@@ -142,6 +154,7 @@ FitOutcome Abandoned(const std::vector<FitParameter>& parameters, const FitWatch
   outcome.generations = watch.swarm_batches;
   outcome.evaluations = static_cast<int>(watch.evaluated) + look_evaluations;
   outcome.abandoned = true;
+  outcome.abandoned_unmoved = !(watch.best_f < watch.first_generation_best);
   outcome.convergence = "did not converge: " + why;
   outcome.polish = "not run: the fit was abandoned";
   outcome.ci95.assign(parameters.size(), std::numeric_limits<double>::quiet_NaN());

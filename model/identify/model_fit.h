@@ -71,6 +71,8 @@ struct FitOutcome {
   double mse = 0.0;              ///< its objective, deg²
   int generations = 0;           ///< swarm generations run (fewer than the budget when abandoned)
   bool abandoned = false;        ///< stopped after the swarm's first generations (FitOptions::abandon said why)
+  bool abandoned_unmoved = false;  ///< abandoned while its best had not changed since the swarm's first
+                                   ///< generation: its search may not have started (convergence says so)
   int evaluations = 0;           ///< points evaluated (each = one replay per run)
   bool converged = false;        ///< the local polish stopped because its step fell below 0.2 % of every
                                  ///< parameter's range, not because its budget ran out (see convergence)

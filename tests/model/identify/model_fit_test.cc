@@ -174,11 +174,38 @@ TEST(ModelFitTest, AFitItsAbandonQuestionRejectsStopsAfterItsFirstGenerationsWit
   ASSERT_EQ(abandoned.ci95.size(), 2u);
   EXPECT_TRUE(std::isnan(abandoned.ci95[0]));
 
+  EXPECT_FALSE(abandoned.abandoned_unmoved);
+  EXPECT_EQ(abandoned.convergence.find("not changed since"), std::string::npos)
+      << "its swarm improved on its first generation: " << abandoned.convergence;
+
   limit = 9.5;  // reachable: the fit goes on to its local stages
   const FitOutcome kept = Fit(objective, kParameters, options);
   EXPECT_FALSE(kept.abandoned);
   EXPECT_NEAR(kept.mse, 9.0, 0.05);
   EXPECT_TRUE(kept.converged) << kept.convergence;
+}
+
+// A swarm whose best has not changed since its first generation may not have started to search; the race's
+// verdict says so, with the option that fits it to the end. Here the start is the optimum: nothing improves on it.
+TEST(ModelFitTest, AnAbandonedFitWhoseSwarmNeverImprovedSaysItsSearchMayNotHaveStarted) {
+  AnalyticEvaluator evaluator;
+  const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 3.0)};
+  const ReplayObjective objective(evaluator, runs, {});
+  std::vector<FitParameter> at_optimum = kParameters;
+  at_optimum[0].start = kTrueA;
+  at_optimum[1].start = kTrueB;
+  FitOptions options;
+  options.abandon = [](const std::vector<double>&, double mse) -> std::string {
+    return mse > 8.0 ? "above the limit" : "";
+  };
+  const FitOutcome abandoned = Fit(objective, at_optimum, options);
+  ASSERT_TRUE(abandoned.abandoned);
+  EXPECT_TRUE(abandoned.abandoned_unmoved);
+  EXPECT_NEAR(abandoned.mse, 9.0, 1e-9);
+  EXPECT_NE(abandoned.convergence.find("above the limit; its best had not changed since the swarm's first "
+                                       "generation, so its search may not have started (--no-race"),
+            std::string::npos)
+      << abandoned.convergence;
 }
 
 // Replays stopped at their point's bound (the particle's best in the swarm, the current point in the compass search)
