@@ -458,43 +458,6 @@ TEST(MotorEffectsTest, LoadFrictionGrowsInProportionToTheMotorTorque) {
   }
 }
 
-TEST(MotorEffectsTest, OnTheServoModelTheLoadFrictionsTakeThisStepsMotorTorqueNotTheLastOnes) {
-  // The DC motor's torque is known before the step: kt·(V·duty − ke·ω)/R with this step's duty. LoadFriction,
-  // GearEfficiency and BackDrive take it, whatever the last step's was (docs/model.md, "The physical servo").
-  ServoParameters servo;
-  servo.enabled = true;
-  servo.firmware_kp = 400.0;
-  servo.kp_scale = 0.00575481;
-  servo.supply_voltage = 7.4;
-  servo.resistance = 3.401;
-  servo.torque_constant = 0.3537;
-  servo.back_emf_constant = 0.4635;
-  servo.coulomb_friction = 0.0;
-  servo.viscous_friction = 0.0;
-  const double rate = 0.5;  // rad/s, with the motor: not back-driven
-  const double duty = 400.0 * 0.00575481 * 10.0 * std::numbers::pi / 180.0;
-  const double torque = 0.3537 * (7.4 * duty - 0.4635 * rate) / 3.401;
-  for (const double last : {0.0, -0.8}) {
-    MotorEffects effects;
-    effects.load_friction = true;
-    effects.load_coefficient = 0.3;
-    effects.gear_efficiency = true;
-    effects.efficiency_coefficient = 0.2;
-    effects.efficiency_curvature = 0.5;
-    effects.back_drive = true;
-    effects.back_drive_coefficient = 0.4;
-    DynamixelState state{};
-    MotorEffectState memory{};
-    Reset(state, 0.0);
-    ResetEffects(memory, 0.0);
-    const EffectCommand command = UpdateWithEffects(DynamixelParameters{}, servo, effects, state, memory,
-                                                    {0.0, rate, last}, 10.0, 1.0, kDt, nullptr);
-    EXPECT_NEAR(command.motor.friction_torque,
-                0.3 * torque + GearEfficiencyFriction(effects, torque, StallTorque(servo)), 1e-12)
-        << "last step's torque " << last << " (a back-driven gear would add BackDrive's share)";
-  }
-}
-
 TEST_P(MotorEffectsRigTest, LoadFrictionMakesATorqueLimitedLiftStallLower) {
   // At the default torque τ = 0.615 N·m the motor cannot hold the pole horizontal (m·g·d = 0.736 N·m): lifting
   // towards 90° it stalls where gravity takes what friction leaves, sin θ = (τ − c·τ − fs)/(m·g·d), with fs the

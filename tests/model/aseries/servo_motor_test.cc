@@ -143,6 +143,34 @@ TEST(ServoMotorTest, ElasticityCannotCombineWithTheServoMode) {
   }
 }
 
+TEST(ServoMotorTest, TheLoadFrictionsTakeThisStepsMotorTorqueNotTheLastOnes) {
+  // The DC motor's torque is known before the step: kt·(V·duty − ke·ω)/R with this step's duty. LoadFriction,
+  // GearEfficiency and BackDrive take it, whatever the last step's was (docs/model.md, "The physical servo").
+  const ServoParameters servo = Xl330();
+  const double rate = 0.5;  // rad/s, with the motor: not back-driven
+  const double duty = 400.0 * 0.00575481 * 10.0 / kDegrees;
+  const double torque = servo.torque_constant * (7.4 * duty - servo.back_emf_constant * rate) / servo.resistance;
+  for (const double last : {0.0, -0.8}) {
+    MotorEffects effects;
+    effects.load_friction = true;
+    effects.load_coefficient = 0.3;
+    effects.gear_efficiency = true;
+    effects.efficiency_coefficient = 0.2;
+    effects.efficiency_curvature = 0.5;
+    effects.back_drive = true;
+    effects.back_drive_coefficient = 0.4;
+    DynamixelState state{};
+    MotorEffectState memory{};
+    Reset(state, 0.0);
+    ResetEffects(memory, 0.0);
+    const EffectCommand command = UpdateWithEffects(DynamixelParameters{}, servo, effects, state, memory,
+                                                    {0.0, rate, last}, 10.0, 1.0, kDt, nullptr);
+    EXPECT_NEAR(command.motor.friction_torque,
+                0.3 * torque + GearEfficiencyFriction(effects, torque, StallTorque(servo)), 1e-12)
+        << "last step's torque " << last << " (a back-driven gear would add BackDrive's share)";
+  }
+}
+
 // ---------------------------------------------------------------------------------------------------------------
 // On the pendulum rig, both engines
 
