@@ -89,6 +89,8 @@ class PhysicsWorld {
 
   /// The engine's message after kEngineError, else "".
   virtual const std::string& last_error() const = 0;
+  /// The compiled model this world simulates (masses, joint anchors and axes in the initial pose).
+  virtual const PhysicsModel& model() const = 0;
 };
 
 }  // namespace orcs::physics

@@ -229,6 +229,7 @@ class MujocoWorld : public PhysicsWorld {
   void AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) override;
 
   const std::string& last_error() const override { return last_error_; }
+  const PhysicsModel& model() const override { return *model_; }
 
  private:
   void MapIndices();

@@ -152,6 +152,7 @@ class OdeWorld final : public PhysicsWorld {
   void SetJointMotorCompliance(int joint, double compliance) override;
   void AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) override;
   const std::string& last_error() const override { return last_error_; }
+  const PhysicsModel& model() const override { return *model_; }
 
  private:
   void Build();
