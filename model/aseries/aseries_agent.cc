@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <deque>
 #include <map>
+#include <set>
 
 #include "model/aseries/value_range.h"
 #include "model/core/rotation.h"
@@ -92,6 +93,20 @@ void ASeriesAgent::FindDistalBodies(const ASeriesMorphology& morphology) {
     const bool first_is_distal = spec.second_body.empty() || depth[spec.first_body] > depth[spec.second_body];
     const std::string& distal = first_is_distal ? spec.first_body : spec.second_body;
     motors_[m].distal_body = layout_.bodies[static_cast<size_t>(morphology.FindBody(distal))];
+    // The load: the distal body and every body beyond it (deeper from the root, reached through it).
+    std::deque<std::string> beyond{distal};
+    std::set<std::string> load{distal};
+    while (!beyond.empty()) {
+      const std::string body = beyond.front();
+      beyond.pop_front();
+      const auto [first, last] = links.equal_range(body);
+      for (auto it = first; it != last; ++it) {
+        if (depth[it->second] > depth[body] && load.insert(it->second).second) beyond.push_back(it->second);
+      }
+    }
+    for (const std::string& body : load) {
+      motors_[m].load_bodies.push_back(layout_.bodies[static_cast<size_t>(morphology.FindBody(body))]);
+    }
     // Morphology bodies are axis-aligned in the initial pose, so the world axis is also the body-frame axis.
     motors_[m].axis_in_body = (spec.axis_point2 - spec.axis_point1).normalized();
   }
@@ -118,6 +133,7 @@ void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed)
     motor.motor_torque->Set(0.0);
     motor.joint_angle->Set(RadiansToDegrees(world.joint_angle(motor.joint)));
     motor.current_velocity->Set(0.0);
+    motor.gravity_load.emplace(world.model(), motor.joint, motor.load_bodies);
   }
   for (Board& board : boards_) {
     const physics::BodyState host = world.body_state(board.host_body);
@@ -138,7 +154,13 @@ void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double 
   const double desired_torque = motor.desired_torque->as_double();
   DynamixelCommand command;
   if (effects_.any() || servo_.enabled) {  // the original's bits stay untouched while every effect is off
-    const JointReading reading{angle, world.joint_rate(motor.joint), world.joint_motor_torque(motor.joint)};
+    // Gravity's torque on the load only where an effect reads it: it costs a pass over the load's bodies.
+    const double gravity_torque =
+        effects_.gravity_load_friction
+            ? motor.gravity_load->Torque(world, Eigen::Vector3d(0.0, -accel_parameters_.gravity, 0.0))
+            : 0.0;
+    const JointReading reading{angle, world.joint_rate(motor.joint), world.joint_motor_torque(motor.joint),
+                               gravity_torque};
     const EffectCommand with_effects = UpdateWithEffects(motor_parameters_, servo_, effects_, motor.state,
                                                          motor.effect_state, reading, desired_angle, desired_torque,
                                                          dt, &*motor_noise_);

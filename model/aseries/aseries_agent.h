@@ -25,6 +25,7 @@
 #include "model/aseries/motor_effects.h"
 #include "model/core/random_stream.h"
 #include "model/core/variable_repository.h"
+#include "model/physics/gravity_load.h"
 #include "model/physics/physics_world.h"
 
 namespace orcs::aseries {
@@ -69,6 +70,8 @@ class ASeriesAgent {
     MotorEffectState effect_state;
     int distal_body = -1;  // physics body on the far side from the root: it carries the rotor inertia
     Eigen::Vector3d axis_in_body = Eigen::Vector3d::UnitX();  // the hinge axis in that body's frame
+    std::vector<int> load_bodies;  // physics bodies on the far side from the root: the load the motor holds
+    std::optional<physics::GravityLoad> gravity_load;  // their gravity torque about the hinge (set at Reset)
   };
   struct Board {
     int host_body = -1;  // physics body index

@@ -108,8 +108,8 @@ void ApplyBacklash(const MotorEffects& effects, MotorEffectState& state, const J
 }  // namespace
 
 bool MotorEffects::any() const {
-  return transport_delay || dead_band || back_emf || stribeck || load_friction || gear_efficiency || back_drive ||
-         backlash || elasticity || rotor_inertia || lugre;
+  return transport_delay || dead_band || back_emf || stribeck || load_friction || gravity_load_friction ||
+         gear_efficiency || back_drive || backlash || elasticity || rotor_inertia || lugre;
 }
 
 double GearEfficiencyFriction(const MotorEffects& effects, double torque, double stall) {
@@ -190,6 +190,10 @@ EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const Ser
   }
   if (effects.load_friction) {
     command.motor.friction_torque += std::max(effects.load_coefficient, 0.0) * std::abs(load_torque);
+  }
+  if (effects.gravity_load_friction) {
+    command.motor.friction_torque +=
+        std::max(effects.gravity_load_coefficient, 0.0) * std::abs(joint.gravity_torque - load_torque);
   }
   if (effects.gear_efficiency) {
     const double stall = servo.enabled ? StallTorque(servo) : parameters.fmax_factor;

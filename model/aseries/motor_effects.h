@@ -9,6 +9,9 @@
 //   BackEmf         the torque limit falls linearly with speed, to 0 at `NoLoadSpeed`
 //   Stribeck        extra friction `BreakawayTorque`·exp(−(ω/`Velocity`)²) that vanishes once the joint moves
 //   LoadFriction    extra friction `Coefficient`·|motor torque|: a gearbox whose friction grows with its load
+//   GravityLoadFriction  extra friction `Coefficient`·|τg − τ|, τg gravity's torque on the load the joint turns and
+//                   τ the motor's (both in the joint angle's sense): the gear mesh carries the load's pull against
+//                   the motor's, twice the torque of a hold (BAM's load-dependent model, M3, Duclusaud et al. 2024)
 //   GearEfficiency  friction `Coefficient`·|τ| + q·τ² with q = `Curvature`·(1 − `Coefficient`)/(2·τs), τ the motor's
 //                   torque and τs its largest (the servo's stall torque, the original's FMaxFactor): a gear train
 //                   whose efficiency falls as its load grows. Curvature 0…1 keeps the output torque τ − friction
@@ -50,6 +53,8 @@ struct MotorEffects {
   double stribeck_velocity = 0.1;  ///< rad/s over which it fades, /Effects/Stribeck/Velocity
   bool load_friction = false;    ///< /Effects/LoadFriction/Enabled
   double load_coefficient = 0.0;  ///< N·m of friction per N·m of motor torque, /Effects/LoadFriction/Coefficient
+  bool gravity_load_friction = false;  ///< /Effects/GravityLoadFriction/Enabled
+  double gravity_load_coefficient = 0.0;  ///< N·m of friction per N·m of |τg − τ|, /Effects/GravityLoadFriction/Coefficient
   bool gear_efficiency = false;  ///< /Effects/GearEfficiency/Enabled
   double efficiency_coefficient = 0.0;  ///< μ, N·m of friction per N·m of motor torque, /Effects/GearEfficiency/Coefficient
   double efficiency_curvature = 0.0;    ///< q's share of its largest monotone value, 0…1, /Effects/GearEfficiency/Curvature
@@ -73,7 +78,7 @@ struct MotorEffects {
   bool any() const;
 };
 
-inline constexpr std::array<ParameterField<MotorEffects>, 29> kMotorEffectsTable{{
+inline constexpr std::array<ParameterField<MotorEffects>, 31> kMotorEffectsTable{{
     {"/Effects/TransportDelay/Enabled", &MotorEffects::transport_delay},
     {"/Effects/TransportDelay/Delay", &MotorEffects::delay},
     {"/Effects/DeadBand/Enabled", &MotorEffects::dead_band},
@@ -85,6 +90,8 @@ inline constexpr std::array<ParameterField<MotorEffects>, 29> kMotorEffectsTable
     {"/Effects/Stribeck/Velocity", &MotorEffects::stribeck_velocity},
     {"/Effects/LoadFriction/Enabled", &MotorEffects::load_friction},
     {"/Effects/LoadFriction/Coefficient", &MotorEffects::load_coefficient},
+    {"/Effects/GravityLoadFriction/Enabled", &MotorEffects::gravity_load_friction},
+    {"/Effects/GravityLoadFriction/Coefficient", &MotorEffects::gravity_load_coefficient},
     {"/Effects/GearEfficiency/Enabled", &MotorEffects::gear_efficiency},
     {"/Effects/GearEfficiency/Coefficient", &MotorEffects::efficiency_coefficient},
     {"/Effects/GearEfficiency/Curvature", &MotorEffects::efficiency_curvature},
@@ -110,6 +117,9 @@ struct JointReading {
   double angle = 0.0;         ///< rad, joint (output) angle
   double rate = 0.0;          ///< rad/s, joint rate
   double motor_torque = 0.0;  ///< N·m the motor applied in the last step
+  /// N·m gravity exerts on the load the joint turns (the bodies beyond it from the robot's root), in the joint
+  /// angle's sense; computed only while GravityLoadFriction is on, else 0.
+  double gravity_torque = 0.0;
 };
 
 /// The memory the effects need per motor. Reset it with ResetEffects at every simulation reset.

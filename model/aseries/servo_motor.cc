@@ -74,6 +74,12 @@ ServoCommand ServoUpdate(const ServoParameters& servo, DynamixelState& state, do
   command.compliance = resistance / (kt * ke);
   command.motor.max_torque = kt / resistance * (voltage + 2.0 * ke * std::abs(rate));
   command.torque = kt / resistance * (voltage * duty - ke * rate);
+  // 3. The firmware's current limit: the row's bound is then the motor's torque at that current.
+  if (servo.current_limit > 0.0) {
+    const double limit = kt * servo.current_limit;
+    command.motor.max_torque = std::min(command.motor.max_torque, limit);
+    command.torque = std::clamp(command.torque, -limit, limit);
+  }
   state.velocity = command.motor.velocity;
   state.max_torque = command.motor.max_torque;
   return command;

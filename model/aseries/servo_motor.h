@@ -32,6 +32,9 @@ struct ServoParameters {
   double kd_scale = 0.0;           ///< duty per rad/s of error rate per unit of FirmwareKd, /Servo/KdScale
   double pwm_limit = 1.0;          ///< largest |duty|, 0…1 (the PWM limit register over its maximum), /Servo/PwmLimit
   double supply_voltage = 12.0;    ///< V across the H-bridge, /Servo/SupplyVoltage
+  /// A, the firmware's bound on the winding current, |τ| ≤ kt·limit (the X series' Current Limit register;
+  /// the AX-12+ has none), /Servo/CurrentLimit; 0 = none
+  double current_limit = 0.0;
   double torque_constant = 1.0;    ///< kt, N·m per A at the output (gear ratio included), /Servo/TorqueConstant
   double resistance = 8.0;         ///< R, Ω of the winding at ReferenceTemperature, /Servo/Resistance
   /// °C of the winding during the run, /Servo/WindingTemperature. An input of the run like FirmwareKp: orcs-gap
@@ -46,7 +49,7 @@ struct ServoParameters {
   double viscous_friction = 0.02;  ///< N·m·s/rad, the gearbox's friction per speed, /Servo/ViscousFriction
 };
 
-inline constexpr std::array<ParameterField<ServoParameters>, 18> kServoParameterTable{{
+inline constexpr std::array<ParameterField<ServoParameters>, 19> kServoParameterTable{{
     {"/Servo/Enabled", &ServoParameters::enabled},
     {"/Servo/FirmwareKp", &ServoParameters::firmware_kp},
     {"/Servo/FirmwareKi", &ServoParameters::firmware_ki},
@@ -56,6 +59,7 @@ inline constexpr std::array<ParameterField<ServoParameters>, 18> kServoParameter
     {"/Servo/KdScale", &ServoParameters::kd_scale},
     {"/Servo/PwmLimit", &ServoParameters::pwm_limit},
     {"/Servo/SupplyVoltage", &ServoParameters::supply_voltage},
+    {"/Servo/CurrentLimit", &ServoParameters::current_limit},
     {"/Servo/TorqueConstant", &ServoParameters::torque_constant},
     {"/Servo/Resistance", &ServoParameters::resistance},
     {"/Servo/WindingTemperature", &ServoParameters::winding_temperature},

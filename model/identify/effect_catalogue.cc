@@ -35,6 +35,8 @@ const std::vector<EffectDescription>& EffectCatalogue() {
        true},
       {"BackDrive", "the gearbox brakes harder when the load drives it backwards", "load",
        {{"/Effects/BackDrive/Coefficient", "1", 0.01, 1.0, true}}, false, true},
+      {"GravityLoadFriction", "gearbox friction grows with the load's pull against the motor (BAM's M3)", "load",
+       {{"/Effects/GravityLoadFriction/Coefficient", "1", 0.01, 1.0, true}}, false, true},
   };
   return catalogue;
 }

@@ -363,6 +363,12 @@ INSTANTIATE_TEST_SUITE_P(
                                  {"--effect", "Stribeck", "--set", "/Effects/Stribeck/BreakawayTorque=0.1", "--set",
                                   "/Effects/Stribeck/Velocity=0.2"},
                                  "Stribeck"},
+                      // BAM's load-dependent friction (M3): the mesh carries gravity's pull against the motor's,
+                      // which LoadFriction (the motor's torque alone) must not stand in for.
+                      HiddenCase{"GravityLoadFriction",
+                                 {"--effect", "GravityLoadFriction", "--set",
+                                  "/Effects/GravityLoadFriction/Coefficient=0.2"},
+                                 "GravityLoadFriction"},
                       // LuGre's sliding friction adds to the servo's own Coulomb friction: a narrow diagonal valley
                       // that the swarm, the compass search and the polish stall in, and the race abandons LuGre
                       // before its fit gets anywhere. CMA-ES islands follow the valley (docs/gap.md). Stribeck, the

@@ -143,6 +143,27 @@ TEST(ServoMotorTest, ElasticityCannotCombineWithTheServoMode) {
   }
 }
 
+TEST(ServoMotorTest, TheCurrentLimitBoundsTheMotorsTorqueAtKtTimesTheLimit) {
+  // A large error asks for full duty: 7.4 V / 3.401 Ω = 2.18 A at rest. The firmware's current limit caps the
+  // winding current, so the torque the row can give and the torque the load frictions see are kt × the limit.
+  ServoParameters servo = Xl330();
+  const double unlimited = ExpectedStall(servo);
+  for (const double limit : {0.0, 1.0}) {
+    servo.current_limit = limit;
+    for (const double goal : {60.0, -60.0}) {
+      DynamixelState state;
+      Reset(state, 0.0);
+      const ServoCommand command = ServoUpdate(servo, state, 0.0, 0.0, goal, 1.0, kDt);
+      const double expected = limit > 0.0 ? servo.torque_constant * limit : unlimited;
+      EXPECT_NEAR(command.torque, std::copysign(expected, goal), 1e-12) << "limit " << limit << " A";
+      if (limit > 0.0) {
+        EXPECT_NEAR(command.motor.max_torque, expected, 1e-12);
+      }
+      EXPECT_GE(command.motor.max_torque, expected - 1e-12);
+    }
+  }
+}
+
 TEST(ServoMotorTest, TheLoadFrictionsTakeThisStepsMotorTorqueNotTheLastOnes) {
   // The DC motor's torque is known before the step: kt·(V·duty − ke·ω)/R with this step's duty. LoadFriction,
   // GearEfficiency and BackDrive take it, whatever the last step's was (docs/model.md, "The physical servo").
@@ -168,6 +189,26 @@ TEST(ServoMotorTest, TheLoadFrictionsTakeThisStepsMotorTorqueNotTheLastOnes) {
     EXPECT_NEAR(command.motor.friction_torque,
                 0.3 * torque + GearEfficiencyFriction(effects, torque, StallTorque(servo)), 1e-12)
         << "last step's torque " << last << " (a back-driven gear would add BackDrive's share)";
+  }
+}
+
+TEST(ServoMotorTest, GravityLoadFrictionGrowsWithTheLoadsPullAgainstTheMotor) {
+  // BAM's load-dependent friction (M3): c·|τg − τ|, τ this step's motor torque. Holding a load (τ = −τg) the mesh
+  // carries twice the hold; a motor pushing the way gravity pulls carries only their difference.
+  const ServoParameters servo = Xl330();
+  const double duty = 400.0 * 0.00575481 * 10.0 / kDegrees;
+  const double torque = servo.torque_constant * 7.4 * duty / servo.resistance;  // at rest
+  MotorEffects effects;
+  effects.gravity_load_friction = true;
+  effects.gravity_load_coefficient = 0.25;
+  for (const double gravity : {-torque, torque, 0.0}) {
+    DynamixelState state{};
+    MotorEffectState memory{};
+    Reset(state, 0.0);
+    ResetEffects(memory, 0.0);
+    const EffectCommand command = UpdateWithEffects(DynamixelParameters{}, servo, effects, state, memory,
+                                                    {0.0, 0.0, 0.0, gravity}, 10.0, 1.0, kDt, nullptr);
+    EXPECT_NEAR(command.motor.friction_torque, 0.25 * std::abs(gravity - torque), 1e-12) << "gravity " << gravity;
   }
 }
 
@@ -304,6 +345,63 @@ TEST_P(ServoRigTest, LoadFrictionTakesThisStepsTorqueSoACoarseStepIsAsCloseToAFi
   const double without = rms_difference(false);
   EXPECT_GT(without, 0.1) << "the firmware's rate alone makes the runs differ";
   EXPECT_LT(rms_difference(true), 1.1 * without);
+}
+
+TEST_P(ServoRigTest, ACurrentLimitLetsThePoleSagToWhereKtTimesTheLimitHoldsGravity) {
+  // Commanded to 80° at gain 400 the duty is full long before the goal; with 0.8 A × kt = 0.28 N·m the motor can
+  // hold the pole only where m·g·d·sin θ is that much, well below the goal. Without the limit it holds near 80°.
+  ServoParameters servo = Xl330();
+  servo.viscous_friction = 0.05;  // N·m·s/rad, only to let it settle
+  for (const double limit : {0.0, 0.8}) {
+    servo.current_limit = limit;
+    Values values = ServoValues(servo);
+    values.push_back({"/Servo/CurrentLimit", text::FormatDouble(limit)});
+    PendulumRig rig(values, GetParam());
+    rig.Command(80.0, 1.0);
+    ASSERT_TRUE(rig.Run(600));
+    const double hold = limit > 0.0 ? std::asin(servo.torque_constant * limit / rig.GravityTorque()) * kDegrees
+                                    : Equilibrium(servo, rig.GravityTorque(), 80.0 / kDegrees) * kDegrees;
+    EXPECT_NEAR(rig.Degrees(), hold, 0.3) << "limit " << limit << " A";
+    EXPECT_LT(std::abs(rig.Rate()), 1e-3) << "settled";
+  }
+}
+
+TEST_P(ServoRigTest, GravityLoadFrictionStopsALiftWhereTheNetTorqueFallsToItsShareOfTheMeshLoad) {
+  // Lifted slowly, the motor's torque τ > 0 and gravity's −m·g·d·sin θ pull against each other: the mesh carries
+  // τ + m·g·d·sin θ and the friction c times that brakes the lift where τ − m·g·d·sin θ falls to it, i.e. where
+  // τ·(1 − c) = m·g·d·sin θ·(1 + c), well short of the frictionless hold. Gravity's torque on the load, computed
+  // from the pole's pose, must have the joint angle's sense for this: with the wrong sign the friction would be
+  // c·|τ − m·g·d·sin θ|, nearly 0 there, and the pole would rise to the frictionless hold.
+  ServoParameters servo = Xl330();
+  servo.firmware_kp = 100.0;
+  servo.viscous_friction = 0.05;
+  constexpr double kCoefficient = 0.3;
+  const auto rest = [&](bool effect) {
+    Values values = ServoValues(servo);
+    values.push_back({"/Effects/GravityLoadFriction/Enabled", effect ? "true" : "false"});
+    values.push_back({"/Effects/GravityLoadFriction/Coefficient", text::FormatDouble(kCoefficient)});
+    PendulumRig rig(values, GetParam());
+    for (int step = 1; step <= 400; ++step) {  // a slow ramp: the pole creeps up and stops with no momentum
+      rig.Command(60.0 * step / 400.0, 1.0);
+      EXPECT_TRUE(rig.Step());
+    }
+    EXPECT_TRUE(rig.Run(300));
+    EXPECT_LT(std::abs(rig.Rate()), 1e-3) << "settled";
+    return std::pair{rig.Degrees(), rig.GravityTorque()};
+  };
+  const auto [free_hold, weight] = rest(false);
+  const double goal = 60.0 / kDegrees;
+  double low = 0.0;
+  double high = goal;
+  for (int i = 0; i < 100; ++i) {  // the first angle where the lift stalls
+    const double theta = 0.5 * (low + high);
+    const double motor = ExpectedStall(servo) * std::min(1.0, servo.firmware_kp * servo.kp_scale * (goal - theta));
+    (motor * (1.0 - kCoefficient) > weight * std::sin(theta) * (1.0 + kCoefficient) ? low : high) = theta;
+  }
+  const double stall = 0.5 * (low + high) * kDegrees;
+  EXPECT_NEAR(free_hold, Equilibrium(servo, weight, goal) * kDegrees, 0.2);
+  EXPECT_LT(stall, free_hold - 5.0) << "the friction must matter for the test to mean anything";
+  EXPECT_NEAR(rest(true).first, stall, 0.5);
 }
 
 TEST_P(ServoRigTest, TheServoModeRefusesElasticityWithAClearMessage) {

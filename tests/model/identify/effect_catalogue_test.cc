@@ -21,7 +21,7 @@ TEST(EffectCatalogueTest, CatalogueFitsOnlyParametersThatTheRepositoryHas) {
     return std::any_of(kMotorEffectsTable.begin(), kMotorEffectsTable.end(),
                        [&](const auto& field) { return field.path == path; });
   };
-  ASSERT_EQ(EffectCatalogue().size(), 11u);
+  ASSERT_EQ(EffectCatalogue().size(), 12u);
   for (const EffectDescription& effect : EffectCatalogue()) {
     EXPECT_TRUE(in_table("/Effects/" + std::string(effect.name) + "/Enabled")) << effect.name;
     EXPECT_EQ(FindEffect(effect.name), &effect);
