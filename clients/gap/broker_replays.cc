@@ -27,7 +27,7 @@ bool StoppedEarly(const v1::Result& result, const ReplayRun& run) {
 std::vector<ReplayOutcome> BrokerReplays::Replay(const std::vector<ReplayRequest>& requests) {
   std::vector<v1::Job> jobs;
   for (const ReplayRequest& request : requests) {
-    jobs.push_back(MakeReplayJob(*request.run, request.overrides, request.log, request.stop_above));
+    jobs.push_back(MakeReplayJob(request));
     jobs.back().set_record(request.record);
   }
   std::vector<v1::Result> results = jobs_.Run(std::move(jobs));
@@ -36,7 +36,7 @@ std::vector<ReplayOutcome> BrokerReplays::Replay(const std::vector<ReplayRequest
     v1::Result& result = results[i];
     ReplayOutcome& outcome = outcomes[i];
     outcome.ok = result.status() == v1::Result::OK;
-    outcome.rms = result.fitness();
+    outcome.error = result.fitness();
     outcome.recording = std::move(*result.mutable_recording());
     outcome.stopped_early = outcome.ok && StoppedEarly(result, *requests[i].run);
     if (outcome.stopped_early) ++stopped_early_;
@@ -47,16 +47,18 @@ std::vector<ReplayOutcome> BrokerReplays::Replay(const std::vector<ReplayRequest
   return outcomes;
 }
 
-v1::Job MakeReplayJob(const ReplayRun& replay, const std::vector<Override>& overrides, bool log, double stop_above) {
-  nlohmann::json scenario = replay.scenario;
-  if (log) scenario["log"] = {"/Sim/" + scenario["agent"].get<std::string>() + "/.*/(JointAngle|MotorTorque)"};
-  if (std::isfinite(stop_above)) scenario["fitness"]["terms"][0]["stop_above"] = stop_above;
+v1::Job MakeReplayJob(const ReplayRequest& request) {
+  nlohmann::json scenario = request.run->scenario;
+  if (request.log) scenario["log"] = {"/Sim/" + scenario["agent"].get<std::string>() + "/.*/(JointAngle|MotorTorque)"};
+  nlohmann::json& term = scenario["fitness"]["terms"][0];
+  if (request.loss == identify::Loss::kAbsolute) term["norm"] = "mean_absolute";
+  if (std::isfinite(request.stop_above)) term["stop_above"] = request.stop_above;
   v1::Job job;
   job.set_scenario_json(scenario.dump());
   job.set_genome_json("[]");
   job.set_seed(0);
   job.set_time_limit_seconds(scene::DefaultTimeLimitSeconds(scenario["duration"].get<double>()));
-  for (const Override& entry : overrides) {
+  for (const Override& entry : request.overrides) {
     v1::Override* override_value = job.add_overrides();
     override_value->set_path(entry.first);
     override_value->set_value(entry.second);

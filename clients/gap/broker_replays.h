@@ -29,11 +29,10 @@ class BrokerReplays : public identify::ReplayEvaluator {
   std::atomic<std::uint64_t> stopped_early_{0};
 };
 
-/// The job of one replay: the run's scenario with the overrides; with `log`, the scenario logs the simulated
-/// JointAngle and MotorTorque of every motor of the run's agent; a finite `stop_above` (degrees) becomes the
-/// measured_error term's bound.
-v1::Job MakeReplayJob(const identify::ReplayRun& replay, const std::vector<identify::Override>& overrides, bool log,
-                      double stop_above = std::numeric_limits<double>::infinity());
+/// The job of one replay: the run's scenario with the request's overrides; with `log`, the scenario logs the
+/// simulated JointAngle and MotorTorque of every motor of the run's agent; the loss sets the measured_error term's
+/// norm, and a finite `stop_above` (degrees) becomes its bound. Not `record` (a field of the job).
+v1::Job MakeReplayJob(const identify::ReplayRequest& request);
 
 /// A simulated log (the CSV the worker returns) as columns: path → values per row. Throws InputError naming
 /// `source` when it has no "# columns:" line.

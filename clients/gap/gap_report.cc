@@ -148,7 +148,10 @@ nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOpt
       {"model", model},
       {"worst_channels", WorstChannels(d.before, 4)},
       {"criterion",
-       {{"score", "holdout_rms² × (1 + penalty_per_parameter × added parameters)"},
+       {{"score", options.loss == Loss::kAbsolute
+                      ? "holdout mean absolute error (deg) × (1 + penalty_per_parameter × added parameters)"
+                      : "holdout_rms² × (1 + penalty_per_parameter × added parameters)"},
+        {"loss", options.loss == Loss::kAbsolute ? "absolute" : "squared"},
         {"penalty_per_parameter", options.penalty_per_parameter},
         {"win_ratio", options.win_ratio},
         {"generations", options.fit.generations},
@@ -262,9 +265,12 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
        << " had not changed since the swarm's first generation, so the race judged where the search started, not "
           "where it could get. `--no-race` fits every candidate to the end.\n";
   }
-  md << "\nScore: held-out RMS² × (1 + " << options.penalty_per_parameter
+  md << "\nScore: held-out " << (options.loss == Loss::kAbsolute ? "mean absolute error" : "RMS²") << " × (1 + "
+     << options.penalty_per_parameter
      << " × added parameters); an effect is named when its score is below " << options.win_ratio
-     << " × the refit's. Fits: each effect's main parameter scanned over its range"
+     << " × the refit's. Fits (minimising the mean "
+     << (options.loss == Loss::kAbsolute ? "absolute" : "squared") << " angle error): each effect's main parameter "
+     << "scanned over its range"
      << (options.relax_scan ? " (its best points relaxed)" : "") << ", then a particle swarm (pagmo2 "
      << "pso_gen), " << options.fit.generations << " generations" << EarlyStops(options) << ", seed "
      << options.fit.seed << ", a compass search and a Levenberg–Marquardt polish (Ceres)" << Islands(options)

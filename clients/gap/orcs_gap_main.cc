@@ -43,6 +43,7 @@ struct GapOptions {
   bool early_stop = true;
   bool relax_scan = false;
   int islands = 0;
+  std::string loss = "squared";
   unsigned seed = 1;
   std::vector<std::string> effects;
   // synth
@@ -129,6 +130,7 @@ int Diagnose(const GapOptions& o) {
   options.fit.stop_replays_early = o.early_stop;
   options.relax_scan = o.relax_scan;
   options.fit.islands = o.islands;
+  options.loss = o.loss == "absolute" ? Loss::kAbsolute : Loss::kSquared;
   options.fit.seed = o.seed;
   options.candidates = o.effects;
   std::filesystem::create_directories(o.out);
@@ -209,6 +211,12 @@ int main(int argc, char** argv) {
                  "valleys (LuGre friction on the servo model); turns the race off unless --race is given, since the "
                  "race judges before any island runs; each island costs about 2,400 replays per fit (docs/gap.md)")
       ->check(CLI::Range(0, 64));
+  app.add_option("--loss", o.loss,
+                 "what the fits minimise and the held-out scores measure: squared (default; the mean squared angle "
+                 "error) or absolute (the mean absolute error, BAM's: less pulled by a few large errors such as a "
+                 "stuck segment). An effect is named when its score is below half the refit's in that measure "
+                 "(docs/gap.md)")
+      ->check(CLI::IsMember({"squared", "absolute"}));
   app.add_option("--seed", o.seed, "seed of the fits (default 1)")->check(orcs::cli::Seed(UINT32_MAX));
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");

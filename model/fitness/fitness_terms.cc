@@ -129,8 +129,9 @@ class TrackingError : public FitnessTerm {
 
 class MeasuredError : public FitnessTerm {
  public:
-  MeasuredError(std::vector<std::vector<double>> measured, std::vector<const Value*> angles, double stop_above)
-      : measured_(std::move(measured)), angles_(std::move(angles)), stop_above_(stop_above) {
+  MeasuredError(std::vector<std::vector<double>> measured, std::vector<const Value*> angles, bool absolute,
+                double stop_above)
+      : measured_(std::move(measured)), angles_(std::move(angles)), absolute_(absolute), stop_above_(stop_above) {
     for (const std::vector<double>& trace : measured_) listed_ += static_cast<long>(trace.size());
   }
   void Start(const scene::Simulation&) override {
@@ -143,28 +144,35 @@ class MeasuredError : public FitnessTerm {
     for (std::size_t m = 0; m < angles_.size(); ++m) {
       if (step_ >= measured_[m].size()) continue;
       const double error = angles_[m]->as_double() - measured_[m][step_];
-      sum_ += error * error;
+      sum_ += absolute_ ? std::abs(error) : error * error;
       ++count_;
     }
     ++step_;
-    // The entries still to come add nothing below: the RMS over all of them is a lower bound of the final value.
-    finished_ = listed_ > 0 && std::sqrt(sum_ / static_cast<double>(listed_)) > stop_above_;
+    // The entries still to come add nothing below: the norm over all of them is a lower bound of the final value.
+    finished_ = listed_ > 0 && Norm(listed_) > stop_above_;
   }
   double value() const override {
-    if (finished_) return std::sqrt(sum_ / static_cast<double>(listed_));
-    return count_ == 0 ? 0.0 : std::sqrt(sum_ / static_cast<double>(count_));
+    if (finished_) return Norm(listed_);
+    return count_ == 0 ? 0.0 : Norm(count_);
   }
   bool finished() const override { return finished_; }
 
  private:
+  // RMS or mean absolute error over `entries` entries, degrees.
+  double Norm(long entries) const {
+    const double mean = sum_ / static_cast<double>(entries);
+    return absolute_ ? mean : std::sqrt(mean);
+  }
+
   std::vector<std::vector<double>> measured_;  // per listed motor: degrees after each step
   std::vector<const Value*> angles_;           // the motors' JointAngle values
-  double stop_above_;                          // degrees RMS; +∞ = run to the end
+  bool absolute_;                              // "norm": "mean_absolute" (else RMS)
+  double stop_above_;                          // degrees in the norm; +∞ = run to the end
   long listed_ = 0;                            // entries over all motors
-  double sum_ = 0.0;                           // Σ error², deg²
+  double sum_ = 0.0;                           // Σ error² (deg²) or Σ |error| (deg)
   long count_ = 0;                             // entries compared so far
   std::size_t step_ = 0;
-  bool finished_ = false;                      // the RMS over all listed entries exceeds stop_above_
+  bool finished_ = false;                      // the norm over all listed entries exceeds stop_above_
 };
 
 class Falls : public FitnessTerm {
@@ -228,12 +236,18 @@ std::unique_ptr<FitnessTerm> MakeMeasuredError(const JsonNode& entry, const scen
     std::vector<double>& trace = measured.emplace_back();
     for (const JsonNode& element : list.Elements()) trace.push_back(element.Number("a finite angle in degrees"));
   }
+  bool absolute = false;
+  if (entry.Has("norm")) {
+    const std::string norm = entry.At("norm").String("\"rms\" or \"mean_absolute\"");
+    if (norm != "rms" && norm != "mean_absolute") entry.At("norm").Fail("\"rms\" or \"mean_absolute\"");
+    absolute = norm == "mean_absolute";
+  }
   double stop_above = std::numeric_limits<double>::infinity();
   if (entry.Has("stop_above")) {
-    stop_above = entry.At("stop_above").Number("an RMS in degrees, at least 0");
-    if (stop_above < 0) entry.At("stop_above").Fail("an RMS in degrees, at least 0");
+    stop_above = entry.At("stop_above").Number("an error in degrees, at least 0");
+    if (stop_above < 0) entry.At("stop_above").Fail("an error in degrees, at least 0");
   }
-  return std::make_unique<MeasuredError>(std::move(measured), std::move(values), stop_above);
+  return std::make_unique<MeasuredError>(std::move(measured), std::move(values), absolute, stop_above);
 }
 
 }  // namespace
@@ -266,7 +280,7 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
     return MakeTrackingError(entry, simulation, agent_index);
   }
   if (type == "measured_error") {
-    entry.ExpectOnly({"type", "name", "weight", "angles", "stop_above"});
+    entry.ExpectOnly({"type", "name", "weight", "angles", "norm", "stop_above"});
     return MakeMeasuredError(entry, simulation, agent_index);
   }
   if (type == "falls") {

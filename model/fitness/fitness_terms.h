@@ -12,10 +12,12 @@
 //   falls           {"body": "Middle/Head", "min_height": 0.2}  times the body went from above to below the height
 //   measured_error  {"angles": {"Right/Knee": [deg, ...], ...}}  RMS of JointAngle − a measured run's angle after
 //                   each step (entry k after step k+1; steps beyond the list are not compared), pooled over the
-//                   listed motors, degrees: orcs-gap's objective (docs/gap.md). Optional "stop_above" (degrees,
-//                   ≥ 0): the run stops as soon as the value can no longer end at or below it — when the RMS so far,
-//                   counted over *every* listed entry, exceeds it. The value is then that RMS: a lower bound of the
-//                   whole run's, above stop_above. A fit's search uses it for points that cannot beat its best.
+//                   listed motors, degrees: orcs-gap's objective (docs/gap.md). Optional "norm": "rms" (the
+//                   default) or "mean_absolute" (the mean of |JointAngle − measured|, degrees: orcs-gap --loss
+//                   absolute). Optional "stop_above" (degrees in the norm, ≥ 0): the run stops as soon as the value
+//                   can no longer end at or below it — when the norm so far, counted over *every* listed entry,
+//                   exceeds it. The value is then that norm: a lower bound of the whole run's, above stop_above. A
+//                   fit's search uses it for points that cannot beat its best.
 #pragma once
 
 #include <memory>

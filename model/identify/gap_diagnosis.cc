@@ -40,8 +40,13 @@ std::vector<ReplayRun> Concatenate(const std::vector<ReplayRun>& a, const std::v
 
 double Rms(double mse) { return std::sqrt(mse); }
 
+double LossOf(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs, const std::vector<Override>& model,
+              Loss loss) {
+  return ReplayObjective(replays, runs, {}, loss).Losses({model})[0];
+}
+
 double MeanSquaredError(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs, const std::vector<Override>& model) {
-  return ReplayObjective(replays, runs, {}).MeanSquaredErrors({model})[0];
+  return LossOf(replays, runs, model, Loss::kSquared);
 }
 
 std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, const FitOutcome& fit) {
@@ -120,17 +125,21 @@ GapSnapshot Snapshot(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit
   return snapshot;
 }
 
+// The fit and its held-out loss; the RMS figures the report gives beside them cost more replays only with the
+// absolute loss.
 ModelScore ScoreFit(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
                     const std::vector<FitParameter>& parameters, const std::vector<Override>& fixed,
-                    const FitOptions& options) {
+                    const FitOptions& options, Loss loss) {
   ModelScore score;
-  score.fit = Fit(ReplayObjective(replays, fit, fixed), parameters, options);
+  score.fit = Fit(ReplayObjective(replays, fit, fixed, loss), parameters, options);
   score.values = Report(parameters, score.fit);
-  score.fit_rms = Rms(score.fit.mse);
   std::vector<Override> model = fixed;
   const std::vector<Override> fitted = OverridesOf(parameters, score.fit.values);
   model.insert(model.end(), fitted.begin(), fitted.end());
-  score.holdout_rms = Rms(MeanSquaredError(replays, holdout, model));
+  score.holdout_loss = LossOf(replays, holdout, model, loss);
+  const bool squared = loss == Loss::kSquared;
+  score.fit_rms = Rms(squared ? score.fit.mse : MeanSquaredError(replays, fit, model));
+  score.holdout_rms = Rms(squared ? score.holdout_loss : MeanSquaredError(replays, holdout, model));
   return score;
 }
 
@@ -259,7 +268,7 @@ void Relax(const ReplayObjective& objective, const std::vector<FitParameter>& pa
 }
 
 void ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<Override>& enabled,
-                       std::vector<FitParameter>& parameters, std::size_t main, bool relax) {
+                       std::vector<FitParameter>& parameters, std::size_t main, bool relax, Loss loss) {
   std::vector<ScanPoint> scan;
   for (int k = 0; k < kScanPoints; ++k) {
     ScanPoint& point = scan.emplace_back();
@@ -270,8 +279,8 @@ void ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& f
   for (const FitParameter& p : parameters) weak.values.push_back(p.start);
   std::vector<std::vector<Override>> points;
   for (const ScanPoint& point : scan) points.push_back(OverridesOf(parameters, point.values));
-  const ReplayObjective objective(replays, fit, enabled);
-  const std::vector<double> errors = objective.MeanSquaredErrors(points);
+  const ReplayObjective objective(replays, fit, enabled, loss);
+  const std::vector<double> errors = objective.Losses(points);
   for (std::size_t k = 0; k < scan.size(); ++k) scan[k].mse = errors[k];
 
   if (!relax) {
@@ -306,10 +315,10 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
   }
   const std::vector<Override> enabled{{"/Effects/" + std::string(effect.name) + "/Enabled", "T"}};
   if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
-  ScanMainParameter(replays, fit, enabled, parameters, refitted.size(), options.relax_scan);
+  ScanMainParameter(replays, fit, enabled, parameters, refitted.size(), options.relax_scan, options.loss);
   const int added = static_cast<int>(effect.parameters.size());
-  const auto penalised = [&](double holdout_mse) {
-    return holdout_mse * (1.0 + options.penalty_per_parameter * added);
+  const auto penalised = [&](double holdout_loss) {
+    return holdout_loss * (1.0 + options.penalty_per_parameter * added);
   };
   FitOptions fit_options = options.fit;
   if (std::isfinite(options.abandon_share)) {
@@ -323,18 +332,18 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
       std::vector<Override> model = enabled;
       const std::vector<Override> point = OverridesOf(parameters, values);
       model.insert(model.end(), point.begin(), point.end());
-      const double share = penalised(MeanSquaredError(replays, holdout, model)) / refit.score;
+      const double share = penalised(LossOf(replays, holdout, model, options.loss)) / refit.score;
       if (share <= options.abandon_share) return "";
       return "its fit error was " + Percent(fit_share) + " of the refit's (limit " + Percent(kRaceFitShare) +
              ") and its penalised held-out score " + Percent(share) + " (limit " + Percent(options.abandon_share) + ")";
     };
   }
-  ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, fit_options);
+  ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, fit_options, options.loss);
   score.label = std::string(effect.name);
   score.summary = std::string(effect.summary);
   score.quantity = std::string(effect.quantity);
   score.added_parameters = added;
-  score.score = penalised(score.holdout_rms * score.holdout_rms);
+  score.score = penalised(score.holdout_loss);
   if (options.on_fit) options.on_fit(score.label, &score);
   return score;
 }
@@ -375,9 +384,9 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   // 2. Its own parameters refitted.
   const std::vector<FitParameter> base = BaseParameters(rig, model);
   if (options.on_fit) options.on_fit("refit", nullptr);
-  d.base = ScoreFit(replays, fit, holdout, base, {}, options.fit);
+  d.base = ScoreFit(replays, fit, holdout, base, {}, options.fit, options.loss);
   d.base.label = "refit";
-  d.base.score = d.base.holdout_rms * d.base.holdout_rms;
+  d.base.score = d.base.holdout_loss;
   if (options.on_fit) options.on_fit("refit", &d.base);
 
   // 3. Every candidate effect.

@@ -27,6 +27,9 @@ struct DiagnosisOptions {
   std::vector<std::string> candidates;   ///< effect names to try; empty = the whole catalogue
   double penalty_per_parameter = 0.05;   ///< the score grows by this share per parameter an effect adds
   double win_ratio = 0.5;                ///< a winner's score must be below this share of "nothing missing"'s
+  /// The fits' objective and the held-out scores' measure (orcs-gap --loss): the mean squared angle error (deg²)
+  /// or the mean absolute one (deg; docs/gap.md, "How a fit works").
+  Loss loss = Loss::kSquared;
   /// The race (orcs-gap's default sets kRaceAbandonShare): after FitOptions::abandon_after swarm generations a
   /// candidate whose best point so far has a fit error above kRaceFitShare of the refit's and a penalised
   /// held-out score above this share of the refit's is abandoned; the diagnosis spends its replays on the others.
@@ -61,7 +64,9 @@ struct ModelScore {
   int added_parameters = 0;           ///< parameters beyond the base ones
   double fit_rms = 0.0;               ///< degrees, pooled over the fit runs
   double holdout_rms = 0.0;           ///< degrees, pooled over the held-out runs
-  double score = 0.0;                 ///< holdout_rms² · (1 + penalty · added_parameters), deg²
+  double holdout_loss = 0.0;          ///< the loss over the held-out runs: holdout_rms² (deg²), or the mean
+                                      ///< absolute error (deg) with Loss::kAbsolute
+  double score = 0.0;                 ///< holdout_loss · (1 + penalty · added_parameters)
   FitOutcome fit;                     ///< budget, convergence
 };
 

@@ -60,7 +60,7 @@ class ReplayResiduals : public ceres::CostFunction {
     } else {
       points.push_back(OverridesOf(parameters_, ValuesAt(parameters_, unit[0])));
     }
-    const std::vector<std::vector<double>> all = objective_.Residuals(points);
+    const std::vector<std::vector<double>> all = objective_.LossResiduals(points);
     evaluations_ += static_cast<int>(points.size());
     const auto m = static_cast<std::size_t>(num_residuals());
     for (const std::vector<double>& r : all) {
@@ -157,7 +157,7 @@ PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::ve
   outcome.values = start;
   std::vector<double> unit;
   for (std::size_t i = 0; i < parameters.size(); ++i) unit.push_back(ToUnit(parameters[i], start[i]));
-  const std::vector<std::vector<double>> first = objective.Residuals({OverridesOf(parameters, start)});
+  const std::vector<std::vector<double>> first = objective.LossResiduals({OverridesOf(parameters, start)});
   outcome.evaluations = 1;
   outcome.mse = first[0].empty() ? ReplayObjective::kFailedPoint : MeanSquare(first[0]);
   if (first[0].empty()) {

@@ -1,4 +1,5 @@
-// The last stage of a fit (docs/gap.md, "How a fit works"): Levenberg–Marquardt on the replay residuals (Ceres),
+// The last stage of a fit (docs/gap.md, "How a fit works"): Levenberg–Marquardt on the replay residuals (Ceres;
+// for the absolute loss, residuals whose squares are the absolute errors),
 // from the point the global search ended at, and the parameters' 95 % confidence intervals from the Jacobian
 // there — which tell the report what the data cannot identify. Every Jacobian is one batch of replays (forward
 // differences, one point per parameter), so it runs on all workers at once like a generation of the swarm.
@@ -14,13 +15,15 @@ namespace orcs::identify {
 
 struct PolishOutcome {
   std::vector<double> values;  ///< the polished point, in each parameter's unit (the start when nothing improved)
-  double mse = 0.0;            ///< its objective, deg²
+  double mse = 0.0;            ///< its objective (ReplayObjective::Losses: deg², or deg for the absolute loss)
   int evaluations = 0;         ///< points replayed
   bool improved = false;       ///< the polish lowered the objective
   std::string summary;         ///< Ceres's termination, one line
   /// Per parameter: the half-width of its 95 % confidence interval, in its unit, NaN when the data do not
   /// determine it (a singular Jacobian direction). From σ²·(JᵀJ)⁻¹ with σ² the residuals' variance, widened for
   /// their correlation from step to step (an AR(1) estimate: successive rows of a replay are not independent).
+  /// Always from the angle residuals themselves: with the absolute loss, the least-squares interval at the
+  /// absolute loss's optimum (an approximation, docs/gap.md).
   std::vector<double> ci95;
 };
 

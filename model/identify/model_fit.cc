@@ -117,7 +117,7 @@ pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::shared
     if (options.stop_replays_early) {
       for (const pagmo::vector_double& x : xs) bounds.push_back(watch->BoundOf(x));
     }
-    const std::vector<double> errors = objective.MeanSquaredErrors(points, bounds);
+    const std::vector<double> errors = objective.Losses(points, bounds);
     watch->evaluated += xs.size();
     for (std::size_t i = 0; i < xs.size(); ++i) {
       if (errors[i] < watch->best_f) std::tie(watch->best_x, watch->best_f) = std::tie(xs[i], errors[i]);
@@ -182,21 +182,22 @@ int QuickLook(const ReplayObjective& objective, const std::vector<FitParameter>&
 }  // namespace
 
 ReplayObjective::ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs,
-                                 std::vector<Override> fixed)
-    : replays_(replays), runs_(runs), fixed_(std::move(fixed)) {}
+                                 std::vector<Override> fixed, Loss loss)
+    : replays_(replays), runs_(runs), fixed_(std::move(fixed)), loss_(loss) {}
 
 double ReplayObjective::RunBound(double bound, const ReplayRun& run) const {
   double samples = 0.0;
   for (const ReplayRun& each : runs_) samples += static_cast<double>(each.samples);
   if (!std::isfinite(bound) || run.samples == 0) return std::numeric_limits<double>::infinity();
-  // One run alone beyond this RMS puts the pooled error above the bound, whatever the other runs give; the margin
-  // keeps that true through the rounding of rms² · samples.
+  // One run alone beyond this error puts the pooled loss above the bound, whatever the other runs give; the margin
+  // keeps that true through the rounding of error² · samples (error · samples).
   constexpr double kRoundingMargin = 1e-9;
-  return std::sqrt(bound * samples / static_cast<double>(run.samples)) * (1.0 + kRoundingMargin);
+  const double share = bound * samples / static_cast<double>(run.samples);
+  return (loss_ == Loss::kAbsolute ? share : std::sqrt(share)) * (1.0 + kRoundingMargin);
 }
 
-std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::vector<Override>>& points,
-                                                       const std::vector<double>& bounds) const {
+std::vector<double> ReplayObjective::Losses(const std::vector<std::vector<Override>>& points,
+                                            const std::vector<double>& bounds) const {
   assert(bounds.empty() || bounds.size() == points.size());
   std::vector<ReplayRequest> requests;
   for (std::size_t p = 0; p < points.size(); ++p) {
@@ -204,11 +205,12 @@ std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::ve
     overrides.insert(overrides.end(), points[p].begin(), points[p].end());
     for (const ReplayRun& run : runs_) {
       ReplayRequest& request = requests.emplace_back(ReplayRequest{&run, overrides});
+      request.loss = loss_;
       if (!bounds.empty()) request.stop_above = RunBound(bounds[p], run);
     }
   }
   const std::vector<ReplayOutcome> outcomes = replays_.Replay(requests);
-  std::vector<double> errors;
+  std::vector<double> losses;
   std::size_t next = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     double sum = 0.0;
@@ -216,13 +218,14 @@ std::vector<double> ReplayObjective::MeanSquaredErrors(const std::vector<std::ve
     bool failed = false;
     for (const ReplayRun& run : runs_) {
       const ReplayOutcome& outcome = outcomes[next++];
-      failed = failed || !outcome.ok || !std::isfinite(outcome.rms);
-      sum += outcome.rms * outcome.rms * static_cast<double>(run.samples);
+      failed = failed || !outcome.ok || !std::isfinite(outcome.error);
+      const double per_sample = loss_ == Loss::kAbsolute ? outcome.error : outcome.error * outcome.error;
+      sum += per_sample * static_cast<double>(run.samples);
       samples += static_cast<double>(run.samples);
     }
-    errors.push_back(failed || samples == 0.0 ? kFailedPoint : sum / samples);
+    losses.push_back(failed || samples == 0.0 ? kFailedPoint : sum / samples);
   }
-  return errors;
+  return losses;
 }
 
 std::vector<std::vector<double>> ReplayObjective::Residuals(const std::vector<std::vector<Override>>& points) const {
@@ -257,6 +260,17 @@ std::vector<std::vector<double>> ReplayObjective::Residuals(const std::vector<st
     }
     const bool finite = std::all_of(point.begin(), point.end(), [](double r) { return std::isfinite(r); });
     if (failed || !finite) point.clear();
+  }
+  return residuals;
+}
+
+std::vector<std::vector<double>> ReplayObjective::LossResiduals(
+    const std::vector<std::vector<Override>>& points) const {
+  std::vector<std::vector<double>> residuals = Residuals(points);
+  if (loss_ == Loss::kAbsolute) {
+    for (std::vector<double>& point : residuals) {
+      for (double& r : point) r = std::copysign(std::sqrt(std::abs(r)), r);
+    }
   }
   return residuals;
 }

@@ -1,7 +1,8 @@
 // Fitting model parameters to measured runs with the simulation in the loop (docs/gap.md, "How a fit works"):
 // pagmo2's generational particle swarm (pso_gen) searches a box in normalised coordinates (log-scaled where a parameter is a positive scale),
 // and every generation's population is one batch of replays (ReplayEvaluator: in orcs-gap, jobs through the broker), so a fit scales from two
-// cores to a cluster. The objective is the mean squared joint-angle error over all fit runs and channels.
+// cores to a cluster. The objective is the mean squared (or, with Loss::kAbsolute, the mean absolute) joint-angle
+// error over all fit runs and channels.
 #pragma once
 
 #include <functional>
@@ -18,28 +19,39 @@ namespace orcs::identify {
 /// The replays of a set of runs, evaluated as one batch per call.
 class ReplayObjective {
  public:
-  /// `fixed` is applied to every replay after the model (e.g. an effect's Enabled switch).
-  ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs, std::vector<Override> fixed);
+  /// `fixed` is applied to every replay after the model (e.g. an effect's Enabled switch); `loss` says how the
+  /// angle errors are pooled.
+  ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs, std::vector<Override> fixed,
+                  Loss loss = Loss::kSquared);
 
-  /// The pooled mean squared error (deg²) of every point, in order. A point whose replay fails (unstable physics)
-  /// scores kFailedPoint. `bounds` (empty, or one per point; +∞ = none): a point whose error is sure to exceed its
-  /// bound may have its replays stopped early, and then scores a lower bound of its error that is above the bound.
-  std::vector<double> MeanSquaredErrors(const std::vector<std::vector<Override>>& points,
-                                        const std::vector<double>& bounds = {}) const;
+  /// The pooled loss of every point, in order: the mean squared error (deg²) or the mean absolute error (deg) over
+  /// all runs, channels and rows. A point whose replay fails (unstable physics) scores kFailedPoint. `bounds`
+  /// (empty, or one per point; +∞ = none): a point whose loss is sure to exceed its bound may have its replays
+  /// stopped early, and then scores a lower bound of its loss that is above the bound.
+  std::vector<double> Losses(const std::vector<std::vector<Override>>& points,
+                             const std::vector<double>& bounds = {}) const;
 
   /// Per point, the residuals (simulated − measured joint angle, degrees) of every run's channels at every row after
   /// the first, in run and channel order; empty for a point whose replay failed.
   std::vector<std::vector<double>> Residuals(const std::vector<std::vector<Override>>& points) const;
 
+  /// The residuals whose mean square is the loss, for a least-squares polish: Residuals itself for the squared
+  /// loss, sign(r)·√|r| for the absolute one.
+  std::vector<std::vector<double>> LossResiduals(const std::vector<std::vector<Override>>& points) const;
+
+  Loss loss() const { return loss_; }
+
   static constexpr double kFailedPoint = 1e6;
 
  private:
-  /// The RMS (degrees) above which `run` alone puts the pooled error above `bound` (deg²); +∞ for no bound.
+  /// The error (degrees, in the loss's norm) above which `run` alone puts the pooled loss above `bound`; +∞ for no
+  /// bound.
   double RunBound(double bound, const ReplayRun& run) const;
 
   ReplayEvaluator& replays_;
   const std::vector<ReplayRun>& runs_;
   std::vector<Override> fixed_;
+  Loss loss_;
 };
 
 struct FitOptions {
@@ -68,7 +80,7 @@ struct FitOptions {
 
 struct FitOutcome {
   std::vector<double> values;    ///< the best point found, in each parameter's unit
-  double mse = 0.0;              ///< its objective, deg²
+  double mse = 0.0;              ///< its objective (ReplayObjective::Losses: deg², or deg for the absolute loss)
   int generations = 0;           ///< swarm generations run (fewer than the budget when abandoned)
   bool abandoned = false;        ///< stopped after the swarm's first generations (FitOptions::abandon said why)
   bool abandoned_unmoved = false;  ///< abandoned while its best had not changed since the swarm's first

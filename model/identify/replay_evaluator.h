@@ -13,26 +13,34 @@
 
 namespace orcs::identify {
 
+/// How a fit weighs the angle errors (orcs-gap --loss; docs/gap.md, "How a fit works").
+enum class Loss {
+  kSquared,   ///< the mean squared error, deg²: least squares, the default
+  kAbsolute,  ///< the mean absolute error, deg: BAM's, less pulled by a few large errors (a snag, a stuck segment)
+};
+
 /// One replay to run: a measured run under the model with `overrides` applied after it.
 struct ReplayRequest {
   const ReplayRun* run = nullptr;   ///< the run and its rig (owned by the caller)
   std::vector<Override> overrides;  ///< repository path → value text, applied in order
   bool log = false;                 ///< return the simulated JointAngle and MotorTorque of every motor
   bool record = false;              ///< return the replay's recording (docs/recording.md)
-  /// The replay may stop as soon as its RMS error can no longer end at or below this (degrees; measured_error's
-  /// "stop_above"): its rms is then a lower bound above it. +∞ = run to the end.
+  /// The replay may stop as soon as its error can no longer end at or below this (degrees; measured_error's
+  /// "stop_above"): its error is then a lower bound above it. +∞ = run to the end.
   double stop_above = std::numeric_limits<double>::infinity();
+  Loss loss = Loss::kSquared;  ///< the error's norm: RMS (kSquared) or mean absolute (kAbsolute)
 };
 
 /// What one replay gave.
 struct ReplayOutcome {
   bool ok = false;  ///< the replay ran to its end (false: unstable physics, a timeout, a refused model)
-  double rms = std::numeric_limits<double>::quiet_NaN();  ///< RMS joint-angle error against the run, degrees
+  /// The joint-angle error against the run, degrees: RMS, or the mean absolute error with Loss::kAbsolute.
+  double error = std::numeric_limits<double>::quiet_NaN();
   /// With ReplayRequest::log: the simulated columns by repository path ("/Sim/<agent>/<motor>/JointAngle"), one
   /// value per measured row; empty when the replay failed.
   std::vector<std::pair<std::string, std::vector<double>>> columns;
   std::string recording;  ///< with ReplayRequest::record: the recording's bytes ("" when none was made)
-  bool stopped_early = false;  ///< stopped at ReplayRequest::stop_above: rms is a lower bound, above it
+  bool stopped_early = false;  ///< stopped at ReplayRequest::stop_above: error is a lower bound, above it
 };
 
 class ReplayEvaluator {

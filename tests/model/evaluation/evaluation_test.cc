@@ -169,6 +169,61 @@ TEST(EvaluationTest, AMeasuredErrorRunStopsOnceItCannotEndBelowItsBound) {
   EXPECT_THAT(refused.message, HasSubstr("stop_above"));
 }
 
+// measured_error's "norm": "mean_absolute" is the mean of |JointAngle − measured| over the same entries the RMS
+// pools (entry k after step k+1), and its "stop_above" bound is in that norm.
+TEST(EvaluationTest, AMeasuredErrorsMeanAbsoluteNormPoolsTheSameEntriesAsItsRms) {
+  nlohmann::json scenario = {
+      {"agent", "Pendulum"},
+      {"duration", 0.5},
+      {"environment", {{"file", "pendulum"}, {"xml", kPendulumXml}}},
+      {"controller", {{"type", "keyframes"}, {"record", {{"file", "r.csv"}, {"text", "0,-40,1\n"}}}}},
+      {"fitness", {{"terms", {{{"type", "measured_error"}, {"angles", {{"Motor", std::vector<double>(50, 5.0)}}}}}}}},
+      {"values", {{"/AngularMotor/IncludeNoise", false}}},
+      {"log", {"/Sim/Pendulum/Motor/JointAngle"}},
+  };
+  EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome rms = Evaluate(request);
+  ASSERT_EQ(rms.status, EvaluationStatus::kOk) << rms.message;
+  std::istringstream log(rms.sets[0].log_csv);
+  std::string line;
+  std::vector<double> angles;  // after each step: the log's rows after t = 0
+  while (std::getline(log, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 't') continue;
+    angles.push_back(std::stod(line.substr(line.find(',') + 1)));
+  }
+  ASSERT_GE(angles.size(), 51u);
+  double squares = 0.0;
+  double absolutes = 0.0;
+  for (std::size_t k = 1; k <= 50; ++k) {
+    squares += (angles[k] - 5.0) * (angles[k] - 5.0);
+    absolutes += std::abs(angles[k] - 5.0);
+  }
+  EXPECT_NEAR(rms.fitness, std::sqrt(squares / 50), 1e-6);
+
+  scenario["fitness"]["terms"][0]["norm"] = "mean_absolute";
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome absolute = Evaluate(request);
+  ASSERT_EQ(absolute.status, EvaluationStatus::kOk) << absolute.message;
+  EXPECT_NEAR(absolute.fitness, absolutes / 50, 1e-6);
+  EXPECT_LT(absolute.fitness, rms.fitness) << "the pole's error grows through the run, so the norms differ";
+
+  scenario["fitness"]["terms"][0]["stop_above"] = absolute.fitness / 2;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome stopped = Evaluate(request);
+  ASSERT_EQ(stopped.status, EvaluationStatus::kOk) << stopped.message;
+  EXPECT_LT(stopped.sets[0].simulated_seconds, 0.45);
+  EXPECT_GT(stopped.fitness, absolute.fitness / 2);
+  EXPECT_LT(stopped.fitness, absolute.fitness);
+
+  scenario["fitness"]["terms"][0]["norm"] = "max";
+  scenario["fitness"]["terms"][0].erase("stop_above");
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome refused = Evaluate(request);
+  EXPECT_EQ(refused.status, EvaluationStatus::kInvalidInput);
+  EXPECT_THAT(refused.message, HasSubstr("norm"));
+}
+
 // The logs of a job share one bound over all its sets: the first set's log ends with the truncation line once the
 // bound is reached, the later sets' logs hold only their header and that line; the fitness is the same as unbounded.
 TEST(EvaluationTest, AJobsLogsStopAtTheirBoundAndTheRunGoesOn) {

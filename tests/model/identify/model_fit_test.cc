@@ -34,10 +34,10 @@ class AnalyticEvaluator : public ReplayEvaluator {
       outcome.ok = a >= 0;
       if (outcome.ok) {
         const double da = 10.0 * std::log(a / kTrueA), db = 10.0 * (b - kTrueB);
-        outcome.rms = std::sqrt(da * da + db * db + floor * floor);
+        outcome.error = std::sqrt(da * da + db * db + floor * floor);
         // A replay past its bound stops with the least lower bound it may give: just above the bound.
-        if (outcome.rms > request.stop_above) {
-          outcome.rms = std::nextafter(request.stop_above, std::numeric_limits<double>::infinity());
+        if (outcome.error > request.stop_above) {
+          outcome.error = std::nextafter(request.stop_above, std::numeric_limits<double>::infinity());
           outcome.stopped_early = true;
           ++stopped_;
         }
@@ -242,9 +242,9 @@ TEST(ModelFitTest, APointsBoundBecomesEachRunsStopAboveAndItsLowerBoundExceedsIt
   // At the optimum the pooled error is 7 deg²: a bound of 8 stops nothing, a bound of 2 stops the large run
   // (its 3² · 300 / 400 = 6.75 deg² alone exceeds 2).
   const std::vector<std::vector<Override>> optimum = {{{"/A", "2"}, {"/B", "0.3"}}};
-  EXPECT_DOUBLE_EQ(objective.MeanSquaredErrors(optimum, {8.0})[0], 7.0);
+  EXPECT_DOUBLE_EQ(objective.Losses(optimum, {8.0})[0], 7.0);
   EXPECT_EQ(evaluator.replays_stopped_early(), 0u);
-  const double lower = objective.MeanSquaredErrors(optimum, {2.0})[0];
+  const double lower = objective.Losses(optimum, {2.0})[0];
   EXPECT_GT(evaluator.replays_stopped_early(), 0u);
   EXPECT_GT(lower, 2.0);
   EXPECT_LE(lower, 7.0);
@@ -256,11 +256,27 @@ TEST(ModelFitTest, TheObjectivePoolsRunsBySamplesAndScoresAFailedReplayAsFailed)
   const std::vector<ReplayRun> runs = {AnalyticRun("small", 100, 1.0), AnalyticRun("large", 300, 3.0)};
   const ReplayObjective objective(evaluator, runs, {{"/Fixed", "1"}});
   const std::vector<double> errors =
-      objective.MeanSquaredErrors({{{"/A", "2"}, {"/B", "0.3"}}, {{"/A", "-1"}, {"/B", "0.3"}}});
+      objective.Losses({{{"/A", "2"}, {"/B", "0.3"}}, {{"/A", "-1"}, {"/B", "0.3"}}});
   ASSERT_EQ(errors.size(), 2u);
   EXPECT_DOUBLE_EQ(errors[0], 7.0);
   EXPECT_EQ(errors[1], ReplayObjective::kFailedPoint);
   EXPECT_EQ(evaluator.replays_run(), 4u);  // two points × two runs, one batch
+}
+
+// The absolute loss pools each run's mean absolute error by its samples, and a point's bound becomes each run's
+// bound in that norm: at the optimum (100·1 + 300·3) / 400 = 2.5°; a bound of 2 stops the large run (3° × 300 / 400
+// = 2.25° alone exceeds it), a bound of 2.6 stops nothing.
+TEST(ModelFitTest, TheAbsoluteLossPoolsMeanAbsoluteErrorsAndBoundsRunsInThatNorm) {
+  AnalyticEvaluator evaluator;
+  const std::vector<ReplayRun> runs = {AnalyticRun("small", 100, 1.0), AnalyticRun("large", 300, 3.0)};
+  const ReplayObjective objective(evaluator, runs, {}, Loss::kAbsolute);
+  const std::vector<std::vector<Override>> optimum = {{{"/A", "2"}, {"/B", "0.3"}}};
+  EXPECT_DOUBLE_EQ(objective.Losses(optimum, {2.6})[0], 2.5);
+  EXPECT_EQ(evaluator.replays_stopped_early(), 0u);
+  const double lower = objective.Losses(optimum, {2.0})[0];
+  EXPECT_EQ(evaluator.replays_stopped_early(), 1u);
+  EXPECT_GT(lower, 2.0);
+  EXPECT_LE(lower, 2.5);
 }
 
 }  // namespace
