@@ -114,7 +114,14 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
                    const std::vector<ReplayRun>& holdout, const std::vector<ValueAssignment>& model,
                    const DiagnosisOptions& options);
 
-/// The base parameters every diagnosis refits first, with the model's values as start.
+/// The base parameters every diagnosis refits first, with the model's values as start: the motor model's own
+/// (the physical servo's with R in place of kt and ke when the model sets a current limit), then the parameters of
+/// every catalogue effect the model switches on — a second pass with the first's model.val refits what the first
+/// found, and that effect is no longer a candidate.
 std::vector<FitParameter> BaseParameters(const Rig& rig, const std::vector<ValueAssignment>& model);
+
+struct EffectDescription;
+/// The catalogue's effects that the model switches on (/Effects/<name>/Enabled), in catalogue order.
+std::vector<const EffectDescription*> EnabledEffects(const Rig& rig, const std::vector<ValueAssignment>& model);
 
 }  // namespace orcs::identify

@@ -121,12 +121,19 @@ std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignmen
   return values;
 }
 
-bool UsesServo(const Rig& rig, const std::vector<ValueAssignment>& model) {
+std::vector<bool> ModelSwitches(const Rig& rig, const std::vector<ValueAssignment>& model,
+                                const std::vector<std::string>& paths) {
   scene::Simulation simulation;
   simulation.LoadEnvironment(EnvironmentOf(rig));
   simulation.Build();
   ValueFile::ApplyAssignments(model, simulation.repository());
-  return simulation.repository().Get("/Servo/Enabled").as_bool();
+  std::vector<bool> switches;
+  for (const std::string& path : paths) switches.push_back(simulation.repository().Get(path).as_bool());
+  return switches;
+}
+
+bool UsesServo(const Rig& rig, const std::vector<ValueAssignment>& model) {
+  return ModelSwitches(rig, model, {"/Servo/Enabled"})[0];
 }
 
 ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vector<ValueAssignment>& model) {

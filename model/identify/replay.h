@@ -50,6 +50,11 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
 std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignment>& model,
                                 const std::vector<std::string>& paths);
 
+/// The values of the switches `paths` (booleans) in the rig's world under the model. Throws InputError for an
+/// unknown path.
+std::vector<bool> ModelSwitches(const Rig& rig, const std::vector<ValueAssignment>& model,
+                                const std::vector<std::string>& paths);
+
 /// Whether the model runs the physical servo (/Servo/Enabled = true in the rig under `model`).
 bool UsesServo(const Rig& rig, const std::vector<ValueAssignment>& model);
 

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -407,6 +408,82 @@ test_support::ProcessResult Gap(const std::vector<std::string>& runs, const std:
   command.insert(command.end(), runs.begin(), runs.end());
   command.insert(command.end(), {"--workers", "1", "--generations", "1", "--effects", "Stribeck", "--out", out});
   return RunProcess(command);
+}
+
+// The column `name` of an orcs-gap trace (traces/<run>.<motor>.csv: a header line, then one row per measured row).
+std::vector<double> TraceColumn(const std::string& path, const std::string& name) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::istringstream names(line);
+  std::string field;
+  int column = -1;
+  for (int c = 0; std::getline(names, field, ','); ++c) {
+    if (field == name) column = c;
+  }
+  std::vector<double> values;
+  while (column >= 0 && std::getline(in, line)) {
+    std::istringstream fields(line);
+    for (int c = 0; std::getline(fields, field, ','); ++c) {
+      if (c == column) values.push_back(std::stod(field));
+    }
+  }
+  return values;
+}
+
+// --loss absolute through the real broker and workers: the report says so, and the refit's score is the mean
+// absolute error of the held-out run's refit trace (traces/b.Motor.csv) over the rows after the first, as compared.
+TEST(GapServoTest, TheAbsoluteLossScoresTheHeldOutRunByItsMeanAbsoluteError) {
+  test_support::TempDir dir;
+  const std::vector<std::string> runs = {dir.Write("a.csv", Xl330Log("100", 40)), dir.Write("b.csv", Xl330Log("400", 60))};
+  const std::string out = dir.PathOf("out");
+  std::vector<std::string> command = {kGap, "--rig", "pendulum", "--pole-mass", "0.6533", "--pole-length", "0.15",
+                                      "--model", kXl330 + "model.val", "--mapping", kXl330 + "mapping.json",
+                                      "--measured", runs[0], runs[1], "--workers", "1", "--generations", "1",
+                                      "--effects", "Stribeck", "--loss", "absolute", "--out", out};
+  const auto result = RunProcess(command);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["criterion"]["loss"], "absolute");
+  const std::vector<double> measured = TraceColumn(out + "/traces/b.Motor.csv", "measured");
+  const std::vector<double> refit = TraceColumn(out + "/traces/b.Motor.csv", "refit");
+  ASSERT_EQ(measured.size(), 60u);
+  ASSERT_EQ(refit.size(), 60u);
+  double absolute = 0.0, squares = 0.0;
+  for (std::size_t row = 1; row < measured.size(); ++row) {
+    absolute += std::abs(refit[row] - measured[row]);
+    squares += (refit[row] - measured[row]) * (refit[row] - measured[row]);
+  }
+  absolute /= 59.0;
+  ASSERT_GT(absolute, 0.1);
+  EXPECT_NEAR(report["refit"]["score"].get<double>(), absolute, 1e-9 * absolute + 1e-12);
+  // The RMS figure beside it is still the RMS.
+  EXPECT_NEAR(report["refit"]["holdout_rms"].get<double>(), std::sqrt(squares / 59.0), 1e-9);
+
+  command.back() = dir.PathOf("refused");
+  command[command.size() - 3] = "max";
+  const auto refused = RunProcess(command);
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_THAT(refused.err, HasSubstr("--loss"));
+}
+
+// An effect the model switches on is refitted with the base; naming it as a candidate is refused before any fit.
+TEST(GapServoTest, AnEffectTheModelSwitchesOnIsNoCandidate) {
+  test_support::TempDir dir;
+  std::ifstream shipped(kXl330 + "model.val");
+  std::stringstream text;
+  text << shipped.rdbuf() << "/Effects/GravityLoadFriction/Enabled=T\n";
+  const std::string model = dir.Write("m3.val", text.str());
+  std::vector<std::string> command = {kGap, "--rig", "pendulum", "--model", model,
+                                      "--mapping", kXl330 + "mapping.json", "--measured",
+                                      dir.Write("a.csv", Xl330Log("100", 40)), dir.Write("b.csv", Xl330Log("400", 40)),
+                                      "--workers", "1", "--effects", "GravityLoadFriction", "--out", dir.PathOf("out")};
+  const auto result = RunProcess(command);
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_THAT(result.err, HasSubstr("orcs-gap: --effects: 'GravityLoadFriction' is switched on in the model already"));
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 2) << "its progress line and the error\n"
+                                                                        << result.err;
 }
 
 TEST(GapServoTest, ARunWithoutItsFirmwareGainIsOneLineNamingFileAndColumnExit2) {
