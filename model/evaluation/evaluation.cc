@@ -92,6 +92,36 @@ void AttachWorld(const EvaluationRequest& request, std::shared_ptr<const scene::
   ApplyJobValues(request, simulation);
 }
 
+// Each schedule's path must name a number of the built world.
+void CheckSchedules(const scene::Scenario& scenario, const VariableRepository& values) {
+  for (const scene::ValueSchedule& schedule : scenario.schedules) {
+    const Value* value = values.Find(schedule.path);
+    if (value == nullptr || (value->type() != ValueType::kDouble && value->type() != ValueType::kInt)) {
+      const std::string found =
+          value == nullptr ? "no value of that path" : "a " + std::string(ValueTypeName(value->type()));
+      throw InputError(scenario.source, 0,
+                       "field 'schedules." + schedule.path + "' expected a number of the world, found " + found);
+    }
+  }
+}
+
+// Sets every schedule entry whose time has come by `time` (the start of the next step); `next` holds each
+// schedule's first entry not yet set.
+void ApplySchedules(const std::vector<scene::ValueSchedule>& schedules, double time, std::vector<std::size_t>& next,
+                    VariableRepository& values) {
+  constexpr double kClockSlack = 1e-9;  // s: the summed steps' rounding, far below a step
+  for (std::size_t s = 0; s < schedules.size(); ++s) {
+    const scene::ValueSchedule& schedule = schedules[s];
+    std::size_t& k = next[s];
+    bool due = false;
+    while (k < schedule.times.size() && schedule.times[k] <= time + kClockSlack) {
+      ++k;
+      due = true;
+    }
+    if (due) SetDrawn(values, schedule.path, schedule.values[k - 1]);
+  }
+}
+
 // Everything a set's run needs, built and configured; throws InputError for bad input.
 struct SetRun {
   scene::Simulation simulation;
@@ -121,6 +151,7 @@ void Configure(const EvaluationRequest& request, std::shared_ptr<const scene::Wo
                                            scenario.source);
   run.fitness = std::make_unique<fitness::FitnessFunction>(scenario.fitness, simulation, run.agent, scenario.source);
   if (!scenario.log.empty()) run.logger = std::make_unique<ValueLogger>(simulation.repository(), scenario.log);
+  CheckSchedules(scenario, simulation.repository());
 }
 
 // The noise seed of set k: its own stream of the job's seed, so sets differ and jobs stay reproducible.
@@ -217,8 +248,10 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
   const auto steps = static_cast<std::int64_t>(std::llround(request.scenario.duration / dt));
   const bool fault = request.inject_faults && request.scenario.fault.kind != scene::FaultInjection::Kind::kNone;
   StepHooks hooks;
+  std::vector<std::size_t> next_entry(request.scenario.schedules.size(), 0);
   hooks.drive = [&](std::int64_t i, double time) {
     if (fault && static_cast<std::uint64_t>(i) == request.scenario.fault.at_step) InjectFault(request.scenario.fault);
+    ApplySchedules(request.scenario.schedules, time, next_entry, simulation.repository());
     run.controller->Update(time);
   };
   hooks.observe = [&](std::int64_t i) {

@@ -27,6 +27,8 @@ constexpr std::string_view kDesiredTorque = "DesiredTorque";
 constexpr std::string_view kJointAngle = "JointAngle";
 constexpr std::string_view kFirmwareKpColumn = "/Servo/FirmwareKp";  // an orcs log's column of the servo's gain
 constexpr std::string_view kWindingTemperatureColumn = "/Servo/WindingTemperature";  // and of its temperature, °C
+constexpr std::string_view kSupplyVoltageColumn = "/Servo/SupplyVoltage";  // and of its supply voltage, V
+constexpr double kMaxSupplyVoltage = 60.0;  // V: above any hobby servo's supply; a log in mV would be far off
 
 std::string Seconds(double value) { return text::FormatDouble(value) + " s"; }
 
@@ -293,6 +295,7 @@ std::vector<SeriesSource> NativePlan(const Table& table, const std::string& sour
   };
   run_input(kFirmwareKpColumn, run.firmware_kp_column, run.firmware_kp);
   run_input(kWindingTemperatureColumn, run.winding_temperature_column, run.winding_temperature);
+  run_input(kSupplyVoltageColumn, run.supply_voltage_column, run.supply_voltage);
   return plan;
 }
 
@@ -439,7 +442,7 @@ std::optional<std::string> HeaderValue(const Table& table, const std::string& ke
   return std::nullopt;
 }
 
-// A run-wide input of the servo (its firmware gain, its winding temperature) from a column, a constant or a header
+// An input of the servo (its firmware gain, its winding temperature, its supply voltage) from a column, a constant or a header
 // key; `field` is the mapping's field and `what` says what is missing.
 SeriesSource RunInputSeries(const ColumnSource& s, const std::string& field, const std::string& what,
                             const Table& table, const ColumnMapping& m, const std::string& source,
@@ -492,6 +495,10 @@ std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m,
   if (m.winding_temperature) {
     plan.push_back(RunInputSeries(*m.winding_temperature, "winding_temperature", "the servo's winding temperature",
                                   table, m, source, run.winding_temperature, run.winding_temperature_column));
+  }
+  if (m.supply_voltage) {
+    plan.push_back(RunInputSeries(*m.supply_voltage, "supply_voltage", "the servo's supply voltage", table, m, source,
+                                  run.supply_voltage, run.supply_voltage_column));
   }
   return plan;
 }
@@ -614,6 +621,18 @@ void CheckWindingTemperature(const MeasuredRun& run) {
   }
 }
 
+// A supply voltage is one a servo can run on: above 0, at most kMaxSupplyVoltage.
+void CheckSupplyVoltage(const MeasuredRun& run) {
+  const std::vector<double>& voltage = run.supply_voltage;
+  for (size_t i = 0; i < voltage.size(); ++i) {
+    if (!(voltage[i] > 0.0 && voltage[i] <= kMaxSupplyVoltage)) {
+      throw InputError(run.source, run.lines[i],
+                       run.supply_voltage_column + ": expected a supply voltage above 0 and at most " +
+                           text::FormatDouble(kMaxSupplyVoltage) + " V, found " + text::FormatDouble(voltage[i]));
+    }
+  }
+}
+
 // The canonical form of a path, for comparing two names of one file.
 std::filesystem::path Canonical(const std::string& path) {
   std::error_code error;
@@ -645,7 +664,7 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
     throw InputError(source, 0, "expected a column mapping (a JSON object), found " + DescribeJson(j));
   }
   const JsonNode root(j, "", source);
-  root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp", "winding_temperature"});
+  root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp", "winding_temperature", "supply_voltage"});
   ColumnMapping mapping;
   mapping.source = source;
   mapping.agent = root.At("agent").String("an agent name");
@@ -654,6 +673,7 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
   if (root.Has("delimiter")) mapping.delimiter = ParseDelimiter(root.At("delimiter"));
   if (root.Has("firmware_kp")) mapping.firmware_kp = ParseColumnSource(root.At("firmware_kp"));
   if (root.Has("winding_temperature")) mapping.winding_temperature = ParseColumnSource(root.At("winding_temperature"));
+  if (root.Has("supply_voltage")) mapping.supply_voltage = ParseColumnSource(root.At("supply_voltage"));
   CheckMapping(mapping);
   return mapping;
 }
@@ -672,6 +692,7 @@ MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source, c
   CheckTimeBase(plan.front().column, run);
   CheckFirmwareGain(run);
   CheckWindingTemperature(run);
+  CheckSupplyVoltage(run);
   return run;
 }
 

@@ -42,6 +42,11 @@ struct MeasuredRun {
   /// otherwise); the replay takes the run's mean. An input of the run, like the firmware gain.
   std::vector<double> winding_temperature;
   std::string winding_temperature_column;  ///< where it came from, as firmware_kp_column
+  /// The servo's supply voltage (/Servo/SupplyVoltage, V), per row, when the data has it (empty otherwise): the
+  /// replay sets each row's voltage for the step that follows it, since a battery or a bench supply sags while the
+  /// motor draws current. An input of the run, like the firmware gain.
+  std::vector<double> supply_voltage;
+  std::string supply_voltage_column;  ///< where it came from, as firmware_kp_column
 };
 
 /// The run's firmware gain, or nullopt when the data has none.
@@ -57,7 +62,7 @@ struct ColumnSource {
   double offset = 0.0;              ///< added after scaling, in the quantity's unit
   std::optional<double> constant;   ///< the value of every row instead of a column, in the quantity's unit
   /// A key of the file's comment lines instead of a column: "firmware_kp" reads 400 from "# ... firmware_kp=400"
-  /// (only for the run-wide firmware_kp and winding_temperature; then `column` is empty)
+  /// (only for the servo's inputs firmware_kp, winding_temperature and supply_voltage; then `column` is empty)
   std::string header;
 };
 
@@ -77,6 +82,7 @@ struct ColumnMapping {
   char delimiter = ',';                  ///< field separator of the CSV (',', ';', '\t', ...)
   std::optional<ColumnSource> firmware_kp;  ///< the servo's firmware P gain: a column, a header key or a constant
   std::optional<ColumnSource> winding_temperature;  ///< °C, the servo's temperature: as firmware_kp
+  std::optional<ColumnSource> supply_voltage;  ///< V, the servo's supply voltage per row: as firmware_kp
   std::string source;                    ///< the mapping file, for messages
 };
 

@@ -159,6 +159,9 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
       {"values", ValuesObject(model)},
   };
   AddRunInputs(rig, run, model, scenario["values"]);
+  if (!run.supply_voltage.empty()) {  // each row's voltage for the step after it
+    scenario["schedules"]["/Servo/SupplyVoltage"] = {{"times", run.time}, {"values", run.supply_voltage}};
+  }
   if (rig.start_measured) {
     for (const std::string& motor : replay.channels) scenario["start_angles"][motor] = run.joint_angle.at(motor).front();
   }

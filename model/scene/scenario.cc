@@ -250,12 +250,37 @@ FaultInjection ReadFault(const JsonNode& node) {
   return fault;
 }
 
+std::vector<ValueSchedule> ReadSchedules(const JsonNode& node) {
+  if (!node.value().is_object()) node.Fail("an object of value paths and {\"times\": [...], \"values\": [...]}");
+  std::vector<ValueSchedule> schedules;
+  for (const auto& [path, entry] : node.Members()) {
+    entry.ExpectOnly({"times", "values"});
+    ValueSchedule& schedule = schedules.emplace_back();
+    schedule.path = path;
+    for (const JsonNode& time : entry.At("times").Elements()) {
+      const double seconds = time.Number("seconds since the reset, at least 0, not decreasing");
+      if (seconds < 0.0 || (!schedule.times.empty() && seconds < schedule.times.back())) {
+        time.Fail("seconds since the reset, at least 0, not decreasing");
+      }
+      schedule.times.push_back(seconds);
+    }
+    for (const JsonNode& value : entry.At("values").Elements()) {
+      schedule.values.push_back(value.Number("a finite number"));
+    }
+    if (schedule.values.size() != schedule.times.size()) {
+      entry.At("values").Fail("one value per time (" + std::to_string(schedule.times.size()) + ")",
+                              std::to_string(schedule.values.size()));
+    }
+  }
+  return schedules;
+}
+
 }  // namespace
 
 Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode root(resolved, "", source);
   root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
-                   "randomisation", "start_angles", "log", "genome", "fault", "evolution", "record"});
+                   "randomisation", "start_angles", "schedules", "log", "genome", "fault", "evolution", "record"});
   Scenario scenario;
   scenario.source = source;
   scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
@@ -289,6 +314,7 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
       scenario.start_angles.emplace_back(motor, degrees);
     }
   }
+  if (root.Has("schedules")) scenario.schedules = ReadSchedules(root.At("schedules"));
   if (root.Has("log")) {
     for (const JsonNode& pattern : root.At("log").Elements()) {
       scenario.log.push_back(pattern.String("a regular expression"));

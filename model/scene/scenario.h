@@ -70,6 +70,14 @@ struct FaultInjection {
   std::uint64_t at_step = 0;  ///< before which simulation step of each parameter set it happens (0-based)
 };
 
+/// One value of the world set during a run ("schedules": {"<path>": {"times": [s, ...], "values": [...]}}): values[k]
+/// is set before the first step that starts at or after times[k] and holds until the next entry.
+struct ValueSchedule {
+  std::string path;            ///< repository path of a number (e.g. /Servo/SupplyVoltage)
+  std::vector<double> times;   ///< s since the reset, non-decreasing
+  std::vector<double> values;  ///< in the value's unit, one per time
+};
+
 struct Scenario {
   std::string source;            ///< where it was read from, for messages
   std::string name;              ///< a label for reports
@@ -86,6 +94,9 @@ struct Scenario {
   /// "start_angles": motor name → degrees, the pose every parameter set starts in (before a drawn start pose is
   /// added): a replay of a measured run starts where the real joint was. Empty = the built pose.
   std::vector<std::pair<std::string, double>> start_angles;
+  /// "schedules": values of the world that change during the run, each set from its times on (a replay's measured
+  /// supply voltage). Empty = none.
+  std::vector<ValueSchedule> schedules;
   std::vector<std::string> log;  ///< regular expressions of values logged every step ([] = no log)
   nlohmann::json genome;         ///< "genome": the genome of a job that brings none (flat array or network); null = none
   FaultInjection fault;          ///< "fault": a test hook for crash isolation; kind kNone = none
