@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The real-servo experiment of docs/gap.md ("A real servo"): orcs-gap on the eight XL330 pendulum logs, fitted on
 # the four runs at one firmware gain and scored on the four at the other, both ways, with no parameter re-tuned per
-# gain (each replay takes its log's gain). Then the table and the figures.
+# gain (each replay takes its log's gain and its measured supply voltage), fitted on the mean absolute error (BAM's
+# metric, --loss absolute). Then the table and the figures.
 #
 #   scripts/gap_xl330.sh [DATA_DIR] [OUT_DIR] [WORKERS]
 #
@@ -32,7 +33,7 @@ diagnose() {  # FIT_GAIN HELD_OUT_GAIN
   echo "gap_xl330.sh: fitting on kp$1, scoring on kp$2 → $report" >&2
   "$gap" --rig pendulum --pole-mass 0.6533 --pole-length 0.15 --start-measured \
     --model scenarios/gap/xl330/model.val --mapping scenarios/gap/xl330/mapping.json \
-    --measured "${fit[@]}" --holdout "${held[@]}" --workers "$workers" ${GAP_OPTIONS:-} --out "$report"
+    --measured "${fit[@]}" --holdout "${held[@]}" --loss absolute --workers "$workers" ${GAP_OPTIONS:-} --out "$report"
   scripts/plot_gap.py "$report" --run "sin_sin_kp$2"  # a held-out run in the panels
 }
 diagnose 100 400
