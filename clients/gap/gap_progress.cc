@@ -21,11 +21,12 @@ std::string Elapsed(double seconds) {
 }  // namespace
 
 GapProgress::GapProgress(std::ostream& out, std::function<std::uint64_t()> replays_run,
-                         std::chrono::milliseconds interval, batch::ProgressFile* file)
+                         std::chrono::milliseconds interval, batch::ProgressFile* file, std::string score_unit)
     : out_(out),
       replays_run_(std::move(replays_run)),
       interval_(interval),
       start_(std::chrono::steady_clock::now()),
+      score_unit_(std::move(score_unit)),
       file_(file) {
   ticker_ = std::thread([this] { Tick(); });
 }
@@ -82,7 +83,7 @@ std::string GapProgress::StatusLine() {
       separator = ", ";
     }
   }
-  if (!best_.empty()) line += "; best so far " + best_ + " (score " + Fixed(best_score_, "%.4g") + " deg²)";
+  if (!best_.empty()) line += "; best so far " + best_ + " (score " + Fixed(best_score_, "%.4g") + " " + score_unit_ + ")";
   return line;
 }
 
@@ -99,7 +100,7 @@ void GapProgress::OnFit(const std::string& model, const identify::ModelScore* fi
   ++finished_;
   fits_.push_back({{"effect", model}, {"holdout_rms_deg", finished->holdout_rms}, {"score", finished->score}});
   std::string line = "orcs-gap: " + model + " fitted: held-out gap " + Fixed(finished->holdout_rms, "%.3f") +
-                     "° RMS, score " + Fixed(finished->score, "%.4g") + " deg²";
+                     "° RMS, score " + Fixed(finished->score, "%.4g") + " " + score_unit_;
   if (model == "refit") {
     line += " (nothing missing; an effect must score below half of it to be named)";
   } else if (best_.empty() || finished->score < best_score_) {

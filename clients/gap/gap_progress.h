@@ -25,8 +25,10 @@ class GapProgress {
   /// `file` (not owned; nullptr = none), progress.json for orcs-view, is written at each fit's start and end and
   /// once a second: {"replays", "fits_done", "fitting": [...], "best": {"effect", "score"}, "fits": [{"effect",
   /// "holdout_rms_deg", "score"}]}.
+  /// `score_unit` names the scores' unit: "deg²" for the squared loss, "deg" for the absolute one.
   GapProgress(std::ostream& out, std::function<std::uint64_t()> replays_run,
-              std::chrono::milliseconds interval = std::chrono::seconds(10), batch::ProgressFile* file = nullptr);
+              std::chrono::milliseconds interval = std::chrono::seconds(10), batch::ProgressFile* file = nullptr,
+              std::string score_unit = "deg²");
   /// Stops the periodic lines.
   ~GapProgress();
   GapProgress(const GapProgress&) = delete;
@@ -51,7 +53,8 @@ class GapProgress {
   std::condition_variable stop_;
   std::set<std::string> running_;  ///< fits under way
   std::string best_;               ///< the best-scored candidate so far ("" = none yet)
-  double best_score_ = 0;          ///< its score, deg²
+  double best_score_ = 0;          ///< its score, in score_unit_
+  const std::string score_unit_;   ///< "deg²" or "deg"
   int finished_ = 0;               ///< fits done
   bool stopping_ = false;
   batch::ProgressFile* file_;      ///< progress.json, or nullptr

@@ -146,7 +146,8 @@ int Diagnose(const GapOptions& o) {
   std::optional<Diagnosis> result;
   batch::ProgressFile file(o.out, "gap");
   {
-    GapProgress progress(std::cerr, [&runner] { return runner.jobs_run(); }, std::chrono::seconds(10), &file);
+    GapProgress progress(std::cerr, [&runner] { return runner.jobs_run(); }, std::chrono::seconds(10), &file,
+                         options.loss == Loss::kAbsolute ? "deg" : "deg²");
     options.on_fit = [&progress](const std::string& fitted, const identify::ModelScore* score) {
       progress.OnFit(fitted, score);
     };

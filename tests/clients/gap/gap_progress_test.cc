@@ -51,6 +51,19 @@ TEST(GapProgressTest, SaysWhichFitsRunAndWhichCandidateIsBestSoFar) {
   EXPECT_THAT(text, HasSubstr("orcs-gap: TransportDelay fitted: held-out gap 0.189° RMS, score 0.0375 deg²; best so far"));
 }
 
+// With the absolute loss (orcs-gap --loss absolute) a score is a mean absolute error in degrees, and says so.
+TEST(GapProgressTest, ScoresCarryTheLosssUnit) {
+  std::ostringstream out;
+  GapProgress progress(out, [] { return std::uint64_t{0}; }, std::chrono::hours(1), nullptr, "deg");
+  const identify::ModelScore refit = Score("refit", 2.2, 1.8);
+  progress.OnFit("refit", &refit);
+  const identify::ModelScore candidate = Score("Backlash", 2.0, 1.6);
+  progress.OnFit("Backlash", &candidate);
+  EXPECT_THAT(out.str(), HasSubstr("held-out gap 2.000° RMS, score 1.6 deg; best so far"));
+  EXPECT_THAT(progress.StatusLine(), HasSubstr("best so far Backlash (score 1.6 deg)"));
+  EXPECT_THAT(out.str(), Not(HasSubstr("deg²")));
+}
+
 // The same progress, for orcs-view: progress.json says what is fitted, the finished fits and the best so far.
 TEST(GapProgressTest, KeepsProgressJsonUpToDateForThePage) {
   test_support::TempDir dir;
