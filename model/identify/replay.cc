@@ -82,6 +82,18 @@ void AddRunInputs(const Rig& rig, const MeasuredRun& run, const std::vector<Valu
   }
 }
 
+// A run input given per row as a scenario schedule, timed as the row's commands are (CommandsAsRecord): row i's
+// value holds during the step that ends at row i, from half a step before that step starts.
+nlohmann::json RowSchedule(const MeasuredRun& run, const std::vector<double>& values) {
+  std::vector<double> times;
+  std::vector<double> held;
+  for (std::size_t i = 1; i < run.time.size(); ++i) {
+    times.push_back(std::max(0.0, run.time[i - 1] - run.step / 2.0));
+    held.push_back(values[i]);
+  }
+  return {{"times", times}, {"values", held}};
+}
+
 }  // namespace
 
 Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vector<ValueAssignment>& model) {
@@ -159,9 +171,7 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
       {"values", ValuesObject(model)},
   };
   AddRunInputs(rig, run, model, scenario["values"]);
-  if (!run.supply_voltage.empty()) {  // each row's voltage for the step after it
-    scenario["schedules"]["/Servo/SupplyVoltage"] = {{"times", run.time}, {"values", run.supply_voltage}};
-  }
+  if (!run.supply_voltage.empty()) scenario["schedules"]["/Servo/SupplyVoltage"] = RowSchedule(run, run.supply_voltage);
   if (rig.start_measured) {
     for (const std::string& motor : replay.channels) scenario["start_angles"][motor] = run.joint_angle.at(motor).front();
   }

@@ -7,11 +7,14 @@
 #include <bit>
 
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "model/scene/scenario.h"
+#include "tests/support/input_error_of.h"
 
 namespace orcs::evaluation {
 namespace {
@@ -126,6 +129,113 @@ TEST(EvaluationTest, StartAnglesPoseTheNamedMotorsBeforeTheRun) {
   } catch (const std::exception& error) {
     EXPECT_THAT(error.what(), HasSubstr("start_angles.Motor"));
   }
+}
+
+// A set's log as columns: column name (from the "# columns: " line) → one number per row, in time order.
+std::map<std::string, std::vector<double>> LogColumns(const std::string& csv) {
+  constexpr std::string_view kColumns = "# columns: ";
+  std::istringstream lines(csv);
+  std::string line;
+  std::vector<std::string> names;
+  std::map<std::string, std::vector<double>> columns;
+  while (std::getline(lines, line)) {
+    if (line.starts_with(kColumns)) {
+      std::istringstream cells(line.substr(kColumns.size()));
+      for (std::string name; std::getline(cells, name, ',');) names.push_back(name);
+    }
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream cells(line);
+    std::size_t c = 0;
+    for (std::string cell; std::getline(cells, cell, ',') && c < names.size(); ++c) {
+      columns[names[c]].push_back(std::stod(cell));
+    }
+  }
+  return columns;
+}
+
+// The physical servo turning the pendulum towards −40°, its supply voltage and the pole's angle logged every 10 ms
+// step: the run a schedule of /Servo/SupplyVoltage changes.
+nlohmann::json ServoPendulumScenario() {
+  return {
+      {"agent", "Pendulum"},
+      {"duration", 0.3},
+      {"environment", {{"file", "pendulum"}, {"xml", kPendulumXml}}},
+      {"controller", {{"type", "keyframes"}, {"record", {{"file", "r.csv"}, {"text", "0,-40,1\n"}}}}},
+      {"fitness", {{"terms", nlohmann::json::array({{{"type", "energy"}}})}}},
+      {"values", {{"/AngularMotor/IncludeNoise", false}, {"/Servo/Enabled", true}}},
+      {"log", {"/Servo/SupplyVoltage", "/Sim/Pendulum/Motor/JointAngle"}},
+  };
+}
+
+// Scenario "schedules" (docs/scenarios.md): each value is set before the first step that starts at or after its
+// time. Log row k is the state after step k−1, which started at (k−1)·10 ms, so an entry at 0.1 s (a step's start)
+// shows from row 11 and one at 0.155 s (between two starts) from row 17; before row 11 the run is bit for bit the
+// run without the schedule, and row 11 is the first whose pole angle differs (the servo's torque follows the voltage).
+TEST(EvaluationTest, AScheduleSetsItsValueBeforeTheFirstStepStartingAtOrAfterEachTime) {
+  nlohmann::json scenario = ServoPendulumScenario();
+  EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scenario, "schedule.json");
+  const EvaluationOutcome constant = Evaluate(request);
+  ASSERT_EQ(constant.status, EvaluationStatus::kOk) << constant.message;
+  scenario["schedules"] = {{"/Servo/SupplyVoltage", {{"times", {0.1, 0.155}}, {"values", {6.0, 9.0}}}}};
+  request.scenario = scene::ParseScenario(scenario, "schedule.json");
+  const EvaluationOutcome scheduled = Evaluate(request);
+  ASSERT_EQ(scheduled.status, EvaluationStatus::kOk) << scheduled.message;
+
+  const std::map<std::string, std::vector<double>> before = LogColumns(constant.sets[0].log_csv);
+  const std::map<std::string, std::vector<double>> after = LogColumns(scheduled.sets[0].log_csv);
+  const std::vector<double>& volts = after.at("/Servo/SupplyVoltage");
+  const std::vector<double>& angle = after.at("/Sim/Pendulum/Motor/JointAngle");
+  const std::vector<double>& unscheduled_angle = before.at("/Sim/Pendulum/Motor/JointAngle");
+  ASSERT_EQ(volts.size(), 31u) << scheduled.sets[0].log_csv;
+  ASSERT_EQ(unscheduled_angle.size(), 31u);
+  const double built = before.at("/Servo/SupplyVoltage").front();
+  ASSERT_NE(built, 6.0);
+  ASSERT_NE(built, 9.0);
+  for (std::size_t k = 0; k < volts.size(); ++k) {
+    const double expected = k <= 10 ? built : k <= 16 ? 6.0 : 9.0;
+    EXPECT_EQ(volts[k], expected) << "row " << k;
+    EXPECT_EQ(before.at("/Servo/SupplyVoltage")[k], built) << "row " << k << " without the schedule";
+  }
+  for (std::size_t k = 0; k <= 10; ++k) EXPECT_EQ(angle[k], unscheduled_angle[k]) << "row " << k;
+  EXPECT_NE(angle[11], unscheduled_angle[11]) << "the step from 0.1 s runs on 6 V";
+  EXPECT_NE(angle.back(), unscheduled_angle.back());
+}
+
+// A schedule's path must name a number of the built world (else the job is invalid input naming
+// 'schedules.<path>'); its times start at 0 or later and never decrease, and it has one value per time (else the
+// scenario is refused naming the field).
+TEST(EvaluationTest, AScheduleNamesANumberOfTheWorldWithOneValuePerNonDecreasingTime) {
+  nlohmann::json scenario = ServoPendulumScenario();
+  EvaluationRequest request;
+  scenario["schedules"] = {{"/No/Such", {{"times", {0.1}}, {"values", {1.0}}}}};
+  request.scenario = scene::ParseScenario(scenario, "schedule.json");
+  const EvaluationOutcome unknown = Evaluate(request);
+  EXPECT_EQ(unknown.status, EvaluationStatus::kInvalidInput);
+  EXPECT_THAT(unknown.message,
+              HasSubstr("field 'schedules./No/Such' expected a number of the world, found no value of that path"));
+  scenario["schedules"] = {{"/Servo/Enabled", {{"times", {0.1}}, {"values", {0.0}}}}};
+  request.scenario = scene::ParseScenario(scenario, "schedule.json");
+  const EvaluationOutcome flag = Evaluate(request);
+  EXPECT_EQ(flag.status, EvaluationStatus::kInvalidInput);
+  EXPECT_THAT(flag.message,
+              HasSubstr("field 'schedules./Servo/Enabled' expected a number of the world, found a bool"));
+
+  const auto parse_error = [&](const nlohmann::json& schedule) {
+    scenario["schedules"] = {{"/Servo/SupplyVoltage", schedule}};
+    return test_support::InputErrorOf([&] { scene::ParseScenario(scenario, "schedule.json"); });
+  };
+  EXPECT_THAT(parse_error({{"times", {0.2, 0.1}}, {"values", {6.0, 9.0}}}),
+              HasSubstr("field 'schedules./Servo/SupplyVoltage.times[1]' expected seconds since the reset, at least 0, "
+                        "not decreasing"));
+  EXPECT_THAT(parse_error({{"times", {-0.1}}, {"values", {6.0}}}),
+              HasSubstr("field 'schedules./Servo/SupplyVoltage.times[0]' expected seconds since the reset"));
+  EXPECT_THAT(parse_error({{"times", {0.1, 0.2}}, {"values", {6.0}}}),
+              HasSubstr("field 'schedules./Servo/SupplyVoltage.values' expected one value per time (2), found 1"));
+  EXPECT_THAT(parse_error({{"times", {0.1}}, {"values", {6.0}}, {"value", 7.0}}),
+              HasSubstr("field 'schedules./Servo/SupplyVoltage.value' expected no such field"));
+  EXPECT_THAT(parse_error({{"times", {0.1}}, {"values", {"6 V"}}}),
+              HasSubstr("field 'schedules./Servo/SupplyVoltage.values[0]' expected a finite number"));
 }
 
 // measured_error's "stop_above": a run whose RMS over all listed entries passes the bound stops there, with that

@@ -348,7 +348,7 @@ TEST(MeasuredRunTest, MappingErrorsNameTheField) {
   auto error = [](const std::string& json) { return InputErrorOf([&] { Mapping(json); }); };
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + ", " + ok_channel + R"(, "agnet": 1})"),
             "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter, firmware_kp, "
-            "winding_temperature), found 'agnet'");
+            "winding_temperature, supply_voltage), found 'agnet'");
   EXPECT_EQ(error("{" + ok_time + ", " + ok_channel + "}"),
             "m.json: field 'agent' expected a value, found nothing (the field is missing)");
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_channel + "}"),
@@ -566,6 +566,54 @@ TEST(MeasuredRunTest, TheWindingTemperatureIsTheRunsMeanOfItsColumnAndOutOfRange
   kelvin.replace(kelvin.rfind(",7.3,29,"), 8, ",7.3,302,");
   EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(kelvin, "kp.csv", &mapping); }),
             "kp.csv:4: temperature_c: expected a winding temperature of −50 … 200 °C, found 302");
+}
+
+// The supply voltage (docs/gap_measured_data.md, "The supply voltage"): mapped as "supply_voltage" (a column, a
+// constant or a header key) or logged as /Servo/SupplyVoltage, it is kept per row, since the supply sags under
+// load; a row outside 0 < V ≤ 60 V is one line naming file, line and column, and a misspelt key is still refused.
+TEST(MeasuredRunTest, TheSupplyVoltageIsKeptPerRowAndOutsideZeroTo60VoltsIsOneLine) {
+  const auto mapping = [](const std::string& voltage) {
+    return Mapping(R"({"agent": "Pendulum", "time": {"column": "time_s"}, "firmware_kp": {"header": "firmware_kp"},
+                       "supply_voltage": )" + voltage + R"(, "channels": [{"motor": "Motor",
+                       "desired_angle": {"column": "goal_deg"}, "desired_torque": {"column": "torque_enable"},
+                       "joint_angle": {"column": "position_deg"}}]})");
+  };
+  const ColumnMapping column = mapping(R"({"column": "input_volts"})");
+  ASSERT_TRUE(column.supply_voltage.has_value());
+  EXPECT_EQ(column.supply_voltage->column, "input_volts");
+  const auto with_volts = [](const std::string& second_row) {
+    std::string log = kXl330Log;
+    log.replace(log.rfind(",7.3,29,"), 8, "," + second_row + ",29,");
+    return log;
+  };
+  const MeasuredRun sagging = ParseMeasuredRun(with_volts("6.1"), "kp400.csv", &column);
+  EXPECT_THAT(sagging.supply_voltage, ElementsAre(7.3, 6.1));
+  EXPECT_EQ(sagging.supply_voltage_column, "input_volts");
+  EXPECT_THAT(ParseMeasuredRun(with_volts("60"), "kp400.csv", &column).supply_voltage, ElementsAre(7.3, 60.0));
+  const ColumnMapping header = mapping(R"({"header": "supply_v"})");
+  EXPECT_THAT(ParseMeasuredRun(kXl330Log, "kp100.csv", &header).supply_voltage, ElementsAre(7.4, 7.4));
+  const ColumnMapping unmapped = Xl330Mapping(R"({"header": "firmware_kp"})");
+  EXPECT_THAT(ParseMeasuredRun(kXl330Log, "kp100.csv", &unmapped).supply_voltage, IsEmpty()) << "not mapped";
+  const MeasuredRun native = ParseMeasuredRun(
+      "# columns: time,/Sim/P/M/JointAngle,/Servo/SupplyVoltage\n0,0,7.4\n0.01,1,5.9\n", "run.csv", nullptr);
+  EXPECT_THAT(native.supply_voltage, ElementsAre(7.4, 5.9));
+  EXPECT_THAT(ParseMeasuredRun(kPendulumLog, "run.csv", nullptr).supply_voltage, IsEmpty());
+
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(with_volts("0"), "kp.csv", &column); }),
+            "kp.csv:4: input_volts: expected a supply voltage above 0 and at most 60 V, found 0");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(with_volts("75"), "kp.csv", &column); }),
+            "kp.csv:4: input_volts: expected a supply voltage above 0 and at most 60 V, found 75");
+  EXPECT_EQ(InputErrorOf([&] {
+              ParseMeasuredRun("# columns: time,/Sim/P/M/JointAngle,/Servo/SupplyVoltage\n0,0,7400\n0.01,1,7400\n",
+                               "run.csv", nullptr);
+            }),
+            "run.csv:2: /Servo/SupplyVoltage: expected a supply voltage above 0 and at most 60 V, found 7400");
+  EXPECT_EQ(InputErrorOf([&] {
+              Mapping(R"({"agent": "P", "time": {"column": "t"}, "supply_volts": {"column": "v"},
+                        "channels": [{"motor": "M", "joint_angle": {"column": "a"}}]})");
+            }),
+            "m.json: field 'supply_volts' expected no such field (allowed: agent, time, channels, delimiter, "
+            "firmware_kp, winding_temperature, supply_voltage), found 'supply_volts'");
 }
 
 TEST(MeasuredRunTest, AnEmptyGoalIsALimpRowOnlyWhereTheTorqueEnableColumnSays0) {

@@ -1,5 +1,6 @@
 // The replay job of a measured run (model/identify/replay.h): the run's inputs — its firmware gain and its
-// winding temperature — are values of its replay after the model's, so one fitted model serves every run.
+// winding temperature — are values of its replay after the model's, and its supply voltage a schedule of it, so
+// one fitted model serves every run.
 #include "model/identify/replay.h"
 
 #include <gtest/gtest.h>
@@ -10,20 +11,21 @@
 #include "model/core/error.h"
 #include "model/core/value_file.h"
 #include "model/identify/measured_run.h"
+#include "model/scene/scenario.h"
 
 namespace orcs::identify {
 namespace {
 
 constexpr const char* kXl330Model = ORCS_SOURCE_DIR "/scenarios/gap/xl330/model.val";
 
-// Two rows of an XL330 log (../shared/data/xl330-pendulum), the second one warmer.
+// Two rows of an XL330 log (../shared/data/xl330-pendulum), the second one warmer and on a sagging supply.
 constexpr const char* kLog =
     "# XL330 pendulum log: motor=xl330 firmware_kp=400\n"
     "time_s,goal_deg,position_deg,speed_deg_s,load,input_volts,temperature_c,torque_enable\n"
     "0,0,0,0,0,7.4,31,1\n"
-    "0.005,1,0,0,0,7.4,32,1\n";
+    "0.005,1,0,0,0,6.2,32,1\n";
 
-ColumnMapping Mapping(bool with_temperature) {
+ColumnMapping Mapping(bool with_temperature, bool with_voltage = false) {
   ColumnMapping mapping;
   mapping.source = "m.json";
   mapping.agent = "Pendulum";
@@ -36,6 +38,7 @@ ColumnMapping Mapping(bool with_temperature) {
   mapping.channels.push_back(motor);
   mapping.firmware_kp.emplace().header = "firmware_kp";
   if (with_temperature) mapping.winding_temperature.emplace().column = "temperature_c";
+  if (with_voltage) mapping.supply_voltage.emplace().column = "input_volts";
   return mapping;
 }
 
@@ -55,6 +58,38 @@ TEST(ReplayTest, TheRunsGainAndMeanWindingTemperatureAreValuesOfItsReplay) {
   const ReplayRun model_temperature = MakeReplayRun(rig, unmapped, model);
   EXPECT_FALSE(model_temperature.scenario.at("values").contains("/Servo/WindingTemperature"))
       << "no temperature in the data: the model's";
+}
+
+// A run's supply voltage is a schedule of its replay (docs/gap_measured_data.md, "The supply voltage"): each row's
+// voltage during the step that ends at that row, timed as that row's commands, one entry per row after the first,
+// in a form the scenario reader accepts; a run without a mapped voltage has no schedule and runs on the model's
+// constant /Servo/SupplyVoltage.
+TEST(ReplayTest, TheRunsSupplyVoltageIsScheduledRowByRowInItsReplay) {
+  const std::vector<ValueAssignment> model = ValueFile::Read(kXl330Model);
+  RigOptions options;
+  options.kind = "pendulum";
+  const Rig rig = MakeRig(options, "Pendulum", model);
+  const ColumnMapping with = Mapping(false, true);
+  const MeasuredRun run = ParseMeasuredRun(kLog, "kp400.csv", &with);
+  const ReplayRun replay = MakeReplayRun(rig, run, model);
+  const nlohmann::json& schedule = replay.scenario.at("schedules").at("/Servo/SupplyVoltage");
+  // Row 1's voltage holds during the step that ends at row 1, as row 1's commands do (its keyframe's time).
+  EXPECT_EQ(schedule.at("times"), nlohmann::json({0.0}));
+  EXPECT_EQ(schedule.at("values"), nlohmann::json({6.2}));
+  const control::KeyframeRecord commands = CommandsAsRecord(run, rig.motors);
+  ASSERT_EQ(commands.frames.size(), 1u);
+  EXPECT_EQ(commands.frames[0].time_ms, 1000.0 * schedule.at("times")[0].get<double>());
+  EXPECT_EQ(replay.scenario.at("schedules").size(), 1u);
+
+  const scene::Scenario scenario = scene::ParseScenario(replay.scenario, "kp400.json");
+  ASSERT_EQ(scenario.schedules.size(), 1u);
+  EXPECT_EQ(scenario.schedules[0].path, "/Servo/SupplyVoltage");
+  EXPECT_EQ(scenario.schedules[0].times.size(), run.time.size() - 1);
+  EXPECT_EQ(scenario.schedules[0].values, std::vector<double>(run.supply_voltage.begin() + 1, run.supply_voltage.end()));
+
+  const ColumnMapping without = Mapping(false);
+  const ReplayRun constant = MakeReplayRun(rig, ParseMeasuredRun(kLog, "kp400.csv", &without), model);
+  EXPECT_FALSE(constant.scenario.contains("schedules")) << "no voltage in the data: the model's";
 }
 
 // A servo whose firmware runs faster than its log is replayed with sub-steps: each logged row is one simulation

@@ -70,7 +70,7 @@ TEST(ScenarioTest, BadInputNamesFileAndField) {
   };
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duratoin", 3), "s.json"); }),
             "s.json: field 'duratoin' expected no such field (allowed: name, environment, value_files, values, "
-            "duration, agent, controller, fitness, randomisation, start_angles, log, genome, fault, evolution, record), found 'duratoin'");
+            "duration, agent, controller, fitness, randomisation, start_angles, schedules, log, genome, fault, evolution, record), found 'duratoin'");
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("record", "yes"), "s.json"); }),
             "s.json: field 'record' expected true or false, found the string \"yes\"");
   EXPECT_TRUE(ParseScenario(with("record", true), "s.json").record);
