@@ -201,7 +201,7 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
   if (d.effect.empty()) {
     text << "No missing effect found: after refitting the base parameters the held-out gap is "
          << Degrees(d.base.holdout_rms) << " RMS, and no effect of the catalogue lowers the penalised score below "
-         << Percent(options.win_ratio) << " of that";
+         << Percent(options.win_ratio) << " of the refit's";
     if (!d.candidates.empty()) {
       text << " (best: " << d.candidates[0].label << ", " << Percent(d.candidates[0].score / base) << ")";
     }
@@ -351,7 +351,7 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
     p.start = std::sqrt(p.lower * std::sqrt(p.lower * p.upper));
     parameters.push_back(std::move(p));
   }
-  const std::vector<Override> enabled{{"/Effects/" + std::string(effect.name) + "/Enabled", "T"}};
+  const std::vector<Override> enabled{{EnabledPath(effect), "T"}};
   if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
   ScanMainParameter(replays, fit, enabled, parameters, refitted.size(), options.relax_scan, options.loss);
   const int added = static_cast<int>(effect.parameters.size());
