@@ -407,6 +407,13 @@ char ParseDelimiter(const JsonNode& node) {
   return delimiter.front();
 }
 
+CommandTiming ParseCommandTiming(const JsonNode& node) {
+  const std::string timing = node.String("\"until_row\" or \"from_row\"");
+  if (timing == "until_row") return CommandTiming::kUntilRow;
+  if (timing == "from_row") return CommandTiming::kFromRow;
+  node.Fail("\"until_row\" (a row's commands produced its state) or \"from_row\" (they act after it)");
+}
+
 // The field index of a mapped column in the header; the column must be there exactly once.
 int FieldOf(const Table& table, const std::string& column, const std::string& field, const std::string& mapping,
             const std::string& source) {
@@ -591,6 +598,17 @@ void CheckTimeBase(const std::string& column, MeasuredRun& run) {
   run.step = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
 }
 
+// A log that reads the state, then sends commands, stamps both with the read's time: its row k's commands act from
+// t(k) to t(k+1), which are row k+1's in orcs's timing. Row 0's (the start, before any step) keep their own.
+void ShiftInputsToOrcsTiming(MeasuredRun& run) {
+  const auto shift = [](std::vector<double>& values) {
+    if (values.size() > 1) std::copy_backward(values.begin(), values.end() - 1, values.end());
+  };
+  for (auto& [motor, values] : run.desired_angle) shift(values);
+  for (auto& [motor, values] : run.desired_torque) shift(values);
+  shift(run.supply_voltage);
+}
+
 // One run has one firmware gain, and a gain is positive: a gain that changes within the run (a log of two
 // settings) or a non-positive one is an error naming the column and the line.
 void CheckFirmwareGain(const MeasuredRun& run) {
@@ -664,7 +682,8 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
     throw InputError(source, 0, "expected a column mapping (a JSON object), found " + DescribeJson(j));
   }
   const JsonNode root(j, "", source);
-  root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp", "winding_temperature", "supply_voltage"});
+  root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp", "winding_temperature", "supply_voltage",
+                   "command_timing"});
   ColumnMapping mapping;
   mapping.source = source;
   mapping.agent = root.At("agent").String("an agent name");
@@ -674,6 +693,7 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
   if (root.Has("firmware_kp")) mapping.firmware_kp = ParseColumnSource(root.At("firmware_kp"));
   if (root.Has("winding_temperature")) mapping.winding_temperature = ParseColumnSource(root.At("winding_temperature"));
   if (root.Has("supply_voltage")) mapping.supply_voltage = ParseColumnSource(root.At("supply_voltage"));
+  if (root.Has("command_timing")) mapping.command_timing = ParseCommandTiming(root.At("command_timing"));
   CheckMapping(mapping);
   return mapping;
 }
@@ -690,6 +710,7 @@ MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source, c
       mapping ? MappedPlan(table, *mapping, source, run) : NativePlan(table, source, run);
   ReadRows(table, plan, mapping ? mapping->delimiter : kNativeDelimiter, source, run);
   CheckTimeBase(plan.front().column, run);
+  if (mapping && mapping->command_timing == CommandTiming::kFromRow) ShiftInputsToOrcsTiming(run);
   CheckFirmwareGain(run);
   CheckWindingTemperature(run);
   CheckSupplyVoltage(run);

@@ -20,6 +20,12 @@
 
 namespace orcs::identify {
 
+/// When a row's commands act, as the log was recorded.
+enum class CommandTiming {
+  kUntilRow,  ///< row k's commands acted until row k's time: they produced its state (orcs's logs, the original's)
+  kFromRow,   ///< row k's commands were sent after its state was read and act from t(k) to t(k+1) (BAM's logs)
+};
+
 /// One run of the real (or synthetic) robot: commanded inputs and measured joint angles, per step.
 struct MeasuredRun {
   std::string source;                  ///< the file it was read from, for messages
@@ -28,7 +34,8 @@ struct MeasuredRun {
   std::vector<std::string> commanded;  ///< motors with DesiredAngle AND DesiredTorque columns, in column order
   double step = 0.0;                   ///< s, the (uniform) time step of the rows: (last − first time) / (rows − 1)
   std::vector<double> time;            ///< s, per row, starting at 0
-  /// per motor name: values per row (same length as time)
+  /// per motor name: values per row (same length as time). The inputs are in orcs's timing whatever the file's (a
+  /// mapping's "command_timing"): row k's commands, like its supply voltage, act from t(k−1) to t(k).
   std::map<std::string, std::vector<double>> desired_angle;   ///< degrees
   std::map<std::string, std::vector<double>> desired_torque;  ///< raw −1…1
   std::map<std::string, std::vector<double>> joint_angle;     ///< degrees
@@ -83,6 +90,7 @@ struct ColumnMapping {
   std::optional<ColumnSource> firmware_kp;  ///< the servo's firmware P gain: a column, a header key or a constant
   std::optional<ColumnSource> winding_temperature;  ///< °C, the servo's temperature: as firmware_kp
   std::optional<ColumnSource> supply_voltage;  ///< V, the servo's supply voltage per row: as firmware_kp
+  CommandTiming command_timing = CommandTiming::kUntilRow;  ///< when a row's commands (and supply voltage) act
   std::string source;                    ///< the mapping file, for messages
 };
 

@@ -348,7 +348,7 @@ TEST(MeasuredRunTest, MappingErrorsNameTheField) {
   auto error = [](const std::string& json) { return InputErrorOf([&] { Mapping(json); }); };
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + ", " + ok_channel + R"(, "agnet": 1})"),
             "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter, firmware_kp, "
-            "winding_temperature, supply_voltage), found 'agnet'");
+            "winding_temperature, supply_voltage, command_timing), found 'agnet'");
   EXPECT_EQ(error("{" + ok_time + ", " + ok_channel + "}"),
             "m.json: field 'agent' expected a value, found nothing (the field is missing)");
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_channel + "}"),
@@ -613,7 +613,47 @@ TEST(MeasuredRunTest, TheSupplyVoltageIsKeptPerRowAndOutsideZeroTo60VoltsIsOneLi
                         "channels": [{"motor": "M", "joint_angle": {"column": "a"}}]})");
             }),
             "m.json: field 'supply_volts' expected no such field (allowed: agent, time, channels, delimiter, "
-            "firmware_kp, winding_temperature, supply_voltage), found 'supply_volts'");
+            "firmware_kp, winding_temperature, supply_voltage, command_timing), found 'supply_volts'");
+}
+
+// A log that reads the state and then sends the commands (BAM's, the XL330's) says so with "command_timing":
+// "from_row"; its row k's goal, torque flag and voltage are then row k+1's in orcs's timing, so the replay's
+// firmware sees each goal one step later than with the default "until_row" (an orcs log's timing).
+TEST(MeasuredRunTest, CommandsSentAfterTheRowsReadingActOneRowLater) {
+  const std::string log =
+      "# firmware_kp=400\n"
+      "time_s,goal_deg,position_deg,torque_enable,input_volts\n"
+      "0,1,0.5,1,7.4\n0.005,2,0.6,1,7.3\n0.01,3,0.7,0,7.2\n0.015,4,0.8,1,7.1\n";
+  const auto mapping = [](const std::string& timing) {
+    return Mapping(R"({"agent": "Pendulum", "time": {"column": "time_s"}, "supply_voltage": {"column": "input_volts"},
+                       )" + timing + R"("channels": [{"motor": "Motor", "desired_angle": {"column": "goal_deg"},
+                       "desired_torque": {"column": "torque_enable"}, "joint_angle": {"column": "position_deg"}}]})");
+  };
+  const ColumnMapping until_row = mapping("");
+  const ColumnMapping from_row = mapping(R"("command_timing": "from_row", )");
+  EXPECT_EQ(until_row.command_timing, CommandTiming::kUntilRow) << "the default";
+  EXPECT_EQ(mapping(R"("command_timing": "until_row", )").command_timing, CommandTiming::kUntilRow);
+  EXPECT_EQ(from_row.command_timing, CommandTiming::kFromRow);
+
+  const MeasuredRun as_logged = ParseMeasuredRun(log, "run.csv", &until_row);
+  EXPECT_THAT(as_logged.desired_angle.at("Motor"), ElementsAre(1, 2, 3, 4));
+  const MeasuredRun shifted = ParseMeasuredRun(log, "run.csv", &from_row);
+  EXPECT_THAT(shifted.desired_angle.at("Motor"), ElementsAre(1, 1, 2, 3));
+  EXPECT_THAT(shifted.desired_torque.at("Motor"), ElementsAre(1, 1, 1, 0));
+  EXPECT_THAT(shifted.supply_voltage, ElementsAre(7.4, 7.4, 7.3, 7.2));
+  EXPECT_EQ(shifted.joint_angle, as_logged.joint_angle) << "the angles keep their rows";
+  EXPECT_EQ(shifted.time, as_logged.time);
+  // In the replay's keyframes, the step from row 0 to row 1 is driven by row 0's goal.
+  const control::KeyframeRecord record = CommandsAsRecord(shifted, {"Motor"});
+  ASSERT_EQ(record.frames.size(), 3u);
+  EXPECT_THAT(record.frames[0].inputs, ElementsAre(1, 1));
+  EXPECT_THAT(record.frames[2].inputs, ElementsAre(3, 0));
+
+  EXPECT_EQ(InputErrorOf([&] { mapping(R"("command_timing": "before", )"); }),
+            "m.json: field 'command_timing' expected \"until_row\" (a row's commands produced its state) or "
+            "\"from_row\" (they act after it), found the string \"before\"");
+  EXPECT_EQ(InputErrorOf([&] { mapping(R"("command_timing": 1, )"); }),
+            "m.json: field 'command_timing' expected \"until_row\" or \"from_row\", found the number 1");
 }
 
 TEST(MeasuredRunTest, AnEmptyGoalIsALimpRowOnlyWhereTheTorqueEnableColumnSays0) {
