@@ -710,7 +710,8 @@ MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source, c
       mapping ? MappedPlan(table, *mapping, source, run) : NativePlan(table, source, run);
   ReadRows(table, plan, mapping ? mapping->delimiter : kNativeDelimiter, source, run);
   CheckTimeBase(plan.front().column, run);
-  if (mapping && mapping->command_timing == CommandTiming::kFromRow) ShiftInputsToOrcsTiming(run);
+  if (mapping) run.command_timing = mapping->command_timing;
+  if (run.command_timing == CommandTiming::kFromRow) ShiftInputsToOrcsTiming(run);
   CheckFirmwareGain(run);
   CheckWindingTemperature(run);
   CheckSupplyVoltage(run);
@@ -776,7 +777,8 @@ control::KeyframeRecord CommandsAsRecord(const MeasuredRun& run, const std::vect
   for (size_t i = 1; i < run.time.size(); ++i) {
     control::Keyframe frame;
     frame.time_ms = std::max(0.0, run.time[i - 1] - run.step / 2.0) * 1000.0;
-    frame.line = i < run.lines.size() ? run.lines[i] : 0;
+    const size_t input_row = run.command_timing == CommandTiming::kFromRow ? i - 1 : i;  // the line it was read from
+    frame.line = input_row < run.lines.size() ? run.lines[input_row] : 0;
     frame.inputs.reserve(2 * inputs.size());
     for (const auto& [angle, torque] : inputs) {
       frame.inputs.push_back(angle->at(i));

@@ -40,6 +40,9 @@ struct MeasuredRun {
   std::map<std::string, std::vector<double>> desired_torque;  ///< raw −1…1
   std::map<std::string, std::vector<double>> joint_angle;     ///< degrees
   std::vector<int> lines;  ///< 1-based line of the source file per row (same length as time), for messages
+  /// The file's timing of the inputs; they are already moved to orcs's, so this only says which line each came
+  /// from: row k's from row k's line (kUntilRow) or from row k−1's (kFromRow).
+  CommandTiming command_timing = CommandTiming::kUntilRow;
   /// The servo's firmware P gain during the run (/Servo/FirmwareKp, register units), per row, when the data has
   /// it (empty otherwise); ParseMeasuredRun checks it is one value throughout. An input of the run for the
   /// physical servo model (docs/model.md, "The physical servo"), never a fitted parameter.
@@ -118,7 +121,8 @@ void CheckDisjoint(const std::vector<std::string>& fit_paths, const std::vector<
 /// The commanded inputs as a keyframe record (model/control/keyframe_record.h, raw layout) for motors
 /// `motor_order` (the rig's motors in input order): keyframe i−1 carries row i's inputs (i ≥ 1) and takes
 /// effect at max(0, t(i−1) − step/2) · 1000 ms — half a step early so rounding of the simulation's clock never
-/// delays it. Each keyframe's line is row i's line in the run's file. Throws InputError
+/// delays it. Each keyframe's line is the line its inputs were read from: row i's, or row i−1's when the file's
+/// commands act from their row (CommandTiming::kFromRow). Throws InputError
 /// "file: no column '/Sim/<agent>/<motor>/DesiredAngle'" when a motor in motor_order lacks commands.
 control::KeyframeRecord CommandsAsRecord(const MeasuredRun& run, const std::vector<std::string>& motor_order);
 

@@ -648,6 +648,9 @@ TEST(MeasuredRunTest, CommandsSentAfterTheRowsReadingActOneRowLater) {
   ASSERT_EQ(record.frames.size(), 3u);
   EXPECT_THAT(record.frames[0].inputs, ElementsAre(1, 1));
   EXPECT_THAT(record.frames[2].inputs, ElementsAre(3, 0));
+  EXPECT_EQ(record.frames[0].line, 3) << "row 0's goal, read from line 3, names that line in messages";
+  EXPECT_EQ(record.frames[2].line, 5);
+  EXPECT_EQ(CommandsAsRecord(as_logged, {"Motor"}).frames[0].line, 4) << "row 1's own line";
 
   EXPECT_EQ(InputErrorOf([&] { mapping(R"("command_timing": "before", )"); }),
             "m.json: field 'command_timing' expected \"until_row\" (a row's commands produced its state) or "
