@@ -68,7 +68,8 @@ void BrokerCore::OnWorkerReady(const std::string& worker, const v1::Ready& ready
   auto [entry, inserted] = workers_.try_emplace(worker);
   Worker& record = entry->second;
   record.name = ready.worker_id().empty() ? Hex(worker) : ready.worker_id();
-  record.credit = ready.credit();  // a second READY changes the credit; jobs held beyond it stay held
+  // A second READY changes the credit; jobs held beyond it stay held. No connection holds more than max_credit.
+  record.credit = std::min(ready.credit(), options_.max_credit);
   record.liveness_period = LivenessFor(ready.heartbeat_ms());
   record.expiry = now_ + record.liveness_period;
   record.last_heard = now_;
@@ -76,7 +77,8 @@ void BrokerCore::OnWorkerReady(const std::string& worker, const v1::Ready& ready
   if (ready.host().size() <= kMaxIdBytes) record.host = ready.host();
   Log((inserted ? "worker " + record.name + " joined with credit "
                 : "worker " + record.name + " sent READY again; credit now ") +
-      std::to_string(record.credit));
+      std::to_string(record.credit) +
+      (ready.credit() > record.credit ? " (asked for " + std::to_string(ready.credit()) + "; --max-credit)" : ""));
   MakeReady(worker, record);
 }
 
@@ -384,6 +386,34 @@ void BrokerCore::LoseWorker(const std::string& worker_id, const std::string& rea
   if (requeued > 0) line += "; " + std::to_string(requeued) + " jobs back to the queue";
   if (failed > 0) line += "; " + std::to_string(failed) + " jobs failed with WORKER_LOST";
   Log(line);
+}
+
+// The batch's leases end here, not when their results would come: the workers' credit is free for other batches at
+// once, and each worker hears which jobs to drop (it kills the simulation of the one it runs).
+void BrokerCore::RevokeLeases(Batch& batch, const std::string& reason) {
+  std::unordered_map<std::string, v1::BrokerToWorker> revokes;  // by worker
+  for (auto& [job_id, record] : batch.jobs) {
+    if (record.state != JobState::kDispatched) continue;
+    auto worker = workers_.find(record.worker);
+    if (worker != workers_.end()) {
+      Worker& holder = worker->second;
+      in_flight_count_ -= holder.holding.erase({record.job.batch_id(), job_id});
+      if (holder.holding.empty()) holder.busy_until = now_;
+      MakeReady(record.worker, holder);
+      v1::BrokerToWorker& message = revokes[record.worker];
+      message.mutable_revoke()->add_leases(record.lease);
+    }
+    ++counters_.leases_revoked;
+    SetState(record, JobState::kFinished);
+    record.worker.clear();
+    record.lease = 0;
+  }
+  for (auto& [worker, message] : revokes) {
+    message.set_protocol_version(kProtocolVersion);
+    message.mutable_revoke()->set_reason(reason);
+    // A failed send changes nothing: the worker is gone, and its lost connection is noticed at the next heartbeat.
+    transport_.SendToWorker(worker, message);
+  }
 }
 
 // A job that lost max_worker_losses workers fails rather than taking down worker after worker.

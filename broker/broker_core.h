@@ -112,15 +112,27 @@ class BrokerCore {
     std::string worker_id;      ///< where it ran last
     TimePoint at;               ///< when its result came
   };
+  struct QueueEntry {
+    std::string job_id;        ///< the job, of the batch holding this entry
+    std::uint64_t ticket = 0;  ///< stale unless equal to the job's current ticket
+  };
   struct Batch {
-    std::string client;      ///< routing id of the owning client's connection; "" = restored, not yet claimed
+    /// Routing id of the owning client's connection; "" = nobody's now: restored from the journal and not yet
+    /// claimed, or orphaned by a silent client within its grace period (claim_deadline).
+    std::string client;
     std::string client_id;   ///< the owning client's name (Submit.client_id), stable across its reconnections
     /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. "" = not yet known
     /// (a batch restored from the journal, which does not record keys): the first client to claim it sets it.
     std::string client_key;
     std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
     std::unordered_map<std::string, JobRecord> jobs;  ///< its jobs without a result yet, by job id
-    TimePoint claim_deadline;  ///< restored batches: dropped unless their client is back by then
+    TimePoint claim_deadline;  ///< while unclaimed (client ""): dropped unless its client is back by then
+    /// Its waiting jobs, front first (requeued ones go to the front); may hold stale entries (Enqueue, CompactQueue).
+    std::deque<QueueEntry> queue;
+    bool in_rotation = false;  ///< whether rotation_ lists it (it has queued jobs)
+    /// Results of jobs that finished while nobody owned the batch (client ""), without a journal to keep them: handed
+    /// to the owner when it claims the batch back and submits them again (AcceptJob). Bounded by its pending jobs.
+    std::unordered_map<std::string, v1::Result> held_results;
     // For the status only (broker_core_status.cc).
     TimePoint opened_at;             ///< its first SUBMIT, or its restore from the journal
     std::uint64_t queued = 0;        ///< its jobs in state kQueued (SetState)
@@ -140,7 +152,8 @@ class BrokerCore {
   };
   struct Worker {
     std::string name;            ///< Ready.worker_id (or the routing id in hex)
-    std::uint32_t credit = 0;    ///< Ready.credit: how many jobs it may hold
+    /// How many jobs it may hold: Ready.credit, capped at BrokerOptions::max_credit.
+    std::uint32_t credit = 0;
     std::set<JobKey> holding;    ///< jobs sent to it and not answered
     bool in_ready_list = false;  ///< whether ready_workers_ lists it
     TimePoint expiry;            ///< declared lost when nothing arrived from it by then
@@ -161,11 +174,6 @@ class BrokerCore {
     std::unordered_set<std::string> batches;  ///< batch ids it owns
     TimePoint expiry;                         ///< declared lost when nothing arrived from it by then
     Clock::duration liveness_period;          ///< liveness × the longer of its and the broker's heartbeat interval
-  };
-  struct QueueEntry {
-    std::string batch_id;      ///< the job's batch
-    std::string job_id;        ///< the job
-    std::uint64_t ticket = 0;  ///< stale unless equal to the job's current ticket
   };
 
   // Worker messages (broker_core.cc).
@@ -203,6 +211,9 @@ class BrokerCore {
   bool SendJob(const JobKey& key, JobRecord& record, const std::string& worker_id);
   void MakeReady(const std::string& worker_id, Worker& worker);
   void LoseWorker(const std::string& worker, const std::string& reason, bool counts_as_loss);
+  /// Takes the batch's running jobs off their workers' accounts (their credit is free at once) and tells each worker
+  /// to drop them (REVOKE with `reason`): the batch ended early and nobody waits for their results.
+  void RevokeLeases(Batch& batch, const std::string& reason);
   /// After losing a worker: back to the queue, or failed with WORKER_LOST; true when requeued.
   bool RequeueOrFail(Batch& batch, JobRecord& record, const std::string& batch_id, const std::string& reason);
 
@@ -225,6 +236,8 @@ class BrokerCore {
 
   // The journal (broker_core_jobs.cc).
   void RestoreJob(JournalJob&& stored, std::uint64_t& in_flight);
+  /// Sends the result a batch held for its absent owner to `client` (and forgets it); false when there is none.
+  bool ResendHeldResult(const std::string& client, Batch& batch, const std::string& job_id);
   /// Sends the journal's stored result of a finished job to `client`; false when there is none.
   bool ResendStoredResult(const std::string& client, const std::string& batch_id, const std::string& job_id);
 
@@ -234,11 +247,17 @@ class BrokerCore {
   void Enqueue(const std::string& batch_id, JobRecord& record, bool at_front);
   void SetState(JobRecord& record, JobState state);  // keeps queued_count_ and the batch's counts right
   void NoteJobHeld();  // a record was added to a batch: counts it in jobs_held_ and its peak
-  /// Forgets a client and its batches. `lost`: it vanished (silent, connection closed) rather than said goodbye.
+  /// Forgets a client and its batches. `lost`: it vanished (connection closed) rather than said goodbye.
   void DropClient(const std::string& client, const std::string& reason, bool lost);
-  void DropBatch(const std::string& batch_id);
-  /// Drops the queue's stale entries when they dominate it.
-  void CompactQueue();
+  /// A client silent past its liveness: forgotten, but its batches wait for it for BrokerOptions::client_grace
+  /// (their jobs run on) before they are dropped.
+  void OrphanClient(const std::string& client, const std::string& reason);
+  /// Drops a batch: its queued jobs go, its running ones are revoked (`why` tells their workers).
+  void DropBatch(const std::string& batch_id, const std::string& why);
+  /// Drops a batch queue's stale entries when they dominate it.
+  void CompactQueue(Batch& batch);
+  /// Lists a batch with queued jobs in the dispatch rotation (at the back), once.
+  void Rotate(const std::string& batch_id, Batch& batch);
   void FinishJob(Batch& batch, JobRecord& record, v1::Result& result);
   void FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message);
 
@@ -268,7 +287,9 @@ class BrokerCore {
   std::unordered_map<std::string, Worker> workers_;  ///< by routing id
   std::unordered_map<std::string, Client> clients_;  ///< by routing id
   std::unordered_map<std::string, Batch> batches_;   ///< by batch id
-  std::deque<QueueEntry> queue_;                     ///< jobs waiting, front first (may hold stale entries)
+  /// Batches with waiting jobs, in dispatch order: each dispatch takes the first batch's next job and moves the batch
+  /// to the back, so batches share the workers in turn (a batch of 10 behind one of 100,000 starts at once).
+  std::list<std::string> rotation_;
   std::list<std::string> ready_workers_;             ///< workers with free credit, least recently served first
   std::uint64_t next_ticket_ = 1;                    ///< the ticket the next Enqueue hands out
   std::uint64_t queued_count_ = 0;                   ///< jobs in state kQueued

@@ -160,6 +160,11 @@ BrokerCore::Batch& BrokerCore::ClaimBatch(const std::string& client, const std::
     batch.opened_at = now_;
     if (journal_) journal_->AddBatch(batch_id, submit.client_id(), submit.owner_token(), client_key);
     Log("client " + submit.client_id() + " opened batch " + batch_id);
+  } else if (batch.client.empty()) {
+    batch.client = client;
+    batch.client_id = submit.client_id();
+    ++counters_.batches_reclaimed;
+    Log("client " + submit.client_id() + " claimed batch " + batch_id + " back");
   } else if (batch.client != client) {
     // The same client on a new connection (it reconnected): results go to the new one from now on.
     auto previous = clients_.find(batch.client);
@@ -181,7 +186,8 @@ bool BrokerCore::AcceptJob(const std::string& client, const std::string& batch_i
   JobRecord& record = entry->second;
   record.batch = &batch;
   if (!inserted && record.state != JobState::kFinished) return false;
-  if (journal_ && ResendStoredResult(client, batch_id, job.job_id())) {
+  if (ResendHeldResult(client, batch, job.job_id()) ||
+      (journal_ && ResendStoredResult(client, batch_id, job.job_id()))) {
     if (inserted) {  // finished records are not kept (FinishJob): the journal has it
       batch.jobs.erase(entry);
       --jobs_held_;
@@ -223,7 +229,7 @@ void BrokerCore::OnClientCancel(const std::string& client, const v1::Cancel& can
   auto owner = clients_.find(client);
   if (owner != clients_.end()) owner->second.batches.erase(cancel.batch_id());
   Log("client " + batch->second.client_id + " cancelled batch " + cancel.batch_id());
-  DropBatch(cancel.batch_id());
+  DropBatch(cancel.batch_id(), "batch " + cancel.batch_id() + " cancelled by its client");
 }
 
 void BrokerCore::OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect) {
@@ -236,7 +242,7 @@ void BrokerCore::PurgeLostClients() {
   for (const auto& [client, record] : clients_) {
     if (record.expiry <= now_) silent.emplace_back(client, record.liveness_period);
   }
-  for (const auto& [client, period] : silent) DropClient(client, "silent for " + Seconds(period), true);
+  for (const auto& [client, period] : silent) OrphanClient(client, "silent for " + Seconds(period));
 }
 
 void BrokerCore::PurgeUnclaimedBatches() {
@@ -247,8 +253,8 @@ void BrokerCore::PurgeUnclaimedBatches() {
   for (const std::string& batch_id : unclaimed) {
     ++counters_.batches_unclaimed;
     Log("batch " + batch_id + " of client " + batches_.at(batch_id).client_id +
-        " dropped: restored from the journal, but its client did not come back");
-    DropBatch(batch_id);
+        " dropped: its client did not come back in time");
+    DropBatch(batch_id, "batch " + batch_id + " dropped: its client did not come back in time");
   }
 }
 
@@ -302,6 +308,20 @@ void BrokerCore::RestoreJob(JournalJob&& stored, std::uint64_t& in_flight) {
   ++counters_.jobs_restored;
 }
 
+bool BrokerCore::ResendHeldResult(const std::string& client, Batch& batch, const std::string& job_id) {
+  auto held = batch.held_results.find(job_id);
+  if (held == batch.held_results.end()) return false;
+  v1::BrokerToClient message;
+  message.set_protocol_version(kProtocolVersion);
+  message.mutable_result()->Swap(&held->second);
+  batch.held_results.erase(held);
+  if (transport_.SendToClient(client, message)) {
+    ++counters_.results_delivered;
+    ++counters_.results_resent;
+  }
+  return true;
+}
+
 bool BrokerCore::ResendStoredResult(const std::string& client, const std::string& batch_id,
                                     const std::string& job_id) {
   std::optional<v1::Result> stored = journal_->Result(batch_id, job_id);
@@ -319,17 +339,33 @@ bool BrokerCore::ResendStoredResult(const std::string& client, const std::string
 // ---------------------------------------------------------------------------------------------------------------
 // The queue and batches
 
+// The next job of the first batch in the rotation; the batch then goes to the back while it has more.
 bool BrokerCore::PopQueued(JobKey& key) {
-  while (!queue_.empty()) {
-    QueueEntry entry = std::move(queue_.front());
-    queue_.pop_front();
-    const JobRecord* record = FindJob({entry.batch_id, entry.job_id});
-    if (record == nullptr) continue;  // its client left, or it was answered
-    if (record->state != JobState::kQueued || record->ticket != entry.ticket) continue;  // stale entry
-    key = {std::move(entry.batch_id), std::move(entry.job_id)};
-    return true;
+  while (!rotation_.empty()) {
+    const std::string batch_id = std::move(rotation_.front());
+    rotation_.pop_front();
+    auto batch = batches_.find(batch_id);
+    if (batch == batches_.end()) continue;  // dropped since it was listed
+    Batch& record = batch->second;
+    record.in_rotation = false;
+    while (!record.queue.empty()) {
+      QueueEntry entry = std::move(record.queue.front());
+      record.queue.pop_front();
+      auto job = record.jobs.find(entry.job_id);
+      if (job == record.jobs.end()) continue;  // answered
+      if (job->second.state != JobState::kQueued || job->second.ticket != entry.ticket) continue;  // stale entry
+      if (record.queued > 1) Rotate(batch_id, record);  // its other jobs wait for their turn
+      key = {batch_id, std::move(entry.job_id)};
+      return true;
+    }
   }
   return false;
+}
+
+void BrokerCore::Rotate(const std::string& batch_id, Batch& batch) {
+  if (batch.in_rotation) return;
+  rotation_.push_back(batch_id);
+  batch.in_rotation = true;
 }
 
 BrokerCore::JobRecord* BrokerCore::FindJob(const JobKey& key) {
@@ -345,12 +381,15 @@ void BrokerCore::Enqueue(const std::string& batch_id, JobRecord& record, bool at
   record.lease = 0;
   record.ticket = next_ticket_++;  // older entries of this job become stale
   if (journal_) journal_->SaveQueued(batch_id, record.job, record.ticket, record.losses, record.lost_by);
-  QueueEntry entry{batch_id, record.job.job_id(), record.ticket};
+  QueueEntry entry{record.job.job_id(), record.ticket};
+  Batch& batch = *record.batch;
+  CompactQueue(batch);  // earlier entries of requeued jobs are stale
   if (at_front) {
-    queue_.push_front(std::move(entry));
+    batch.queue.push_front(std::move(entry));
   } else {
-    queue_.push_back(std::move(entry));
+    batch.queue.push_back(std::move(entry));
   }
+  Rotate(batch_id, batch);
 }
 
 void BrokerCore::NoteJobHeld() {
@@ -380,7 +419,7 @@ void BrokerCore::DropClient(const std::string& client, const std::string& reason
     auto batch = batches_.find(batch_id);
     if (batch == batches_.end() || batch->second.client != client) continue;
     for (const auto& [job_id, job] : batch->second.jobs) pending += job.state != JobState::kFinished ? 1 : 0;
-    DropBatch(batch_id);
+    DropBatch(batch_id, "batch " + batch_id + " ended: its client " + reason);
   }
   if (!lost) {
     Log("client " + record.client_id + " " + reason +
@@ -395,29 +434,55 @@ void BrokerCore::DropClient(const std::string& client, const std::string& reason
   }
 }
 
-void BrokerCore::DropBatch(const std::string& batch_id) {
-  auto batch = batches_.find(batch_id);
-  if (batch == batches_.end()) return;
-  for (auto& [job_id, record] : batch->second.jobs) SetState(record, JobState::kFinished);
-  jobs_held_ -= batch->second.jobs.size();
-  batches_.erase(batch);
-  if (journal_) journal_->DropBatch(batch_id);
-  CompactQueue();  // the queue entries of the batch are now stale
-}
-
-void BrokerCore::CompactQueue() {
-  if (queued_count_ == 0) {
-    queue_.clear();
+void BrokerCore::OrphanClient(const std::string& client, const std::string& reason) {
+  auto entry = clients_.find(client);
+  if (entry == clients_.end()) return;
+  const Client record = std::move(entry->second);
+  clients_.erase(entry);
+  std::uint64_t pending = 0;
+  std::uint64_t orphaned = 0;
+  for (const std::string& batch_id : record.batches) {
+    auto batch = batches_.find(batch_id);
+    if (batch == batches_.end() || batch->second.client != client) continue;
+    if (batch->second.jobs.empty()) continue;  // nothing pending: nothing to come back for
+    pending += batch->second.jobs.size();
+    batch->second.client.clear();
+    batch->second.claim_deadline = now_ + options_.client_grace;
+    ++orphaned;
+    ++counters_.batches_orphaned;
+  }
+  if (pending == 0) {
+    // A client stops heartbeating once it has every result: forgetting it is routine.
+    Log("client " + record.client_id + " forgotten (" + reason + ", nothing pending)");
     return;
   }
-  if (queue_.size() <= 2 * queued_count_ + kCompactSlack) return;
+  ++counters_.clients_lost;
+  Log("client " + record.client_id + " lost (" + reason + "); its " + std::to_string(orphaned) + " batches (" +
+      std::to_string(pending) + " pending jobs) wait " + Seconds(options_.client_grace) +
+      " for it to come back, then are dropped");
+}
+
+void BrokerCore::DropBatch(const std::string& batch_id, const std::string& why) {
+  auto batch = batches_.find(batch_id);
+  if (batch == batches_.end()) return;
+  RevokeLeases(batch->second, why);
+  for (auto& [job_id, record] : batch->second.jobs) SetState(record, JobState::kFinished);
+  jobs_held_ -= batch->second.jobs.size();
+  batches_.erase(batch);  // its queue and its rotation entry (skipped by PopQueued) go with it
+  if (journal_) journal_->DropBatch(batch_id);
+}
+
+void BrokerCore::CompactQueue(Batch& batch) {
+  if (batch.queue.size() <= 2 * batch.queued + kCompactSlack) return;
   std::deque<QueueEntry> live;
-  for (QueueEntry& entry : queue_) {
-    const JobRecord* record = FindJob({entry.batch_id, entry.job_id});
-    if (record == nullptr || record->state != JobState::kQueued || record->ticket != entry.ticket) continue;
+  for (QueueEntry& entry : batch.queue) {
+    auto job = batch.jobs.find(entry.job_id);
+    if (job == batch.jobs.end() || job->second.state != JobState::kQueued || job->second.ticket != entry.ticket) {
+      continue;
+    }
     live.push_back(std::move(entry));
   }
-  queue_ = std::move(live);
+  batch.queue = std::move(live);
 }
 
 void BrokerCore::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) {
@@ -447,8 +512,13 @@ void BrokerCore::FinishJob(Batch& batch, JobRecord& record, v1::Result& result) 
   v1::BrokerToClient message;
   message.set_protocol_version(kProtocolVersion);
   message.mutable_result()->Swap(&result);
-  // A restored batch whose client is not back yet: the journal keeps the result until the client asks again.
-  if (!batch.client.empty() && transport_.SendToClient(batch.client, message)) ++counters_.results_delivered;
+  // A batch nobody owns now (restored, or its client silent): the journal keeps the result until the client asks
+  // again, or, without one, the batch does.
+  if (batch.client.empty()) {
+    if (!journal_) batch.held_results[job_id] = std::move(*message.mutable_result());
+    return;
+  }
+  if (transport_.SendToClient(batch.client, message)) ++counters_.results_delivered;
 }
 
 void BrokerCore::FailJob(Batch& batch, JobRecord& record, v1::Result::Status status, const std::string& message) {

@@ -40,6 +40,14 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
                  "seconds a job without a time limit of its own may take before its lease runs out (default 3600; "
                  "the lease is 1.5 × the limit + 2 s + the liveness period, docs/protocol.md \"Leases\")")
       ->check(CLI::Range(0.001, 1e7));
+  double client_grace_seconds = 60.0;
+  app.add_option("--client-grace", client_grace_seconds,
+                 "seconds a silent client's batches wait for it to come back before they are dropped and their "
+                 "running jobs revoked (default 60; docs/protocol.md \"Endings\")")
+      ->check(CLI::Range(0.0, 86400.0));
+  app.add_option("--max-credit", o.max_credit,
+                 "most jobs one worker connection may hold at once, whatever credit it asks for (default 16)")
+      ->check(CLI::Range(1, 1024));
   StatusCommandOptions& status = parsed.status_options;
   CLI::App* status_command = app.add_subcommand(
       "status", "ask a running broker what it is doing: workers, batches, queue, jobs/s (docs/protocol.md, \"Status\")");
@@ -65,6 +73,7 @@ ParsedBrokerOptions ParseBrokerOptions(int argc, const char* const* argv) {
     }
     o.heartbeat_interval = std::chrono::milliseconds(std::lround(heartbeat_seconds * 1000.0));
     if (o.heartbeat_interval.count() < 1) o.heartbeat_interval = std::chrono::milliseconds(1);
+    o.client_grace = std::chrono::milliseconds(std::llround(client_grace_seconds * 1000.0));
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     parsed.exit_code = kExitOk;

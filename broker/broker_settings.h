@@ -20,6 +20,15 @@ struct BrokerOptions {
   std::chrono::milliseconds heartbeat_interval{1000};
   /// A worker or client silent for this many heartbeat intervals is declared lost.
   int liveness = 5;
+  /// A client silent for its liveness period keeps its batches this much longer: its jobs run on, their results
+  /// wait at the broker, and a SUBMIT with the batch's owner token (the client woke up and connected again) carries
+  /// on where it stopped. After it, the batches are dropped and their running jobs revoked. A client whose connection
+  /// closed, or that said DISCONNECT or CANCEL, gets no grace: nobody can come back with its token.
+  std::chrono::milliseconds client_grace{60000};
+  /// The most jobs one worker connection holds at once, whatever credit it asks for (Ready.credit up to 1024): a
+  /// peer asking 1024 would take the queue from every other worker, and one answering each job just before its
+  /// lease ends could stretch a batch to credit × lease. 16 is WorkerConnection's short-job credit.
+  std::uint32_t max_credit = 16;
   /// A job whose worker was lost this many times fails with status WORKER_LOST.
   int max_worker_losses = 3;
   /// SQLite file of the journal (docs/protocol.md, "Journal"): accepted jobs, dispatches and results survive a
@@ -69,6 +78,13 @@ struct BrokerStats {
   /// Connections on either socket that failed or closed during their handshake (CURVE only): refused keys, peers
   /// without CURVE, undecryptable ones, and connections closed before the handshake ended.
   std::uint64_t handshakes_failed = 0;
+  /// Dispatches revoked because their batch ended early (cancelled, client gone or past its grace): each freed its
+  /// worker's credit at once and sent the worker a REVOKE.
+  std::uint64_t leases_revoked = 0;
+  /// Batches kept for a silent client's grace period (BrokerOptions::client_grace).
+  std::uint64_t batches_orphaned = 0;
+  /// Orphaned batches claimed back by their client within its grace (a SUBMIT with the owner token).
+  std::uint64_t batches_reclaimed = 0;
   std::uint64_t crashes = 0;                ///< CRASHED results from workers (each is retried or ends a poisonous job)
   std::uint64_t jobs_poisoned = 0;          ///< jobs finished as CRASHED after max_crashes crashes
 };

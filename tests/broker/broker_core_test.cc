@@ -709,9 +709,9 @@ TEST_F(BrokerCoreTest, TheStatusFollowsWorkersJobsAndTheBatchAsTheyMove) {
   EXPECT_FALSE(w->busy());
 }
 
-// A batch dropped with its lost client and submitted again: the worker still runs the old job (its result will be
-// refused), and the status must not take the new, queued record of the same ids for the job it runs.
-TEST_F(BrokerCoreTest, TheStatusDoesNotMistakeAResubmittedJobForTheOneAWorkerStillRuns) {
+// A silent client's batch claimed back from a new connection: the job a worker runs is still that batch's (it was
+// neither dropped nor revoked), and the status shows it running there, not queued again.
+TEST_F(BrokerCoreTest, TheStatusShowsAReclaimedBatchsJobStillRunningOnItsWorker) {
   Submit("c", "b", {Job("j0")});
   Ready("w", 1);
   Dispatch();
@@ -720,17 +720,17 @@ TEST_F(BrokerCoreTest, TheStatusDoesNotMistakeAResubmittedJobForTheOneAWorkerSti
     WorkerHeartbeat("w");
     Tick();
   }
-  ASSERT_EQ(Stats().clients, 0);  // the client went silent: its batch went too
+  ASSERT_EQ(Stats().clients, 0);  // the client went silent: its connection is forgotten, its batch waits for it
   Submit("c2", "b", {Job("j0")});
   const v1::Status status = AskStatus("asker");
   const v1::WorkerStatus* worker = FindWorker(status, "w-name");
   ASSERT_NE(worker, nullptr);
   EXPECT_EQ(worker->holding(), 1u);
-  EXPECT_EQ(worker->current_job_id(), "") << "the job it runs is the dropped batch's";
-  EXPECT_EQ(worker->current_seconds(), 0.0);
+  EXPECT_EQ(worker->current_job_id(), "j0");
   ASSERT_EQ(status.batch_list_size(), 1);
-  EXPECT_EQ(status.batch_list(0).queued(), 1u);
-  EXPECT_EQ(status.batch_list(0).running(), 0u);
+  EXPECT_EQ(status.batch_list(0).queued(), 0u);
+  EXPECT_EQ(status.batch_list(0).running(), 1u);
+  EXPECT_EQ(Stats().jobs_dispatched, 1u);  // not run twice
 }
 
 TEST_F(BrokerCoreTest, TheStatusForgetsALostWorkerAndCountsIt) {
@@ -787,6 +787,148 @@ TEST_F(BrokerCoreCurveTest, OnlyTheOwnersKeySeesABatchsNamesJobsAndFailures) {
   EXPECT_EQ(owner.batch_list(0).recent_failures(0).message(), "secret detail");
   EXPECT_EQ(owner.worker_list(0).current_job_id(), "j1");
   EXPECT_EQ(owner.worker_list(0).recent_jobs(0).job_id(), "j0");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Endings (issue 47): a batch that ends early frees its workers at once; a silent client gets a grace period.
+
+namespace endings {
+
+// The leases a REVOKE to `worker` named, over every REVOKE it got.
+std::set<std::uint64_t> RevokedLeases(const RecordingTransport& transport, const std::string& worker) {
+  std::set<std::uint64_t> leases;
+  for (const auto& [peer, message] : transport.to_workers) {
+    if (peer == worker && message.has_revoke()) leases.insert(message.revoke().leases().begin(),
+                                                               message.revoke().leases().end());
+  }
+  return leases;
+}
+
+std::set<std::uint64_t> LeasesOf(const std::vector<v1::Job>& jobs) {
+  std::set<std::uint64_t> leases;
+  for (const v1::Job& job : jobs) leases.insert(job.lease());
+  return leases;
+}
+
+}  // namespace endings
+
+TEST_F(BrokerCoreTest, ACancelledBatchsRunningJobsAreRevokedAndTheirCreditServesTheNextBatchAtOnce) {
+  Submit("c", "b", {Job("j0"), Job("j1"), Job("j2")});
+  Ready("w", 2);
+  Dispatch();
+  const std::vector<v1::Job> held = transport_.Jobs("w");
+  ASSERT_EQ(held.size(), 2u);
+  v1::ClientToBroker cancel;
+  cancel.mutable_cancel()->set_batch_id("b");
+  ClientSays("c", cancel);
+  EXPECT_EQ(endings::RevokedLeases(transport_, "w"), endings::LeasesOf(held));
+  EXPECT_THAT(transport_.LastToWorker("w").revoke().reason(), HasSubstr("batch b cancelled by its client"));
+  EXPECT_EQ(Stats().in_flight, 0u);
+  EXPECT_EQ(Stats().leases_revoked, 2u);
+  // Another user's batch gets the whole worker in the same turn, with no result of the old batch in between.
+  Submit("d", "next", {Job("n0"), Job("n1")}, std::string(16, '\x07'));
+  Dispatch();
+  ASSERT_EQ(transport_.Jobs("w").size(), 4u);
+  EXPECT_EQ(transport_.Jobs("w")[2].batch_id(), "next");
+  EXPECT_EQ(transport_.Jobs("w")[3].batch_id(), "next");
+  // The revoked jobs' results, should they still come, are refused and take no credit back twice.
+  Answer("w", held[0]);
+  EXPECT_EQ(Stats().results_refused, 1u);
+  EXPECT_EQ(Stats().in_flight, 2u);
+  EXPECT_TRUE(transport_.Results("c").empty());
+}
+
+TEST_F(BrokerCoreTest, AClientWhoseConnectionClosedHasItsRunningJobsRevokedAtTheNextHeartbeat) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 2);
+  Dispatch();
+  transport_.gone.insert("c");
+  Advance(seconds(1));
+  WorkerHeartbeat("w");
+  Tick();
+  EXPECT_EQ(endings::RevokedLeases(transport_, "w"), endings::LeasesOf(transport_.Jobs("w")));
+  EXPECT_EQ(Stats().in_flight, 0u);
+  EXPECT_EQ(Stats().batches, 0);
+}
+
+TEST_F(BrokerCoreTest, ASilentClientsBatchRunsOnThroughItsGraceAndIsClaimedBackWithTheResultsItMissed) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 1);
+  Dispatch();
+  for (int second = 0; second < 5; ++second) {  // the client is stopped (SIGSTOP): only the worker beats
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    Tick();
+  }
+  EXPECT_EQ(Stats().clients, 0);
+  EXPECT_EQ(Stats().batches, 1);
+  EXPECT_EQ(Stats().batches_orphaned, 1u);
+  EXPECT_TRUE(endings::RevokedLeases(transport_, "w").empty());  // nothing is revoked within the grace
+  EXPECT_TRUE(Logged("wait 60.0 s for it to come back"));
+  Answer("w", transport_.Jobs("w").at(0));  // finishes while nobody owns the batch: held for its owner
+  Dispatch();
+  ASSERT_EQ(transport_.Jobs("w").size(), 2u);
+  EXPECT_EQ(Stats().results_delivered, 0u);
+  // The client wakes, is told the broker forgot it, connects again and submits what it has no result for.
+  Submit("c-again", "b", {Job("j0"), Job("j1")});
+  EXPECT_EQ(Stats().batches_reclaimed, 1u);
+  ASSERT_EQ(transport_.Results("c-again").size(), 1u);
+  EXPECT_EQ(transport_.Results("c-again")[0].job_id(), "j0");
+  EXPECT_EQ(Stats().jobs_dispatched, 2u);  // j0 was not run again, j1 is still running
+  Answer("w", transport_.Jobs("w").at(1));
+  ASSERT_EQ(transport_.Results("c-again").size(), 2u);
+  EXPECT_EQ(transport_.Results("c-again")[1].job_id(), "j1");
+}
+
+TEST_F(BrokerCoreTest, ASilentClientsBatchIsDroppedAfterItsGraceAndItsRunningJobsRevoked) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 1);
+  Dispatch();
+  for (int second = 0; second < 5 + 60; ++second) {
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    Tick();
+    if (second == 5 + 58) {
+      EXPECT_EQ(Stats().batches, 1) << "dropped before its grace ended";
+    }
+  }
+  EXPECT_EQ(Stats().batches, 0);
+  EXPECT_EQ(Stats().batches_unclaimed, 1u);
+  EXPECT_EQ(endings::RevokedLeases(transport_, "w"), endings::LeasesOf(transport_.Jobs("w")));
+  EXPECT_EQ(Stats().in_flight, 0u);
+  EXPECT_EQ(Stats().queued, 0u);
+}
+
+TEST_F(BrokerCoreTest, ASmallBatchBehindABigOneStartsAtOnce) {
+  std::vector<v1::Job> big;
+  for (int i = 0; i < 100; ++i) big.push_back(Job("big" + std::to_string(i)));
+  Submit("c", "big", big);
+  Submit("d", "small", {Job("s0"), Job("s1")}, std::string(16, '\x07'));
+  Ready("w", 2);
+  Dispatch();
+  const std::vector<v1::Job> first = transport_.Jobs("w");
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_EQ(first[0].batch_id(), "big");
+  EXPECT_EQ(first[1].batch_id(), "small");  // the batches take turns, not first come first served
+  Answer("w", first[0]);
+  Answer("w", first[1]);
+  Dispatch();
+  const std::vector<v1::Job> all = transport_.Jobs("w");
+  ASSERT_EQ(all.size(), 4u);
+  EXPECT_EQ(all[2].batch_id(), "big");
+  EXPECT_EQ(all[3].job_id(), "s1");
+}
+
+TEST_F(BrokerCoreTest, AWorkerAskingForMoreCreditThanTheCapHoldsTheCapAndNoMore) {
+  std::vector<v1::Job> jobs;
+  for (int i = 0; i < 100; ++i) jobs.push_back(Job("j" + std::to_string(i)));
+  Submit("c", "b", jobs);
+  Ready("greedy", 1024);
+  Ready("w", 2);
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("greedy").size(), 16u);  // BrokerOptions::max_credit
+  EXPECT_EQ(transport_.Jobs("w").size(), 2u);
+  EXPECT_TRUE(Logged("joined with credit 16 (asked for 1024; --max-credit)"));
 }
 
 }  // namespace
