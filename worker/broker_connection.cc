@@ -1,10 +1,12 @@
 #include "worker/broker_connection.h"
 
+#include <sys/eventfd.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <iostream>
 #include <stdexcept>
@@ -71,7 +73,9 @@ WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
     : options_(Checked(std::move(options))),
       worker_id_(options_.worker_id.empty() ? DefaultWorkerId() : options_.worker_id),
       dealer_(net::DealerOptionsFor<v1::WorkerToBroker>(options_, "worker", "WorkerConnection",
-                                                         [this](const std::string& line) { Log(line); })) {
+                                                         [this](const std::string& line) { Log(line); })),
+      revoked_fd_(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)) {
+  if (revoked_fd_ < 0) throw std::runtime_error(std::string("WorkerConnection: eventfd: ") + std::strerror(errno));
   wanted_credit_ = options_.credit;
   io_thread_ = std::thread([this] { IoLoop(); });
 }
@@ -84,6 +88,7 @@ WorkerConnection::~WorkerConnection() {
   job_arrived_.notify_all();
   dealer_.Wake();
   io_thread_.join();
+  ::close(revoked_fd_);
 }
 
 std::optional<v1::Job> WorkerConnection::NextJob(std::chrono::milliseconds timeout) {
@@ -112,6 +117,14 @@ void WorkerConnection::SendResult(v1::Result result) {
       result.set_lease(lease->second);
       leases_.erase(lease);
     }
+    if (revoked_in_hand_.erase(result.lease()) > 0) {  // nobody waits for it: its credit is free already
+      if (revoked_in_hand_.empty()) {
+        std::uint64_t count = 0;
+        [[maybe_unused]] const ssize_t drained = ::read(revoked_fd_, &count, sizeof count);
+      }
+      if (in_hand_ > 0) --in_hand_;
+      return;
+    }
     outbox_.push_back(std::move(result));
     if (in_hand_ == 1 && options_.short_job_credit > options_.credit) {  // one job in hand: its time is exact
       if (now - taken_at_ < options_.short_job) {
@@ -124,6 +137,11 @@ void WorkerConnection::SendResult(v1::Result result) {
     if (in_hand_ > 0) --in_hand_;
   }
   dealer_.Wake();
+}
+
+bool WorkerConnection::Revoked(const v1::Job& job) const {
+  std::lock_guard lock(mutex_);
+  return revoked_in_hand_.count(job.lease()) > 0;
 }
 
 WorkerConnectionStats WorkerConnection::stats() const {
@@ -302,9 +320,32 @@ WorkerConnection::Heard WorkerConnection::OnBrokerMessage(const zmq::message_t& 
     case v1::BrokerToWorker::kHeartbeat:
       dealer_.NotePeerInterval(std::chrono::milliseconds(in_.heartbeat().interval_ms()));
       break;
+    case v1::BrokerToWorker::kRevoke: OnRevoke(in_.revoke()); break;
     case v1::BrokerToWorker::BODY_NOT_SET: break;
   }
   return Heard::kAlive;
+}
+
+// Jobs not started yet are dropped here; a running one is marked, and the caller polling revoked_fd() stops it.
+void WorkerConnection::OnRevoke(const v1::Revoke& revoke) {
+  const std::set<std::uint64_t> leases(revoke.leases().begin(), revoke.leases().end());
+  std::size_t unstarted = 0;
+  std::size_t running = 0;
+  {
+    std::lock_guard lock(mutex_);
+    unstarted = std::erase_if(jobs_, [&](const v1::Job& job) { return leases.count(job.lease()) > 0; });
+    for (const auto& [key, lease] : leases_) {
+      if (leases.count(lease) > 0 && revoked_in_hand_.insert(lease).second) ++running;
+    }
+    stats_.jobs_revoked += unstarted + running;
+  }
+  if (running > 0) {
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const ssize_t written = ::write(revoked_fd_, &one, sizeof one);
+  }
+  if (unstarted + running == 0) return;  // answered already
+  Log("the broker revoked " + std::to_string(unstarted + running) + " jobs (" + revoke.reason() + "): " +
+      std::to_string(running) + " running stopped, " + std::to_string(unstarted) + " not started dropped");
 }
 
 // Answers a job of another protocol version, so that the broker gets its credit back and the client learns why.

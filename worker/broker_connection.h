@@ -71,6 +71,7 @@ struct WorkerConnectionStats {
   std::uint32_t credit = 0;            ///< the credit last announced (READY) on the current connection
   std::uint64_t credit_changes = 0;    ///< READY messages sent on an open connection to change the credit
   std::uint64_t handshake_failures = 0;  ///< CURVE handshakes that failed (the broker refused the key, ...)
+  std::uint64_t jobs_revoked = 0;        ///< jobs the broker revoked (REVOKE): dropped unstarted or stopped running
 };
 
 /// A worker's connection to the broker. All public functions are thread-safe.
@@ -95,8 +96,16 @@ class WorkerConnection {
 
   /// Sends the result of a job NextJob returned (one result per job; it gives the broker back one credit).
   /// `result.job_id` and `result.batch_id` must be the job's; protocol_version and the job's lease token are set
-  /// and an empty worker_id is filled in here. Returns at once: the I/O thread sends it.
+  /// and an empty worker_id is filled in here. Returns at once: the I/O thread sends it. The result of a job the
+  /// broker revoked meanwhile is dropped instead (the broker freed its credit already and waits for nothing).
   void SendResult(v1::Result result);
+
+  /// Whether the broker revoked `job` (one NextJob returned, its result not yet given): its batch ended early, and
+  /// the caller should stop it and hand SendResult whatever it has.
+  bool Revoked(const v1::Job& job) const;
+  /// A descriptor that is readable while a job in the caller's hands is revoked (an eventfd): poll it beside a
+  /// running job to stop it at once. Owned by the connection.
+  int revoked_fd() const { return revoked_fd_; }
 
   /// The name the worker announced (WorkerConnectionOptions::worker_id or its default).
   const std::string& worker_id() const { return worker_id_; }
@@ -121,6 +130,7 @@ class WorkerConnection {
   void Reconnect(const std::string& why);
   Heard OnBrokerMessage(const zmq::message_t& payload);
   void AnswerWrongVersionJob(const v1::Job& job);
+  void OnRevoke(const v1::Revoke& revoke);
   void DropMessage(const std::string& why);
   void AnnounceCredit(int credit);
   void Log(const std::string& line) const;
@@ -151,6 +161,10 @@ class WorkerConnection {
   std::chrono::steady_clock::time_point taken_at_;  ///< when NextJob last handed out a job
   int short_in_a_row_ = 0;                    ///< short jobs since the last long one (or the last reset)
   int wanted_credit_ = 0;                     ///< the credit the I/O thread should announce
+  /// Leases of jobs in the caller's hands that the broker revoked, until their SendResult; revoked_fd_ is readable
+  /// while it is not empty.
+  std::set<std::uint64_t> revoked_in_hand_;
+  const int revoked_fd_;  ///< eventfd: see revoked_fd()
 
   std::thread io_thread_;  ///< last: starts after everything above exists
 };

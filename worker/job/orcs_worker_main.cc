@@ -100,7 +100,9 @@ int main(int argc, char** argv) {
   while (!stop_requested.load()) {
     std::optional<orcs::v1::Job> job = connection->NextJob(kPollInterval);
     if (!job) continue;
-    orcs::v1::Result result = sandbox ? sandbox->Run(*job) : orcs::worker::RunJob(*job);
+    // A revoked job (its batch ended) stops at once in the sandbox; its result is then dropped by SendResult.
+    const orcs::worker::RunStop revoked{connection->revoked_fd(), [&] { return connection->Revoked(*job); }};
+    orcs::v1::Result result = sandbox ? sandbox->Run(*job, revoked) : orcs::worker::RunJob(*job);
     if (result.status() == orcs::v1::Result::CRASHED) {
       options.log("job " + job->job_id() + ": " + result.message() + "; the next job gets a new one");
     }

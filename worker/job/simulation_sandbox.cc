@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -135,7 +136,7 @@ Clock::duration SimulationSandbox::Grace(double time_limit_seconds) {
   return ToDuration(1.0 + 0.25 * time_limit_seconds);
 }
 
-v1::Result SimulationSandbox::Run(const v1::Job& job) {
+v1::Result SimulationSandbox::Run(const v1::Job& job, const RunStop& stop) {
   const Clock::time_point start = Clock::now();
   out_.clear();
   job.SerializeToString(&out_);
@@ -155,6 +156,10 @@ v1::Result SimulationSandbox::Run(const v1::Job& job) {
   const Clock::time_point deadline = limit > 0 && limit <= kLongestWatchedLimit
                                          ? start + ToDuration(limit) + SimulationSandbox::Grace(limit)
                                          : Clock::time_point::max();
+  if (StoppedBeforeAnswer(stop, deadline)) {
+    Stop();
+    return Failed(job, v1::Result::INTERNAL_ERROR, "stopped: the broker revoked the job", start);
+  }
   v1::Result result;
   switch (FrameChannel(fd_).Read(in_, deadline)) {
     case FrameChannel::ReadStatus::kOk:
@@ -174,6 +179,23 @@ v1::Result SimulationSandbox::Run(const v1::Job& job) {
       break;
   }
   return DiedWhileRunning(job, Reap(), start);
+}
+
+bool SimulationSandbox::StoppedBeforeAnswer(const RunStop& stop, Clock::time_point deadline) {
+  if (stop.fd < 0) return false;
+  while (true) {
+    pollfd items[2] = {{fd_, POLLIN, 0}, {stop.fd, POLLIN, 0}};
+    int timeout = -1;
+    if (deadline != Clock::time_point::max()) {
+      const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()).count();
+      timeout = static_cast<int>(std::clamp<long long>(left, 0, 1 << 30));
+    }
+    const int ready = ::poll(items, 2, timeout);
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0 || items[0].revents != 0) return false;  // the answer (or the deadline) is for Read to see
+    if (stop.stop && stop.stop()) return true;
+    return false;  // readable for another job's sake: wait for this one's answer as usual
+  }
 }
 
 bool SimulationSandbox::Idle() const {

@@ -21,6 +21,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,13 @@ namespace orcs::worker {
 struct SandboxLimits {
   /// Its address space (RLIMIT_AS), bytes; 0 = no limit. Allocations past it fail: the job is CRASHED.
   std::uint64_t memory_bytes = 0;
+};
+
+/// How a running job can be stopped from outside: `fd` becomes readable (e.g. WorkerConnection::revoked_fd()) and
+/// `stop()` then says whether this job is the one to stop. Default: never.
+struct RunStop {
+  int fd = -1;                  ///< polled beside the simulation process; -1 = nothing to watch
+  std::function<bool()> stop;   ///< asked when `fd` is readable; true = kill the process and return at once
 };
 
 /// The parent's side: runs jobs in the simulation process, one at a time. Not thread-safe; the thread that
@@ -49,8 +57,9 @@ class SimulationSandbox {
 
   /// Runs `job` in the simulation process (starting a new one when the last one died) and returns its result;
   /// CRASHED, TIMEOUT (see the top of this file) or INTERNAL_ERROR (no process could be started) otherwise.
-  /// Never throws.
-  v1::Result Run(const v1::Job& job);
+  /// When `stop` fires (the broker revoked the job) the process is killed at once and the result is INTERNAL_ERROR
+  /// "stopped: ..." (nobody reads it: the caller drops it). Never throws.
+  v1::Result Run(const v1::Job& job, const RunStop& stop = {});
 
   /// The simulation process's pid; -1 when none is running (it died and the next Run starts one).
   pid_t child_pid() const { return pid_; }
@@ -64,6 +73,8 @@ class SimulationSandbox {
   void Start();
   // Applies limits_.memory_bytes to the process just started; kills it and throws when that fails.
   void LimitMemory();
+  // Waits until the process has something to say, `stop` fires (true) or `deadline` passes.
+  bool StoppedBeforeAnswer(const RunStop& stop, std::chrono::steady_clock::time_point deadline);
   // Whether a process is running and waiting for a job (its end of the channel is open and silent).
   bool Idle() const;
   // Kills the process (if still running) and reaps it; returns its wait status.

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/eventfd.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -309,6 +310,32 @@ TEST(SimulationSandbox, GraceGrowsWithTheLimit) {
   using std::chrono::duration;
   EXPECT_DOUBLE_EQ(duration<double>(SimulationSandbox::Grace(0.0)).count(), 1.0);
   EXPECT_DOUBLE_EQ(duration<double>(SimulationSandbox::Grace(60.0)).count(), 16.0);
+}
+
+// Issue 47: a job the broker revoked stops at once — the simulation process is killed — and the next job runs in a
+// fresh one; a stop signal meant for another job (stop() false) changes nothing.
+TEST(SimulationSandbox, ARevokedJobStopsAtOnceAndTheNextRunsInAFreshProcess) {
+  SimulationSandbox sandbox(ChildArguments());
+  const int signal = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+  ASSERT_GE(signal, 0);
+  // Revoked as it is handed over: a job of 600 simulated seconds that returns at all was stopped.
+  const pid_t running = sandbox.child_pid();
+  const std::uint64_t signalled = 1;
+  ASSERT_EQ(::write(signal, &signalled, sizeof signalled), static_cast<ssize_t>(sizeof signalled));
+  const v1::Result result = sandbox.Run(Job("long", 600.0), RunStop{signal, [] { return true; }});
+  EXPECT_EQ(result.status(), v1::Result::INTERNAL_ERROR);
+  EXPECT_THAT(result.message(), HasSubstr("revoked"));
+  EXPECT_FALSE(Running(running)) << "killed and reaped";
+  std::uint64_t drained = 0;
+  ASSERT_EQ(::read(signal, &drained, sizeof drained), static_cast<ssize_t>(sizeof drained));
+
+  // A readable signal whose stop() says "not this job" lets the job finish as usual.
+  const std::uint64_t one = 1;
+  ASSERT_EQ(::write(signal, &one, sizeof one), static_cast<ssize_t>(sizeof one));
+  const v1::Result after = sandbox.Run(Job("after", 0.1), RunStop{signal, [] { return false; }});
+  EXPECT_EQ(after.status(), v1::Result::OK) << after.message();
+  EXPECT_EQ(sandbox.processes_started(), 2);
+  ::close(signal);
 }
 
 }  // namespace
