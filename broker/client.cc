@@ -175,7 +175,9 @@ bool BatchClient::Active() const {
 void BatchClient::Serve() {
   std::deque<std::vector<v1::Job>> taken;
   while (true) {
-    const net::DealerConnection::PollEvents events = dealer_.Poll(WakeAt());
+    const std::optional<Clock::time_point> wake_at = WakeAt();
+    const net::DealerConnection::PollEvents events = dealer_.Poll(wake_at);
+    ExcuseOversleep(wake_at);
     bool stopping = false;
     bool failed = false;
     {
@@ -193,6 +195,17 @@ void BatchClient::Serve() {
     taken.clear();
     if (events.readable) ReadBrokerMessages();
     if (Active()) CheckBroker(Clock::now());
+  }
+}
+
+// A poll that returned far later than it was due means this process was stopped (SIGSTOP, ^Z): the broker had no
+// chance to be heard meanwhile, so its silence is excused and it is asked again before anything is judged.
+void BatchClient::ExcuseOversleep(std::optional<Clock::time_point> wake_at) {
+  if (!wake_at || !Active()) return;
+  const Clock::duration late = Clock::now() - *wake_at;
+  if (late > options_.heartbeat_interval * 2) {
+    dealer_.ExcuseAbsence(late);
+    if (!heard_) active_since_ += late;
   }
 }
 

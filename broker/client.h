@@ -121,6 +121,8 @@ class BatchClient {
   void IoLoop();
   void Serve();
   std::optional<Clock::time_point> WakeAt() const;
+  /// Excuses the broker's silence while this process was stopped (see DealerConnection::ExcuseAbsence).
+  void ExcuseOversleep(std::optional<Clock::time_point> wake_at);
   void SubmitTaken(std::deque<std::vector<v1::Job>>& taken, bool failed);
   void ReadBrokerMessages();
   void CheckBroker(Clock::time_point now);

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cerrno>
 #include <cstdint>
 #include <stdexcept>
@@ -169,6 +170,14 @@ void DealerConnection::MarkHeard() {
   if (!warned_silence_) return;
   options_.log("the broker at " + options_.endpoint + " answers again");
   warned_silence_ = false;
+}
+
+void DealerConnection::ExcuseAbsence(Clock::duration gap) {
+  if (last_heard_ != Clock::time_point{}) last_heard_ += gap;
+  last_open_ += gap;
+  next_heartbeat_ = Clock::now();
+  options_.log("this process did not run for " + std::to_string(std::lround(std::chrono::duration<double>(gap).count())) +
+               " s (stopped?): asking the broker at " + options_.endpoint + " again before judging it");
 }
 
 DealerConnection::Clock::time_point DealerConnection::liveness_deadline() const {

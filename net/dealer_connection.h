@@ -135,6 +135,10 @@ class DealerConnection {
 
   /// A valid message came: the broker is alive. Logs "answers again" after ReportSilence().
   void MarkHeard();
+  /// This process did not run for `gap` (it was stopped: SIGSTOP, a suspended laptop, a debugger): the broker's
+  /// silence during it is not the broker's, so the liveness clocks move on by `gap` and the next heartbeat is due
+  /// now. Without this a client woken after 35 s gave up at once without asking the broker once.
+  void ExcuseAbsence(Clock::duration gap);
   /// When the broker was last heard (the epoch when never).
   Clock::time_point last_heard() const { return last_heard_; }
   /// When the broker counts as lost: one liveness period after it was last heard or the socket opened, whichever
