@@ -6,6 +6,7 @@
 //    command, no worker of the run is left, and that command finishes the run with the bits of an uninterrupted one.
 //  - A second Ctrl-C while the first is being handled (workers busy with long jobs): exit within 1 s of it, nothing
 //    left running, and the folder still resumes to the same bits.
+//  - orcs-gap, which has no resume: exit 130 within 5 s, saying so.
 // The waits are on conditions (a file's lines, a progress field) with deadlines, never fixed sleeps.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -42,6 +43,8 @@ using ::testing::HasSubstr;
 using Clock = std::chrono::steady_clock;
 
 const std::string kBatch = ORCS_BINARY_DIR "/bin/orcs-batch";
+const std::string kGap = ORCS_BINARY_DIR "/bin/orcs-gap";
+const std::string kMotions = ORCS_SOURCE_DIR "/scenarios/motions/";
 constexpr int kExitInterrupted = 130;
 
 // The A-Series swinging its hips for `duration` simulated seconds under two drawn parameter sets, with an evolution
@@ -323,6 +326,36 @@ TEST_F(CtrlCTest, ASecondCtrlCExitsWithinOneSecondKillsTheWorkersAndLeavesAResum
   const std::vector<std::string> after = Lines(ReadIfThere(Out("cut") + "/results.jsonl"));
   ASSERT_EQ(after.size(), 4u) << "one line per job";
   EXPECT_EQ(ByJob(after), ByJob(Lines(ReadIfThere(Out("whole") + "/results.jsonl"))));
+}
+
+// orcs-gap has no resume: one Ctrl-C abandons the diagnosis (every fit's wait stops), says so and to run it again,
+// and exits 130 within 5 s with nothing left running.
+TEST_F(CtrlCTest, GapAbandonsItsDiagnosisOnOneCtrlCSaysItHasNoResumeAndExitsWithinFiveSeconds) {
+  const std::string data = Out("data");
+  const ProcessResult made = RunProcess({kGap, "synth", "--rig", "pendulum", "--motion",
+                                         kMotions + "pendulum_identification_a.csv",
+                                         kMotions + "pendulum_identification_b.csv", "--duration", "2", "--out", data});
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  BackgroundProcess command({kGap, "--rig", "pendulum", "--measured", data + "/pendulum_identification_a.csv",
+                             "--holdout", data + "/pendulum_identification_b.csv", "--workers", "2",
+                             "--generations", "40", "--out", Out("report")},
+                            /*own_process_group=*/true);
+  const std::vector<ProcInfo> workers = ExpectWorkersInTheirOwnGroups(command);
+  ASSERT_TRUE(AwaitWhileRunning(command, [&] { return command.err().find("orcs-gap: fitting") != std::string::npos; }))
+      << command.err();
+
+  const Clock::time_point signalled = Clock::now();
+  command.SignalGroup(SIGINT);
+  const std::optional<ProcessResult> ended = command.Wait(milliseconds(5000));
+  ASSERT_TRUE(ended.has_value()) << "still running 5 s after Ctrl-C";
+  const double seconds = SecondsSince(signalled);
+  std::cout << "[ measured ] orcs-gap: exit " << seconds << " s after one Ctrl-C\n";
+  EXPECT_LT(seconds, 5.0);
+  EXPECT_EQ(ended->exit_code, kExitInterrupted) << ended->err;
+  EXPECT_THAT(ended->err, HasSubstr("orcs-gap has no resume: run the same command again"));
+  EXPECT_EQ(Progress(Out("report")).value_or(nlohmann::json())["state"], "interrupted");
+  EXPECT_FALSE(fs::exists(Out("report") + "/report.md"));
+  ExpectNoneLeft(workers);
 }
 
 }  // namespace
