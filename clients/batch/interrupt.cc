@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 
 namespace orcs::batch {
@@ -22,9 +23,9 @@ constexpr std::size_t kMaxGroups = 4096;
 std::atomic<pid_t> worker_groups[kMaxGroups];  // 0 = a free slot
 
 constexpr std::size_t kMaxHint = 1024;
-constexpr char kDefaultHint[] = "stopped at once (a second Ctrl-C)\n";
-char hint[kMaxHint] = "stopped at once (a second Ctrl-C)\n";
-std::atomic<std::size_t> hint_size{sizeof kDefaultHint - 1};
+char hint[kMaxHint];
+std::atomic<std::size_t> hint_size{0};
+std::atomic<bool> hint_set{false};  // by SetInterruptHint; else CatchInterrupts sets "PROGRAM: stopped at once"
 
 void WriteAll(const char* text, std::size_t size) {
   while (size > 0) {
@@ -62,6 +63,9 @@ bool SafeInWord(char c) {
 
 void CatchInterrupts() {
   if (caught.exchange(true)) return;
+  if (!hint_set.load()) {
+    SetInterruptHint(std::string(program_invocation_short_name) + ": stopped at once (a second Ctrl-C)");
+  }
   struct sigaction action = {};
   action.sa_handler = OnInterrupt;
   sigemptyset(&action.sa_mask);
@@ -75,6 +79,7 @@ void CatchInterrupts() {
 const std::atomic<bool>& InterruptFlag() { return interrupted; }
 
 void SetInterruptHint(const std::string& line) {
+  hint_set.store(true);
   hint_size.store(0);
   const std::string text = line.empty() || line.back() == '\n' ? line : line + "\n";
   const std::size_t size = std::min(text.size(), kMaxHint);
