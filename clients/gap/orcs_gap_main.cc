@@ -162,8 +162,8 @@ int Diagnose(const GapOptions& o) {
       result = Diagnose(replays, rig, fit, holdout, model, options);
     } catch (const batch::Interrupted&) {
       file.Finish("interrupted");
-      std::cerr << "orcs-gap: interrupted (Ctrl-C or SIGTERM): the diagnosis is abandoned and " << o.out
-                << " holds no report; orcs-gap has no resume: run the same command again\n";
+      std::cerr << "orcs-gap: interrupted (Ctrl-C or SIGTERM): the diagnosis is abandoned and no report is written "
+                   "to " << o.out << "; orcs-gap has no resume: run the same command again\n";
       return batch::kExitInterrupted;
     }
   }
