@@ -3,13 +3,11 @@
 // broker and local orcs-worker processes — the one-machine default with no set-up; `submit` and `sweep --broker`
 // use a running broker; `resolve` prints a scenario with its files inlined; `regress` runs a suite against its
 // baseline (docs/regress.md). Every input is checked before anything is submitted. Exit 0 when every job ran ok
-// (regress: every case passed), 1 when some failed (or the batch was interrupted), 2 on bad input or when no
-// broker answers.
+// (regress: every case passed), 1 when some failed, 2 on bad input or when no broker answers, 130 when Ctrl-C or
+// SIGTERM stopped it (clients/batch/interrupt.h; it says how to resume).
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -21,6 +19,7 @@
 #include "net/status_client.h"
 #include "clients/batch/batch_input.h"
 #include "clients/batch/batch_manifest.h"
+#include "clients/batch/interrupt.h"
 #include "clients/batch/plot_script.h"
 #include "clients/batch/progress_file.h"
 #include "clients/batch/run_comparison.h"
@@ -39,18 +38,6 @@
 
 namespace orcs::batch {
 namespace {
-
-std::atomic<bool> stop_requested{false};
-
-extern "C" void OnSignal(int) { stop_requested.store(true); }
-
-void CatchStopSignals() {
-  struct sigaction action = {};
-  action.sa_handler = OnSignal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
 
 // Everything decided before anything runs.
 struct Plan {
@@ -146,7 +133,7 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   progress.SetEarlier(plan.earlier_results.size());
   quiet.SetEarlier(plan.earlier_results.size());
   SessionOptions session;
-  session.stop = &stop_requested;
+  session.stop = &InterruptFlag();
   session.keep_results = options.command == Command::kSweep || plan.regress.has_value();
   session.earlier_results = plan.earlier_results;
   net::StatusClient status_client({endpoint, options.curve_keys, std::chrono::milliseconds(1000)});
@@ -168,8 +155,21 @@ int RunAgainst(const std::string& endpoint, const BatchOptions& options, const P
   file.Update(ProgressDisplay::Clock::now(), true);  // a batch waiting for its first worker shows its counts
   (options.quiet ? quiet : progress).WriteTo(&file);
   const BatchSummary summary = RunSession(client, plan.to_run(), writer, options.quiet ? quiet : progress, session);
-  if (!summary.interrupted) writer.Finish();
-  const std::string end = summary.interrupted ? "interrupted" : "finished";
+  if (summary.interrupted) {
+    // What arrived is in the partial file; no report of a batch with holes (a sweep's table, a regression's
+    // verdict): the resume writes them whole. The workers are stopped after this, by ~LocalCluster.
+    file.Finish("interrupted");
+    std::cout << SummaryText(summary, writer.results_path()) << std::flush;
+    std::cerr << "orcs-batch: interrupted (Ctrl-C or SIGTERM): " << summary.ok + summary.failed << " of "
+              << summary.jobs << " jobs have their result; "
+              << (plan.regress ? "regress has no --resume (its few cases run again in full): run the same command "
+                                 "again"
+                               : "continue with: " + ShellCommand(ResumeCommandLine(options, plan.out)))
+              << "\n";
+    return kExitInterrupted;
+  }
+  writer.Finish();
+  const std::string end = "finished";
   if (plan.regress) {
     const int code = regress::ReportRegression(*plan.regress, summary, writer.results_path(), std::cout);
     file.Finish(end);
@@ -236,8 +236,8 @@ int PrintComparison(const BatchOptions& options) {
 
 int Execute(const BatchOptions& given) {
   if (given.command == Command::kEvolve) {
-    CatchStopSignals();
-    return evolve::RunEvolve(given, &stop_requested);
+    CatchInterrupts();  // the resume hint is evolve's to set, once it knows its folder
+    return evolve::RunEvolve(given, &InterruptFlag());
   }
   if (given.command == Command::kResolve) return PrintResolved(given);
   if (given.command == Command::kCompare) return PrintComparison(given);
@@ -249,7 +249,12 @@ int Execute(const BatchOptions& given) {
   if (resuming) kept_bytes = PlanResume(plan);
   ResultsWriter writer(plan.out, resuming ? ResultsWriter::Start::kResume : ResultsWriter::Start::kNew, kept_bytes);
   if (!resuming && !plan.regress) WriteBatchManifest(plan.out, options, plan.input, plan.genomes);
-  CatchStopSignals();
+  // From here on the folder can be resumed: Ctrl-C stops in order, a second one at once (clients/batch/interrupt.h).
+  SetInterruptHint(plan.regress ? "orcs-batch: stopped at once (a second Ctrl-C); regress has no --resume: run the "
+                                  "same command again"
+                                : "orcs-batch: stopped at once (a second Ctrl-C); continue with: " +
+                                      ShellCommand(ResumeCommandLine(options, plan.out)));
+  CatchInterrupts();
   if (!options.broker.empty()) return RunAgainst(options.broker, options, plan, writer);
   LocalClusterOptions cluster_options;
   cluster_options.workers = LocalWorkerCount(options, plan.to_run().size());
@@ -273,6 +278,9 @@ int main(int argc, char** argv) {
   if (parsed.exit_code >= 0) return parsed.exit_code;
   try {
     return orcs::batch::Execute(parsed.options);
+  } catch (const orcs::batch::Interrupted& error) {  // what says how to resume has been printed where it was caught
+    std::cerr << "orcs-batch: " << error.what() << "\n";
+    return orcs::batch::kExitInterrupted;
   } catch (const orcs::InputError& error) {
     std::cerr << "orcs-batch: " << error.what() << "\n";
     return orcs::cli::kExitBadInput;

@@ -6,6 +6,7 @@
 
 #include "clients/batch/batch_input.h"
 #include "model/core/error.h"
+#include "model/core/text.h"
 #include "model/scene/engine_names.h"
 #include "net/cli_style.h"
 
@@ -176,6 +177,20 @@ void CheckBatchCommand(const CLI::App& command, BatchOptions& o) {
 }
 
 }  // namespace
+
+std::vector<std::string> ResumeCommandLine(const BatchOptions& options, const std::string& folder) {
+  const char* command = options.command == Command::kSubmit  ? "submit"
+                        : options.command == Command::kSweep ? "sweep"
+                        : options.command == Command::kEvolve ? "evolve"
+                                                              : "run";
+  std::vector<std::string> words = {"orcs-batch", command, "--resume", folder};
+  const auto given = [&](const char* option) { return options.given.count(option) != 0; };
+  if (!options.broker.empty()) words.insert(words.end(), {"--broker", options.broker});
+  if (given("--workers")) words.insert(words.end(), {"--workers", std::to_string(options.workers)});
+  if (!options.curve_keys.empty()) words.insert(words.end(), {"--curve-keys", options.curve_keys});
+  if (given("--heartbeat")) words.insert(words.end(), {"--heartbeat", text::FormatDouble(options.heartbeat_seconds)});
+  return words;
+}
 
 ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
   ParsedBatchOptions parsed;

@@ -74,6 +74,11 @@ struct ParsedBatchOptions {
   int exit_code = -1;  ///< ≥ 0: exit now with this code (help printed: 0; bad options reported: 2)
 };
 
+/// The command that continues the interrupted run in `folder` (docs/batch.md, "Ctrl-C"): orcs-batch run|submit|sweep|
+/// evolve --resume FOLDER, with the options given that a resume does not read from the folder (--broker,
+/// --workers, --curve-keys, --heartbeat). As words, for interrupt.h's ShellCommand.
+std::vector<std::string> ResumeCommandLine(const BatchOptions& options, const std::string& folder);
+
 /// Parses argv; --help prints help (exit 0); a bad or missing option prints one line to stderr (exit 2).
 ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv);
 

@@ -3,9 +3,18 @@
 #include <algorithm>
 #include <thread>
 
+#include "clients/batch/interrupt.h"
+
 namespace orcs::batch {
 
-JobRunner::JobRunner(const RunnerOptions& options) {
+namespace {
+
+// How long one wait lasts before the stop flag is looked at again.
+constexpr std::chrono::milliseconds kPoll{200};
+
+}  // namespace
+
+JobRunner::JobRunner(const RunnerOptions& options) : stop_(options.stop) {
   std::string endpoint = options.broker;
   if (endpoint.empty()) {
     LocalClusterOptions cluster;
@@ -46,6 +55,7 @@ std::vector<v1::Result> JobRunner::Run(std::vector<v1::Job> jobs,
     }
   }
   if (jobs.empty()) return {};
+  if (stop_ != nullptr && stop_->load()) throw Interrupted();
   client_->Submit(std::move(jobs));
   std::vector<v1::Result> results(ids.size());
   std::size_t collected = 0;
@@ -67,8 +77,10 @@ std::vector<v1::Result> JobRunner::Run(std::vector<v1::Job> jobs,
       }
     }
     if (collected == ids.size()) break;
+    // The jobs of this call still in the broker's queue stay there: an interrupted command ends its batch.
+    if (stop_ != nullptr && stop_->load()) throw Interrupted();
     if (reading_) {
-      arrived_.wait(lock);
+      arrived_.wait_for(lock, kPoll);  // bounded: the reader may leave by an exception, or the stop flag be set
     } else {
       ReadOneResult(lock);
     }
@@ -82,7 +94,7 @@ void JobRunner::ReadOneResult(std::unique_lock<std::mutex>& lock) {
   lock.unlock();
   std::optional<v1::Result> result;
   try {
-    result = client_->Next(std::chrono::milliseconds(200));
+    result = client_->Next(kPoll);
   } catch (...) {
     lock.lock();
     reading_ = false;

@@ -5,6 +5,7 @@
 // broker's results for everyone.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -29,6 +30,9 @@ struct RunnerOptions {
   std::string log_path;        ///< the local cluster's log file ("" = /dev/null)
   std::string curve_keys;      ///< CURVE key folder for the client and the local cluster (docs/security.md; "" = none)
   std::chrono::milliseconds heartbeat_interval{1000};  ///< the client's and the local cluster's heartbeat
+  /// Set (Ctrl-C: clients/batch/interrupt.h): Run() stops waiting within 200 ms and throws Interrupted, in every
+  /// thread that waits. Null: it waits for every result.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 class JobRunner : public JobEvaluator {
@@ -41,7 +45,7 @@ class JobRunner : public JobEvaluator {
   JobRunner& operator=(const JobRunner&) = delete;
 
   /// Runs `jobs` (job ids are assigned here) and returns their results in the same order. Thread-safe. Throws
-  /// broker::BatchClientError when the broker is unreachable or lost.
+  /// broker::BatchClientError when the broker is unreachable or lost, Interrupted once `stop` is set.
   std::vector<v1::Result> Run(std::vector<v1::Job> jobs) override;
   /// The same, calling `on_result` (on the calling thread) with each of these jobs' results as it comes in: for
   /// progress within a generation.
@@ -56,6 +60,7 @@ class JobRunner : public JobEvaluator {
   /// Waits for one result from the broker and files it; false on timeout.
   void ReadOneResult(std::unique_lock<std::mutex>& lock);
 
+  const std::atomic<bool>* stop_ = nullptr;
   int local_workers_ = 0;
   std::unique_ptr<LocalCluster> cluster_;
   std::unique_ptr<broker::BatchClient> client_;

@@ -1,6 +1,7 @@
 #include "clients/batch/local_cluster.h"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -12,6 +13,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "clients/batch/interrupt.h"
 #include "net/curve_keys.h"
 
 namespace orcs::batch {
@@ -20,8 +22,10 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-// How long stopped workers get to finish the job in hand before SIGKILL.
+// How long stopped workers get to finish the job in hand before SIGKILL; after Ctrl-C less (the client will not
+// wait for those results, and the command must end within 5 s).
 constexpr std::chrono::milliseconds kStopGrace{3000};
+constexpr std::chrono::milliseconds kInterruptedStopGrace{1000};
 
 std::string SecondsText(std::chrono::milliseconds interval) {
   return std::to_string(static_cast<double>(interval.count()) / 1000.0);
@@ -89,11 +93,28 @@ pid_t LocalCluster::StartWorker(int index) const {
   for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
   argv.push_back(nullptr);
   const pid_t parent = getpid();
+  // Ctrl-C and SIGTERM are held back across fork, so that none reaches the child with this program's handler
+  // before it has its own process group and the default handlers.
+  sigset_t stop_signals, previous;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error(std::string("cannot start a worker: ") + std::strerror(errno));
   if (pid == 0) {  // the child: only async-signal-safe calls until exec
+    // Its own process group: a terminal's ^C goes to the foreground group, this program's, and must not end the
+    // workers under the batch (issue 47); this program stops them (StopWorkers) once it has written what it has.
+    setpgid(0, 0);
+    // And it dies with this thread, the one that forks (PR_SET_PDEATHSIG follows the parent thread, not the
+    // process: LocalCluster is made and destroyed on one thread), whatever its process group.
     prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (getppid() != parent) _exit(127);  // the parent died before prctl took effect
+    struct sigaction default_action = {};
+    default_action.sa_handler = SIG_DFL;
+    sigemptyset(&default_action.sa_mask);
+    sigaction(SIGINT, &default_action, nullptr);
+    sigaction(SIGTERM, &default_action, nullptr);
+    pthread_sigmask(SIG_SETMASK, &previous, nullptr);
     const int null_fd = open("/dev/null", O_RDWR);
     dup2(null_fd, STDIN_FILENO);
     dup2(null_fd, STDOUT_FILENO);
@@ -101,13 +122,25 @@ pid_t LocalCluster::StartWorker(int index) const {
     execv(argv[0], argv.data());
     _exit(127);
   }
+  const int fork_errno = errno;
+  if (pid > 0) {
+    // The same from this side, the usual pair: whichever runs first, the group exists before anyone signals it
+    // (EACCES, once the child has exec'd, is harmless).
+    setpgid(pid, pid);
+    AddWorkerGroup(pid);
+  }
+  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  if (pid < 0) throw std::runtime_error(std::string("cannot start a worker: ") + std::strerror(fork_errno));
   return pid;
 }
 
 int LocalCluster::workers_exited() {
   int exited = 0;
   for (pid_t& pid : workers_) {
-    if (pid > 0 && waitpid(pid, nullptr, WNOHANG) == pid) pid = -1;
+    if (pid > 0 && waitpid(pid, nullptr, WNOHANG) == pid) {
+      RemoveWorkerGroup(pid);
+      pid = -1;
+    }
     if (pid < 0) ++exited;
   }
   return exited;
@@ -115,16 +148,18 @@ int LocalCluster::workers_exited() {
 
 void LocalCluster::StopWorkers() {
   for (pid_t pid : workers_) {
-    if (pid > 0) kill(pid, SIGTERM);
+    if (pid > 0) kill(pid, SIGTERM);  // the worker finishes the job in hand and leaves
   }
-  const Clock::time_point deadline = Clock::now() + kStopGrace;
+  const Clock::time_point deadline = Clock::now() + (InterruptRequested() ? kInterruptedStopGrace : kStopGrace);
   for (pid_t& pid : workers_) {
     while (pid > 0) {
-      if (waitpid(pid, nullptr, WNOHANG) == pid) {
+      if (waitpid(pid, nullptr, WNOHANG) == pid) {  // its simulation process dies with it (PR_SET_PDEATHSIG)
+        RemoveWorkerGroup(pid);
         pid = -1;
       } else if (Clock::now() > deadline) {
-        kill(pid, SIGKILL);
+        kill(-pid, SIGKILL);  // the worker and its simulation processes
         waitpid(pid, nullptr, 0);
+        RemoveWorkerGroup(pid);
         pid = -1;
       } else {
         usleep(10000);  // polling a child's exit: there is no portable way to wait on several with a timeout

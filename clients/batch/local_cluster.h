@@ -1,7 +1,9 @@
 // The one-machine default of `orcs-batch run` (DESIGN.md, "One machine"): a broker embedded in this process on
 // loopback ephemeral ports, and N orcs-worker processes connected to it. Workers are processes, not threads, so
-// that they scale like on a cluster and one that crashes takes nothing else with it. They die with this process
-// (PR_SET_PDEATHSIG), and the destructor stops them and the broker.
+// that they scale like on a cluster and one that crashes takes nothing else with it. Each is the leader of its own
+// process group, so that a terminal's Ctrl-C, which goes to this program's group, does not end them under the
+// batch (issue 47): this program stops them. They die with the thread that made the cluster (PR_SET_PDEATHSIG), a
+// second Ctrl-C kills them (clients/batch/interrupt.h), and the destructor stops them and the broker.
 #pragma once
 
 #include <sys/types.h>
@@ -32,7 +34,8 @@ class LocalCluster {
   /// Starts the broker and the workers. Throws std::runtime_error when the broker cannot bind, the worker
   /// program is missing, or a process cannot be started; net::CurveKeyError for a missing or malformed key.
   explicit LocalCluster(LocalClusterOptions options);
-  /// Stops the workers (SIGTERM; SIGKILL for any still running after a grace period) and the broker.
+  /// Stops the workers (SIGTERM; SIGKILL to the group of any still running after a grace period: 3 s, 1 s once
+  /// interrupted) and the broker.
   ~LocalCluster();
   LocalCluster(const LocalCluster&) = delete;
   LocalCluster& operator=(const LocalCluster&) = delete;

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "clients/batch/batch_input.h"
+#include "clients/batch/interrupt.h"
 #include "clients/batch/job_runner.h"
 #include "clients/batch/local_cluster.h"
 #include "clients/batch/plot_script.h"
@@ -140,6 +141,11 @@ class GenerationProgress {
     }
     display_->Update(ok_, failed_, batch::ProgressDisplay::Clock::now());
   }
+  /// Ctrl-C: the generation under way (if one is) will not end; its progress line gives way to a line saying so.
+  void Abandon() {
+    if (display_ && shown_) display_->Notice("generation " + std::to_string(generation_) + ": abandoned");
+    display_.reset();
+  }
   /// The generation's summary line, in place of the progress line; fitness.csv has the generation now.
   void Finish(const std::string& line) {
     if (shown_) {
@@ -182,8 +188,10 @@ GenomeEvaluator BrokerEvaluator(batch::JobRunner& runner, const batch::ScenarioI
   };
 }
 
-batch::RunnerOptions RunnerOptionsOf(const batch::BatchOptions& options, const std::string& folder) {
+batch::RunnerOptions RunnerOptionsOf(const batch::BatchOptions& options, const std::string& folder,
+                                     const std::atomic<bool>* stop) {
   batch::RunnerOptions runner;
+  runner.stop = stop;
   runner.broker = options.broker;
   runner.workers = options.workers;
   runner.log_path = (fs::path(folder) / "workers.log").string();
@@ -299,7 +307,21 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   CheckBeforeSubmitting(input, settings, options.time_limit_seconds);
   fs::create_directories(folder);
 
-  batch::JobRunner runner(RunnerOptionsOf(options, folder));
+  // Ctrl-C from here on (clients/batch/interrupt.h): the generation under way is abandoned — a checkpoint holds
+  // only whole generations, and the resume runs that one again, to the same bits — and the command says how to
+  // continue; a second Ctrl-C exits at once.
+  const std::string resume = batch::ShellCommand(batch::ResumeCommandLine(options, folder));
+  const auto hint_resume = [&] {
+    batch::SetInterruptHint("orcs-batch: stopped at once (a second Ctrl-C); continue with: " + resume);
+  };
+  if (checkpoint) {
+    hint_resume();
+  } else {
+    batch::SetInterruptHint("orcs-batch: stopped at once (a second Ctrl-C) in generation 0, before the first "
+                            "checkpoint: nothing to resume; run the same command again");
+  }
+
+  batch::JobRunner runner(RunnerOptionsOf(options, folder, stop));
   batch::ProgressFile file(folder, "evolve");
   GenerationProgress progress(!options.quiet, settings.generations, file);
   Evolution evolution(settings, BrokerEvaluator(runner, input, options.time_limit_seconds, progress));
@@ -310,27 +332,43 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
                                          : "broker " + options.broker)
               << "; output in " << folder << "\n";
   }
-  if (checkpoint) {
-    evolution.Restore(checkpoint->pagmo_state, checkpoint->history, checkpoint->champion,
-                      (fs::path(folder) / "checkpoint.json").string());
-    if (!options.quiet) std::cerr << "orcs-batch: resuming after generation " << evolution.generation() << "\n";
-    progress.SetGeneration(evolution.generation() + 1);
-  } else {
-    evolution.Initialise();
-    SaveGeneration(folder, evolution, fingerprint, run);
-    progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
-  }
-  while (evolution.generation() < settings.generations && !(stop != nullptr && stop->load())) {
-    evolution.Step();
-    SaveGeneration(folder, evolution, fingerprint, run);
-    progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
-  }
-  if (evolution.generation() < settings.generations) {
+  bool saved = checkpoint.has_value();  // the folder holds a checkpoint: it can be resumed
+  // What Ctrl-C prints, once the step under way is abandoned (`abandoned`: what it was).
+  const auto interrupted = [&](const std::string& abandoned) {
+    progress.Abandon();
     file.Finish("interrupted");
-    std::cout << "orcs-batch: interrupted after generation " << evolution.generation() << "; continue with "
-              << "--resume " << folder << "\n";
-    return 1;
+    if (!saved) {
+      std::cerr << "orcs-batch: interrupted (Ctrl-C or SIGTERM) in generation 0, before the first checkpoint: "
+                   "nothing to resume; run the same command again\n";
+    } else {
+      std::cerr << "orcs-batch: interrupted (Ctrl-C or SIGTERM) after generation " << evolution.generation()
+                << abandoned << "; continue with: " << resume << "\n";
+    }
+    return batch::kExitInterrupted;
+  };
+  try {
+    if (checkpoint) {
+      evolution.Restore(checkpoint->pagmo_state, checkpoint->history, checkpoint->champion,
+                        (fs::path(folder) / "checkpoint.json").string());
+      if (!options.quiet) std::cerr << "orcs-batch: resuming after generation " << evolution.generation() << "\n";
+      progress.SetGeneration(evolution.generation() + 1);
+    } else {
+      evolution.Initialise();
+      SaveGeneration(folder, evolution, fingerprint, run);
+      saved = true;
+      hint_resume();
+      progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
+    }
+    while (evolution.generation() < settings.generations && !(stop != nullptr && stop->load())) {
+      evolution.Step();
+      SaveGeneration(folder, evolution, fingerprint, run);
+      progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
+    }
+  } catch (const batch::Interrupted&) {
+    return interrupted(" (generation " + std::to_string(evolution.generation() + 1) +
+                       ", under way, is abandoned: the resume runs it again, to the same bits)");
   }
+  if (evolution.generation() < settings.generations) return interrupted("");
   if (evolution.champion().genome.empty()) {
     std::cout << "orcs-batch: no genome ran ok in " << evolution.generation() + 1 << " generations (see "
               << (fs::path(folder) / "workers.log").string() << ")\n";
@@ -338,8 +376,12 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   }
   file.Set("label", "replaying the winner");
   file.Update(batch::ProgressDisplay::Clock::now(), true);
-  const bool reproducible =
-      WriteWinner(runner, input, settings, evolution.champion(), options.time_limit_seconds, folder);
+  bool reproducible = false;
+  try {
+    reproducible = WriteWinner(runner, input, settings, evolution.champion(), options.time_limit_seconds, folder);
+  } catch (const batch::Interrupted&) {
+    return interrupted(", the last, while its winner was replayed (the resume replays it)");
+  }
   if (!options.no_plot) batch::RunPlotScript("plot_evolution.py", {folder}, std::cout);  // fitness.png
   file.Set("label", nullptr);
   file.Finish("finished");

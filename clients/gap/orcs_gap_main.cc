@@ -9,6 +9,7 @@
 #include <iostream>
 #include <optional>
 
+#include "clients/batch/interrupt.h"
 #include "clients/batch/job_runner.h"
 #include "clients/gap/broker_replays.h"
 #include "model/identify/gap_diagnosis.h"
@@ -138,6 +139,12 @@ int Diagnose(const GapOptions& o) {
   runner_options.broker = o.broker;
   runner_options.workers = o.workers;
   runner_options.log_path = (std::filesystem::path(o.out) / "workers.log").string();
+  // Ctrl-C (clients/batch/interrupt.h): every fit's wait stops within 200 ms and the diagnosis is abandoned. It
+  // has no resume: it starts over.
+  runner_options.stop = &batch::InterruptFlag();
+  batch::SetInterruptHint("orcs-gap: stopped at once (a second Ctrl-C); a diagnosis has no resume: run the same "
+                          "command again");
+  batch::CatchInterrupts();
   batch::JobRunner runner(runner_options);
   std::cerr << "orcs-gap: " << fit.size() << " fit run(s), " << holdout.size() << " held-out run(s); "
             << (o.broker.empty() ? std::to_string(runner.local_workers()) + " local workers" : "broker " + o.broker)
@@ -151,7 +158,14 @@ int Diagnose(const GapOptions& o) {
     options.on_fit = [&progress](const std::string& fitted, const identify::ModelScore* score) {
       progress.OnFit(fitted, score);
     };
-    result = Diagnose(replays, rig, fit, holdout, model, options);
+    try {
+      result = Diagnose(replays, rig, fit, holdout, model, options);
+    } catch (const batch::Interrupted&) {
+      file.Finish("interrupted");
+      std::cerr << "orcs-gap: interrupted (Ctrl-C or SIGTERM): the diagnosis is abandoned and no report is written "
+                   "to " << o.out << "; orcs-gap has no resume: run the same command again\n";
+      return batch::kExitInterrupted;
+    }
   }
   const Diagnosis& diagnosis = *result;
   std::vector<ReplayRun> runs = fit;

@@ -80,7 +80,7 @@ class BatchResumeTest : public ::testing::Test {
     const std::optional<ProcessResult> ended = batch.Wait(milliseconds(30000));
     EXPECT_TRUE(ended.has_value());
     if (ended) {
-      EXPECT_EQ(ended->exit_code, 1) << "an interrupted batch exits 1: " << ended->err;
+      EXPECT_EQ(ended->exit_code, 130) << "an interrupted batch exits 130: " << ended->err;
     }
     return Lines(partial);
   }

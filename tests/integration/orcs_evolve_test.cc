@@ -266,8 +266,8 @@ TEST_F(OrcsEvolveTest, AnInterruptedRunResumedWithOnlyResumeKeepsItsSettingsAndE
     evolve.Signal(SIGINT);
     const std::optional<ProcessResult> ended = evolve.Wait(std::chrono::milliseconds(60000));
     ASSERT_TRUE(ended.has_value());
-    ASSERT_EQ(ended->exit_code, 1) << "interrupted before its 4 generations: " << ended->out << ended->err;
-    EXPECT_THAT(ended->out, HasSubstr("interrupted after generation"));
+    ASSERT_EQ(ended->exit_code, 130) << "interrupted before its 4 generations: " << ended->out << ended->err;
+    EXPECT_THAT(ended->err, HasSubstr("interrupted (Ctrl-C or SIGTERM) after generation"));
   }
   EXPECT_EQ(nlohmann::json::parse(dir_.Read(Out("cut") + "/progress.json"))["state"], "interrupted");
   const std::size_t done = Lines(dir_.Read(Out("cut") + "/fitness.csv")).size();

@@ -30,7 +30,8 @@ int MillisecondsUntil(Clock::time_point deadline) {
 
 }  // namespace
 
-BackgroundProcess::BackgroundProcess(const std::vector<std::string>& argv) {
+BackgroundProcess::BackgroundProcess(const std::vector<std::string>& argv, bool own_process_group)
+    : own_group_(own_process_group) {
   if (argv.empty()) throw std::invalid_argument("BackgroundProcess: empty argv");
   std::vector<char*> args;
   for (const std::string& argument : argv) args.push_back(const_cast<char*>(argument.c_str()));
@@ -49,7 +50,12 @@ BackgroundProcess::BackgroundProcess(const std::vector<std::string>& argv) {
   int error = posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   if (error == 0) error = posix_spawn_file_actions_adddup2(&actions, out_pipe[1], STDOUT_FILENO);
   if (error == 0) error = posix_spawn_file_actions_adddup2(&actions, err_pipe[1], STDERR_FILENO);
-  if (error == 0) error = posix_spawn(&pid_, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  if (error == 0 && own_process_group) error = posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  if (error == 0 && own_process_group) error = posix_spawnattr_setpgroup(&attributes, 0);  // a group of its own
+  if (error == 0) error = posix_spawn(&pid_, args[0], &actions, &attributes, args.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   ::close(out_pipe[1]);
   ::close(err_pipe[1]);
@@ -65,7 +71,7 @@ BackgroundProcess::BackgroundProcess(const std::vector<std::string>& argv) {
 
 BackgroundProcess::~BackgroundProcess() {
   if (pid_ > 0 && !result_) {
-    ::kill(pid_, SIGKILL);
+    ::kill(own_group_ ? -pid_ : pid_, SIGKILL);
     int status = 0;
     while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
     }
@@ -109,6 +115,10 @@ std::optional<std::string> BackgroundProcess::ReadLine(std::chrono::milliseconds
 
 void BackgroundProcess::Signal(int signal) {
   if (pid_ > 0 && !result_) ::kill(pid_, signal);
+}
+
+void BackgroundProcess::SignalGroup(int signal) {
+  if (own_group_ && pid_ > 0 && !result_) ::kill(-pid_, signal);
 }
 
 std::optional<ProcessResult> BackgroundProcess::Wait(std::chrono::milliseconds timeout) {
