@@ -338,7 +338,9 @@ TEST(OrcsViewSecurityTest, TricklingConnectionsDoNotDenyService) {
       for (int i = 0; i < 10 && !stop; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   })};
-  std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // two trickles: every connection is being served
+  // Past the read timeout (2 s), trickling all along: every connection has been taken up by a server thread and
+  // kept (a dropped one would fail the later writes).
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
   double worst = 0.0;
   for (int i = 0; i < 5; ++i) {
     const Clock::time_point start = Clock::now();
