@@ -49,7 +49,8 @@ class ViewServer {
   /// Answers `bytes` as one connection's worth of requests, exactly as Serve() answers a socket's — the same
   /// httplib request parsing, routes and handlers — and returns the bytes written back for each request read, in
   /// order. Handles at most `max_requests` keep-alive requests; stops when the bytes run out or the connection
-  /// closes. For the fuzzer (tests/fuzz/view_request_fuzz.cc) and tests; needs no Bind().
+  /// closes. For the fuzzer (tests/fuzz/view_request_fuzz.cc) and tests; needs no Bind(). Before Bind() the Host
+  /// check compares names only (there is no port yet).
   std::vector<std::string> Answer(std::string_view bytes, int max_requests = 8);
 
   /// How long GET /api/live/frame waits for a newer frame (default 0.5 s).
