@@ -15,8 +15,17 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr auto kControlSilence = std::chrono::seconds(10);  // a controller silent this long loses control
 constexpr auto kFastSlice = std::chrono::milliseconds(15);  // as fast as possible: steps between publications
+constexpr auto kLoggerCheck = std::chrono::milliseconds(200);  // paused with a log open: how often its bounds are read
+
+Clock::duration Seconds(double seconds) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+std::string Mebibytes(std::size_t bytes) {
+  const double mib = static_cast<double>(bytes) / (1 << 20);
+  return text::FormatDouble(mib) + " MiB";
+}
 
 // 128 bits from the OS, as hex: the control token.
 std::string NewToken() { return proto::SecureRandomHex(16); }
@@ -74,6 +83,11 @@ void LiveSession::Loop() {
   while (!stopping_) {
     RunCommands(lock);
     if (stopping_) break;
+    if (logger_) {
+      lock.unlock();
+      CheckLogger();
+      lock.lock();
+    }
     const bool ok = simulation_.status() == scene::SimulationStatus::kOk;
     if (pending_steps_ > 0) {
       --pending_steps_;
@@ -84,7 +98,12 @@ void LiveSession::Loop() {
       continue;
     }
     if (!running_ || !ok) {
-      command_posted_.wait(lock, [this] { return stopping_ || !commands_.empty() || pending_steps_ > 0 || running_; });
+      const auto woken = [this] { return stopping_ || !commands_.empty() || pending_steps_ > 0 || running_; };
+      if (logger_) {
+        command_posted_.wait_for(lock, kLoggerCheck, woken);  // a paused log still ends when control lapses
+      } else {
+        command_posted_.wait(lock, woken);
+      }
       if (!running_ || simulation_.status() != scene::SimulationStatus::kOk) continue;
     }
     if (realtime_) {
@@ -143,6 +162,13 @@ void LiveSession::Publish() {
   state["status"] = scene::SimulationStatusName(simulation_.status());
   state["message"] = !last_error_.empty() ? last_error_ : simulation_.message();
   state["logging"] = logger_ ? nlohmann::json(logger_file_) : nlohmann::json(nullptr);
+  state["logger"] = {
+      {"file", logger_ ? nlohmann::json(logger_file_) : nlohmann::json(nullptr)},
+      {"bytes", logger_ ? logger_->bytes() : 0},
+      {"seconds", logger_ ? std::chrono::duration<double>(Clock::now() - logger_start_).count() : 0.0},
+      {"max_bytes", options_.log_max_bytes},
+      {"max_seconds", options_.log_max_seconds},
+      {"stopped", logger_stopped_}};
   std::lock_guard lock(frame_mutex_);
   frame_.step = simulation_.steps();
   frame_.time = simulation_.time();
@@ -166,7 +192,7 @@ nlohmann::json LiveSession::State() {
 
 std::string LiveSession::Claim() {
   std::lock_guard lock(token_mutex_);
-  if (!token_.empty() && Clock::now() - token_seen_ < kControlSilence) return "";
+  if (!token_.empty() && Clock::now() - token_seen_ < Seconds(options_.control_timeout)) return "";
   token_ = NewToken();
   token_seen_ = Clock::now();
   return token_;
@@ -174,9 +200,14 @@ std::string LiveSession::Claim() {
 
 bool LiveSession::Controls(const std::string& token) {
   std::lock_guard lock(token_mutex_);
-  if (token_.empty() || token != token_ || Clock::now() - token_seen_ >= kControlSilence) return false;
+  if (token_.empty() || token != token_ || Clock::now() - token_seen_ >= Seconds(options_.control_timeout)) return false;
   token_seen_ = Clock::now();
   return true;
+}
+
+bool LiveSession::HeldBy(const std::string& token) {
+  std::lock_guard lock(token_mutex_);
+  return !token_.empty() && token == token_ && Clock::now() - token_seen_ < Seconds(options_.control_timeout);
 }
 
 void LiveSession::Control(const std::string& action, bool realtime) {
@@ -219,6 +250,11 @@ nlohmann::json LiveSession::Values(const std::string& pattern, std::size_t limit
 }
 
 std::string LiveSession::SetValue(const std::string& path, const std::string& text) {
+  if (const std::size_t at = FindControlCharacter(text); at != std::string::npos) {
+    throw InputError(path, 0,
+                     "the value holds control character " + ControlCharacterName(text[at]) + " at byte " +
+                         std::to_string(at + 1) + ": a value is one line of text");
+  }
   return OnSimulationThread([&] {
     simulation_.repository().Set(path, text);
     Publish();  // a paused page sees the change
@@ -275,13 +311,23 @@ nlohmann::json LiveSession::Files() {
 
 void LiveSession::StartLogger(const std::string& pattern, const std::string& file) {
   const std::string path = FilePath(file, ".csv");
+  std::string token;
+  {
+    std::lock_guard lock(token_mutex_);
+    token = token_;  // the caller holds control (a Controlled route): the log lives as long as that control
+  }
   OnSimulationThread([&] {
     auto logger = std::make_unique<ValueLogger>(simulation_.repository(), std::vector<std::string>{pattern});
     if (logger_) logger_->Finish();
-    logger->Open(path, {"orcs-view live log", "environment: " + options_.environment});
+    logger_.reset();
+    logger->Open(path, {"orcs-view live log", "environment: " + options_.environment}, options_.log_max_bytes,
+                 "it reached its bound of " + Mebibytes(options_.log_max_bytes) + " (orcs-view --log-max-mib)");
     logger->Sample(simulation_.time());
     logger_ = std::move(logger);
     logger_file_ = file;
+    logger_token_ = token;
+    logger_start_ = Clock::now();
+    logger_stopped_.clear();
     Publish();
   });
 }
@@ -293,6 +339,30 @@ void LiveSession::StopLogger() {
     logger_file_.clear();
     Publish();
   });
+}
+
+void LiveSession::CheckLogger() {
+  if (!logger_) return;
+  if (logger_->truncated()) {
+    EndLogger("it reached its bound of " + Mebibytes(options_.log_max_bytes) + " (--log-max-mib)");
+  } else if (Clock::now() - logger_start_ >= Seconds(options_.log_max_seconds)) {
+    EndLogger("it ran for its bound of " + text::FormatDouble(options_.log_max_seconds) + " s (--log-max-seconds)");
+  } else if (!HeldBy(logger_token_)) {
+    EndLogger("control lapsed: the page that started it was silent for " +
+              text::FormatDouble(options_.control_timeout) + " s or another page took control");
+  }
+}
+
+void LiveSession::EndLogger(const std::string& why) {
+  logger_stopped_ = logger_file_ + " stopped: " + why;
+  try {
+    logger_->Finish();
+  } catch (const InputError& error) {
+    logger_stopped_ += "; " + std::string(error.what());
+  }
+  logger_.reset();
+  logger_file_.clear();
+  Publish();
 }
 
 }  // namespace orcs::viewer

@@ -28,6 +28,9 @@ struct LiveOptions {
   std::uint64_t seed = 0;                        ///< /Simulation/Seed of every reset
   std::string files_dir = "orcs-view-files";     ///< where save/load/logger files live
   bool start_running = false;                    ///< run at start instead of paused
+  std::size_t log_max_bytes = std::size_t{64} << 20;  ///< --log-max-mib: a log stops at this size
+  double log_max_seconds = 600.0;                ///< --log-max-seconds: a log stops after this long (wall clock)
+  double control_timeout = 10.0;                 ///< --control-timeout: a silent controller loses control (s)
 };
 
 /// One published state of the simulation.
@@ -52,10 +55,13 @@ class LiveSession {
 
   /// The newest frame after `serial` — waiting up to `wait` for one — or the newest there is.
   LiveFrame FrameAfter(std::int64_t serial, std::chrono::milliseconds wait);
-  /// {"running", "realtime", "time", "step", "status", "message", "logging"}.
+  /// {"running", "realtime", "time", "step", "status", "message", "logging", "logger"}: "logging" is the file
+  /// being written or null; "logger" holds {"file", "bytes", "seconds", "max_bytes", "max_seconds", "stopped"}
+  /// ("stopped": why the last log ended on its own — a bound reached, control lapsed — or "").
   nlohmann::json State();
 
-  /// A new control token when nobody holds control or the holder was silent for 10 s; "" otherwise.
+  /// A new control token when nobody holds control or the holder was silent for control_timeout (10 s);
+  /// "" otherwise.
   std::string Claim();
   /// Whether `token` holds control now; refreshes the holder's silence clock.
   bool Controls(const std::string& token);
@@ -65,7 +71,8 @@ class LiveSession {
   void Control(const std::string& action, bool realtime);
   /// Values whose path matches `pattern` (RE2, bounded): [{"id", "path", "type", "value"}], at most `limit`.
   nlohmann::json Values(const std::string& pattern, std::size_t limit);
-  /// Sets a value from text; returns its new text. Throws InputError naming the path and what was expected.
+  /// Sets a value from text; returns its new text. Throws InputError naming the path and what was expected, and
+  /// for a text with a control character (a line feed, a NUL: text::FindControlCharacter) — a value is one line.
   std::string SetValue(const std::string& path, const std::string& text);
   /// Saves the values matching `pattern` as a value file in the files folder. Throws InputError for a bad name.
   void Save(const std::string& file, const std::string& pattern);
@@ -74,6 +81,8 @@ class LiveSession {
   /// Value files and logs in the files folder.
   nlohmann::json Files();
   /// Starts writing the values matching `pattern` to a CSV file in the files folder each step; stops the last.
+  /// The log ends by itself at log_max_bytes or log_max_seconds, or when control lapses (the page that started
+  /// it is silent for control_timeout, or another page takes control); State()'s "logger" says why.
   void StartLogger(const std::string& pattern, const std::string& file);
   void StopLogger();
 
@@ -87,6 +96,11 @@ class LiveSession {
   void StepOnce();
   void Publish();
   std::string FilePath(const std::string& file, const char* extension) const;
+  /// Ends the log when it reached a bound or its page lost control (the stepping thread, without command_mutex_).
+  void CheckLogger();
+  void EndLogger(const std::string& why);
+  /// Whether `token` holds control now, without refreshing its silence clock.
+  bool HeldBy(const std::string& token);
 
   LiveOptions options_;
   // Owned by the stepping thread (and the constructor, before it starts).
@@ -95,6 +109,9 @@ class LiveSession {
   nlohmann::json world_;
   std::unique_ptr<ValueLogger> logger_;
   std::string logger_file_;
+  std::string logger_token_;    // the control token of the page that started the log
+  std::chrono::steady_clock::time_point logger_start_;
+  std::string logger_stopped_;  // why the last log ended by itself, "" = it did not
   std::string last_error_;  // why running stopped (a bad value), "" = none
   std::chrono::steady_clock::time_point run_start_wall_;
   double run_start_time_ = 0.0;

@@ -47,10 +47,13 @@ int Serve(const ViewOptions& options) {
                                            std::chrono::milliseconds(1000));
   }
   ViewServer server(assets, catalog.get(), live.get(), nullptr, broker.get());
+  for (const std::string& name : options.allow_hosts) server.AllowHost(name);
   const int port = server.Bind(options.bind, options.port);
   std::thread watcher = WatchSignals(server);
   watcher.detach();
-  const std::string host = options.bind == "0.0.0.0" ? "127.0.0.1" : options.bind;
+  const bool any = options.bind == "0.0.0.0" || options.bind == "::";
+  const bool ipv6 = !any && options.bind.find(':') != std::string::npos && !options.bind.starts_with('[');
+  const std::string host = any ? "127.0.0.1" : ipv6 ? "[" + options.bind + "]" : options.bind;
   std::cout << "orcs-view: serving http://" << host << ":" << port << "/ (Ctrl-C to stop)" << std::endl;
   server.Serve();
   return cli::kExitOk;

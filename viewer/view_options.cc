@@ -2,6 +2,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <cctype>
+
 #include "net/cli_style.h"
 
 #ifndef ORCS_WEB_DIR
@@ -22,6 +25,14 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
   app.add_option("inputs", o.inputs, "recordings and folders (batch, evolve, gap) to open")->check(CLI::ExistingPath);
   app.add_option("--port", o.port, "port to serve on (0 = any free port)")->check(CLI::Range(0, 65535));
   app.add_option("--bind", o.bind, "interface to listen on (default 127.0.0.1: this machine only)");
+  app.add_option("--allow-host", o.allow_hosts,
+                 "also answer requests addressed to this name (a DNS name of this machine; docs/viewer.md)")
+      ->check([](const std::string& name) -> std::string {
+        const bool plain = !name.empty() && name.size() <= 253 && std::all_of(name.begin(), name.end(), [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_';
+        });
+        return plain ? "" : "expected a host name (letters, digits, '.', '-', '_')";
+      });
   app.add_option("--web-dir", o.web_dir, "the page's folder, holding files.txt")->check(CLI::ExistingDirectory);
   CLI::Option* live = app.add_flag("--live", o.live, "run a simulation in the server: the original's GUI");
   app.add_option("--env", l.environment, "with --live: ORCS XML environment (-env also accepted)")
@@ -33,6 +44,15 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
   app.add_option("--seed", l.seed, "with --live: seed of every reset")->check(cli::Seed())->needs(live);
   app.add_option("--files", l.files_dir, "with --live: folder for saved value files and logs")->needs(live);
   app.add_flag("--run", l.start_running, "with --live: start running instead of paused")->needs(live);
+  std::size_t log_max_mib = l.log_max_bytes >> 20;
+  app.add_option("--log-max-mib", log_max_mib, "with --live: a log stops at this many MiB (default 64)")
+      ->check(CLI::Range(1, 65536))->needs(live);
+  app.add_option("--log-max-seconds", l.log_max_seconds,
+                 "with --live: a log stops after this many seconds (default 600)")
+      ->check(CLI::Range(1.0, 86400.0))->needs(live);
+  app.add_option("--control-timeout", l.control_timeout,
+                 "with --live: a page silent this many seconds loses control, and its log stops (default 10)")
+      ->check(CLI::Range(1.0, 3600.0))->needs(live);
   CLI::Option* broker = app.add_option("--broker", o.broker,
                                        "show this broker's dashboard: workers, batches, throughput (its client "
                                        "endpoint, e.g. tcp://127.0.0.1:5555)")
@@ -67,6 +87,7 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
                                  "give recordings or folders to open, --broker ENDPOINT, --live, or --render RUN --out FILE");
     }
     if (r.to >= 0 && r.to <= r.from) throw CLI::ValidationError("--to", "must be after --from");
+    l.log_max_bytes = log_max_mib << 20;
   };
   parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val"}, validate);
   return parsed;

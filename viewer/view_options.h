@@ -26,6 +26,7 @@ struct ViewOptions {
   std::vector<std::string> inputs;  ///< recordings and folders to serve
   int port = 8765;                  ///< --port: 0 = any free port
   std::string bind = "127.0.0.1";   ///< --bind: interface to listen on
+  std::vector<std::string> allow_hosts;  ///< --allow-host: more names requests may be addressed to
   std::string web_dir;              ///< --web-dir: the page's folder (holds files.txt)
   bool live = false;                ///< --live: serve a live simulation
   LiveOptions live_options;         ///< its world

@@ -1,13 +1,16 @@
 #include "viewer/view_server.h"
 
+#include <arpa/inet.h>
 #include <httplib.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstring>
 
 #include "model/core/error.h"
 #include "model/core/json_node.h"
+#include "model/core/text.h"
 
 namespace orcs::viewer {
 namespace {
@@ -20,7 +23,15 @@ constexpr std::size_t kMaxPatternLength = 1000;     // RE2 patterns from the pag
 constexpr std::size_t kMaxChannelsPerRequest = 4096;
 constexpr std::size_t kMaxChannelValues = std::size_t{1} << 22;  // floats per /channels answer: 16 MiB
 constexpr std::size_t kMaxValueRows = 5000;
-constexpr int kServerThreads = 12;                  // long polls hold a thread for up to 0.5 s each
+// Connections. Each connection holds one thread while it sends a request, so a client that trickles its request a
+// byte at a time holds one for as long as it trickles (cpp-httplib 0.11 times out each read, not a whole
+// request): the pool is large enough that a few dozen such connections leave threads for everyone else, a silent
+// connection is dropped after kReadTimeout (inside a request) or kKeepAliveTimeout (between requests), and a
+// client that does not read its answer after kWriteTimeout. docs/security.md says what is left.
+constexpr int kServerThreads = 64;                  // long polls hold a thread for up to 0.5 s each
+constexpr int kReadTimeoutSeconds = 2;
+constexpr int kKeepAliveTimeoutSeconds = 2;
+constexpr int kWriteTimeoutSeconds = 5;
 
 // Strings from a request (a query parameter is any bytes) reach answers, error messages included: bytes that are
 // not UTF-8 are replaced (U+FFFD) instead of making dump() throw — which, from the exception handler, ended the
@@ -125,6 +136,15 @@ class StringStream : public httplib::Stream {
   std::string output_;
 };
 
+// A state-changing request is a JSON one: a page of another site can send "Content-Type: application/json" only
+// after a CORS preflight, which orcs-view refuses (its Origin is foreign). 415 otherwise.
+bool IsJsonRequest(const Request& request, Response& response) {
+  const std::string type = text::ToLower(request.get_header_value("Content-Type"));
+  if (type == "application/json" || type.starts_with("application/json;")) return true;
+  SendError(response, 415, "Content-Type: expected application/json, found " + text::Quote(type));
+  return false;
+}
+
 // A mutating live route: it needs the control token (X-Orcs-Token), else it answers 403, and a JSON object body.
 template <typename Handler>
 httplib::Server::Handler Controlled(LiveSession* live, Handler handler) {
@@ -132,9 +152,62 @@ httplib::Server::Handler Controlled(LiveSession* live, Handler handler) {
     if (!live->Controls(request.get_header_value("X-Orcs-Token"))) {
       return SendError(response, 403, "this page does not hold control: take control first");
     }
+    if (!IsJsonRequest(request, response)) return;
     const std::optional<nlohmann::json> body = BodyObject(request, response);
     if (body) handler(*body, response);
   };
+}
+
+// A Host header's (or an Origin's, after "http://") name and port: the name in lower case, an IPv6 address in
+// brackets, the port 80 when none is given. nullopt for anything else.
+struct HostPort {
+  std::string name;
+  int port = 80;
+};
+
+std::optional<HostPort> ParseHostPort(std::string_view text) {
+  const std::string lower = text::ToLower(text);
+  std::string_view rest = lower;
+  HostPort parsed;
+  if (rest.starts_with('[')) {
+    const std::size_t close = rest.find(']');
+    if (close == std::string_view::npos) return std::nullopt;
+    in6_addr address{};
+    if (inet_pton(AF_INET6, std::string(rest.substr(1, close - 1)).c_str(), &address) != 1) return std::nullopt;
+    parsed.name = std::string(rest.substr(0, close + 1));
+    rest.remove_prefix(close + 1);
+  } else {
+    const std::size_t colon = rest.find(':');
+    parsed.name = std::string(rest.substr(0, colon));
+    rest = colon == std::string_view::npos ? std::string_view() : rest.substr(colon);
+    const bool plain = std::all_of(parsed.name.begin(), parsed.name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_';
+    });
+    if (parsed.name.empty() || !plain) return std::nullopt;
+  }
+  if (!rest.empty()) {
+    if (rest.front() != ':' || rest.size() < 2 || rest.size() > 6) return std::nullopt;
+    const auto [end, error] = std::from_chars(rest.data() + 1, rest.data() + rest.size(), parsed.port);
+    if (error != std::errc() || end != rest.data() + rest.size() || parsed.port < 1 || parsed.port > 65535) {
+      return std::nullopt;
+    }
+  }
+  return parsed;
+}
+
+// An address rather than a name: what DNS rebinding cannot point elsewhere.
+bool IsAddressLiteral(const std::string& name) {
+  if (name.starts_with('[')) return true;  // ParseHostPort checked it
+  in_addr address{};
+  return inet_pton(AF_INET, name.c_str(), &address) == 1;
+}
+
+// The one header of that name, "" for none; nullopt when there are several (refused).
+std::optional<std::optional<std::string>> SingleHeader(const Request& request, const char* name) {
+  const std::size_t count = request.get_header_value_count(name);
+  if (count > 1) return std::nullopt;
+  if (count == 0) return std::optional<std::string>();
+  return std::optional<std::string>(request.get_header_value(name));
 }
 
 }  // namespace
@@ -161,9 +234,28 @@ ViewServer::ViewServer(const WebAssets& assets, ViewCatalog* catalog, LiveSessio
     int yes = 1;
     setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
-  server_->set_read_timeout(5, 0);
-  server_->set_write_timeout(5, 0);
+  server_->set_read_timeout(kReadTimeoutSeconds, 0);
+  server_->set_write_timeout(kWriteTimeoutSeconds, 0);
+  server_->set_keep_alive_timeout(kKeepAliveTimeoutSeconds);
   server_->set_keep_alive_max_count(1000);
+  // No page of another site may frame this one (clickjacking: "Take control" under someone else's button), embed
+  // its answers (Cross-Origin-Resource-Policy), or read a mistyped answer as a script (nosniff).
+  server_->set_default_headers({{"X-Frame-Options", "DENY"},
+                                {"Content-Security-Policy", "frame-ancestors 'none'"},
+                                {"Cross-Origin-Resource-Policy", "same-origin"},
+                                {"X-Content-Type-Options", "nosniff"},
+                                {"Referrer-Policy", "no-referrer"}});
+  // Every request, before any route: only requests addressed to this server, from no page or from its own.
+  server_->set_pre_routing_handler([this](const Request& request, Response& response) {
+    const auto host = SingleHeader(request, "Host");
+    const auto origin = SingleHeader(request, "Origin");
+    const std::string refusal = !host ? "more than one Host header"
+                                : !origin ? "more than one Origin header"
+                                          : Refusal(*host, *origin);
+    if (refusal.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    SendError(response, 403, refusal);
+    return httplib::Server::HandlerResponse::Handled;
+  });
   server_->set_exception_handler([](const Request&, Response& response, std::exception_ptr error) {
     try {
       std::rethrow_exception(error);
@@ -193,7 +285,44 @@ int ViewServer::Bind(const std::string& address, int port) {
     throw InputError("--port", 0, "cannot listen on " + address + ":" + std::to_string(port) +
                                       " (in use, or not an address of this machine): choose another with --port");
   }
+  port_ = port;
+  const std::string name = text::ToLower(address);
+  if (name == "0.0.0.0" || name == "::" || name == "[::]") {
+    any_address_ = true;
+  } else {
+    AllowHost(name.find(':') != std::string::npos && !name.starts_with('[') ? "[" + name + "]" : name);
+  }
   return port;
+}
+
+void ViewServer::AllowHost(const std::string& name) {
+  const std::string lower = text::ToLower(name);
+  if (std::find(host_names_.begin(), host_names_.end(), lower) == host_names_.end()) host_names_.push_back(lower);
+}
+
+std::string ViewServer::Refusal(const std::optional<std::string>& host, const std::optional<std::string>& origin) const {
+  const std::string port = port_ != 0 ? ":" + std::to_string(port_) : "";
+  if (!host) return "no Host header: orcs-view answers only requests addressed to it, such as Host: 127.0.0.1" + port;
+  const std::optional<HostPort> to = ParseHostPort(*host);
+  const bool ours = to && (port_ == 0 || to->port == port_) &&
+                    (std::find(host_names_.begin(), host_names_.end(), to->name) != host_names_.end() ||
+                     (any_address_ && IsAddressLiteral(to->name)));
+  if (!ours) {
+    std::string names;
+    for (const std::string& name : host_names_) names += (names.empty() ? "" : ", ") + name + port;
+    if (any_address_) names += ", or an address of this machine" + port;
+    return "Host " + text::Quote(*host) + " is not this server (" + names +
+           "): refused, as a page of another site reaching it by DNS rebinding would be (--allow-host adds a name)";
+  }
+  if (origin) {
+    const bool http = origin->size() > 7 && text::ToLower(origin->substr(0, 7)) == "http://";
+    const std::optional<HostPort> from = http ? ParseHostPort(std::string_view(*origin).substr(7)) : std::nullopt;
+    if (!from || from->name != to->name || from->port != to->port) {
+      return "Origin " + text::Quote(*origin) + " is not this server's page (http://" + text::ToLower(*host) +
+             "): requests from another site's page are refused";
+    }
+  }
+  return "";
 }
 
 void ViewServer::Serve() { server_->listen_after_bind(); }
@@ -349,9 +478,13 @@ void ViewServer::AddLiveRoutes() {
     body["contacts"] = ContactsJson(frame.contacts, 0, frame.contacts.size());
     SendJson(response, body);
   });
-  server_->Post("/api/live/claim", [this](const Request&, Response& response) {
+  // The token is handed only to a JSON request (no cross-site form can send one) from this server's own page (the
+  // Origin and Host checks), and its answer is not stored anywhere.
+  server_->Post("/api/live/claim", [this](const Request& request, Response& response) {
+    if (!IsJsonRequest(request, response)) return;
     const std::string token = live_->Claim();
     if (token.empty()) return SendError(response, 409, "another page holds control");
+    response.set_header("Cache-Control", "no-store");
     SendJson(response, {{"token", token}});
   });
   server_->Post("/api/live/control", Controlled(live_, [this](const nlohmann::json& body, Response& response) {

@@ -1,6 +1,7 @@
 #include "model/core/value_file.h"
 
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -38,6 +39,15 @@ void ReadInto(const std::filesystem::path& file, int depth, std::vector<ValueAss
   std::istringstream in(ReadTextFile(file.string()));  // a regular file within the input bound, or an InputError
   std::string raw;
   for (int line_number = 1; std::getline(in, raw); ++line_number) {
+    // A value file is lines of text: a control character (a NUL, a stray carriage return, an escape) is nothing a
+    // saved file holds, and is refused rather than guessed at. A CR ending the line (a CRLF file) is allowed.
+    std::string_view unterminated = raw;
+    if (!unterminated.empty() && unterminated.back() == '\r') unterminated.remove_suffix(1);
+    if (const std::size_t at = FindControlCharacter(unterminated); at != std::string_view::npos) {
+      throw InputError(file.string(), line_number,
+                       "control character " + ControlCharacterName(unterminated[at]) + " at column " +
+                           std::to_string(at + 1) + ": a value file holds one 'path=value' of text per line");
+    }
     const std::string_view line = text::Trim(raw);
     if (line.starts_with(kInclude) &&
         (line.size() == kInclude.size() || !std::isalnum(static_cast<unsigned char>(line[kInclude.size()])))) {
@@ -56,6 +66,28 @@ void ReadInto(const std::filesystem::path& file, int depth, std::vector<ValueAss
 }
 
 }  // namespace
+
+std::size_t FindControlCharacter(std::string_view text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto byte = static_cast<unsigned char>(text[i]);
+    if ((byte < 0x20 && byte != '\t') || byte == 0x7f) return i;
+  }
+  return std::string_view::npos;
+}
+
+std::string ControlCharacterName(char c) {
+  const auto byte = static_cast<unsigned char>(c);
+  char code[8];
+  std::snprintf(code, sizeof code, "U+%04X", byte);
+  switch (byte) {
+    case 0x00: return std::string(code) + " (NUL)";
+    case 0x0a: return std::string(code) + " (line feed)";
+    case 0x0d: return std::string(code) + " (carriage return)";
+    case 0x1b: return std::string(code) + " (escape)";
+    case 0x7f: return std::string(code) + " (delete)";
+    default: return code;
+  }
+}
 
 std::vector<ValueAssignment> ValueFile::Read(const std::string& file) {
   std::vector<ValueAssignment> assignments;
@@ -87,7 +119,15 @@ void ValueFile::Save(const std::string& file, const VariableRepository& reposito
   AtomicFile out(file);
   out.stream() << "#ORCS Values\n#Saved at: " << saved_at << "\n";
   for (int id : repository.Match(regular_expression)) {
-    out.stream() << repository.path(id) << "=" << repository.value(id).ToString() << "\n";
+    // A value is one line: a line feed in a string value would add lines — assignments — that loading applies.
+    // Such a value cannot be written, and nothing is (the temporary file is dropped).
+    const std::string value = repository.value(id).ToString();
+    if (const std::size_t at = FindControlCharacter(value); at != std::string::npos) {
+      throw InputError(file, 0,
+                       repository.path(id) + ": the value holds control character " +
+                           ControlCharacterName(value[at]) + ", which a value file cannot hold; nothing was saved");
+    }
+    out.stream() << repository.path(id) << "=" << value << "\n";
   }
   out.Commit();
 }

@@ -3,12 +3,21 @@
 // begin with a "#ORCS Values" header and a "#Saved at:" line.
 #pragma once
 
+#include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "model/core/variable_repository.h"
 
 namespace orcs {
+
+/// The index of the first control character in `text` — a byte U+0000–U+001F other than a tab, or U+007F — or npos:
+/// what one line of a value file cannot hold (a line feed or CR would start another line).
+std::size_t FindControlCharacter(std::string_view text);
+
+/// "U+000A (line feed)", "U+0000 (NUL)", "U+001B (escape)": how an error names a control character.
+std::string ControlCharacterName(char c);
 
 /// One "path=value" line, with where it came from (for error messages).
 struct ValueAssignment {
@@ -21,8 +30,9 @@ struct ValueAssignment {
 class ValueFile {
  public:
   /// Reads a value file and everything it includes, in order. Throws InputError naming the file and line for
-  /// an unreadable file, a line without '=', an empty path, a malformed or missing #include, or includes
-  /// nested deeper than kMaxIncludeDepth (an include cycle).
+  /// an unreadable file, a line without '=', an empty path, a control character (other than a tab, or a CR
+  /// ending the line), a malformed or missing #include, or includes nested deeper than kMaxIncludeDepth (an
+  /// include cycle).
   static std::vector<ValueAssignment> Read(const std::string& file);
 
   /// Reads a value file and applies every assignment to `repository`, in order. Throws InputError naming the
@@ -35,7 +45,8 @@ class ValueFile {
 
   /// Writes every value whose path matches `regular_expression` (all by default) to `file`, via a temporary
   /// name and a rename. `saved_at` is the text of the "#Saved at:" line. Throws InputError when the file cannot
-  /// be written.
+  /// be written, or naming the path when a value holds a control character (text::FindControlCharacter: a line
+  /// feed would add lines to the file) — then nothing is written.
   static void Save(const std::string& file, const VariableRepository& repository, const std::string& saved_at,
                    const std::string& regular_expression = ".*");
 

@@ -24,7 +24,7 @@ std::vector<std::string_view> ComponentSuffixes(ValueType type) {
 
 // Appends a string field, quoted when it holds a separator or a quote (RFC 4180).
 void AppendStringField(std::string& row, const std::string& field) {
-  if (field.find_first_of(",\"\n") == std::string::npos) {
+  if (field.find_first_of(",\"\n\r") == std::string::npos) {
     row += field;
     return;
   }
@@ -84,12 +84,15 @@ std::vector<std::string> ValueLogger::column_names() const {
   return names;
 }
 
-void ValueLogger::Open(const std::string& path, const std::vector<std::string>& comments) {
+void ValueLogger::Open(const std::string& path, const std::vector<std::string>& comments, std::size_t max_bytes,
+                       std::string why) {
   file_.reset();  // an earlier, unfinished file first: it shares the temporary name and would remove ours
   file_ = std::make_unique<AtomicFile>(path);
   out_ = &file_->stream();
-  max_bytes_ = std::numeric_limits<std::size_t>::max();
+  max_bytes_ = max_bytes;
   truncated_ = false;
+  written_ = 0;
+  why_truncated_ = why.empty() ? "it reached its bound of " + std::to_string(max_bytes) + " bytes" : std::move(why);
   WriteHeader(comments);
 }
 
@@ -99,16 +102,20 @@ void ValueLogger::OpenInMemory(const std::vector<std::string>& comments, std::si
   out_ = &memory_;
   max_bytes_ = max_bytes;
   truncated_ = false;
+  written_ = 0;
   why_truncated_ = why.empty() ? "it reached its bound of " + std::to_string(max_bytes) + " bytes" : std::move(why);
   WriteHeader(comments);
 }
 
 void ValueLogger::WriteHeader(const std::vector<std::string>& comments) {
-  for (const std::string& comment : comments) *out_ << "# " << comment << '\n';
-  *out_ << "# columns: ";
+  std::string header;
+  for (const std::string& comment : comments) header += "# " + comment + '\n';
+  header += "# columns: ";
   const std::vector<std::string> names = column_names();
-  for (size_t i = 0; i < names.size(); ++i) *out_ << (i ? "," : "") << names[i];
-  *out_ << '\n';
+  for (size_t i = 0; i < names.size(); ++i) header += (i ? "," : "") + names[i];
+  header += '\n';
+  *out_ << header;
+  written_ += header.size();
 }
 
 void ValueLogger::Sample(double time) {
@@ -120,12 +127,15 @@ void ValueLogger::Sample(double time) {
     AppendValue(row_, repository_.value(id));
   }
   row_ += '\n';
-  if (out_ == &memory_ && static_cast<std::size_t>(memory_.tellp()) + row_.size() > max_bytes_) {
-    *out_ << "# log truncated at time " << text::FormatDouble(time) << " s: " << why_truncated_ << '\n';
+  if (written_ + row_.size() > max_bytes_) {
+    const std::string line = "# log truncated at time " + text::FormatDouble(time) + " s: " + why_truncated_ + '\n';
+    *out_ << line;
+    written_ += line.size();
     truncated_ = true;
     return;
   }
   *out_ << row_;
+  written_ += row_.size();
   // A string stream fails silently when it cannot grow: say so, rather than hand back a log with rows missing.
   if (out_ == &memory_ && !memory_) throw std::bad_alloc();
 }

@@ -31,8 +31,10 @@ class ValueLogger {
   /// Column names: "time" first, then one per logged component.
   std::vector<std::string> column_names() const;
 
-  /// Starts writing to `path`: the comment lines (each prefixed "# "), then the column line.
-  void Open(const std::string& path, const std::vector<std::string>& comments);
+  /// Starts writing to `path`: the comment lines (each prefixed "# "), then the column line. `max_bytes` and `why`
+  /// bound the file as OpenInMemory's bound the memory.
+  void Open(const std::string& path, const std::vector<std::string>& comments,
+            std::size_t max_bytes = std::numeric_limits<std::size_t>::max(), std::string why = "");
   /// Starts writing to memory instead of a file (a worker returns the log in its result): see TakeText(). The log
   /// holds at most `max_bytes`: the row that would pass the bound is not written, a comment line
   /// "# log truncated at time T s: <why>" ends the log instead, and later samples are dropped (see truncated()).
@@ -41,8 +43,10 @@ class ValueLogger {
                     std::size_t max_bytes = std::numeric_limits<std::size_t>::max(), std::string why = "");
   /// What was written to memory since OpenInMemory, moved out (the logger's memory is then empty).
   std::string TakeText();
-  /// Whether an in-memory log reached its max_bytes and dropped samples.
+  /// Whether the log reached its max_bytes and dropped samples.
   bool truncated() const { return truncated_; }
+  /// Bytes written since Open or OpenInMemory (comment lines included).
+  std::size_t bytes() const { return written_; }
   /// Appends one row with the current values; `time` in seconds. Only after Open().
   void Sample(double time);
   /// Completes the file (rename onto its name). Throws InputError when writing failed.
@@ -56,7 +60,8 @@ class ValueLogger {
   std::unique_ptr<AtomicFile> file_;
   std::ostringstream memory_;
   std::ostream* out_ = nullptr;  // file_'s stream or memory_
-  std::size_t max_bytes_ = std::numeric_limits<std::size_t>::max();  // bound on the in-memory log
+  std::size_t max_bytes_ = std::numeric_limits<std::size_t>::max();  // bound on the log
+  std::size_t written_ = 0;      // bytes written since opening
   bool truncated_ = false;       // the bound was reached: samples are dropped
   std::string why_truncated_;    // the truncation line's reason
   std::string row_;  // reused buffer, so sampling does not allocate once warm

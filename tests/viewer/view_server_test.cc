@@ -65,6 +65,7 @@ class Served {
     return client;
   }
   int port() const { return port_; }
+  std::string host() const { return "127.0.0.1:" + std::to_string(port_); }
 
  private:
   WebAssets assets_;
@@ -140,7 +141,8 @@ TEST_F(ViewServerTest, PathTraversalAndAbsolutePathsAnswer404) {
     EXPECT_EQ(result->status, 404) << path;
   }
   // The same through a raw socket, where no client library normalises the path first.
-  EXPECT_EQ(RawRequest(served.port(), "GET /../../../../etc/passwd HTTP/1.1\r\nHost: x\r\n\r\n").substr(9, 3), "404");
+  EXPECT_EQ(RawRequest(served.port(), "GET /../../../../etc/passwd HTTP/1.1\r\nHost: " + served.host() + "\r\n\r\n").substr(9, 3),
+            "404");
 }
 
 TEST_F(ViewServerTest, MalformedRequestsAnswer4xx) {
@@ -303,7 +305,7 @@ TEST_F(ViewServerTest, ChannelAnswersAreBoundedEvenWhenIdsRepeat) {
   for (int i = 1; i < 4000; ++i) ids += ",0";
   // Raw, so that no client library percent-encodes the commas and the line stays under httplib's 8 KiB.
   const std::string many =
-      RawAnswer(served.port(), "GET /api/recording/r0/channels?ids=" + ids + " HTTP/1.1\r\nHost: x\r\n\r\n");
+      RawAnswer(served.port(), "GET /api/recording/r0/channels?ids=" + ids + " HTTP/1.1\r\nHost: " + served.host() + "\r\n\r\n");
   EXPECT_THAT(many, ::testing::StartsWith("HTTP/1.1 400 "));
   EXPECT_THAT(many, HasSubstr("ids: at most 3809 channels of this recording (1101 frames) per request"));
   const httplib::Result two = client.Get("/api/recording/r0/channels?ids=0,0");
@@ -319,7 +321,7 @@ TEST_F(ViewServerTest, AFilterThatIsNotUtf8Is400AndTheServerServesOn) {
   options.files_dir = dir_.PathOf("files");
   LiveSession live(options);
   Served served(web_, nullptr, &live);
-  const std::string status = RawRequest(served.port(), "GET /api/live/values?filter=%FF( HTTP/1.1\r\nHost: x\r\n\r\n");
+  const std::string status = RawRequest(served.port(), "GET /api/live/values?filter=%FF( HTTP/1.1\r\nHost: " + served.host() + "\r\n\r\n");
   EXPECT_EQ(status, "HTTP/1.1 400 Bad Request");
   httplib::Client client = served.Client();
   const httplib::Result valid_but_not_utf8 = client.Get("/api/live/values?filter=%FF");
@@ -337,14 +339,16 @@ TEST_F(ViewServerTest, AnswerHandlesAConnectionsRequestsAsTheSocketDoes) {
   const WebAssets assets(web_);
   ViewServer server(assets, &catalog, nullptr, nullptr);
   const std::vector<std::string> answers = server.Answer(
-      "GET /api/session HTTP/1.1\r\nHost: x\r\n\r\nGET /../../etc/passwd HTTP/1.1\r\nHost: x\r\n\r\n"
-      "GET /api/recording/r0/channels?ids=1,x HTTP/1.1\r\nHost: x\r\n\r\n");
-  ASSERT_EQ(answers.size(), 3u);
+      "GET /api/session HTTP/1.1\r\nHost: localhost\r\n\r\nGET /../../etc/passwd HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"
+      "GET /api/recording/r0/channels?ids=1,x HTTP/1.1\r\nHost: 127.0.0.1:8765\r\n\r\n"
+      "GET /api/session HTTP/1.1\r\nHost: x\r\n\r\n");
+  ASSERT_EQ(answers.size(), 4u);
   EXPECT_THAT(answers[0], ::testing::StartsWith("HTTP/1.1 200 OK\r\n"));
   EXPECT_THAT(answers[0], HasSubstr(R"("mode":"files")"));
   EXPECT_THAT(answers[1], ::testing::StartsWith("HTTP/1.1 404 "));
   EXPECT_THAT(answers[2], ::testing::StartsWith("HTTP/1.1 400 "));
   EXPECT_THAT(answers[2], HasSubstr("ids: expected channel indices"));
+  EXPECT_THAT(answers[3], ::testing::StartsWith("HTTP/1.1 403 ")) << "a name that is not the server's, unbound too";
 }
 
 // The first frame at or beyond `step`, awaited frame by frame (each wait bounded).

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -290,6 +291,52 @@ TEST_F(ValueFileTest, SaveToAnUnwritablePlaceNamesTheFile) {
   const std::string file = dir_.PathOf("no_such_folder/out.val");
   EXPECT_THAT(InputErrorOf([&] { ValueFile::Save(file, repository, "now"); }), HasSubstr(file));
   EXPECT_FALSE(fs::exists(file));
+}
+
+
+// A string value with a line feed was saved as extra lines, which loading applied as assignments of their own
+// (issue 47, item 4: "PVC\n/Simulation/TimeStepSize=0.1"). Save refuses it, naming the path, and writes nothing.
+TEST_F(ValueFileTest, SaveRefusesAValueWithAControlCharacterAndWritesNothing) {
+  for (const std::string& bad : {std::string("PVC\n/Simulation/TimeStepSize=0.1"), std::string("PVC\r/A=2"),
+                                  std::string("PVC\0x", 5), std::string("a\x1b[2Jb"), std::string("a\x7f")}) {
+    VariableRepository repository;
+    repository.Add("/Simulation/TimeStepSize", 0.01);
+    repository.Add("/Sim/Floor/Material", bad);
+    const std::string file = dir_.PathOf("floor.val");
+    const std::string error = InputErrorOf([&] { ValueFile::Save(file, repository, "now"); });
+    EXPECT_THAT(error, HasSubstr("/Sim/Floor/Material: the value holds control character U+00")) << error;
+    EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 0) << "one line";
+    EXPECT_TRUE(fs::is_empty(dir_.path())) << "nothing saved, no temporary left";
+  }
+  VariableRepository tab;
+  tab.Add("/Name", "a\tb");
+  ValueFile::Save(dir_.PathOf("tab.val"), tab, "now");
+  EXPECT_EQ(dir_.Read("tab.val"), "#ORCS Values\n#Saved at: now\n/Name=a\tb\n") << "a tab is one line's text";
+}
+
+// Loading refuses what a value file cannot represent — a NUL, a stray CR, an escape — naming the line and the
+// character, and sets nothing; a CR ending a line (CRLF) and tabs are text.
+TEST_F(ValueFileTest, ReadRefusesControlCharactersNamingTheLine) {
+  VariableRepository repository;
+  repository.Add("/A", 1);
+  repository.Add("/Name", "x");
+  const struct {
+    std::string text;
+    std::string expected;
+  } cases[] = {{std::string("/A=2\n/Name=P\0VC\n", 16), ":2: control character U+0000 (NUL) at column 8"},
+               {"/A=2\r/Name=y\n", ":1: control character U+000D (carriage return) at column 5"},
+               {"# note\n/Name=\x1b[31m\n", ":2: control character U+001B (escape) at column 7"}};
+  for (const auto& c : cases) {
+    const std::string file = dir_.Write("bad.val", c.text);
+    const std::string error = InputErrorOf([&] { ValueFile::Apply(file, repository); });
+    EXPECT_THAT(error, HasSubstr(file + c.expected)) << error;
+    EXPECT_EQ(std::count(error.begin(), error.end(), '\n'), 0) << "one line";
+    EXPECT_EQ(repository.Get("/A").as_int(), 1) << "nothing set";
+  }
+  const std::string crlf = dir_.Write("crlf.val", "/A=3\r\n/Name=\ta b\r\n");
+  ValueFile::Apply(crlf, repository);
+  EXPECT_EQ(repository.Get("/A").as_int(), 3);
+  EXPECT_EQ(repository.Get("/Name").as_string(), "a b");
 }
 
 }  // namespace

@@ -112,6 +112,7 @@ export class Live {
     this.shownMessage = f.message || '';
     $('time-label').textContent = `t = ${Number(f.time).toFixed(3)} s`;
     if (document.activeElement !== $('live-realtime')) $('live-realtime').checked = !!f.realtime;
+    this.showLogger(f.logger);
     $('live-run').classList.toggle('active', !!f.running);
     $('live-pause').classList.toggle('active', !f.running);
     this.ctx.plots.setTime(f.time);
@@ -168,7 +169,8 @@ export class Live {
 
   async claim() {
     try {
-      const answer = await post('/api/live/claim');
+      // A JSON request, as the server requires: a page of another site cannot send one without asking first.
+      const answer = await post('/api/live/claim', {});
       if (!answer || !answer.token) throw new Error('POST /api/live/claim: no token in the answer');
       setToken(answer.token);
       this.setControlled(true);
@@ -311,12 +313,28 @@ export class Live {
   }
 
   // --- the Logger -----------------------------------------------------------------------------------------
+  /** The server's logger state (docs/viewer-api.md): what is written, how much of its bounds, why it stopped. */
+  showLogger(l) {
+    if (!l) return;
+    const mib = (bytes) => `${(bytes / 1048576).toFixed(bytes < 1048576 ? 2 : 1)} MiB`;
+    $('logger-bounds').textContent = `a log stops at ${mib(l.max_bytes)} or ${Math.round(l.max_seconds)} s, or when control lapses`;
+    let text = 'stopped';
+    if (l.file) text = `writing ${l.file}: ${mib(l.bytes)} of ${mib(l.max_bytes)}, ${Math.floor(l.seconds)} s of ${Math.round(l.max_seconds)} s`;
+    else if (l.stopped) text = `stopped: ${l.stopped}`;
+    if ($('logger-state').textContent !== text) $('logger-state').textContent = text;
+    if (l.stopped && l.stopped !== this.shownLoggerStop) {
+      this.shownLoggerStop = l.stopped;
+      this.refreshFiles().catch(() => {});
+    }
+  }
+
   async logger(action) {
     if (!this.needToken()) return;
     try {
       const body = action === 'start' ? { action, filter: $('logger-filter').value, file: $('logger-file').value.trim() } : { action };
-      await post('/api/live/logger', body);
-      $('logger-state').textContent = action === 'start' ? `writing ${$('logger-file').value.trim()}` : 'stopped';
+      const state = await post('/api/live/logger', body);
+      if (state && state.logger) this.showLogger(state.logger);
+      else $('logger-state').textContent = action === 'start' ? `writing ${$('logger-file').value.trim()}` : 'stopped';
       await this.refreshFiles();
     } catch (err) {
       showError(err);
