@@ -127,6 +127,9 @@ class BrokerCore {
     std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
     std::unordered_map<std::string, JobRecord> jobs;  ///< its jobs without a result yet, by job id
     TimePoint claim_deadline;  ///< while unclaimed (client ""): dropped unless its client is back by then
+    /// While orphaned: the connection that owned it before it fell silent. Its CANCEL or DISCONNECT still ends the
+    /// batch (a client that wakes and gives up at once must not leave its jobs running for the grace period).
+    std::string former_client;
     /// Its waiting jobs, front first (requeued ones go to the front); may hold stale entries (Enqueue, CompactQueue).
     std::deque<QueueEntry> queue;
     bool in_rotation = false;  ///< whether rotation_ lists it (it has queued jobs)
@@ -228,6 +231,8 @@ class BrokerCore {
   bool AcceptJob(const std::string& client, const std::string& batch_id, Batch& batch, v1::Job& job);
   void OnClientHeartbeat(const std::string& client, const v1::Heartbeat& heartbeat);
   void OnClientCancel(const std::string& client, const v1::Cancel& cancel);
+  /// Whether `client` owns `batch`, or owned it until it fell silent and the batch is still orphaned.
+  bool OwnedOrOrphanedBy(const Batch& batch, const std::string& client) const;
   void OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect);
   /// Answers a STATUS_REQUEST (broker_core_status.cc).
   void OnClientStatusRequest(const std::string& client, const std::string& client_key);

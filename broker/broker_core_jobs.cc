@@ -161,6 +161,7 @@ BrokerCore::Batch& BrokerCore::ClaimBatch(const std::string& client, const std::
     if (journal_) journal_->AddBatch(batch_id, submit.client_id(), submit.owner_token(), client_key);
     Log("client " + submit.client_id() + " opened batch " + batch_id);
   } else if (batch.client.empty()) {
+    batch.former_client.clear();
     batch.client = client;
     batch.client_id = submit.client_id();
     ++counters_.batches_reclaimed;
@@ -225,7 +226,7 @@ void BrokerCore::OnClientHeartbeat(const std::string& client, const v1::Heartbea
 
 void BrokerCore::OnClientCancel(const std::string& client, const v1::Cancel& cancel) {
   auto batch = batches_.find(cancel.batch_id());
-  if (batch == batches_.end() || batch->second.client != client) return;
+  if (batch == batches_.end() || !OwnedOrOrphanedBy(batch->second, client)) return;
   auto owner = clients_.find(client);
   if (owner != clients_.end()) owner->second.batches.erase(cancel.batch_id());
   Log("client " + batch->second.client_id + " cancelled batch " + cancel.batch_id());
@@ -233,8 +234,24 @@ void BrokerCore::OnClientCancel(const std::string& client, const v1::Cancel& can
 }
 
 void BrokerCore::OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect) {
-  if (clients_.count(client) == 0) return;
-  DropClient(client, "left (" + disconnect.reason() + ")", false);
+  if (clients_.count(client) != 0) {
+    DropClient(client, "left (" + disconnect.reason() + ")", false);
+    return;
+  }
+  // A connection the broker forgot as silent says goodbye: the batches it left orphaned go now, not after the grace.
+  std::vector<std::string> orphaned;
+  for (const auto& [batch_id, batch] : batches_) {
+    if (batch.client.empty() && batch.former_client == client) orphaned.push_back(batch_id);
+  }
+  for (const std::string& batch_id : orphaned) {
+    Log("client " + batches_.at(batch_id).client_id + " left (" + disconnect.reason() + "); dropped its batch " +
+        batch_id);
+    DropBatch(batch_id, "batch " + batch_id + " ended: its client left");
+  }
+}
+
+bool BrokerCore::OwnedOrOrphanedBy(const Batch& batch, const std::string& client) const {
+  return batch.client == client || (batch.client.empty() && batch.former_client == client);
 }
 
 void BrokerCore::PurgeLostClients() {
@@ -446,6 +463,7 @@ void BrokerCore::OrphanClient(const std::string& client, const std::string& reas
     if (batch == batches_.end() || batch->second.client != client) continue;
     if (batch->second.jobs.empty()) continue;  // nothing pending: nothing to come back for
     pending += batch->second.jobs.size();
+    batch->second.former_client = client;
     batch->second.client.clear();
     batch->second.claim_deadline = now_ + options_.client_grace;
     ++orphaned;

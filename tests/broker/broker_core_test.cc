@@ -899,6 +899,42 @@ TEST_F(BrokerCoreTest, ASilentClientsBatchIsDroppedAfterItsGraceAndItsRunningJob
   EXPECT_EQ(Stats().queued, 0u);
 }
 
+TEST_F(BrokerCoreTest, AnOrphanedBatchsCancelFromItsFormerConnectionEndsItAtOnce) {
+  Submit("c", "b", {Job("j0"), Job("j1")});
+  Ready("w", 2);
+  Dispatch();
+  for (int second = 0; second < 5; ++second) {
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    Tick();
+  }
+  ASSERT_EQ(Stats().batches_orphaned, 1u);
+  v1::ClientToBroker cancel;
+  cancel.mutable_cancel()->set_batch_id("b");
+  ClientSays("stranger", cancel);  // a CANCEL from another connection changes nothing
+  EXPECT_EQ(Stats().batches, 1);
+  ClientSays("c", cancel);
+  EXPECT_EQ(Stats().batches, 0);
+  EXPECT_EQ(endings::RevokedLeases(transport_, "w"), endings::LeasesOf(transport_.Jobs("w")));
+}
+
+TEST_F(BrokerCoreTest, AnOrphanedBatchsGoodbyeFromItsFormerConnectionEndsItAtOnce) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Dispatch();
+  for (int second = 0; second < 5; ++second) {
+    Advance(seconds(1));
+    WorkerHeartbeat("w");
+    Tick();
+  }
+  v1::ClientToBroker bye;
+  bye.mutable_disconnect()->set_reason("interrupted");
+  ClientSays("c", bye);
+  EXPECT_EQ(Stats().batches, 0);
+  EXPECT_EQ(Stats().in_flight, 0u);
+  EXPECT_TRUE(Logged("left (interrupted); dropped its batch b"));
+}
+
 TEST_F(BrokerCoreTest, ASmallBatchBehindABigOneStartsAtOnce) {
   std::vector<v1::Job> big;
   for (int i = 0; i < 100; ++i) big.push_back(Job("big" + std::to_string(i)));

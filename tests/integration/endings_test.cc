@@ -13,6 +13,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "orcs/v1/broker.pb.h"
@@ -165,22 +166,22 @@ TEST_F(EndingsTest, ACancelledBatchsRunningJobsAreRevokedAndTheNextUsersBatchRun
 
 TEST_F(EndingsTest, AStoppedClientsBatchIsDroppedAfterTheGraceAndTheClientCarriesOnWhenItWakes) {
   StartCluster({"--client-grace", "1"});
-  std::unique_ptr<BackgroundProcess> first = Submit("first", 4, 20.0);
+  std::unique_ptr<BackgroundProcess> first = Submit("first", 2, 10.0);
   AwaitBothWorkersBusy();
   first->Signal(SIGSTOP);
   // Silent for 0.5 s (5 × 0.1 s), then 1 s of grace: dropped, its jobs revoked.
   EXPECT_TRUE(test_support::WaitFor([&] { return BusyWorkers() == 0; }, milliseconds(10000))) << broker_->err();
   EXPECT_THAT(broker_->err(), HasSubstr("dropped: its client did not come back in time"));
   NextUsersBatchRuns();
-  // Stopped past the client's 30 s reconnect timeout: it must ask the broker again, not give up.
-  const Clock::time_point stopped_until = Clock::now() + std::chrono::seconds(31);
-  test_support::WaitFor([&] { return Clock::now() >= stopped_until; }, std::chrono::seconds(40));
+  // Stopped past the client's 30 s reconnect timeout: it must ask the broker again, not give up. (The stop's length
+  // is what is tested, not a condition to await.)
+  std::this_thread::sleep_for(std::chrono::seconds(31));
   first->Signal(SIGCONT);
   const std::optional<test_support::ProcessResult> done = first->Wait(milliseconds(120000));
   ASSERT_TRUE(done.has_value()) << broker_->err();
   EXPECT_EQ(done->exit_code, 0) << done->err;
   EXPECT_THAT(done->err, ::testing::Not(HasSubstr("lost the broker")));
-  EXPECT_EQ(CountLines(dir_.PathOf("first") + "/results.jsonl"), 4);
+  EXPECT_EQ(CountLines(dir_.PathOf("first") + "/results.jsonl"), 2);
 }
 
 TEST_F(EndingsTest, AClientStoppedWithinTheGraceGetsItsBatchBackWithEveryResult) {
