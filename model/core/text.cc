@@ -186,16 +186,17 @@ std::string NameRule() {
 
 std::string NameProblem(std::string_view name) {
   if (name.empty()) return "it is empty";
-  if (name.size() > kMaxNameBytes) return "it has " + std::to_string(name.size()) + " bytes";
   if (name == "." || name == "..") return "it is '" + std::string(name) + "'";
   if (name.find('/') != std::string_view::npos) return "it contains '/'";
   if (name.find('\\') != std::string_view::npos) return "it contains '\\'";
   for (std::string_view rest = name; !rest.empty();) {
     const std::size_t length = CharacterLength(rest);
     if (length == 0) return "it is not UTF-8";
+    const std::string_view character = rest.substr(0, length);
+    if (Excerpt(character) != character) return "it contains a control character";  // Excerpt escapes exactly those
     rest.remove_prefix(length);
   }
-  if (Excerpt(name, kMaxNameBytes) != name) return "it contains a control character";
+  if (name.size() > kMaxNameBytes) return "it has " + std::to_string(name.size()) + " bytes";
   return "";
 }
 
