@@ -103,7 +103,7 @@ bool JobSelection::Contains(std::size_t index) const {
 
 JobSelection ParseJobSelection(const std::string& text, std::size_t job_count) {
   const auto fail = [&text](const std::string& expected) -> void {
-    throw InputError("--record", 0, "expected " + expected + ", found '" + text + "'");
+    throw InputError("--record", 0, "expected " + expected + ", found " + text::Quote(text));
   };
   const std::string format = "'all' or job indices such as 0,3-5";
   JobSelection selection;

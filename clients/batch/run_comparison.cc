@@ -59,7 +59,7 @@ Run ReadRun(const std::string& file, std::vector<std::string>& term_names) {
       throw InputError(file, number, "\"id\": missing or not text");
     }
     const std::string id = line["id"].get<std::string>();
-    if (run.jobs.count(id) != 0) throw InputError(file, number, "job '" + id + "' appears twice");
+    if (run.jobs.count(id) != 0) throw InputError(file, number, "job " + text::Quote(id) + " appears twice");
     run.jobs.emplace(id, FiguresOf(line, file, number, term_names));
     run.order.push_back(id);
   }

@@ -14,12 +14,12 @@ namespace {
 constexpr int kMaxSteps = 10000;
 
 [[noreturn]] void Fail(const std::string& text, const std::string& what) {
-  throw InputError("--param '" + text + "'", 0, what);
+  throw InputError("--param " + text::Quote(text), 0, what);
 }
 
 double FiniteNumber(const std::string& text, const std::string& field, const std::string& name) {
   const std::optional<double> value = text::ParseDouble(field);
-  if (!value || !std::isfinite(*value)) Fail(text, name + " expected a finite number, found '" + field + "'");
+  if (!value || !std::isfinite(*value)) Fail(text, name + " expected a finite number, found " + text::Quote(field));
   return *value;
 }
 
@@ -36,7 +36,7 @@ std::string MaterialNames() {
 void CheckMaterial(const std::string& text, const std::string& path, const std::string& value) {
   if (!path.ends_with("/Material")) return;
   if (physics::MaterialTable::IndexOf(value) == physics::MaterialTable::kUnknown) {
-    Fail(text, "'" + value + "' is not a material; expected one of " + MaterialNames());
+    Fail(text, text::Quote(value) + " is not a material; expected one of " + MaterialNames());
   }
 }
 
@@ -47,7 +47,7 @@ void ParseCategories(const std::string& text, const std::string& list, SweepAxis
     const std::string value(field);
     if (value.empty()) Fail(text, "expected a list of values V1,V2,... without empty ones");
     if (value.find_first_of("\"\r\n") != std::string::npos) Fail(text, "a value may not hold '\"' or a line break");
-    if (!seen.insert(value).second) Fail(text, "the value '" + value + "' is listed twice");
+    if (!seen.insert(value).second) Fail(text, "the value " + text::Quote(value) + " is listed twice");
     CheckMaterial(text, axis.path, value);
     axis.categories.push_back(value);
   }
@@ -67,7 +67,7 @@ void ParseGridRange(const std::string& text, const std::vector<std::string>& fie
   axis.high = FiniteNumber(text, fields[1], "HIGH");
   const std::optional<long long> steps = text::ParseInt(fields[2]);
   if (!steps || *steps < 1 || *steps > kMaxSteps) {
-    Fail(text, "STEPS expected an integer from 1 to " + std::to_string(kMaxSteps) + ", found '" + fields[2] + "'");
+    Fail(text, "STEPS expected an integer from 1 to " + std::to_string(kMaxSteps) + ", found " + text::Quote(fields[2]));
   }
   axis.steps = static_cast<int>(*steps);
   if (axis.low > axis.high) Fail(text, "LOW " + fields[0] + " is above HIGH " + fields[1]);
@@ -106,7 +106,7 @@ SweepAxis ParseSweepAxis(const std::string& text, SweepSampling sampling) {
   }
   SweepAxis axis;
   axis.path = text.substr(0, equals);
-  if (!axis.path.starts_with('/')) Fail(text, "expected a repository path starting with '/', found '" + axis.path + "'");
+  if (!axis.path.starts_with('/')) Fail(text, "expected a repository path starting with '/', found " + text::Quote(axis.path));
   const std::string range = text.substr(equals + 1);
   if (range.find(':') == std::string::npos) {
     ParseCategories(text, range, axis);

@@ -78,12 +78,12 @@ std::vector<ValueAssignment> ReadModel(const GapOptions& o) {
 std::vector<Override> HiddenValues(const GapOptions& o) {
   std::vector<Override> hidden;
   for (const std::string& name : o.effect_switches) {
-    if (identify::FindEffect(name) == nullptr) throw InputError("--effect: no effect '" + name + "' (docs/gap.md)");
+    if (identify::FindEffect(name) == nullptr) throw InputError("--effect: no effect " + text::Quote(name) + " (docs/gap.md)");
     hidden.emplace_back("/Effects/" + name + "/Enabled", "T");
   }
   for (const std::string& set : o.sets) {
     const std::size_t equals = set.find('=');
-    if (equals == std::string::npos || equals == 0) throw InputError("--set: expected PATH=VALUE, found '" + set + "'");
+    if (equals == std::string::npos || equals == 0) throw InputError("--set: expected PATH=VALUE, found " + text::Quote(set));
     hidden.emplace_back(std::string(text::Trim(set.substr(0, equals))), std::string(text::Trim(set.substr(equals + 1))));
   }
   return hidden;

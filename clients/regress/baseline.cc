@@ -6,6 +6,7 @@
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/json_node.h"
+#include "model/core/text.h"
 #include "model/core/text_file.h"
 
 namespace orcs::regress {
@@ -79,7 +80,7 @@ void CheckBaselineMatches(const Baseline& baseline, const std::string& path, con
     const SuiteCase& entry = suite.cases[i];
     const BaselineCase* recorded = baseline.Find(entry.name);
     if (recorded == nullptr) {
-      Mismatch(path, "field 'cases' has no case '" + entry.name + "' (" + suite.path + " " + entry.field + ")");
+      Mismatch(path, "field 'cases' has no case " + text::Quote(entry.name) + " (" + suite.path + " " + entry.field + ")");
     }
     if (recorded->fingerprint != fingerprints.at(i)) {
       Mismatch(path, "field 'cases." + entry.name + ".fingerprint' expected " + fingerprints[i] + ", found " +

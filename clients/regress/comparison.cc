@@ -128,14 +128,14 @@ std::string FailureMessage(const CaseComparison& comparison) {
     case Verdict::kRecorded:
       return "";
     case Verdict::kNoResult:
-      return "case '" + comparison.name + "': " + comparison.message + BaselineNote(comparison);
+      return "case " + text::Quote(comparison.name) + ": " + comparison.message + BaselineNote(comparison);
     case Verdict::kJobFailed:
-      return "case '" + comparison.name + "': the job did not run ok: " + comparison.status +
+      return "case " + text::Quote(comparison.name) + ": the job did not run ok: " + comparison.status +
              (comparison.message.empty() ? "" : ": " + comparison.message) + BaselineNote(comparison);
     case Verdict::kRegressed:
       break;
   }
-  std::string message = "case '" + comparison.name + "' regressed: fitness baseline " + Number(comparison.baseline) +
+  std::string message = "case " + text::Quote(comparison.name) + " regressed: fitness baseline " + Number(comparison.baseline) +
                         ", measured " + Number(comparison.now) + ", difference " + Number(comparison.difference) +
                         ", tolerance " + Number(comparison.allowed);
   if (comparison.moved.empty()) return message + "; no term moved";

@@ -49,7 +49,7 @@ void CheckCaseJob(const Suite& suite, const SuiteCase& entry, const batch::Plann
   try {
     batch::CheckJobs(entry.scenario, {entry.genome}, {planned});
   } catch (const InputError& error) {
-    throw InputError(suite.path, 0, "case '" + entry.name + "' (" + entry.field + "): " + error.what());
+    throw InputError(suite.path, 0, "case " + text::Quote(entry.name) + " (" + entry.field + "): " + error.what());
   }
 }
 

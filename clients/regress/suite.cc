@@ -53,14 +53,14 @@ batch::Genome ReadGenome(const JsonNode& node, const std::string& suite_path) {
   if (!node.value().is_array() && !node.value().is_object()) {
     node.Fail("a genome (an array, a network object or \"@FILE\")");
   }
-  return batch::Genome{node.value(), suite_path + " field '" + node.path() + "'", 0};
+  return batch::Genome{node.value(), suite_path + " field " + text::Quote(node.path()), 0};
 }
 
 // "values": written as a scenario's "values" are, keyed by repository paths.
 std::vector<std::pair<std::string, std::string>> ReadValues(const JsonNode& node) {
   std::vector<std::pair<std::string, std::string>> values;
   for (const auto& [path, value] : node.Members()) {
-    if (!path.starts_with("/")) value.Fail("a repository path starting with '/' as the key", "'" + path + "'");
+    if (!path.starts_with("/")) value.Fail("a repository path starting with '/' as the key", text::Quote(path));
   }
   for (const ValueAssignment& assignment : scene::ParseInlineValues(node)) {
     values.emplace_back(assignment.path, assignment.value);
@@ -74,7 +74,7 @@ batch::ScenarioInput ReadCaseScenario(const JsonNode& node, const std::string& s
   try {
     return batch::LoadScenario(BesideSuite(suite_path, file));
   } catch (const InputError& error) {
-    throw InputError(suite_path, 0, "field '" + node.path() + "' of case '" + name + "': " + error.what());
+    throw InputError(suite_path, 0, "field " + text::Quote(node.path()) + " of case " + text::Quote(name) + ": " + error.what());
   }
 }
 
@@ -122,6 +122,13 @@ Suite ReadSuite(const std::string& path) {
   suite.path = path;
   suite.name = root.Has("name") ? root.At("name").String("a suite name") : fs::path(path).stem().string();
   if (suite.name.empty()) root.At("name").Fail("a non-empty suite name");
+  // The name is the default output folder runs/<name>: a label, never a path (the scenario's rule).
+  const std::string problem = text::NameProblem(suite.name);
+  if (!problem.empty()) {
+    if (root.Has("name")) root.At("name").Fail(text::NameRule(), DescribeJson(root.At("name").value()) + " (" + problem + ")");
+    throw InputError(path, 0, "the suite's name, its file name's stem " + text::Quote(suite.name) + ", is not " +
+                                  text::NameRule() + " (" + problem + "): give it a \"name\"");
+  }
   if (root.Has("tolerance")) suite.tolerance = ReadTolerance(root.At("tolerance"), Tolerance{});
   const JsonNode cases = root.At("cases");
   const std::vector<JsonNode> elements = cases.Elements();

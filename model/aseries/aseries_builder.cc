@@ -7,6 +7,7 @@
 
 #include "model/core/error.h"
 #include "model/core/rotation.h"
+#include "model/core/text.h"
 
 namespace orcs::aseries {
 namespace {
@@ -91,7 +92,7 @@ class Assembly {
 
   void AddGeoms() {
     for (const MorphologyGeom& geom : morphology_.geoms) {
-      physics::BodyDescription& host = description_.bodies[FindHost(geom.host, "geom '" + geom.name + "'")];
+      physics::BodyDescription& host = description_.bodies[FindHost(geom.host, "geom " + text::Quote(geom.name))];
       host.geoms.push_back(BoxGeom(geom.name, geom.size, geom.offset, Eigen::Quaterniond::Identity(),
                                    geom.material, geom.mass, geom.color, geom.texture));
     }
@@ -99,7 +100,7 @@ class Assembly {
 
   void AddBoards() {
     for (const MorphologyBoard& board : morphology_.boards) {
-      const int host_index = FindHost(board.host, "board '" + board.name + "'");
+      const int host_index = FindHost(board.host, "board " + text::Quote(board.name));
       physics::BodyDescription& host = description_.bodies[host_index];
       const Eigen::Quaterniond rotation = board.rotation.normalized();
       ASeriesBoardLayout out;
@@ -174,7 +175,7 @@ class Assembly {
 
   physics::JointDescription JointBetween(const std::string& name, physics::JointType type, const std::string& first,
                                          const std::string& second, const std::string& kind) const {
-    const std::string where = kind + " '" + name + "'";
+    const std::string where = kind + " " + text::Quote(name);
     physics::JointDescription joint;
     joint.name = prefix_ + name;
     joint.type = type;

@@ -5,6 +5,7 @@
 #include "model/control/sine_oscillator.h"
 #include "model/core/error.h"
 #include "model/core/json_node.h"
+#include "model/core/text.h"
 
 namespace orcs::control {
 namespace {
@@ -25,7 +26,7 @@ std::vector<std::string> OscillatorJoints(const JsonNode& node, const ControlTar
   for (const JsonNode& joint : node.At("joints").Elements()) {
     const std::string name = joint.String("a motor name");
     if (std::find(target.motors.begin(), target.motors.end(), name) == target.motors.end()) {
-      joint.Fail("a motor of agent '" + target.agent + "'");
+      joint.Fail("a motor of agent " + text::Quote(target.agent));
     }
     joints.push_back(name);
   }

@@ -6,6 +6,7 @@
 
 #include "model/aseries/value_range.h"
 #include "model/core/error.h"
+#include "model/core/text.h"
 
 namespace orcs::control {
 namespace {
@@ -74,7 +75,7 @@ NetworkDescription ParseNetwork(const JsonNode& node, const std::string& agent, 
   const auto add = [&](NetworkDescription::Neuron neuron, const JsonNode& where) {
     if (neuron.name.empty()) where.At("name").Fail("a non-empty name");
     if (!index.emplace(neuron.name, static_cast<int>(network.neurons.size())).second) {
-      where.At("name").Fail("a name unique among inputs and neurons", "'" + neuron.name + "' again");
+      where.At("name").Fail("a name unique among inputs and neurons", text::Quote(neuron.name) + " again");
     }
     network.neurons.push_back(std::move(neuron));
   };
@@ -98,7 +99,7 @@ NetworkDescription ParseNetwork(const JsonNode& node, const std::string& agent, 
   }
   const auto neuron_of = [&](const JsonNode& name) {
     const auto it = index.find(name.String("a neuron name"));
-    if (it == index.end()) name.Fail("the name of an input or neuron", "'" + name.String("") + "'");
+    if (it == index.end()) name.Fail("the name of an input or neuron", text::Quote(name.String("")));
     return it->second;
   };
   if (node.Has("synapses")) {
@@ -126,9 +127,9 @@ NeuralNetwork::NeuralNetwork(NetworkDescription description, VariableRepository&
     : description_(std::move(description)) {
   const auto bind = [&](const std::string& path) -> Value& {
     Value* value = values.Find(path);
-    if (value == nullptr) throw InputError(source, 0, "controller: unknown repository value '" + path + "'");
+    if (value == nullptr) throw InputError(source, 0, "controller: unknown repository value " + text::Quote(path));
     if (value->type() != ValueType::kDouble) {
-      throw InputError(source, 0, "controller: '" + path + "' is not a number value");
+      throw InputError(source, 0, "controller: " + text::Quote(path) + " is not a number value");
     }
     return *value;
   };

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "model/core/error.h"
+#include "model/core/text.h"
 
 namespace orcs::control {
 
@@ -14,7 +15,7 @@ SineOscillator::SineOscillator(std::vector<SineJoint> joints, const std::string&
     const std::string prefix = "/Sim/" + agent + "/" + joint.motor + "/";
     Value* angle = values.Find(prefix + "DesiredAngle");
     if (angle == nullptr) {
-      throw InputError(source, 0, "controller: agent '" + agent + "' has no motor '" + joint.motor + "'");
+      throw InputError(source, 0, "controller: agent " + text::Quote(agent) + " has no motor " + text::Quote(joint.motor));
     }
     angles_.push_back(angle);
     if (torque_) torques_.push_back(&values.Get(prefix + "DesiredTorque"));

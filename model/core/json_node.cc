@@ -12,6 +12,12 @@ namespace {
 
 using Json = nlohmann::json;
 
+// A field path as an error shows it: far beyond any real one ("randomisation.parameters[12].normal.deviation"),
+// short enough that a path built from a 100,000-character key does not make a 100 kB error line.
+constexpr std::size_t kMaxShownPathBytes = 200;
+// nlohmann's own parse message, which quotes the last token read.
+constexpr std::size_t kMaxShownErrorBytes = 300;
+
 // 1-based line of a byte offset, for nlohmann's parse errors.
 int LineOf(const std::string& text, std::size_t byte) {
   const std::size_t end = std::min(byte, text.size());
@@ -58,7 +64,8 @@ Json ParseJson(const std::string& text, const std::string& source) {
     std::string what = error.what();
     const std::size_t colon = what.find(": ");
     if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(source, LineOf(text, error.byte), "malformed JSON: " + what);
+    // "last read: '...'" quotes the token read, which may be a whole 100,000-character string: bounded.
+    throw InputError(source, LineOf(text, error.byte), "malformed JSON: " + text::Excerpt(what, kMaxShownErrorBytes));
   } catch (const Json::out_of_range& error) {
     // A number beyond double's range: "[json.exception.out_of_range.406] number overflow parsing '1E400'", no
     // position; the line is where the number first appears.
@@ -69,16 +76,15 @@ Json ParseJson(const std::string& text, const std::string& source) {
     const std::size_t close = what.rfind('\'');
     const std::string number = open < close ? what.substr(open + 1, close - open - 1) : "";
     const std::size_t at = number.empty() ? std::string::npos : text.find(number);
-    throw InputError(source, at == std::string::npos ? 0 : LineOf(text, at), "malformed JSON: " + what);
+    throw InputError(source, at == std::string::npos ? 0 : LineOf(text, at),
+                     "malformed JSON: " + text::Excerpt(what, kMaxShownErrorBytes));
   }
 }
 
 std::string DescribeJson(const Json& value) {
   switch (value.type()) {
     case Json::value_t::string: {
-      std::string text = value.get<std::string>();
-      if (text.size() > 40) text = std::string(text::Prefix(text, 40)) + "...";
-      return "the string \"" + text + "\"";
+      return "the string \"" + text::Excerpt(value.get_ref<const std::string&>()) + "\"";
     }
     case Json::value_t::number_integer:
     case Json::value_t::number_unsigned:
@@ -98,7 +104,9 @@ std::string DescribeJson(const Json& value) {
 }
 
 void JsonNode::Fail(const std::string& expected, const std::string& found) const {
-  throw InputError(source_, 0, "field '" + path_ + "' expected " + expected + ", found " + found);
+  // The path holds the user's keys (schedules./Servo/SupplyVoltage, an unknown key): shown bounded and escaped.
+  throw InputError(source_, 0, "field '" + text::Excerpt(path_, kMaxShownPathBytes) + "' expected " + expected +
+                                   ", found " + found);
 }
 
 JsonNode JsonNode::At(const std::string& key) const {
@@ -115,7 +123,7 @@ void JsonNode::ExpectOnly(std::initializer_list<std::string_view> allowed) const
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       std::string list;
       for (std::string_view name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
-      JsonNode(member, Child(key), source_).Fail("no such field (allowed: " + list + ")", "'" + key + "'");
+      JsonNode(member, Child(key), source_).Fail("no such field (allowed: " + list + ")", text::Quote(key));
     }
   }
 }

@@ -100,9 +100,13 @@ std::vector<std::string_view> Split(std::string_view text, char separator) {
 
 std::string_view Prefix(std::string_view text, std::size_t max_bytes) {
   if (text.size() <= max_bytes) return text;
+  // text[max_bytes] continues a character: back to its lead byte, at most 3 bytes before. Without one, the bytes are
+  // no character, and cutting them breaks nothing.
+  const auto continues = [&](std::size_t i) { return (static_cast<unsigned char>(text[i]) & 0xC0) == 0x80; };
+  const std::size_t lowest = max_bytes >= 3 ? max_bytes - 3 : 0;
   std::size_t cut = max_bytes;
-  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // text[cut] continues a character
-  return text.substr(0, cut);
+  while (cut > lowest && continues(cut)) --cut;
+  return text.substr(0, continues(cut) ? max_bytes : cut);
 }
 
 namespace {
@@ -137,28 +141,63 @@ std::string ValidUtf8(std::string_view text) {
   return out;
 }
 
-std::string Quote(std::string_view text) {
-  constexpr size_t kMax = 40;
-  const bool shortened = text.size() > kMax;
-  if (shortened) text = Prefix(text, kMax);
-  // Control characters are written as escapes, so that a quoted newline cannot break an error into two lines.
-  std::string quoted = "'";
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (c == '\n') {
-      quoted += "\\n";
-    } else if (c == '\r') {
-      quoted += "\\r";
-    } else if (c == '\t') {
-      quoted += "\\t";
-    } else if (byte < 0x20 || byte == 0x7f) {
-      static constexpr char kHex[] = "0123456789abcdef";
-      quoted += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xf]};
+std::string Excerpt(std::string_view text, std::size_t max_bytes) {
+  const bool shortened = text.size() > max_bytes;
+  if (shortened) text = Prefix(text, max_bytes);
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string shown;
+  shown.reserve(text.size() + 3);
+  while (!text.empty()) {
+    const auto byte = static_cast<unsigned char>(text[0]);
+    const std::size_t length = CharacterLength(text);
+    if (byte == '\n') {
+      shown += "\\n";
+    } else if (byte == '\r') {
+      shown += "\\r";
+    } else if (byte == '\t') {
+      shown += "\\t";
+    } else if (length == 0 || byte < 0x20 || byte == 0x7f) {  // a C0 control, DEL, or not UTF-8
+      shown += {'\\', 'x', kHex[byte >> 4], kHex[byte & 0xf]};
     } else {
-      quoted += c;
+      std::uint32_t code = byte;
+      if (length == 2) code = ((byte & 0x1Fu) << 6) | (static_cast<unsigned char>(text[1]) & 0x3Fu);
+      if (length == 3) {
+        code = ((byte & 0x0Fu) << 12) | ((static_cast<unsigned char>(text[1]) & 0x3Fu) << 6) |
+               (static_cast<unsigned char>(text[2]) & 0x3Fu);
+      }
+      if ((code >= 0x80 && code <= 0x9F) || code == 0x2028 || code == 0x2029) {  // C1 controls, line separators
+        shown += {'\\', 'u', kHex[(code >> 12) & 0xf], kHex[(code >> 8) & 0xf], kHex[(code >> 4) & 0xf],
+                  kHex[code & 0xf]};
+      } else {
+        shown += text.substr(0, length);
+      }
     }
+    text.remove_prefix(length == 0 ? 1 : length);
   }
-  return quoted + (shortened ? "...'" : "'");
+  return shortened ? shown + "..." : shown;
+}
+
+std::string Quote(std::string_view text) { return "'" + Excerpt(text) + "'"; }
+
+std::string NameRule() {
+  return "a label of 1 to " + std::to_string(kMaxNameBytes) +
+         " bytes of UTF-8 without '/', '\\' or control characters, not '.' or '..'";
+}
+
+std::string NameProblem(std::string_view name) {
+  if (name.empty()) return "it is empty";
+  if (name == "." || name == "..") return "it is '" + std::string(name) + "'";
+  if (name.find('/') != std::string_view::npos) return "it contains '/'";
+  if (name.find('\\') != std::string_view::npos) return "it contains '\\'";
+  for (std::string_view rest = name; !rest.empty();) {
+    const std::size_t length = CharacterLength(rest);
+    if (length == 0) return "it is not UTF-8";
+    const std::string_view character = rest.substr(0, length);
+    if (Excerpt(character) != character) return "it contains a control character";  // Excerpt escapes exactly those
+    rest.remove_prefix(length);
+  }
+  if (name.size() > kMaxNameBytes) return "it has " + std::to_string(name.size()) + " bytes";
+  return "";
 }
 
 }  // namespace orcs::text

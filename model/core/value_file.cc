@@ -104,7 +104,7 @@ void ValueFile::ApplyAssignments(const std::vector<ValueAssignment>& assignments
   for (const ValueAssignment& assignment : assignments) {
     const Value* value = repository.Find(assignment.path);
     if (value == nullptr) {
-      throw InputError(assignment.file, assignment.line, "unknown repository path '" + assignment.path + "'");
+      throw InputError(assignment.file, assignment.line, "unknown repository path " + text::Quote(assignment.path));
     }
     if (const std::string expected = value->CheckString(assignment.value); !expected.empty()) {
       throw InputError(assignment.file, assignment.line,

@@ -67,7 +67,7 @@ ValueLogger::ValueLogger(const VariableRepository& repository, const std::vector
     : repository_(repository) {
   for (const std::string& expression : regular_expressions) {
     const std::vector<int> matched = repository.Match(expression);
-    if (matched.empty()) throw InputError("--log '" + expression + "': matches no repository value");
+    if (matched.empty()) throw InputError("--log " + text::Quote(expression) + ": matches no repository value");
     ids_.insert(ids_.end(), matched.begin(), matched.end());
   }
   std::sort(ids_.begin(), ids_.end());

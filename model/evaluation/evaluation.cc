@@ -40,7 +40,7 @@ scene::EnvironmentDescription EnvironmentOf(const scene::Scenario& scenario) {
 int FindScenarioAgent(const scene::Simulation& simulation, const scene::Scenario& scenario) {
   const int agent = simulation.FindAgent(scenario.agent);
   if (agent < 0) {
-    throw InputError(scenario.source, 0, "field 'agent' names '" + scenario.agent + "', which the environment lacks");
+    throw InputError(scenario.source, 0, "field 'agent' names " + text::Quote(scenario.agent) + ", which the environment lacks");
   }
   return agent;
 }

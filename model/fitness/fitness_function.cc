@@ -3,6 +3,7 @@
 #include <set>
 
 #include "model/core/error.h"
+#include "model/core/text.h"
 
 namespace orcs::fitness {
 namespace {
@@ -17,7 +18,7 @@ std::vector<std::pair<std::string, double>> NamesAndWeights(const JsonNode& fitn
     const std::string type = term.At("type").String(kFitnessTermTypes);
     const std::string name = term.StringOr("name", type, "a term name");
     if (!seen.insert(name).second) {
-      term.Fail("a name unique among the terms (set \"name\")", "'" + name + "' again");
+      term.Fail("a name unique among the terms (set \"name\")", text::Quote(name) + " again");
     }
     out.emplace_back(name, term.NumberOr("weight", 1.0, "a number"));
   }

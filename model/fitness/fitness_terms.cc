@@ -5,6 +5,7 @@
 
 #include "model/control/keyframe_record.h"
 #include "model/core/error.h"
+#include "model/core/text.h"
 
 namespace orcs::fitness {
 namespace {
@@ -14,7 +15,7 @@ int AgentBody(const JsonNode& entry, const scene::Simulation& simulation, int ag
   const JsonNode node = entry.At("body");
   const std::string name = node.String("a body name like \"Middle/Head\"");
   const int body = simulation.model().morphology(agent_index).FindBody(name);
-  if (body < 0) node.Fail("a body of agent '" + simulation.model().agents()[agent_index].agent_name + "'");
+  if (body < 0) node.Fail("a body of agent " + text::Quote(simulation.model().agents()[agent_index].agent_name));
   return simulation.model().agents()[agent_index].bodies[body];
 }
 

@@ -178,13 +178,13 @@ std::vector<const EffectDescription*> Candidates(const std::vector<std::string>&
   }
   for (const std::string& name : names) {
     const EffectDescription* effect = FindEffect(name);
-    if (effect == nullptr) throw InputError("--effects: no effect '" + name + "' in the catalogue (docs/gap.md)");
+    if (effect == nullptr) throw InputError("--effects: no effect " + text::Quote(name) + " in the catalogue (docs/gap.md)");
     if (in_model(effect)) {
-      throw InputError("--effects: '" + name + "' is switched on in the model already (/Effects/" + name +
+      throw InputError("--effects: " + text::Quote(name) + " is switched on in the model already (/Effects/" + name +
                        "/Enabled); its parameters are refitted with the base parameters, so it is no candidate");
     }
     if (servo && !effect->with_servo) {
-      throw InputError("--effects: '" + name + "' is part of the servo model (/Servo/Enabled) already or cannot "
+      throw InputError("--effects: " + text::Quote(name) + " is part of the servo model (/Servo/Enabled) already or cannot "
                        "combine with it (docs/gap.md, \"A real servo\")");
     }
     candidates.push_back(effect);

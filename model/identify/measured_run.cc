@@ -237,11 +237,11 @@ std::vector<MotorField> MotorFields(const Table& table, const std::string& sourc
     if (!field) continue;  // accelerometers, MotorTorque, ...: not needed here
     if (const auto [it, fresh] = seen.emplace(name, static_cast<int>(i)); !fresh) {
       throw InputError(source, 0,
-                       "column '" + name + "' appears twice (fields " + std::to_string(it->second + 1) + " and " +
+                       "column " + text::Quote(name) + " appears twice (fields " + std::to_string(it->second + 1) + " and " +
                            std::to_string(i + 1) + ")");
     }
     if (!fields.empty() && field->agent != fields.front().agent) {
-      throw InputError(source, 0, "columns of two agents, '" + fields.front().agent + "' and '" + field->agent + "'");
+      throw InputError(source, 0, "columns of two agents, " + text::Quote(fields.front().agent) + " and " + text::Quote(field->agent));
     }
     fields.push_back(std::move(*field));
   }
@@ -304,7 +304,7 @@ std::vector<SeriesSource> NativePlan(const Table& table, const std::string& sour
 
 [[noreturn]] void FieldError(const std::string& source, const std::string& field, const std::string& expected,
                              const std::string& found) {
-  throw InputError(source, 0, "field '" + field + "' expected " + expected + ", found " + found);
+  throw InputError(source, 0, "field " + text::Quote(field) + " expected " + expected + ", found " + found);
 }
 
 std::string ChannelField(size_t index, std::string_view member = {}) {
@@ -419,14 +419,14 @@ int FieldOf(const Table& table, const std::string& column, const std::string& fi
             const std::string& source) {
   const auto first = std::find(table.columns.begin(), table.columns.end(), column);
   if (first == table.columns.end()) {
-    throw InputError(source, 0, "no column '" + column + "' (named by " + mapping + ", field '" + field + "')");
+    throw InputError(source, 0, "no column " + text::Quote(column) + " (named by " + mapping + ", field " + text::Quote(field) + ")");
   }
   const auto second = std::find(first + 1, table.columns.end(), column);
   if (second != table.columns.end()) {
     const auto number = [&](auto it) { return std::to_string(it - table.columns.begin() + 1); };
     throw InputError(source, 0,
-                     "column '" + column + "' appears twice (fields " + number(first) + " and " + number(second) +
-                         "), so " + mapping + ", field '" + field + "' is ambiguous");
+                     "column " + text::Quote(column) + " appears twice (fields " + number(first) + " and " + number(second) +
+                         "), so " + mapping + ", field " + text::Quote(field) + " is ambiguous");
   }
   return static_cast<int>(first - table.columns.begin());
 }
@@ -459,7 +459,7 @@ SeriesSource RunInputSeries(const ColumnSource& s, const std::string& field, con
     column = series.column;
     return series;
   }
-  column = "header key '" + s.header + "'";
+  column = "header key " + text::Quote(s.header);
   const std::optional<std::string> value = HeaderValue(table, s.header);
   if (!value) {
     throw InputError(source, 0, "no '" + s.header + "=' in the comment lines (named by " + m.source + ", field '" +
@@ -467,7 +467,7 @@ SeriesSource RunInputSeries(const ColumnSource& s, const std::string& field, con
   }
   const std::optional<double> number = text::ParseDouble(*value);
   if (!number || !std::isfinite(*number)) {
-    throw InputError(source, 0, "header key '" + s.header + "': " + text::Quote(*value) + " is not a finite number");
+    throw InputError(source, 0, "header key " + text::Quote(s.header) + ": " + text::Quote(*value) + " is not a finite number");
   }
   return {column, -1, 1.0, 0.0, *number, &values, kUnbounded};
 }
@@ -518,16 +518,16 @@ double ValueOf(const SeriesSource& s, const std::vector<std::string>& fields, co
   const std::string& cell = fields[static_cast<size_t>(s.field)];
   const std::optional<double> raw = text::ParseDouble(cell);
   if (!raw || !std::isfinite(*raw)) {
-    throw InputError(source, line, "column '" + s.column + "': " + text::Quote(cell) + " is not a finite number");
+    throw InputError(source, line, "column " + text::Quote(s.column) + ": " + text::Quote(cell) + " is not a finite number");
   }
   const double value = *raw * s.scale + s.offset;
   if (!std::isfinite(value)) {
-    throw InputError(source, line, "column '" + s.column + "': " + text::Quote(cell) + " scaled by " +
+    throw InputError(source, line, "column " + text::Quote(s.column) + ": " + text::Quote(cell) + " scaled by " +
                                        text::FormatDouble(s.scale) + " is not a finite number");
   }
   if (std::abs(value) > s.max_magnitude) {
     throw InputError(source, line,
-                     "column '" + s.column + "': " + text::Quote(cell) + " gives " + text::FormatDouble(value) +
+                     "column " + text::Quote(s.column) + ": " + text::Quote(cell) + " gives " + text::FormatDouble(value) +
                          "°, not a physical joint angle (expected −" + text::FormatDouble(s.max_magnitude) + "…" +
                          text::FormatDouble(s.max_magnitude) + "°)");
   }
@@ -542,10 +542,10 @@ void FillLimpGoal(const SeriesSource& goal, const SeriesSource& torque, const st
   const double torque_value = torque.values->back();
   if (torque.field < 0 || !(torque_value <= 0.0)) {
     const std::string said = torque.field < 0 ? "the mapping gives its torque as a constant"
-                                              : "column '" + torque.column + "' says " + text::FormatDouble(torque_value) +
+                                              : "column " + text::Quote(torque.column) + " says " + text::FormatDouble(torque_value) +
                                                     " (torque on)";
     throw InputError(source, line,
-                     "column '" + goal.column + "' is empty, but " + said +
+                     "column " + text::Quote(goal.column) + " is empty, but " + said +
                          ": an empty goal is a limp segment only where a torque-enable column says 0 — map "
                          "'desired_torque' to the log's torque-enable column");
   }
@@ -576,7 +576,7 @@ void ReadRows(const Table& table, const std::vector<SeriesSource>& plan, char de
 // Time starts at 0 and grows by one uniform step per row; sets run.step.
 void CheckTimeBase(const std::string& column, MeasuredRun& run) {
   const std::vector<double>& t = run.time;
-  const std::string where = "column '" + column + "': ";
+  const std::string where = "column " + text::Quote(column) + ": ";
   if (std::abs(t[0]) > kTimeZeroTolerance) {
     throw InputError(run.source, run.lines[0], where + "expected the first time to be 0 s, found " + Seconds(t[0]));
   }
@@ -728,7 +728,7 @@ void CheckRunsAgree(const std::vector<MeasuredRun>& runs, const std::string& rol
   for (const MeasuredRun& run : runs) {
     if (run.agent != first.agent) {
       throw InputError(run.source, 0,
-                       role + " run of agent '" + run.agent + "', but " + first.source + " is of agent '" +
+                       role + " run of agent " + text::Quote(run.agent) + ", but " + first.source + " is of agent '" +
                            first.agent + "': all " + role + " runs must come from one rig");
     }
     if (std::abs(run.step - first.step) > kStepAgreeTolerance) {

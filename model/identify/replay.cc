@@ -46,7 +46,7 @@ std::string ColumnPath(const MeasuredRun& run, const std::string& motor, const c
 
 void CheckRunFitsRig(const Rig& rig, const MeasuredRun& run) {
   if (run.agent != rig.agent) {
-    throw InputError(run.source + ": the columns are of agent '" + run.agent + "', the rig's agent is '" + rig.agent +
+    throw InputError(run.source + ": the columns are of agent " + text::Quote(run.agent) + ", the rig's agent is '" + rig.agent +
                      "'");
   }
   if (std::abs(run.step - rig.step) > 1e-9) {
@@ -59,7 +59,7 @@ void CheckRunFitsRig(const Rig& rig, const MeasuredRun& run) {
     for (const std::string& rig_motor : rig.motors) known = known || rig_motor == motor;
     if (!known) {
       throw InputError(run.source + ": column '" + ColumnPath(run, motor, "JointAngle") + "': agent '" + rig.agent +
-                       "' of " + rig.environment_name + " has no motor '" + motor + "'");
+                       "' of " + rig.environment_name + " has no motor " + text::Quote(motor));
     }
   }
 }
@@ -108,14 +108,14 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
     rig.environment_name = options.environment_file.empty() ? "(default A-Series)" : options.environment_file;
     if (!options.environment_file.empty()) rig.environment_xml = ReadTextFile(options.environment_file);
   } else {
-    throw InputError("--rig: expected 'aseries' or 'pendulum', found '" + options.kind + "'");
+    throw InputError("--rig: expected 'aseries' or 'pendulum', found " + text::Quote(options.kind));
   }
   scene::Simulation simulation;
   simulation.LoadEnvironment(EnvironmentOf(rig));
   simulation.Build();
   ValueFile::ApplyAssignments(model, simulation.repository());
   const int index = simulation.FindAgent(agent);
-  if (index < 0) throw InputError(rig.environment_name + ": no agent '" + agent + "' (the runs' agent)");
+  if (index < 0) throw InputError(rig.environment_name + ": no agent " + text::Quote(agent) + " (the runs' agent)");
   for (const auto& motor : simulation.model().morphology(index).motors) rig.motors.push_back(motor.name);
   simulation.Reset();  // the model's values may choose another engine, which takes effect at a reset
   rig.step = simulation.StepDuration();
@@ -191,7 +191,7 @@ std::string MeasuredRecording(const Rig& rig, const std::vector<ValueAssignment>
   values.push_back({"/AngularMotor/IncludeNoise", "F", "orcs-gap", 0});  // JointAngle reads the pose as set
   ValueFile::ApplyAssignments(values, simulation.repository());
   const int agent = simulation.FindAgent(rig.agent);
-  if (agent < 0) throw InputError(rig.environment_name + ": no agent '" + rig.agent + "' (the runs' agent)");
+  if (agent < 0) throw InputError(rig.environment_name + ": no agent " + text::Quote(rig.agent) + " (the runs' agent)");
   const std::vector<aseries::MorphologyMotor>& motors = simulation.model().morphology(agent).motors;
   // The measured column of each of the agent's motors (null: not measured).
   std::vector<const std::vector<double>*> columns(motors.size(), nullptr);

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "model/core/error.h"
+#include "model/core/text.h"
 #include "model/physics/material_table.h"
 
 namespace orcs::physics {
@@ -25,22 +26,22 @@ std::string Num(double value) {
 std::string Vec(const Eigen::Vector3d& v) { return "(" + Num(v.x()) + ", " + Num(v.y()) + ", " + Num(v.z()) + ")"; }
 
 std::string BodySource(const BodyDescription& body, int index) {
-  return body.name.empty() ? "body #" + std::to_string(index) : "body '" + body.name + "'";
+  return body.name.empty() ? "body #" + std::to_string(index) : "body " + text::Quote(body.name);
 }
 
 std::string GeomSource(const BodyDescription& body, int body_index, const GeomDescription& geom, int geom_index) {
   const std::string geom_part =
-      geom.name.empty() ? "geom #" + std::to_string(geom_index) : "geom '" + geom.name + "'";
+      geom.name.empty() ? "geom #" + std::to_string(geom_index) : "geom " + text::Quote(geom.name);
   return BodySource(body, body_index) + " " + geom_part;
 }
 
 std::string JointSource(const JointDescription& joint, int index) {
-  return joint.name.empty() ? "joint #" + std::to_string(index) : "joint '" + joint.name + "'";
+  return joint.name.empty() ? "joint #" + std::to_string(index) : "joint " + text::Quote(joint.name);
 }
 
 [[noreturn]] void Fail(const std::string& source, const std::string& field, const std::string& expected,
                        const std::string& found) {
-  throw InputError(source, 0, "field '" + field + "' expected " + expected + ", found " + found);
+  throw InputError(source, 0, "field " + text::Quote(field) + " expected " + expected + ", found " + found);
 }
 
 bool IsFinite(const Eigen::Vector3d& v) { return v.allFinite(); }
@@ -116,7 +117,7 @@ void CheckBody(BodyDescription& body, int index) {
     GeomDescription& geom = body.geoms[g];
     const std::string geom_source = GeomSource(body, index, geom, g);
     if (!geom.name.empty() && !geom_names.emplace(geom.name, g).second) {
-      Fail(geom_source, "name", "a name unique within the body", "'" + geom.name + "' used twice");
+      Fail(geom_source, "name", "a name unique within the body", text::Quote(geom.name) + " used twice");
     }
     CheckGeom(geom, body, geom_source);
   }
@@ -132,8 +133,8 @@ int ResolveJointBody(const std::unordered_map<std::string, int>& bodies, const P
     Fail(source, field, expected, "\"\"");
   }
   const auto it = bodies.find(name);
-  if (it == bodies.end()) Fail(source, field, expected, "unknown body '" + name + "'");
-  if (!description.bodies[it->second].dynamic) Fail(source, field, expected, "static body '" + name + "'");
+  if (it == bodies.end()) Fail(source, field, expected, "unknown body " + text::Quote(name));
+  if (!description.bodies[it->second].dynamic) Fail(source, field, expected, "static body " + text::Quote(name));
   return it->second;
 }
 
@@ -167,7 +168,7 @@ PhysicsModel::PhysicsModel(PhysicsDescription description) : description_(std::m
     BodyDescription& body = description_.bodies[b];
     CheckBody(body, b);
     if (!body_index.emplace(body.name, b).second) {
-      Fail(BodySource(body, b), "name", "a name unique in the world", "'" + body.name + "' used twice");
+      Fail(BodySource(body, b), "name", "a name unique in the world", text::Quote(body.name) + " used twice");
     }
     first_geom_[b] = static_cast<int>(geoms_.size());
     for (int g = 0; g < static_cast<int>(body.geoms.size()); ++g) {
@@ -183,11 +184,11 @@ PhysicsModel::PhysicsModel(PhysicsDescription description) : description_(std::m
     const std::string source = JointSource(joint, j);
     if (joint.name.empty()) Fail(source, "name", "a non-empty name", "\"\"");
     if (!joint_names.emplace(joint.name, j).second) {
-      Fail(source, "name", "a name unique in the world", "'" + joint.name + "' used twice");
+      Fail(source, "name", "a name unique in the world", text::Quote(joint.name) + " used twice");
     }
     const int b1 = ResolveJointBody(body_index, description_, joint.body1, false, source, "body1");
     const int b2 = ResolveJointBody(body_index, description_, joint.body2, true, source, "body2");
-    if (b1 == b2) Fail(source, "body2", "a body other than body1", "'" + joint.body2 + "' again");
+    if (b1 == b2) Fail(source, "body2", "a body other than body1", text::Quote(joint.body2) + " again");
     if (joint.type == JointType::kHinge) {
       CheckHinge(joint, source);
     } else if (joint.motorised) {
@@ -199,11 +200,11 @@ PhysicsModel::PhysicsModel(PhysicsDescription description) : description_(std::m
   excluded_.assign(static_cast<std::size_t>(bodies) * static_cast<std::size_t>(bodies), false);
   for (int e = 0; e < static_cast<int>(description_.contact_exclusions.size()); ++e) {
     const auto& [name_a, name_b] = description_.contact_exclusions[e];
-    const std::string source = "contact exclusion #" + std::to_string(e) + " ('" + name_a + "', '" + name_b + "')";
+    const std::string source = "contact exclusion #" + std::to_string(e) + " (" + text::Quote(name_a) + ", " + text::Quote(name_b) + ")";
     const auto a = body_index.find(name_a);
-    if (a == body_index.end()) Fail(source, "first", "the name of a body", "unknown body '" + name_a + "'");
+    if (a == body_index.end()) Fail(source, "first", "the name of a body", "unknown body " + text::Quote(name_a));
     const auto b = body_index.find(name_b);
-    if (b == body_index.end()) Fail(source, "second", "the name of a body", "unknown body '" + name_b + "'");
+    if (b == body_index.end()) Fail(source, "second", "the name of a body", "unknown body " + text::Quote(name_b));
     excluded_[static_cast<std::size_t>(a->second) * bodies + b->second] = true;
     excluded_[static_cast<std::size_t>(b->second) * bodies + a->second] = true;
   }

@@ -72,9 +72,9 @@ class ElementReader {
   }
 
   std::string RequiredString(const char* name) const {
-    if (!Has(name)) Fail("missing mandatory attribute '" + std::string(name) + "'");
+    if (!Has(name)) Fail("missing mandatory attribute " + text::Quote(std::string(name)));
     const std::string value = String(name, "");
-    if (value.empty()) Fail("attribute '" + std::string(name) + "' is empty");
+    if (value.empty()) Fail("attribute " + text::Quote(std::string(name)) + " is empty");
     return value;
   }
 
@@ -88,7 +88,7 @@ class ElementReader {
       const std::string expected = min_count == max_count ? std::to_string(min_count) + " numbers"
                                                           : std::to_string(min_count) + " to " +
                                                                 std::to_string(max_count) + " numbers";
-      Fail("attribute '" + std::string(name) + "' expected " + expected + " like (1,2,3), found " +
+      Fail("attribute " + text::Quote(std::string(name)) + " expected " + expected + " like (1,2,3), found " +
            text::Quote(value));
     }
     return *numbers;
@@ -104,7 +104,7 @@ class ElementReader {
     const std::string value = String(name, "");
     const auto number = text::ParseDouble(value);
     if (!number || !(*number > 0) || std::isinf(*number)) {
-      Fail("attribute '" + std::string(name) + "' expected a positive number, found " + text::Quote(value));
+      Fail("attribute " + text::Quote(std::string(name)) + " expected a positive number, found " + text::Quote(value));
     }
     return *number;
   }
@@ -116,7 +116,7 @@ class ElementReader {
       if (text::EqualsIgnoreCase(value, yes)) return true;
     for (std::string_view no : {"false", "F", "0"})
       if (text::EqualsIgnoreCase(value, no)) return false;
-    Fail("attribute '" + std::string(name) + "' expected true or false, found " + text::Quote(value));
+    Fail("attribute " + text::Quote(std::string(name)) + " expected true or false, found " + text::Quote(value));
   }
 
   [[noreturn]] void Fail(const std::string& what) const {
@@ -126,7 +126,7 @@ class ElementReader {
  private:
   std::string Subject() const {
     const char* name = element_.Attribute("name");
-    return name == nullptr ? "" : " '" + std::string(name) + "'";
+    return name == nullptr ? "" : " " + text::Quote(std::string(name));
   }
 
   static std::string List(const std::set<std::string_view>& names) {

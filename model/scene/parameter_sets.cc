@@ -5,6 +5,7 @@
 
 #include "model/core/error.h"
 #include "model/core/random_stream.h"
+#include "model/core/text.h"
 
 namespace orcs::scene {
 namespace {
@@ -13,7 +14,7 @@ double NominalValue(const VariableRepository& nominal, const ParameterDistributi
                     const std::string& source) {
   const Value* value = nominal.Find(distribution.path);
   const std::string field = "field 'randomisation.parameters[" + std::to_string(i) + "].path' ";
-  if (value == nullptr) throw InputError(source, 0, field + "names an unknown repository path '" + distribution.path + "'");
+  if (value == nullptr) throw InputError(source, 0, field + "names an unknown repository path " + text::Quote(distribution.path));
   if (value->type() != ValueType::kDouble && value->type() != ValueType::kInt) {
     throw InputError(source, 0, field + "expected the path of a number, found '" + distribution.path +
                                     "' holding " + value->ToString());

@@ -100,12 +100,35 @@ std::vector<ValueAssignment> ParseInlineValues(const JsonNode& node) {
     } else {
       text = value.String("a number, a boolean or a string");
     }
-    assignments.push_back({path, text, node.source() + ": field '" + value.path() + "'", 0});
+    assignments.push_back({path, text, node.source() + ": field " + text::Quote(value.path()), 0});
   }
   return assignments;
 }
 
 namespace {
+
+// The name of a scenario that gives none: its file's stem, made a name that keeps the rule (a file's stem has no
+// '/', but may have 250 bytes, a '\\', a control character, or be ".."; a job's source is "job <id> scenario").
+std::string DefaultName(const std::string& source) {
+  std::string name(text::Prefix(fs::path(source).stem().string(), text::kMaxNameBytes));
+  for (char& c : name) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '\\' || byte < 0x20 || byte == 0x7f) c = '_';
+  }
+  return text::NameProblem(name).empty() ? name : "scenario";  // "", ".", "..", not UTF-8
+}
+
+// "name": a label, and the folder its results go to (runs/<name>), so never a path.
+void ReadName(const JsonNode& root, Scenario& scenario) {
+  if (!root.Has("name")) {
+    scenario.name = DefaultName(scenario.source);
+    return;
+  }
+  const JsonNode name = root.At("name");
+  scenario.name = name.String(text::NameRule());
+  const std::string problem = text::NameProblem(scenario.name);
+  if (!problem.empty()) name.Fail(text::NameRule(), DescribeJson(name.value()) + " (" + problem + ")");
+}
 
 void ReadEnvironment(const JsonNode& root, Scenario& scenario) {
   scenario.environment_name = "(default: one A-Series named Humanoid)";
@@ -169,17 +192,33 @@ void AddDefaultMotorRandomisation(std::vector<ParameterDistribution>& parameters
 Randomisation ReadRandomisation(const JsonNode& node) {
   node.ExpectOnly({"sets", "default_motor_model", "parameters", "parameter_files", "start_pose"});
   Randomisation randomisation;
+  const std::string sets_expected = "an integer from 1 to " + std::to_string(kMaxParameterSets);
   if (node.Has("sets")) {
-    randomisation.sets = node.At("sets").Integer("an integer ≥ 1");
-    if (randomisation.sets < 1) node.At("sets").Fail("an integer ≥ 1");
+    // Integer() refuses what does not fit an int (1e10) with the same words; 1e9 fits and is refused here, before
+    // anything is allocated per set.
+    randomisation.sets = node.At("sets").Integer(sets_expected);
+    if (randomisation.sets < 1 || randomisation.sets > kMaxParameterSets) node.At("sets").Fail(sets_expected);
   }
   if (node.Has("default_motor_model") && node.At("default_motor_model").Bool("true or false")) {
     AddDefaultMotorRandomisation(randomisation.parameters);
   }
   if (node.Has("parameters")) {
-    for (const JsonNode& element : node.At("parameters").Elements()) {
+    const JsonNode parameters = node.At("parameters");
+    if (parameters.value().is_array() &&
+        randomisation.parameters.size() + parameters.value().size() > kMaxRandomisedParameters) {
+      parameters.Fail("at most " + std::to_string(kMaxRandomisedParameters) + " parameters" +
+                      (randomisation.parameters.empty() ? "" : " with default_motor_model's " +
+                                                                   std::to_string(randomisation.parameters.size())));
+    }
+    for (const JsonNode& element : parameters.Elements()) {
       randomisation.parameters.push_back(ReadDistribution(element));
     }
+  }
+  const std::size_t drawn = static_cast<std::size_t>(randomisation.sets) * randomisation.parameters.size();
+  if (drawn > kMaxDrawnValues) {
+    node.At("sets").Fail("at most " + std::to_string(kMaxDrawnValues) + " drawn values per job (sets × parameters)",
+                         std::to_string(randomisation.sets) + " sets × " +
+                             std::to_string(randomisation.parameters.size()) + " parameters");
   }
   if (node.Has("parameter_files")) {
     const JsonNode files = node.At("parameter_files");
@@ -283,7 +322,7 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
                    "randomisation", "start_angles", "schedules", "log", "genome", "fault", "evolution", "record"});
   Scenario scenario;
   scenario.source = source;
-  scenario.name = root.StringOr("name", fs::path(source).stem().string(), "a name");
+  ReadName(root, scenario);
   ReadEnvironment(root, scenario);
   if (root.Has("value_files")) {
     for (const JsonNode& file : root.At("value_files").Elements()) {
@@ -316,7 +355,11 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
   }
   if (root.Has("schedules")) scenario.schedules = ReadSchedules(root.At("schedules"));
   if (root.Has("log")) {
-    for (const JsonNode& pattern : root.At("log").Elements()) {
+    const JsonNode log = root.At("log");
+    if (log.value().is_array() && log.value().size() > kMaxLogPatterns) {
+      log.Fail("at most " + std::to_string(kMaxLogPatterns) + " regular expressions");
+    }
+    for (const JsonNode& pattern : log.Elements()) {
       scenario.log.push_back(pattern.String("a regular expression"));
     }
   }

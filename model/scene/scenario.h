@@ -52,8 +52,15 @@ struct StartPoseRandomisation {
 /// How a job's fitness aggregates over its parameter sets.
 enum class Aggregate { kMean, kMin, kMax, kQuantile };
 
+/// Bounds of the counts a scenario gives (docs/scenarios.md, "Limits"): each costs memory and time in proportion to
+/// a small number in the file, so each is held to a documented maximum and refused naming its field.
+inline constexpr int kMaxParameterSets = 10000;                 ///< randomisation.sets
+inline constexpr std::size_t kMaxRandomisedParameters = 1000;   ///< randomisation.parameters (with the defaults)
+inline constexpr std::size_t kMaxDrawnValues = 100000;          ///< sets × parameters: the values a job draws
+inline constexpr std::size_t kMaxLogPatterns = 1000;            ///< log
+
 struct Randomisation {
-  int sets = 1;                                  ///< K parameter sets per job, ≥ 1
+  int sets = 1;                                  ///< K parameter sets per job, 1…kMaxParameterSets
   std::vector<ParameterDistribution> parameters;  ///< varied values, in the scenario's order
   std::vector<NamedParameterFile> parameter_files;  ///< value files, one chosen per set
   bool files_in_sequence = false;                ///< true: set k takes file k mod n; false: one at random
@@ -80,7 +87,8 @@ struct ValueSchedule {
 
 struct Scenario {
   std::string source;            ///< where it was read from, for messages
-  std::string name;              ///< a label for reports
+  /// a label for reports, and the default output folder runs/<name>: text::NameProblem finds nothing in it
+  std::string name;
   std::string environment_xml;   ///< the ORCS XML environment, inline; "" = one A-Series "Humanoid" on the floor
   std::string environment_name;  ///< the environment file's name, for messages ("(default)" when none)
   std::vector<ValueAssignment> values;  ///< applied after the world is built, before each parameter set's values
@@ -116,7 +124,8 @@ double DefaultTimeLimitSeconds(const Scenario& scenario);
 double DefaultTimeLimitSeconds(double simulated_seconds);
 
 /// Parses a resolved scenario (no file references). Throws InputError "source: field 'a.b' expected ..., found
-/// ..." for unknown keys, wrong types, min above max, a non-positive duration or set count, ...
+/// ..." for unknown keys, wrong types, min above max, a non-positive duration or set count, a count beyond its
+/// bound above, a name that is not a plain label (text::NameProblem), ...
 Scenario ParseScenario(const nlohmann::json& resolved, const std::string& source);
 
 /// The assignments of a "values" object, {"/path": 1.5, "/flag": true, "/name": "PVC"}: numbers printed so that

@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -334,6 +335,110 @@ TEST_F(AdversarialInputTest, ARawJobWithANonFiniteTimeLimitIsInvalidInputNamingT
 }
 
 // ---------------------------------------------------------------------------------------------------------
+// Issue 47, item 5: counts that allocate in proportion to a number, names that leave runs/, names that cut or
+// flood the error line.
+
+// The largest resident set of any child this test process has waited for, bytes (each TEST runs in its own process).
+long PeakChildMemoryBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_CHILDREN, &usage);
+  return usage.ru_maxrss * 1024L;
+}
+
+TEST_F(AdversarialInputTest, OneBillionParameterSetsAreRefusedNamingTheFieldBeforeAnythingIsAllocated) {
+  const std::string scenario = Scenario({{"randomisation", {{"sets", 1000000000}}}});
+  const std::string expected =
+      scenario + ": field 'randomisation.sets' expected an integer from 1 to 10000, found the number 1000000000";
+  const Clock::time_point start = Clock::now();
+  const ProcessResult batch = RunBounded({kBin + "orcs-batch", "run", scenario, "--workers", "1", "--quiet", "--out", Out()});
+  ExpectOneLineBadInput(batch);
+  EXPECT_THAT(batch.err, HasSubstr(expected));  // on main: std::bad_alloc at 3.1 GB, no field named
+  const ProcessResult sim = RunBounded({kBin + "orcs-sim", "--scenario", scenario});
+  ExpectOneLineBadInput(sim);
+  EXPECT_THAT(sim.err, HasSubstr(expected));
+  EXPECT_THAT(batch.err + sim.err, Not(HasSubstr("bad_alloc")));
+  const long peak = PeakChildMemoryBytes();
+  EXPECT_LT(peak, 300L << 20) << "memory must not grow with the number of sets";
+  EXPECT_LT(Clock::now() - start, std::chrono::seconds(20));
+  std::cout << "figures: sets = 1e9 refused in " << std::chrono::duration_cast<milliseconds>(Clock::now() - start).count()
+            << " ms (orcs-batch and orcs-sim), peak child memory " << (peak >> 20) << " MiB\n";
+
+  // A job from any client (no orcs-batch in between) is INVALID_INPUT naming the field, from a real orcs-worker.
+  test_support::BrokerProcess broker =
+      test_support::StartBrokerProcess({"--client-port", "0", "--worker-port", "0", "--heartbeat", "0.1"});
+  ASSERT_EQ(broker.error, "");
+  BackgroundProcess worker({kBin + "orcs-worker", "--connect", broker.workers, "--heartbeat", "0.1", "--id", "w"});
+  nlohmann::json json = nlohmann::json::parse(kScenario);
+  json["randomisation"] = {{"sets", 1000000000}};
+  v1::Job job;
+  job.set_job_id("huge");
+  job.set_scenario_json(json.dump());
+  job.set_genome_json(json["genome"].dump());
+  job.set_seed(1);
+  job.set_time_limit_seconds(30);
+  std::vector<v1::Job> jobs;
+  jobs.push_back(std::move(job));
+  const std::map<std::string, v1::Result> results =
+      test_support::CollectBatch(broker.clients, std::move(jobs), std::chrono::seconds(60)).results;
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results.at("huge").status(), v1::Result::INVALID_INPUT) << results.at("huge").message();
+  EXPECT_THAT(results.at("huge").message(),
+              HasSubstr("field 'randomisation.sets' expected an integer from 1 to 10000, found the number 1000000000"));
+}
+
+// Runs `argv` in `folder` (through /bin/sh's cd: the default output folder runs/<name> is relative to it).
+ProcessResult RunIn(const fs::path& folder, std::vector<std::string> argv) {
+  argv.insert(argv.begin(), {"/bin/sh", "-c", "cd \"$0\" && exec \"$@\"", folder.string()});
+  return RunBounded(argv);
+}
+
+// Every file and folder below `root`, relative to it.
+std::vector<std::string> Tree(const fs::path& root) {
+  std::vector<std::string> entries;
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root)) {
+    entries.push_back(fs::relative(entry.path(), root).string());
+  }
+  std::sort(entries.begin(), entries.end());
+  return entries;
+}
+
+TEST_F(AdversarialInputTest, ANameThatIsAPathANulOr100000CharactersIsRefusedAndNothingIsWrittenOutsideRuns) {
+  // orcs-batch runs in home/work; runs/<name> would be home/work/runs/<name>.
+  const fs::path home = dir_.path() / "home";
+  const fs::path work = home / "work";
+  fs::create_directories(work);
+  const std::string absolute = (dir_.path() / "absolute-escape").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"../../escaped", "(it contains '/')"},                       // home/escaped, outside runs/ (on main)
+      {absolute, "(it contains '/')"},                              // anywhere at all (on main)
+      {"..", "(it is '..')"},                                       // runs/.. = the working folder
+      {std::string("cut\0here", 8), "\"cut\\x00here\" (it contains a control character)"},  // cut the message at the NUL
+      {"two\nlines", "\"two\\nlines\" (it contains a control character)"},
+      {std::string(100000, 'n'), "\"" + std::string(80, 'n') + "...\" (it has 100000 bytes)"},  // a 100 kB error line
+  };
+  for (const auto& [name, found] : cases) {
+    SCOPED_TRACE(found);
+    const std::string scenario = Scenario({{"name", name}});
+    for (const std::string& command : {std::string("run"), std::string("evolve")}) {
+      SCOPED_TRACE(command);
+      const ProcessResult batch = RunIn(work, {kBin + "orcs-batch", command, scenario, "--workers", "1", "--quiet"});
+      ExpectOneLineBadInput(batch);
+      EXPECT_THAT(batch.err, AllOf(HasSubstr(scenario + ": field 'name' expected a label of 1 to 128 bytes"),
+                                   HasSubstr(found)));
+      EXPECT_LT(batch.err.size(), 500u) << "a bounded line";
+      EXPECT_EQ(Tree(home), std::vector<std::string>{"work"}) << "nothing written, in runs/ or beside it";
+      EXPECT_FALSE(fs::exists(absolute));
+    }
+  }
+  // The same scenario with a plain name runs, into runs/<name> below the working folder: the cases above were
+  // refused for their names alone.
+  const ProcessResult good =
+      RunIn(work, {kBin + "orcs-batch", "run", Scenario({{"name", "plain name"}}), "--workers", "1", "--quiet"});
+  EXPECT_EQ(good.exit_code, 0) << good.err;
+  EXPECT_TRUE(fs::exists(work / "runs" / "plain name" / "results.jsonl"));
+}
+
+// ---------------------------------------------------------------------------------------------------------
 // OSP: items 1, 6 and 7 against a real orcs-osp.
 
 using Bytes = std::vector<std::uint8_t>;
@@ -489,6 +594,34 @@ TEST_F(AdversarialOspTest, AnIdleClientKeepsItsSessionWhileThereIsRoom) {
   // ... and still served.
   client.SendTo(handler, {90});
   EXPECT_TRUE(ExpectCode(client, 91).has_value());
+}
+
+// Issue 47, item 5: 100,000 one-byte datagrams on the server port made 6.9 MB of stderr in a second, a line each.
+// Now the first from each sender is logged and the rest are counted, in one line at the latest when the gateway
+// stops; a good client is served all the while.
+TEST_F(AdversarialOspTest, AHundredThousandBadDatagramsOnTheServerPortCostAFewLinesAndAGoodClientIsServed) {
+  Start("10");
+  const std::size_t before = server_->err().size();
+  Udp flooder;
+  const Clock::time_point start = Clock::now();
+  for (int i = 0; i < 100000; ++i) flooder.SendTo(port_, {static_cast<std::uint8_t>(i)});
+  const auto sent_in = std::chrono::duration_cast<milliseconds>(Clock::now() - start);
+  Udp client;
+  const std::optional<milliseconds> served = ServedWithin(client, milliseconds(10000));
+  ASSERT_TRUE(served.has_value()) << server_->err().substr(0, 2000);
+  EXPECT_TRUE(AwaitErr(*server_, "(further ignored datagrams from it are counted, not logged)"));
+  server_->Signal(SIGTERM);  // Run() returns and gives the count of what went unlogged
+  const std::optional<ProcessResult> ended = server_->Wait(milliseconds(10000));
+  ASSERT_TRUE(ended.has_value());
+  const std::string& err = ended->err;
+  std::smatch count;
+  ASSERT_TRUE(std::regex_search(err, count, std::regex("ignored (\\d+) more datagram\\(s\\) on the server port"))) << err;
+  const long unlogged = std::stol(count[1]);
+  EXPECT_GT(unlogged, 0);
+  EXPECT_LT(err.size() - before, 10000u) << err.substr(0, 2000);
+  std::cout << "figures: 100000 one-byte datagrams sent in " << sent_in.count() << " ms; " << unlogged + 1
+            << " reached the server port and were ignored; stderr grew " << err.size() - before
+            << " bytes; a good client was served after " << served->count() << " ms\n";
 }
 
 TEST_F(AdversarialOspTest, ATimeStepOfMinusOneInfOr1e300IsRefusedBySetValueAndTheGatewayServesOn) {

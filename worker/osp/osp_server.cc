@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <optional>
 
@@ -72,7 +73,7 @@ void OspServer::Run() {
     }
     for (DatagramService* service : services_) fds.push_back({service->fd(), POLLIN, 0});
     poll(fds.data(), fds.size(), kTickMilliseconds);
-    if (fds[0].revents & POLLIN) return;
+    if (fds[0].revents & POLLIN) return SummariseServerPort(Clock::now(), true);
     if (fds[1].revents & POLLIN) {
       while (std::optional<Datagram> datagram = server_socket_.Receive()) OnServerDatagram(*datagram);
     }
@@ -113,20 +114,20 @@ void OspServer::OnServerDatagram(const Datagram& datagram) {
   try {
     DatagramReader reader(datagram.bytes);
     if (reader.Byte() != kInit || reader.Byte() != kMajorVersion || reader.Byte() != kMinorVersion) {
-      return Ignore(nullptr, "a datagram on the server port that is not INIT 1.1, from " + datagram.from.ToString());
+      return IgnoreOnServerPort(datagram.from, "a datagram on the server port that is not INIT 1.1");
     }
   } catch (const MalformedDatagram& error) {
-    return Ignore(nullptr, std::string(error.what()) + ", from " + datagram.from.ToString());
+    return IgnoreOnServerPort(datagram.from, error.what());
   }
   if (static_cast<int>(sessions_.size()) >= options_.max_clients && !ReclaimSilentSlot()) {
-    return Ignore(nullptr, "an INIT from " + datagram.from.ToString() + ": " + std::to_string(sessions_.size()) +
-                               " clients already, the most served at once");
+    return IgnoreOnServerPort(datagram.from, "an INIT: " + std::to_string(sessions_.size()) +
+                                                 " clients already, the most served at once");
   }
   std::optional<UdpSocket> handler;
   try {
     handler.emplace(options_.bind_address, 0);
   } catch (const std::runtime_error& error) {  // out of sockets: refuse this client, keep serving the others
-    return Ignore(nullptr, "an INIT from " + datagram.from.ToString() + ": " + error.what());
+    return IgnoreOnServerPort(datagram.from, "an INIT: " + std::string(error.what()));
   }
   auto session = std::make_unique<Session>(next_session_id_++, std::move(*handler), datagram.from, Clock::now());
   session->socket.Connect(datagram.from);
@@ -470,6 +471,7 @@ bool OspServer::BlocksOthers(const Session& session) const {
 
 void OspServer::OnTick() {
   const Clock::time_point now = Clock::now();
+  SummariseServerPort(now, false);
   std::vector<int> silent;
   std::vector<int> mute;  // never spoke after the INIT
   for (const auto& [id, session] : sessions_) {
@@ -544,10 +546,46 @@ void OspServer::Ignore(Session* session, const std::string& why) {
     std::lock_guard lock(stats_mutex_);
     ++stats_.datagrams_ignored;
   }
-  if (session == nullptr) return Log("ignored " + why);
   if (session->warned) return;  // one line per client: a flood of garbage must not flood the log
   session->warned = true;
   Log("client " + std::to_string(session->id) + ": ignored " + why + " (further ignored datagrams not logged)");
+}
+
+// Anyone can send to the server port, from as many addresses as it likes: the first ignored datagram of each of the
+// first kMaxLoggedSenders addresses is logged, everything else is counted and summed up in one line per
+// server_log_summary_interval (docs/osp.md). 100,000 bad datagrams from one sender: two lines.
+void OspServer::IgnoreOnServerPort(const Endpoint& from, const std::string& why) {
+  {
+    std::lock_guard lock(stats_mutex_);
+    ++stats_.datagrams_ignored;
+  }
+  const std::pair<std::uint32_t, std::uint16_t> sender{from.address, from.port};
+  if (!logged_senders_.contains(sender) && logged_senders_.size() < kMaxLoggedSenders) {
+    logged_senders_.insert(sender);
+    Log("ignored " + why + ", from " + from.ToString() + " (further ignored datagrams from it are counted, not logged)");
+  } else {
+    ++unlogged_ignored_;
+    if (unlogged_senders_.size() <= kMaxLoggedSenders) unlogged_senders_.insert(sender);
+  }
+  SummariseServerPort(Clock::now(), false);
+}
+
+void OspServer::SummariseServerPort(Clock::time_point now, bool final) {
+  if (unlogged_ignored_ == 0) {
+    last_summary_ = now;
+    return;
+  }
+  if (!final && now - last_summary_ < options_.server_log_summary_interval) return;
+  const double seconds = std::chrono::duration<double>(now - last_summary_).count();
+  const std::size_t senders = unlogged_senders_.size();
+  char span[32];
+  std::snprintf(span, sizeof span, "%.1f", seconds);
+  Log("ignored " + std::to_string(unlogged_ignored_) + " more datagram(s) on the server port in the last " + span +
+      " s, from " + (senders > kMaxLoggedSenders ? "more than " + std::to_string(kMaxLoggedSenders) : std::to_string(senders)) +
+      " sender(s) (the first from each of the first " + std::to_string(kMaxLoggedSenders) + " senders is logged)");
+  unlogged_ignored_ = 0;
+  unlogged_senders_.clear();
+  last_summary_ = now;
 }
 
 bool OspServer::AnythingPending() const {

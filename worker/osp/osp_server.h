@@ -42,6 +42,10 @@ struct OspServerOptions {
   /// above), so that a flood of INITs cannot use up the process's sockets (each client has its own) and end the
   /// server.
   int max_clients = 64;
+  /// The server port logs the first ignored datagram of each sender address (at most kMaxLoggedSenders of them)
+  /// and counts the rest; one line this often gives the count, when there was any. A flood of garbage on the server
+  /// port costs a few lines, as on the handler ports (docs/osp.md, "Malformed datagrams").
+  std::chrono::milliseconds server_log_summary_interval{10000};
   /// Where log lines go (one event each, no newline); empty = stderr, prefixed "orcs-osp: ".
   std::function<void(std::string_view)> log;
   /// Called before each step with the simulated time (s), before the clients' inputs are written, so that
@@ -154,6 +158,8 @@ class OspServer {
 
   void Send(Session& session, const DatagramWriter& writer);
   void Ignore(Session* session, const std::string& why);
+  void IgnoreOnServerPort(const Endpoint& from, const std::string& why);
+  void SummariseServerPort(Clock::time_point now, bool final);  // the count line, when due (or at the end)
   void DropSession(int id, const std::string& why);
   void ReclaimSession(int id, const std::string& why);  // DropSession, counted as reclaimed
   bool ReclaimSilentSlot();  // when full: drops the client silent longest, if silent for client_timeout
@@ -172,6 +178,14 @@ class OspServer {
   int next_session_id_ = 1;
   Clock::time_point waiting_since_;  // when the first step or reset of the current round arrived
   std::vector<DatagramService*> services_;
+
+  // The server port's log bound: senders whose first ignored datagram was logged, and what went unlogged since the
+  // last count line.
+  static constexpr std::size_t kMaxLoggedSenders = 64;
+  std::set<std::pair<std::uint32_t, std::uint16_t>> logged_senders_;
+  std::uint64_t unlogged_ignored_ = 0;
+  std::set<std::pair<std::uint32_t, std::uint16_t>> unlogged_senders_;  // of those, at most kMaxLoggedSenders + 1
+  Clock::time_point last_summary_ = Clock::now();
 
   mutable std::mutex stats_mutex_;
   OspServerStats stats_;

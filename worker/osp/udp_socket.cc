@@ -10,6 +10,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "model/core/text.h"
+
 namespace orcs::osp {
 namespace {
 
@@ -37,7 +39,7 @@ std::uint32_t ParseIPv4(const std::string& address) {
   if (address == "localhost") return INADDR_LOOPBACK;
   in_addr parsed{};
   if (inet_pton(AF_INET, address.c_str(), &parsed) != 1) {
-    throw std::runtime_error("'" + address + "' is not an IPv4 address");
+    throw std::runtime_error(text::Quote(address) + " is not an IPv4 address");
   }
   return ntohl(parsed.s_addr);
 }

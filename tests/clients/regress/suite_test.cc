@@ -84,6 +84,16 @@ TEST_F(SuiteTest, TheNameDefaultsToTheFileStemAndTheToleranceToExact) {
   EXPECT_EQ(suite.cases[0].tolerance.relative, 0.0);
 }
 
+// Issue 47, item 5: the suite's name is the default output folder runs/<name>, so it is a label as a scenario's is.
+TEST_F(SuiteTest, ASuiteNameThatIsAPathIsRefusedNamingTheField) {
+  const std::string cases = R"("cases": [{"name": "a", "scenario": "../scenarios/hips.json"}])";
+  EXPECT_THAT(ErrorOf(R"({"name": "../../escaped", )" + cases + "}"),
+              HasSubstr("s.json: field 'name' expected a label of 1 to 128 bytes of UTF-8 without '/', '\\' or control "
+                        "characters, not '.' or '..', found the string \"../../escaped\" (it contains '/')"));
+  EXPECT_THAT(ErrorOf(R"({"name": "..", )" + cases + "}"), HasSubstr("(it is '..')"));
+  EXPECT_EQ(ReadSuite(Suite(R"({"name": "hips suite", )" + cases + "}")).name, "hips suite");
+}
+
 TEST(ToleranceTest, AllowsTheLooserOfAbsoluteAndRelative) {
   const Tolerance tolerance{0.5, 0.1};
   EXPECT_EQ(tolerance.Allowed(2.0), 0.5);

@@ -43,5 +43,42 @@ TEST(ParseJsonTest, NestingDeeperThanTheBoundIsAnInputErrorNamingTheLine) {
   EXPECT_NO_THROW(ParseJson("[\"" + std::string(1000, '[') + "\\\"[\"]", "x.json"));  // brackets in a string
 }
 
+// Issue 47, item 5: a value or key with a NUL cut the error message there, and a 100,000-character one made a 100 kB
+// error line. What an error quotes of the user's JSON is bounded and escaped.
+TEST(JsonNodeTest, ErrorsQuoteUserStringsBoundedAndEscaped) {
+  EXPECT_EQ(DescribeJson(nlohmann::json(std::string("a\0b\nc", 5))), "the string \"a\\x00b\\nc\"");
+  EXPECT_EQ(DescribeJson(nlohmann::json(std::string(100000, 'v'))), "the string \"" + std::string(80, 'v') + "...\"");
+
+  const nlohmann::json document = {{std::string(100000, 'k'), 1}, {"ok", 2}};
+  const std::string source = "x.json";
+  const JsonNode root(document, "", source);
+  std::string error;
+  try {
+    root.ExpectOnly({"ok"});
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  EXPECT_LT(error.size(), 400u) << "the key is in the field's path and in what was found";
+  EXPECT_NE(error.find("x.json: field '" + std::string(200, 'k') + "...' expected no such field (allowed: ok), found '" +
+                       std::string(80, 'k') + "...'"),
+            std::string::npos)
+      << error;
+
+  const nlohmann::json nul = {{std::string("k\0ey", 4), 1}};
+  const JsonNode nul_root(nul, "", source);
+  try {
+    nul_root.ExpectOnly({"ok"});
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  EXPECT_EQ(error, "x.json: field 'k\\x00ey' expected no such field (allowed: ok), found 'k\\x00ey'");
+}
+
+TEST(ParseJsonTest, AMalformedLongStringIsQuotedBounded) {
+  const std::string error = ErrorOf("[\"" + std::string(100000, 's') + "\\q\"]");
+  EXPECT_NE(error.find("x.json:1: malformed JSON: "), std::string::npos) << error;
+  EXPECT_LT(error.size(), 400u) << error.substr(0, 400);
+}
+
 }  // namespace
 }  // namespace orcs

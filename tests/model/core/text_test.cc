@@ -153,7 +153,8 @@ TEST(TextTest, PrefixAndQuoteNeverCutACharacter) {
   EXPECT_EQ(Prefix(thirty_nine + "\xc3\xa9z", 41), thirty_nine + "\xc3\xa9");
   EXPECT_EQ(Prefix("\xe2\x82\xac", 2), "");  // "€" (three bytes)
   EXPECT_EQ(Prefix("abc", 40), "abc");
-  EXPECT_EQ(Quote(thirty_nine + "\xc3\xa9xyz"), "'" + thirty_nine + "...'");
+  const std::string seventy_nine(79, 'a');
+  EXPECT_EQ(Quote(seventy_nine + "\xc3\xa9xyz"), "'" + seventy_nine + "...'");
 }
 
 TEST(TextTest, ValidUtf8KeepsCharactersAndReplacesBrokenBytes) {
@@ -177,9 +178,39 @@ TEST(TextTest, QuoteEscapesControlCharactersSoAnErrorStaysOneLine) {
 TEST(TextTest, QuoteShortensLongText) {
   EXPECT_EQ(Quote("abc"), "'abc'");
   EXPECT_EQ(Quote(""), "''");
-  const std::string forty(40, 'x');
-  EXPECT_EQ(Quote(forty), "'" + forty + "'");
-  EXPECT_EQ(Quote(forty + "yz"), "'" + forty + "...'");
+  const std::string eighty(80, 'x');
+  EXPECT_EQ(Quote(eighty), "'" + eighty + "'");
+  EXPECT_EQ(Quote(eighty + "yz"), "'" + eighty + "...'");
+  EXPECT_EQ(Quote(std::string(100000, 'x')), "'" + eighty + "...'") << "a 100,000-character name: 85 bytes";
+}
+
+TEST(TextTest, ExcerptBoundsAndEscapesWhatAUserWrote) {
+  EXPECT_EQ(Excerpt("plain"), "plain");
+  EXPECT_EQ(Excerpt(std::string(100000, 'x')), std::string(80, 'x') + "...");
+  EXPECT_EQ(Excerpt(std::string(100, 'x'), 20), std::string(20, 'x') + "...");
+  EXPECT_EQ(Excerpt(std::string("a\0b", 3)), "a\\x00b") << "a NUL does not cut what follows";
+  EXPECT_EQ(Excerpt("\xff\xfe"), "\\xff\\xfe") << "bytes that are not UTF-8";
+  EXPECT_EQ(Excerpt("a\xc2\x85" "b\xe2\x80\xa8" "c"), "a\\u0085b\\u2028c") << "NEL and LINE SEPARATOR break lines too";
+  EXPECT_EQ(Excerpt("caf\xc3\xa9 \xe2\x82\xac"), "caf\xc3\xa9 \xe2\x82\xac");
+  // A run of continuation bytes is no character: it is shown, not cut away to nothing.
+  EXPECT_EQ(Excerpt(std::string(100, '\x80'), 4), "\\x80\\x80\\x80\\x80...");
+}
+
+TEST(TextTest, ANameIsALabelThatIsAlsoASafeFolderName) {
+  for (const char* good : {"hips", "a b", ".hidden", "inline.genome_2", "caf\xc3\xa9", "-x"}) {
+    EXPECT_EQ(NameProblem(good), "") << good;
+  }
+  EXPECT_EQ(NameProblem(std::string(128, 'n')), "");
+  EXPECT_EQ(NameProblem(std::string(129, 'n')), "it has 129 bytes");
+  EXPECT_EQ(NameProblem(""), "it is empty");
+  EXPECT_EQ(NameProblem("."), "it is '.'");
+  EXPECT_EQ(NameProblem(".."), "it is '..'");
+  EXPECT_EQ(NameProblem("../../escaped"), "it contains '/'");
+  EXPECT_EQ(NameProblem("/abs"), "it contains '/'");
+  EXPECT_EQ(NameProblem("a\\b"), "it contains '\\'");
+  EXPECT_EQ(NameProblem(std::string("a\0b", 3)), "it contains a control character");
+  EXPECT_EQ(NameProblem("a\x7f"), "it contains a control character");
+  EXPECT_EQ(NameProblem("a\xff"), "it is not UTF-8");
 }
 
 }  // namespace

@@ -96,13 +96,100 @@ TEST(ScenarioTest, BadInputNamesFileAndField) {
               }),
               HasSubstr("field 'randomisation.parameters[0].normal.min' expected min ≤ max (1)"));
   EXPECT_THAT(InputErrorOf([&] { ParseScenario(with("randomisation", {{"sets", 0}}), "s.json"); }),
-              HasSubstr("field 'randomisation.sets' expected an integer ≥ 1"));
+              HasSubstr("field 'randomisation.sets' expected an integer from 1 to 10000"));
   EXPECT_THAT(InputErrorOf([&] { ParseScenario(with("environment", "x.xml"), "s.json"); }),
               HasSubstr("resolve the scenario file first"));
   nlohmann::json no_fitness = Minimal();
   no_fitness.erase("fitness");
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(no_fitness, "s.json"); }),
             "s.json: field 'fitness' expected a value, found nothing (the field is missing)");
+}
+
+// Issue 47, item 5: "sets": 1e9 ended in std::bad_alloc at 3.1 GB, naming nothing. Every count that costs memory in
+// proportion to a number in the file has a documented bound, refused naming its field before anything is allocated.
+TEST(ScenarioTest, CountsThatCostMemoryAreBoundedNamingTheirField) {
+  auto randomised = [](nlohmann::json randomisation) {
+    nlohmann::json scenario = Minimal();
+    scenario["randomisation"] = std::move(randomisation);
+    return scenario;
+  };
+  for (const nlohmann::json& sets : {nlohmann::json(1000000000), nlohmann::json(10001), nlohmann::json(1e10),
+                                    nlohmann::json(-1), nlohmann::json(2.5)}) {
+    SCOPED_TRACE(sets.dump());
+    EXPECT_EQ(InputErrorOf([&] { ParseScenario(randomised({{"sets", sets}}), "s.json"); }),
+              "s.json: field 'randomisation.sets' expected an integer from 1 to 10000, found the number " + sets.dump());
+  }
+  EXPECT_EQ(ParseScenario(randomised({{"sets", 10000}}), "s.json").randomisation.sets, 10000);
+
+  // The values a job draws: sets × parameters, at most 100,000 (default_motor_model adds 7 parameters).
+  EXPECT_EQ(ParseScenario(randomised({{"sets", 10000}, {"default_motor_model", true}}), "s.json").randomisation.sets,
+            10000) << "70,000 drawn values";
+  nlohmann::json parameters = nlohmann::json::array();
+  for (int i = 0; i < 11; ++i) parameters.push_back({{"path", "/A" + std::to_string(i)}, {"uniform", {0, 1}}});
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(randomised({{"sets", 10000}, {"parameters", parameters}}), "s.json"); }),
+            "s.json: field 'randomisation.sets' expected at most 100000 drawn values per job (sets × parameters), "
+            "found 10000 sets × 11 parameters");
+  nlohmann::json many = nlohmann::json::array();
+  for (int i = 0; i < 993; ++i) many.push_back({{"path", "/A"}, {"uniform", {0, 1}}});
+  EXPECT_EQ(ParseScenario(randomised({{"default_motor_model", true}, {"parameters", many}}), "s.json")
+                .randomisation.parameters.size(),
+            1000u);
+  many.push_back({{"path", "/A"}, {"uniform", {0, 1}}});
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(randomised({{"default_motor_model", true}, {"parameters", many}}), "s.json"); }),
+            "s.json: field 'randomisation.parameters' expected at most 1000 parameters with default_motor_model's 7, "
+            "found an array of 994");
+
+  nlohmann::json scenario = Minimal();
+  scenario["log"] = nlohmann::json::array();
+  for (int i = 0; i < 1000; ++i) scenario["log"].push_back("/Simulation/Time");
+  EXPECT_EQ(ParseScenario(scenario, "s.json").log.size(), 1000u);
+  scenario["log"].push_back("/Simulation/Time");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(scenario, "s.json"); }),
+            "s.json: field 'log' expected at most 1000 regular expressions, found an array of 1001");
+}
+
+// Issue 47, item 5: a name of "../../escaped" or "/tmp/x" wrote the results outside runs/ (the default output folder
+// is runs/<name>). A name is a label: 1…128 bytes of UTF-8, no '/', '\\' or control character, not "." or "..".
+TEST(ScenarioTest, ANameIsALabelThatCannotLeaveTheRunsFolder) {
+  auto named = [](const std::string& name) {
+    nlohmann::json scenario = Minimal();
+    scenario["name"] = name;
+    return scenario;
+  };
+  // What the shipped scenarios, suites and tests use keeps working.
+  for (const std::string& name : std::vector<std::string>{"rock-oscillator", "swing-robustness", "a b", "inline.genome_2", ".hidden", "x",
+                                 "caf\xc3\xa9 \xe2\x82\xac", std::string(128, 'n')}) {
+    EXPECT_EQ(ParseScenario(named(name), "s.json").name, name);
+  }
+  const std::string rule =
+      "s.json: field 'name' expected a label of 1 to 128 bytes of UTF-8 without '/', '\\' or control characters, "
+      "not '.' or '..', found ";
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named("../../escaped"), "s.json"); }),
+            rule + "the string \"../../escaped\" (it contains '/')");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named("/tmp/absolute"), "s.json"); }),
+            rule + "the string \"/tmp/absolute\" (it contains '/')");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named(".."), "s.json"); }), rule + "the string \"..\" (it is '..')");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named("."), "s.json"); }), rule + "the string \".\" (it is '.')");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named(""), "s.json"); }), rule + "the string \"\" (it is empty)");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named("a\\b"), "s.json"); }),
+            rule + "the string \"a\\b\" (it contains '\\')");
+  // A NUL no longer cuts the message, and a newline does not make it two lines: both are shown escaped.
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named(std::string("a\0b", 3)), "s.json"); }),
+            rule + "the string \"a\\x00b\" (it contains a control character)");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named("a\nb"), "s.json"); }),
+            rule + "the string \"a\\nb\" (it contains a control character)");
+  // 100,000 characters: refused, and the message quotes 80 of them.
+  const std::string error = InputErrorOf([&] { ParseScenario(named(std::string(100000, 'n')), "s.json"); });
+  EXPECT_EQ(error, rule + "the string \"" + std::string(80, 'n') + "...\" (it has 100000 bytes)");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(named(std::string(129, 'n')), "s.json"); }),
+            rule + "the string \"" + std::string(80, 'n') + "...\" (it has 129 bytes)");
+
+  // Without a name, the file's stem is made a name that keeps the rule.
+  EXPECT_EQ(ParseScenario(Minimal(), "dir/walk.json").name, "walk");
+  EXPECT_EQ(ParseScenario(Minimal(), "job j-1 scenario").name, "job j-1 scenario");
+  EXPECT_EQ(ParseScenario(Minimal(), "dir/...json").name, "scenario") << "the stem '..'";
+  EXPECT_EQ(ParseScenario(Minimal(), "dir/a\\b\tc.json").name, "a_b_c");
+  EXPECT_EQ(ParseScenario(Minimal(), "dir/" + std::string(200, 'n') + ".json").name, std::string(128, 'n'));
 }
 
 TEST(ScenarioTest, ResolveInlinesEnvironmentValueFilesAndRecords) {
