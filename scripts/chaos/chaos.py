@@ -717,7 +717,11 @@ class Broker:
             self.wedged_max = max(self.wedged_max, wedged)
             if wedged > WEDGE_LIMIT and (wid, first) not in self.wedge_reported:
                 self.wedge_reported.add((wid, first))
-                w = next((w for w in workers if w.get("worker_id") == wid), {})
+                w = next((w for w in workers if w.get("worker_id") == wid), None)
+                if w is None:  # held > running without a worker to name
+                    self.soak.violate("%s: %s held for ended batches for more than %.0f s (%d live batches)" % (
+                        self.name, wid, WEDGE_LIMIT, len(live)))
+                    continue
                 self.soak.violate("%s: worker %s held by an ended batch for more than %.0f s (holding %s of %s, "
                                   "current batch '%s', %d live batches)" % (
                                       self.name, wid, WEDGE_LIMIT, w.get("holding"), w.get("credit"),
