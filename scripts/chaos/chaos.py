@@ -863,8 +863,10 @@ class BatchUser:
 
     def resume_later(self, b, delay):
         b["resumes"] += 1
+        # without batch.json nothing had been planned yet (killed in its first moments): start it afresh
         self.soak.later(delay, "%s resumes batch %d" % (self.name, self.index),
-                        lambda: self.batch is b and b["proc"] is None and self.launch(b, resume=True))
+                        lambda: self.batch is b and b["proc"] is None and self.launch(
+                            b, resume=os.path.exists(os.path.join(b["dir"], "batch.json"))))
 
     def exited(self, b, code):
         proc = b["proc"]
@@ -880,7 +882,14 @@ class BatchUser:
                 self.name, took, code, state))
             if code == 0 and os.path.exists(os.path.join(b["dir"], "results.jsonl")):
                 self.finish(b)  # it had finished before the Ctrl-C reached it
-            elif b.get("abandon"):
+                return
+            if code == -signal.SIGINT:
+                # the Ctrl-C came before orcs-batch set its handler (its first milliseconds): the default action
+                self.soak.log("%s: orcs-batch ended by SIGINT before it handled it" % self.name)
+            elif code != 1 or state != "interrupted":
+                self.soak.violate("%s: after Ctrl-C orcs-batch exited %s with progress.json state %s, not 1 and "
+                                  "'interrupted' (%s)" % (self.name, code, state, b["dir"]))
+            if b.get("abandon"):
                 self.soak.counts["batches_cancelled"] += 1
                 self.verify(b, complete=False)
                 self.batch_over()
