@@ -728,7 +728,8 @@ class Broker:
                                       w.get("current_batch_id", ""), len(live)))
 
     def rss_text(self):
-        parts = []
+        """Start and end of the run, and the longest-lived process (the one whose flatness says most)."""
+        lives = []
         for pid, start, samples in self.incarnations:
             if not samples:
                 continue
@@ -736,9 +737,14 @@ class Broker:
             # the baseline: the first sample after a warm-up of 20 s (or a quarter of the life, if shorter)
             warm = start + min(20.0, life / 4)
             base = next((kb for t, kb in samples if t >= warm), samples[0][1])
-            parts.append("pid %d, %.0f s: %.1f MiB after warm-up, %.1f MiB at the end, peak %.1f MiB" % (
-                pid, life, base / 1024, samples[-1][1] / 1024, max(kb for _, kb in samples) / 1024))
-        return "; ".join(parts) or "no samples"
+            lives.append((life, pid, base, samples[-1][1], max(kb for _, kb in samples)))
+        if not lives:
+            return "no samples"
+        longest = max(lives)
+        return ("%.1f MiB at the start, %.1f MiB at the end, peak %.1f MiB; %d processes (%d restarts); the longest-"
+                "lived, pid %d for %.0f s: %.1f → %.1f MiB" % (
+                    lives[0][2] / 1024, lives[-1][3] / 1024, max(x[4] for x in lives) / 1024, len(lives),
+                    len(lives) - 1, longest[1], longest[0], longest[2] / 1024, longest[3] / 1024))
 
     def check_memory(self):
         for pid, start, samples in self.incarnations:
