@@ -53,6 +53,9 @@ STATUS_PERIOD = 0.5       # how often each broker's status is read, s
 WEDGE_LIMIT = 2.0         # the longest a worker may stay held by an ended batch, s
 CTRL_C_LIMIT = 5.0        # the longest a client may take to exit after Ctrl-C, s
 CLIENT_GRACE = 3.0        # --client-grace of the brokers (when the broker has the option)
+# A batch may stay live this long after its client ended: the broker notices a silent client after liveness × H
+# and keeps its batch for the grace period; then the batch must go (an ended client never comes back for it).
+BATCH_OUTLIVES_LIMIT = CLIENT_GRACE + 5 * HEARTBEAT + WEDGE_LIMIT
 MAX_WORKER_LOSSES = 50    # high, so that a job hit by several kills in a row is re-run, not failed WORKER_LOST
 
 # Fault kinds and their weights in the schedule.
@@ -107,6 +110,7 @@ class Soak:
         self.faults = collections.Counter()
         self.skipped = collections.Counter()
         self.not_applicable = collections.Counter()  # faults on namespaces that could not be made
+        self.ended_batches = {}  # broker batch id -> when its client's batch ended (finished, cancelled, given up)
         self.counts = collections.Counter()
         self.netns = []          # namespaces made (removed at the end)
         self.prefix = args.netns_prefix or "ochaos%d" % os.getpid()
@@ -453,6 +457,7 @@ class Soak:
             if not u.finished():
                 u.give_up("still under way %.0f s after the faults stopped" % self.args.drain)
         self.settle()
+        self.log("batch ids of ended clients tracked: %d" % len(self.ended_batches))
         self.stop_polling.set()
         for p in pollers:
             p.join(10)
@@ -564,6 +569,8 @@ class Soak:
                  "  lost:             %d" % self.counts["lost"],
                  "  duplicated:       %d" % self.counts["duplicated"],
                  "  wrong bits:       %d" % self.counts["wrong"],
+                 "  batches outliving their client: %d (still live %.1f s after it ended)" % (
+                     self.counts["batches_outlived"], BATCH_OUTLIVES_LIMIT),
                  "  wedged seconds:   %.1f (the longest a worker stayed held by an ended batch; limit %.0f s)" % (
                      max([b.wedged_max for b in getattr(self, "brokers", [])] or [0.0]), WEDGE_LIMIT)]
         for b in getattr(self, "brokers", []):
@@ -597,6 +604,7 @@ class Broker:
         self.flagged = {}        # worker id -> first time seen held by an ended batch
         self.wedged_max = 0.0
         self.wedge_reported = set()
+        self.outlived_reported = set()
 
     def launch(self):
         self.proc = self.soak.start(self.name, self.argv, self.ns)
@@ -699,6 +707,13 @@ class Broker:
         that owns every batch here, a live batch's id is shown.) Also counted: jobs held by workers beyond the
         live batches' running jobs."""
         live = {b.get("batch_id") for b in self.batches_of(snap)}
+        for bid in live:
+            ended = self.soak.ended_batches.get(bid)
+            if ended is not None and at - ended > BATCH_OUTLIVES_LIMIT and bid not in self.outlived_reported:
+                self.outlived_reported.add(bid)
+                self.soak.counts["batches_outlived"] += 1
+                self.soak.violate("%s: batch %s is still live %.1f s after its client ended (limit %.2f s: "
+                                  "liveness, grace and 2 s)" % (self.name, bid, at - ended, BATCH_OUTLIVES_LIMIT))
         running = sum(b.get("running", 0) for b in self.batches_of(snap))
         workers = self.workers_of(snap)
         held = sum(w.get("holding", 0) for w in workers)
@@ -874,7 +889,28 @@ class BatchUser:
                         lambda: self.batch is b and b["proc"] is None and self.launch(
                             b, resume=os.path.exists(os.path.join(b["dir"], "batch.json"))))
 
+    def last_batch_id(self, b):
+        try:
+            with open(os.path.join(b["dir"], "progress.json")) as f:
+                return json.load(f).get("broker_batch")
+        except (OSError, ValueError):
+            return None
+
+    def note_batch_id(self, b):
+        """The broker's id of the run's batch (progress.json, broker_batch): every run of a batch has its own."""
+        try:
+            with open(os.path.join(b["dir"], "progress.json")) as f:
+                bid = json.load(f).get("broker_batch")
+        except (OSError, ValueError):
+            return
+        if bid:
+            b.setdefault("ids", set()).add(bid)
+
     def exited(self, b, code):
+        self.note_batch_id(b)
+        bid = self.last_batch_id(b)
+        if bid:  # the process is gone, and its batch must go too (a resumed run opens a batch of its own)
+            self.soak.ended_batches.setdefault(bid, now())
         proc = b["proc"]
         b["proc"] = None
         if b.get("killed"):
@@ -972,6 +1008,10 @@ class BatchUser:
         self.batch_over()
 
     def batch_over(self):
+        if self.batch is not None:
+            self.note_batch_id(self.batch)
+            for bid in self.batch.get("ids", ()):
+                self.soak.ended_batches[bid] = now()
         self.batch = None
         self.next_start = now() + self.rng.uniform(0, 1.5)
 
@@ -998,6 +1038,9 @@ class BatchUser:
         self.soak.signal(b["proc"], signal.SIGKILL, group=True)
         b["proc"].wait()
         b["proc"] = None
+        self.note_batch_id(b)
+        for bid in b.get("ids", ()):  # a killed run's batch is over: the resume opens another
+            self.soak.ended_batches.setdefault(bid, now())
         self.resume_later(b, duration)
         return True
 
@@ -1143,6 +1186,7 @@ class CancelUser:
             self.end(b, "abandoned", "the broker said DISCONNECT (%s)" % m.disconnect.reason)
 
     def end(self, b, how, why):
+        self.soak.ended_batches[b["id"]] = now()
         if how == "finished":
             self.soak.counts["batches_finished"] += 1
         elif how == "unfinished":
