@@ -461,7 +461,10 @@ void BrokerCore::OrphanClient(const std::string& client, const std::string& reas
   for (const std::string& batch_id : record.batches) {
     auto batch = batches_.find(batch_id);
     if (batch == batches_.end() || batch->second.client != client) continue;
-    if (batch->second.jobs.empty()) continue;  // nothing pending: nothing to come back for
+    if (batch->second.jobs.empty() && batch->second.held_results.empty()) {  // nothing to come back for
+      DropBatch(batch_id, "batch " + batch_id + " ended: its client fell silent with nothing pending");
+      continue;
+    }
     pending += batch->second.jobs.size();
     batch->second.former_client = client;
     batch->second.client.clear();

@@ -192,6 +192,15 @@ class Harness {
       Tick();
     }
   }
+  // `n` seconds, one at a time, with worker "w" heartbeating each second and the clients silent (stopped), then the
+  // clock duties.
+  void PassSecondsWithTheClientSilent(int n) {
+    for (int second = 0; second < n; ++second) {
+      Advance(std::chrono::seconds(1));
+      WorkerHeartbeat("w");
+      Tick();
+    }
+  }
   broker::BrokerStats Stats() const { return core_.Stats(); }
   bool Logged(const std::string& needle) const {
     for (const std::string& line : log_) {
@@ -715,11 +724,7 @@ TEST_F(BrokerCoreTest, TheStatusShowsAReclaimedBatchsJobStillRunningOnItsWorker)
   Submit("c", "b", {Job("j0")});
   Ready("w", 1);
   Dispatch();
-  for (int second = 0; second < 5; ++second) {
-    Advance(seconds(1));
-    WorkerHeartbeat("w");
-    Tick();
-  }
+  PassSecondsWithTheClientSilent(5);
   ASSERT_EQ(Stats().clients, 0);  // the client went silent: its connection is forgotten, its batch waits for it
   Submit("c2", "b", {Job("j0")});
   const v1::Status status = AskStatus("asker");
@@ -855,11 +860,7 @@ TEST_F(BrokerCoreTest, ASilentClientsBatchRunsOnThroughItsGraceAndIsClaimedBackW
   Submit("c", "b", {Job("j0"), Job("j1")});
   Ready("w", 1);
   Dispatch();
-  for (int second = 0; second < 5; ++second) {  // the client is stopped (SIGSTOP): only the worker beats
-    Advance(seconds(1));
-    WorkerHeartbeat("w");
-    Tick();
-  }
+  PassSecondsWithTheClientSilent(5);  // the client is stopped (SIGSTOP): only the worker beats
   EXPECT_EQ(Stats().clients, 0);
   EXPECT_EQ(Stats().batches, 1);
   EXPECT_EQ(Stats().batches_orphaned, 1u);
@@ -884,14 +885,9 @@ TEST_F(BrokerCoreTest, ASilentClientsBatchIsDroppedAfterItsGraceAndItsRunningJob
   Submit("c", "b", {Job("j0"), Job("j1")});
   Ready("w", 1);
   Dispatch();
-  for (int second = 0; second < 5 + 60; ++second) {
-    Advance(seconds(1));
-    WorkerHeartbeat("w");
-    Tick();
-    if (second == 5 + 58) {
-      EXPECT_EQ(Stats().batches, 1) << "dropped before its grace ended";
-    }
-  }
+  PassSecondsWithTheClientSilent(5 + 59);
+  EXPECT_EQ(Stats().batches, 1) << "dropped before its grace ended";
+  PassSecondsWithTheClientSilent(1);
   EXPECT_EQ(Stats().batches, 0);
   EXPECT_EQ(Stats().batches_unclaimed, 1u);
   EXPECT_EQ(endings::RevokedLeases(transport_, "w"), endings::LeasesOf(transport_.Jobs("w")));
@@ -903,11 +899,7 @@ TEST_F(BrokerCoreTest, AnOrphanedBatchsCancelFromItsFormerConnectionEndsItAtOnce
   Submit("c", "b", {Job("j0"), Job("j1")});
   Ready("w", 2);
   Dispatch();
-  for (int second = 0; second < 5; ++second) {
-    Advance(seconds(1));
-    WorkerHeartbeat("w");
-    Tick();
-  }
+  PassSecondsWithTheClientSilent(5);
   ASSERT_EQ(Stats().batches_orphaned, 1u);
   v1::ClientToBroker cancel;
   cancel.mutable_cancel()->set_batch_id("b");
@@ -922,11 +914,7 @@ TEST_F(BrokerCoreTest, AnOrphanedBatchsGoodbyeFromItsFormerConnectionEndsItAtOnc
   Submit("c", "b", {Job("j0")});
   Ready("w", 1);
   Dispatch();
-  for (int second = 0; second < 5; ++second) {
-    Advance(seconds(1));
-    WorkerHeartbeat("w");
-    Tick();
-  }
+  PassSecondsWithTheClientSilent(5);
   v1::ClientToBroker bye;
   bye.mutable_disconnect()->set_reason("interrupted");
   ClientSays("c", bye);
