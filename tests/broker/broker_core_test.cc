@@ -923,6 +923,19 @@ TEST_F(BrokerCoreTest, AnOrphanedBatchsGoodbyeFromItsFormerConnectionEndsItAtOnc
   EXPECT_TRUE(Logged("left (interrupted); dropped its batch b"));
 }
 
+// Found by the chaos soak: a client stopped just after its last result must not leave its empty batch behind.
+TEST_F(BrokerCoreTest, AClientThatFallsSilentWithNothingPendingTakesItsBatchWithIt) {
+  Submit("c", "b", {Job("j0")});
+  Ready("w", 1);
+  Dispatch();
+  Answer("w", transport_.Jobs("w").at(0));
+  EXPECT_EQ(Stats().batches, 1);
+  PassSecondsWithTheClientSilent(5);
+  EXPECT_EQ(Stats().batches, 0);
+  EXPECT_EQ(Stats().batches_orphaned, 0u);
+  EXPECT_TRUE(Logged("forgotten (silent for 5.0 s, nothing pending)"));
+}
+
 TEST_F(BrokerCoreTest, ASmallBatchBehindABigOneStartsAtOnce) {
   std::vector<v1::Job> big;
   for (int i = 0; i < 100; ++i) big.push_back(Job("big" + std::to_string(i)));
