@@ -60,6 +60,7 @@ class EndingsTest : public ::testing::Test {
     ASSERT_TRUE(broker.error.empty()) << broker.error;
     broker_ = std::move(broker.process);
     clients_ = broker.clients;
+    workers_endpoint_ = broker.workers;
     for (const char* name : {"w1", "w2"}) {
       workers_.push_back(std::make_unique<BackgroundProcess>(std::vector<std::string>{
           kBin + "orcs-worker", "--connect", broker.workers, "--heartbeat", "0.1", "--id", name}));
@@ -123,6 +124,7 @@ class EndingsTest : public ::testing::Test {
   std::unique_ptr<BackgroundProcess> broker_;
   std::vector<std::unique_ptr<BackgroundProcess>> workers_;
   std::string clients_;
+  std::string workers_endpoint_;
 };
 
 TEST_F(EndingsTest, AKilledClientsRunningJobsAreRevokedAndTheNextUsersBatchRuns) {
@@ -197,6 +199,26 @@ TEST_F(EndingsTest, AClientStoppedWithinTheGraceGetsItsBatchBackWithEveryResult)
   EXPECT_EQ(done->exit_code, 0) << done->err;
   EXPECT_EQ(CountLines(dir_.PathOf("first") + "/results.jsonl"), 4);
   EXPECT_THAT(broker_->err(), HasSubstr("claimed batch"));
+}
+
+// Item 5: a peer asking for credit 1024 holds 16 jobs (--max-credit), and a small batch submitted behind a big one
+// takes turns with it instead of waiting for all of it.
+TEST_F(EndingsTest, AGreedyWorkerHoldsTheCapAndASmallBatchBehindABigOneStartsAtOnce) {
+  StartCluster();
+  test_support::RawPeer greedy(workers_endpoint_);
+  greedy.Send(test_support::ReadyMessage("greedy", 1024));
+  std::unique_ptr<BackgroundProcess> big = Submit("big", 100, 2.0);
+  int taken = 0;
+  while (test_support::AwaitJob(greedy, milliseconds(3000))) ++taken;  // it never answers: it keeps what it gets
+  EXPECT_EQ(taken, 16);
+  NextUsersBatchRuns();
+  // When the small batch is done (its client has left), the big one is the only batch left, and it has had about
+  // as many turns, not all of its 84 other jobs.
+  const nlohmann::json status = Status();
+  const nlohmann::json batches = status.value("batch_list", status.value("batchList", nlohmann::json::array()));
+  ASSERT_EQ(batches.size(), 1u) << status.dump();
+  const int big_done = batches[0].value("done", 0);
+  EXPECT_LT(big_done, 50) << "the small batch waited behind the big one";
 }
 
 }  // namespace
