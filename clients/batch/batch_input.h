@@ -147,7 +147,7 @@ class SweepJobSource : public JobSource {
 
  private:
   const ScenarioInput& input_;
-  const Genome& genome_;
+  const Genome genome_;  ///< a copy: one genome is small, and a reference to a temporary dangled
   const std::vector<SweepPoint>& points_;
   JobSettings settings_;
   std::size_t repeats_;

@@ -497,9 +497,13 @@ TEST(Broker, ClientThatLeavesTakesItsQueuedJobsWithIt) {
   EXPECT_EQ(broker.stats().jobs_dispatched, 0u);
 }
 
-TEST(Broker, SilentClientIsDroppedWithItsJobs) {
+// A silent client's batch waits for it through the grace period (docs/protocol.md, "Endings"), then goes with its
+// jobs.
+TEST(Broker, SilentClientIsDroppedWithItsJobsAfterTheGrace) {
   LogLines log;
-  BrokerThread broker(TestBrokerOptions(&log));
+  broker::BrokerOptions options = TestBrokerOptions(&log);
+  options.client_grace = milliseconds(300);
+  BrokerThread broker(options);
   RawPeer client(broker.client_endpoint());
   v1::ClientToBroker submit;
   submit.set_protocol_version(proto::kProtocolVersion);
@@ -513,8 +517,10 @@ TEST(Broker, SilentClientIsDroppedWithItsJobs) {
   EXPECT_EQ(answer->accepted().job_count(), 3u);
   EXPECT_EQ(answer->accepted().queued(), 3u);
   ASSERT_TRUE(WaitFor([&] { return broker.stats().clients_lost == 1; }));  // it never heartbeats
+  EXPECT_EQ(log.Count("client quiet lost (silent for 0.5 s); its 1 batches (3 pending jobs) wait 0.3 s"), 1);
+  ASSERT_TRUE(WaitFor([&] { return broker.stats().batches == 0; }));
   EXPECT_EQ(broker.stats().queued, 0u);
-  EXPECT_EQ(log.Count("client quiet lost (silent for 0.5 s); dropped its 3 pending jobs"), 1);
+  EXPECT_EQ(broker.stats().batches_unclaimed, 1u);
 }
 
 TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {

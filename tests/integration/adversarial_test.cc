@@ -25,6 +25,7 @@
 #include "proto/envelope.h"
 #include "tests/broker/test_peers.h"
 #include "tests/support/background_process.h"
+#include "tests/support/hip_swing_scenario.h"
 #include "tests/support/broker_process.h"
 #include "tests/support/temp_dir.h"
 
@@ -39,15 +40,6 @@ using ::testing::HasSubstr;
 const std::string kBin = ORCS_BINARY_DIR "/bin/";
 using Clock = std::chrono::steady_clock;
 
-// A short A-Series job: the hips swinging for `duration` simulated seconds.
-std::string ScenarioText(double duration) {
-  nlohmann::json scenario = nlohmann::json::parse(R"({
-    "controller": {"type": "oscillator", "joints": ["Right/HipYaw", "Left/HipYaw"]},
-    "genome": [10.0, 1.0, 0.0, 0.0, 10.0, 1.0, 3.0, 0.0],
-    "fitness": {"terms": [{"type": "distance", "body": "Middle/UpperBody", "axis": "z"}]}})");
-  scenario["duration"] = duration;
-  return scenario.dump();
-}
 
 // What orcs-batch wrote to results.jsonl, by job id.
 std::map<std::string, nlohmann::json> ReadResults(const std::string& path) {
@@ -71,9 +63,9 @@ class AdversarialTest : public ::testing::Test {
     workers_ = broker.workers;
   }
 
-  // `orcs-batch submit` of `jobs` jobs of ScenarioText(duration), in the background.
+  // `orcs-batch submit` of `jobs` jobs of test_support::HipSwingScenarioText(duration), in the background.
   std::unique_ptr<BackgroundProcess> Submit(int jobs, double duration, double time_limit) {
-    const std::string scenario = dir_.Write("scenario.json", ScenarioText(duration));
+    const std::string scenario = dir_.Write("scenario.json", test_support::HipSwingScenarioText(duration));
     return std::make_unique<BackgroundProcess>(std::vector<std::string>{
         kBin + "orcs-batch", "submit", "--broker", clients_, scenario, "--jobs", std::to_string(jobs), "--out",
         dir_.PathOf("out"), "--heartbeat", "0.1", "--quiet", "--time-limit", std::to_string(time_limit)});

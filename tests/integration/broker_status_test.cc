@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tests/support/background_process.h"
+#include "tests/support/hip_swing_scenario.h"
 #include "tests/support/broker_process.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
@@ -31,16 +32,6 @@ using Json = nlohmann::json;
 
 const std::string kBin = ORCS_BINARY_DIR "/bin/";
 
-// The A-Series swinging its hips for `duration` simulated seconds: about a second of work per 10 s simulated.
-std::string ScenarioText(double duration) {
-  Json scenario = Json::parse(R"({
-    "name": "status-test",
-    "controller": {"type": "oscillator", "joints": ["Right/HipYaw", "Left/HipYaw"]},
-    "genome": [10.0, 1.0, 0.0, 0.0, 10.0, 1.0, 3.0, 0.0],
-    "fitness": {"terms": [{"type": "distance", "body": "Middle/UpperBody", "axis": "z"}]}})");
-  scenario["duration"] = duration;
-  return scenario.dump();
-}
 
 class BrokerStatusTest : public ::testing::Test {
  protected:
@@ -59,7 +50,7 @@ class BrokerStatusTest : public ::testing::Test {
   }
 
   std::unique_ptr<BackgroundProcess> Submit(int jobs, double duration, const std::vector<std::string>& extra = {}) {
-    const std::string scenario = dir_.Write("scenario.json", ScenarioText(duration));
+    const std::string scenario = dir_.Write("scenario.json", test_support::HipSwingScenarioText(duration, "status-test"));
     std::vector<std::string> argv = {kBin + "orcs-batch", "submit", "--broker", clients_, scenario, "--jobs",
                                      std::to_string(jobs), "--out", dir_.PathOf("out"), "--heartbeat", "0.1"};
     argv.insert(argv.end(), extra.begin(), extra.end());

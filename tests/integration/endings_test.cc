@@ -20,6 +20,7 @@
 #include "proto/envelope.h"
 #include "tests/broker/test_peers.h"
 #include "tests/support/background_process.h"
+#include "tests/support/hip_swing_scenario.h"
 #include "tests/support/broker_process.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
@@ -34,15 +35,6 @@ using Clock = std::chrono::steady_clock;
 
 const std::string kBin = ORCS_BINARY_DIR "/bin/";
 
-// An A-Series job: the hips swinging for `duration` simulated seconds (20 s take a few seconds of wall time).
-std::string ScenarioText(double duration) {
-  nlohmann::json scenario = nlohmann::json::parse(R"({
-    "controller": {"type": "oscillator", "joints": ["Right/HipYaw", "Left/HipYaw"]},
-    "genome": [10.0, 1.0, 0.0, 0.0, 10.0, 1.0, 3.0, 0.0],
-    "fitness": {"terms": [{"type": "distance", "body": "Middle/UpperBody", "axis": "z"}]}})");
-  scenario["duration"] = duration;
-  return scenario.dump();
-}
 
 int CountLines(const std::string& path) {
   std::ifstream in(path);
@@ -71,7 +63,7 @@ class EndingsTest : public ::testing::Test {
 
   // `orcs-batch submit` of `jobs` jobs of `duration` simulated seconds into `out`, in the background.
   std::unique_ptr<BackgroundProcess> Submit(const std::string& out, int jobs, double duration) {
-    const std::string scenario = dir_.Write(out + ".json", ScenarioText(duration));
+    const std::string scenario = dir_.Write(out + ".json", test_support::HipSwingScenarioText(duration));
     return std::make_unique<BackgroundProcess>(std::vector<std::string>{
         kBin + "orcs-batch", "submit", "--broker", clients_, scenario, "--jobs", std::to_string(jobs), "--out",
         dir_.PathOf(out), "--heartbeat", "0.1", "--quiet"});
@@ -152,7 +144,8 @@ TEST_F(EndingsTest, ACancelledBatchsRunningJobsAreRevokedAndTheNextUsersBatchRun
     v1::Job& job = *submit.mutable_submit()->add_jobs();
     job.set_protocol_version(proto::kProtocolVersion);
     job.set_job_id(id);
-    job.set_scenario_json(ScenarioText(60.0));
+    job.set_scenario_json(test_support::HipSwingScenarioText(60.0));
+    job.set_genome_json("[10.0, 1.0, 0.0, 0.0, 10.0, 1.0, 3.0, 0.0]");  // the scenario's own (a job always has one)
     job.set_time_limit_seconds(600);
   }
   client.Send(submit);
