@@ -291,10 +291,12 @@ TEST_F(CtrlCTest, EvolveStopsOnOneCtrlCToItsGroupWithinFiveSecondsAndItsResumeCo
   EXPECT_EQ(Progress(Out("cut")).value_or(nlohmann::json())["state"], "finished");
 }
 
-// Jobs of 2 simulated seconds (seconds each on busy cores): at the second Ctrl-C the workers are in the middle of
-// jobs, which the first one's orderly stop would let run for up to a second more.
+// Jobs of 10 simulated seconds (about a second each, more on busy cores): at the second Ctrl-C the workers are in
+// the middle of jobs, which the first one's orderly stop would let run for up to a second more. (With 2 s jobs a
+// worker was sometimes between jobs at the first Ctrl-C, the orderly stop took under 50 ms, and there was no second
+// Ctrl-C to test.)
 TEST_F(CtrlCTest, ASecondCtrlCExitsWithinOneSecondKillsTheWorkersAndLeavesAResumableFolder) {
-  const std::string scenario = dir_.Write("s.json", Scenario(2.0));
+  const std::string scenario = dir_.Write("s.json", Scenario(10.0));
   const std::vector<std::string> batch = {kBatch, "run", scenario, "--jobs", "4", "--workers", "2", "--quiet"};
   std::vector<std::string> cut = batch;
   cut.insert(cut.end(), {"--out", Out("cut")});
