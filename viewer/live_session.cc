@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <future>
+#include <iostream>
 
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -42,7 +43,9 @@ bool IsSafeFileName(const std::string& file, const char* extension) {
 }
 
 LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
-  scene::SetUpWorld(simulation_, options.environment, options.initial_value_files, options.value_files);
+  const IgnoredValues ignored = scene::SetUpWorld(simulation_, options.environment, options.initial_value_files,
+                                                  options.value_files, options.strict ? UnknownPaths::kRefuse : UnknownPaths::kIgnore);
+  if (!ignored.empty()) std::cerr << "orcs-view: " << ignored.Warning() << "\n";
   simulation_.Reset(options.seed);
   layout_ = std::make_unique<evaluation::RecordingLayout>(
       simulation_, evaluation::RecordingSource{"orcs-view --live", options.environment, "", options.seed, 0, nullptr});

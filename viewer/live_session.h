@@ -25,6 +25,7 @@ struct LiveOptions {
   std::string environment;                       ///< ORCS XML environment, "" = one A-Series on the floor
   std::vector<std::string> initial_value_files;  ///< -ival: before the build
   std::vector<std::string> value_files;          ///< -val: after the build
+  bool strict = false;                           ///< --strict: a value file's path orcs lacks is an error
   std::uint64_t seed = 0;                        ///< /Simulation/Seed of every reset
   std::string files_dir = "orcs-view-files";     ///< where save/load/logger files live
   bool start_running = false;                    ///< run at start instead of paused

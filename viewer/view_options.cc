@@ -41,6 +41,7 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
       ->check(CLI::ExistingFile)->needs(live);
   app.add_option("--val", l.value_files, "with --live: value file loaded after the world is built")
       ->check(CLI::ExistingFile)->needs(live);
+  app.add_flag("--strict", l.strict, "with --live: refuse a value file naming a path orcs lacks")->needs(live);
   app.add_option("--seed", l.seed, "with --live: seed of every reset")->check(cli::Seed())->needs(live);
   app.add_option("--files", l.files_dir, "with --live: folder for saved value files and logs")->needs(live);
   app.add_flag("--run", l.start_running, "with --live: start running instead of paused")->needs(live);

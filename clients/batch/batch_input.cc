@@ -10,6 +10,7 @@
 #include "model/core/text.h"
 #include "model/core/text_file.h"
 #include "model/evaluation/evaluation.h"
+#include "model/scene/parameter_sets.h"
 
 namespace orcs::batch {
 namespace {
@@ -79,15 +80,13 @@ bool SameOverrides(const v1::Job& a, const v1::Job& b) {
 // A parameter set's absolute draw replaces the job's override of the same path, so sweeping such a path would
 // change nothing; a relative draw scales the swept value and is fine.
 void CheckSweptPathsAreNotRedrawn(const ScenarioInput& input, const SweepPoint& point) {
-  const std::vector<scene::ParameterDistribution>& drawn = input.scenario.randomisation.parameters;
   for (const auto& [path, value] : point) {
-    for (std::size_t i = 0; i < drawn.size(); ++i) {
-      if (drawn[i].path != path || drawn[i].relative) continue;
-      throw InputError("--param " + path, 0,
-                       "the scenario's randomisation.parameters[" + std::to_string(i) +
-                           "] draws this path anew for every parameter set, replacing the swept value; make that "
-                           "distribution \"relative\" or remove it");
-    }
+    const int i = scene::AbsoluteDrawOf(input.scenario.randomisation, path);
+    if (i < 0) continue;
+    throw InputError("--param " + path, 0,
+                     "the scenario's randomisation.parameters[" + std::to_string(i) +
+                         "] draws this path anew for every parameter set, replacing the swept value; make that "
+                         "distribution \"relative\" or remove it");
   }
 }
 

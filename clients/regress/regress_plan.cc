@@ -9,6 +9,7 @@
 #include "clients/regress/junit_report.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/scene/parameter_sets.h"
 
 namespace orcs::regress {
 namespace {
@@ -33,14 +34,12 @@ batch::PlannedJob CaseJob(const SuiteCase& entry) {
 
 // A --set path that the case's randomisation draws with an absolute distribution never reaches the simulation.
 void NoteRedrawnPaths(const SuiteCase& entry, const std::vector<Override>& sets, std::ostream& notes) {
-  const std::vector<scene::ParameterDistribution>& drawn = entry.scenario.scenario.randomisation.parameters;
   for (const Override& set : sets) {
-    for (std::size_t i = 0; i < drawn.size(); ++i) {
-      if (drawn[i].path != set.first || drawn[i].relative) continue;
-      notes << "orcs-batch: note: case '" << entry.name << "' draws " << set.first
-            << " anew for every parameter set (randomisation.parameters[" << i << "] of " << entry.scenario.path
-            << "); --set does not change it there\n";
-    }
+    const int i = scene::AbsoluteDrawOf(entry.scenario.scenario.randomisation, set.first);
+    if (i < 0) continue;
+    notes << "orcs-batch: note: case '" << entry.name << "' draws " << set.first
+          << " anew for every parameter set (randomisation.parameters[" << i << "] of " << entry.scenario.path
+          << "); --set does not change it there\n";
   }
 }
 

@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "model/aseries/per_motor_parameters.h"
 #include "model/aseries/value_range.h"
 #include "model/core/rotation.h"
 
@@ -20,12 +21,24 @@ void WatchParameters(VariableRepository& values, const std::array<ParameterField
 
 }  // namespace
 
+void ASeriesAgent::WatchCopy(VariableRepository& values, const std::string& prefix, std::string_view path) {
+  values.Get(prefix + std::string(path)).AddObserver([this](const Value&) { parameters_changed_ = true; });
+}
+
 void ASeriesAgent::AddSharedParameters(VariableRepository& values) {
   AddParameters(values, kDynamixelParameterTable);
   AddParameters(values, kAngleSensorParameterTable);
   AddParameters(values, kAccelerometerParameterTable);
   AddParameters(values, kMotorEffectsTable);
   AddParameters(values, kServoParameterTable);
+}
+
+void ASeriesAgent::AddAgentParameters(VariableRepository& values, const std::string& agent,
+                                      const ASeriesMorphology& morphology) {
+  AddSharedParameters(values);
+  std::vector<std::string> motors;
+  for (const MorphologyMotor& motor : morphology.motors) motors.push_back(motor.name);
+  AddPerMotorParameters(values, agent, motors);
 }
 
 ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout layout, int index,
@@ -36,6 +49,7 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
   WatchParameters(values, kAccelerometerParameterTable, parameters_changed_);
   WatchParameters(values, kMotorEffectsTable, parameters_changed_);
   WatchParameters(values, kServoParameterTable, parameters_changed_);
+  AddAgentParameters(values, layout_.agent_name, morphology);
   const std::string prefix = "/Sim/" + layout_.agent_name + "/";
   motors_.resize(morphology.motors.size());
   for (size_t m = 0; m < motors_.size(); ++m) {
@@ -49,8 +63,9 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     motor.joint_angle = &values.Add(path + "JointAngle", 0.0);
     motor.current_velocity = &values.Add(path + "CurrentVelocity", 0.0);
     motor.motor_torque = &values.Add(path + "MotorTorque", 0.0);
-    values.Add(path + "MinAngle", spec.min_degrees);
-    values.Add(path + "MaxAngle", spec.max_degrees);
+    motor.parameter_prefix = PerMotorPrefix(layout_.agent_name, spec.name);
+    for (const auto& field : kDynamixelParameterTable) WatchCopy(values, motor.parameter_prefix, field.path);
+    for (const auto& field : kAngleSensorParameterTable) WatchCopy(values, motor.parameter_prefix, field.path);
     // The angle sensor's range, published as the original did (spec §4d); informative: the sensor model reads
     // its own parameters (kAngleSensorParameterTable).
     values.Add(path + "MinSensorAngle", -150.0);
@@ -113,8 +128,10 @@ void ASeriesAgent::FindDistalBodies(const ASeriesMorphology& morphology) {
 }
 
 void ASeriesAgent::ReadParameters() {
-  aseries::ReadParameters(values_, kDynamixelParameterTable, motor_parameters_);
-  aseries::ReadParameters(values_, kAngleSensorParameterTable, angle_parameters_);
+  for (Motor& motor : motors_) {
+    aseries::ReadParameters(values_, kDynamixelParameterTable, motor.parameters, motor.parameter_prefix);
+    aseries::ReadParameters(values_, kAngleSensorParameterTable, motor.sensor, motor.parameter_prefix);
+  }
   aseries::ReadParameters(values_, kAccelerometerParameterTable, accel_parameters_);
   aseries::ReadParameters(values_, kMotorEffectsTable, effects_);
   aseries::ReadParameters(values_, kServoParameterTable, servo_);
@@ -161,13 +178,13 @@ void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double 
             : 0.0;
     const JointReading reading{angle, world.joint_rate(motor.joint), world.joint_motor_torque(motor.joint),
                                gravity_torque};
-    const EffectCommand with_effects = UpdateWithEffects(motor_parameters_, servo_, effects_, motor.state,
+    const EffectCommand with_effects = UpdateWithEffects(motor.parameters, servo_, effects_, motor.state,
                                                          motor.effect_state, reading, desired_angle, desired_torque,
                                                          dt, &*motor_noise_);
     world.SetJointMotorCompliance(motor.joint, with_effects.compliance);
     command = with_effects.motor;
   } else {
-    command = Update(motor_parameters_, motor.state, angle, desired_angle, desired_torque, dt, &*motor_noise_);
+    command = Update(motor.parameters, motor.state, angle, desired_angle, desired_torque, dt, &*motor_noise_);
   }
   world.SetJointMotor(motor.joint, command.velocity, command.max_torque);
   world.SetJointFriction(motor.joint, command.friction_torque);
@@ -184,7 +201,7 @@ void ASeriesAgent::AddRotorInertia(physics::PhysicsWorld& world) {
 
 void ASeriesAgent::SensorStage(const physics::PhysicsWorld& world, double dt) {
   for (Motor& motor : motors_) {
-    motor.joint_angle->Set(MeasureJointAngle(world.joint_angle(motor.joint), angle_parameters_, &*angle_noise_));
+    motor.joint_angle->Set(MeasureJointAngle(world.joint_angle(motor.joint), motor.sensor, &*angle_noise_));
     motor.motor_torque->Set(world.joint_motor_torque(motor.joint));
   }
   for (Board& board : boards_) {

@@ -7,7 +7,8 @@
 //   /Sim/A/M/JointAngle     double, degrees, with sensor noise (output)
 //   /Sim/A/M/CurrentVelocity double, rad/s, the velocity the motor controller commands
 //   /Sim/A/M/MotorTorque    double, N·m, the torque the motor applied in the last step (output, for analysis)
-//   /Sim/A/M/MinAngle, MaxAngle  double, degrees, the hinge stops (informational)
+//   /Sim/A/M/MinAngle, MaxAngle  double, degrees, the hinge stops (structure values, morphology_values.h)
+//   /Sim/A/M/AngularMotor/...    the motor's own copies of the global motor parameters (per_motor_parameters.h)
 //   /Sim/A/B/AccelAxis1, AccelAxis2  double, m/s² (output)
 // and the global motor and sensor parameters /AngularMotor/..., /AccelSensor/... (docs/model.md), and the motor
 // effects /Effects/... (motor_effects.h, docs/gap.md), all off by default.
@@ -41,6 +42,11 @@ class ASeriesAgent {
   /// set them as in the original.
   static void AddSharedParameters(VariableRepository& values);
 
+  /// AddSharedParameters, then agent `agent`'s per-motor copies of the motor and angle-sensor parameters
+  /// (per_motor_parameters.h), so that initial value files can set one motor's parameters before the build too.
+  static void AddAgentParameters(VariableRepository& values, const std::string& agent,
+                                 const ASeriesMorphology& morphology);
+
   const std::string& name() const { return layout_.agent_name; }
   const ASeriesLayout& layout() const { return layout_; }
   int motor_count() const { return static_cast<int>(motors_.size()); }
@@ -66,6 +72,9 @@ class ASeriesAgent {
     Value* joint_angle = nullptr;     // degrees
     Value* current_velocity = nullptr;  // rad/s
     Value* motor_torque = nullptr;      // N·m
+    std::string parameter_prefix;       // "/Sim/<agent>/<motor>": where its own parameter copies are
+    DynamixelParameters parameters;     // this motor's, from its copies
+    AngleSensorParameters sensor;       // this motor's angle sensor's, from its copies
     DynamixelState state;
     MotorEffectState effect_state;
     int distal_body = -1;  // physics body on the far side from the root: it carries the rotor inertia
@@ -82,6 +91,7 @@ class ASeriesAgent {
   };
 
   void ReadParameters();
+  void WatchCopy(VariableRepository& values, const std::string& prefix, std::string_view path);
   void FindDistalBodies(const ASeriesMorphology& morphology);
   void MoveMotor(physics::PhysicsWorld& world, Motor& motor, double dt);
   void AddRotorInertia(physics::PhysicsWorld& world);
@@ -92,8 +102,6 @@ class ASeriesAgent {
   std::vector<Motor> motors_;
   std::vector<std::string> motor_names_;
   std::vector<Board> boards_;
-  DynamixelParameters motor_parameters_;
-  AngleSensorParameters angle_parameters_;
   AccelerometerParameters accel_parameters_;
   MotorEffects effects_;
   ServoParameters servo_;

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <string>
 #include <string_view>
 #include <type_traits>
 #include <variant>
@@ -37,13 +38,15 @@ void AddParameters(VariableRepository& repository, const std::array<ParameterFie
   }
 }
 
-/// Copies the repository's current values of every field of `table` into `parameters`. Throws InputError when
-/// a path is not registered.
+/// Copies the repository's current values of every field of `table` into `parameters`: the values at
+/// `prefix` + the field's path (per-motor copies, "/Sim/Humanoid/Right/Knee" + "/AngularMotor/..."), or at the
+/// field's path itself for an empty prefix. Throws InputError when a path is not registered.
 template <typename Parameters, std::size_t N>
 void ReadParameters(const VariableRepository& repository, const std::array<ParameterField<Parameters>, N>& table,
-                    Parameters& parameters) {
+                    Parameters& parameters, std::string_view prefix = {}) {
   for (const ParameterField<Parameters>& field : table) {
-    const Value& value = repository.Get(field.path);
+    const Value& value =
+        prefix.empty() ? repository.Get(field.path) : repository.Get(std::string(prefix) + std::string(field.path));
     std::visit(
         [&](auto member) {
           using Member = std::remove_reference_t<decltype(parameters.*member)>;

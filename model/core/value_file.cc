@@ -99,6 +99,52 @@ void ValueFile::Apply(const std::string& file, VariableRepository& repository) {
   ApplyAssignments(Read(file), repository);
 }
 
+IgnoredValues ValueFile::Apply(const std::string& file, VariableRepository& repository, UnknownPaths unknown) {
+  std::vector<ValueAssignment> assignments = Read(file);
+  IgnoredValues ignored;
+  if (unknown == UnknownPaths::kIgnore) {
+    std::erase_if(assignments, [&](const ValueAssignment& assignment) {
+      if (repository.Find(assignment.path) != nullptr) return false;
+      (IsOriginalGuiPath(assignment.path) ? ignored.original : ignored.unknown).push_back(assignment);
+      return true;
+    });
+  }
+  ApplyAssignments(assignments, repository);
+  return ignored;
+}
+
+bool IsOriginalGuiPath(std::string_view path) {
+  // The original's and its successor's GUI state: windows, cameras, the OpenGL view, plotters, loggers, plug-ins.
+  static constexpr std::string_view kPrefixes[] = {
+      "/GUI/",     "/Gui/",    "/OpenGL/",       "/Camera", "/Viewer/",     "/Visualization/", "/Plugins/",
+      "/PlugIns/", "/Logger/", "/ValuePlotter/", "/Plotter/", "/DebugOutput/"};
+  for (const std::string_view prefix : kPrefixes) {
+    if (path.starts_with(prefix)) return true;
+  }
+  return false;
+}
+
+void IgnoredValues::Add(const IgnoredValues& more) {
+  original.insert(original.end(), more.original.begin(), more.original.end());
+  unknown.insert(unknown.end(), more.unknown.begin(), more.unknown.end());
+}
+
+std::string IgnoredValues::Warning() const {
+  constexpr std::size_t kNamed = 5;  // paths named in the line; the rest are counted
+  const auto name = [](const std::vector<ValueAssignment>& list) {
+    std::string out;
+    for (std::size_t i = 0; i < list.size() && i < kNamed; ++i) {
+      out += (i > 0 ? ", " : "") + list[i].path + " (" + list[i].file + ":" + std::to_string(list[i].line) + ")";
+    }
+    if (list.size() > kNamed) out += " and " + std::to_string(list.size() - kNamed) + " more";
+    return out;
+  };
+  std::string line = "warning: ignored " + std::to_string(original.size() + unknown.size()) + " value(s) orcs has no use for";
+  if (!original.empty()) line += "; of the original's GUI, cameras or plug-ins: " + name(original);
+  if (!unknown.empty()) line += "; unknown to orcs: " + name(unknown);
+  return line + " (--strict refuses a file with such values)";
+}
+
 void ValueFile::ApplyAssignments(const std::vector<ValueAssignment>& assignments, VariableRepository& repository) {
   // Check everything first, so that a bad line leaves the repository as it was.
   for (const ValueAssignment& assignment : assignments) {

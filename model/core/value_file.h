@@ -27,6 +27,26 @@ struct ValueAssignment {
   int line = 0;       ///< 1-based line number
 };
 
+/// What Apply does with a path the repository lacks (docs/formats.md, "Value files of the original").
+enum class UnknownPaths {
+  kRefuse,  ///< an InputError naming the file and line (--strict; scenarios and jobs always)
+  kIgnore,  ///< left out and returned, for one warning (an old value file of the original loads)
+};
+
+/// The assignments Apply left out: values of the original's GUI, cameras and plug-ins, then other unknown paths.
+struct IgnoredValues {
+  std::vector<ValueAssignment> original;  ///< paths under a prefix of the original's GUI (IsOriginalGuiPath)
+  std::vector<ValueAssignment> unknown;   ///< every other path the repository lacks
+  bool empty() const { return original.empty() && unknown.empty(); }
+  void Add(const IgnoredValues& more);
+  /// One line for stderr: how many were ignored, each path with its file and line (the first few), and the fix.
+  std::string Warning() const;
+};
+
+/// Whether `path` is a value of the original's GUI, cameras or plug-ins (/GUI/, /OpenGL/, /Camera..., /Plugins/,
+/// ...; docs/formats.md), which orcs has no use for: the viewer keeps its cameras itself.
+bool IsOriginalGuiPath(std::string_view path);
+
 class ValueFile {
  public:
   /// Reads a value file and everything it includes, in order. Throws InputError naming the file and line for
@@ -39,6 +59,9 @@ class ValueFile {
   /// file and line for an unknown path or a value that does not parse; the repository is left unchanged then
   /// (the whole file is checked before anything is set).
   static void Apply(const std::string& file, VariableRepository& repository);
+
+  /// Apply with a choice for paths the repository lacks: refused as above, or left out and returned.
+  static IgnoredValues Apply(const std::string& file, VariableRepository& repository, UnknownPaths unknown);
 
   /// Applies assignments (from Read, or inlined into a job) as Apply does: all checked first, then set in order.
   static void ApplyAssignments(const std::vector<ValueAssignment>& assignments, VariableRepository& repository);

@@ -1,7 +1,8 @@
 #include "model/core/variable_repository.h"
 
+#include "model/core/path_pattern.h"
+
 #include <cassert>
-#include <re2/re2.h>
 
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -74,21 +75,10 @@ void VariableRepository::Set(std::string_view path, std::string_view text) {
 
 
 std::vector<int> VariableRepository::Match(std::string_view regular_expression) const {
-  // RE2 runs in time linear in the path's length whatever the pattern, so that no user's expression can hang a
-  // simulator, a gateway or a viewer ((.*)*(.*)*X takes std::regex minutes).
-  if (regular_expression.size() > kMaxPatternLength) {
-    throw InputError("regular expression of " + std::to_string(regular_expression.size()) +
-                     " characters: at most " + std::to_string(kMaxPatternLength) + " are accepted");
-  }
-  RE2::Options options;
-  options.set_log_errors(false);
-  const RE2 pattern(re2::StringPiece(regular_expression.data(), regular_expression.size()), options);
-  if (!pattern.ok()) {
-    throw InputError("invalid regular expression '" + OneLine(regular_expression) + "': " + OneLine(pattern.error()));
-  }
+  const PathPattern pattern(regular_expression);
   std::vector<int> ids;
   for (int id = 0; id < size(); ++id) {
-    if (RE2::FullMatch(entries_[id].path, pattern)) ids.push_back(id);
+    if (pattern.Matches(entries_[id].path)) ids.push_back(id);
   }
   return ids;
 }

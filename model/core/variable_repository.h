@@ -43,11 +43,9 @@ class VariableRepository {
 
   /// Ids of the values whose whole path matches the regular expression (RE2 syntax: the ECMAScript of the
   /// original without backreferences and lookaround), in registration order. Throws InputError for an invalid
-  /// expression or one longer than kMaxPatternLength.
+  /// expression or one longer than PathPattern::kMaxLength (model/core/path_pattern.h).
   std::vector<int> Match(std::string_view regular_expression) const;
 
-  /// The longest regular expression Match() takes, characters.
-  static constexpr std::size_t kMaxPatternLength = 1000;
 
   int size() const { return static_cast<int>(entries_.size()); }
   /// Id of a path, or -1.

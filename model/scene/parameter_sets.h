@@ -39,4 +39,9 @@ std::vector<ParameterSet> DrawParameterSets(const Randomisation& randomisation, 
                                             const std::vector<aseries::MorphologyMotor>& motors,
                                             const std::string& source);
 
+/// The index of the distribution of `randomisation` that draws `path` anew and not relative to its nominal value
+/// (its `path`, or a `match` naming it), or −1: a value set on such a path (a sweep, --set) is replaced by every
+/// parameter set's draw.
+int AbsoluteDrawOf(const Randomisation& randomisation, const std::string& path);
+
 }  // namespace orcs::scene

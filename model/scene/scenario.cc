@@ -143,10 +143,16 @@ void ReadEnvironment(const JsonNode& root, Scenario& scenario) {
 }
 
 ParameterDistribution ReadDistribution(const JsonNode& node) {
-  node.ExpectOnly({"path", "uniform", "normal", "relative"});
+  node.ExpectOnly({"path", "match", "uniform", "normal", "relative"});
   ParameterDistribution distribution;
-  distribution.path = node.At("path").String("a repository path");
-  if (distribution.path.empty() || distribution.path[0] != '/') node.At("path").Fail("a path starting with '/'");
+  if (node.Has("path") == node.Has("match")) node.Fail("exactly one of 'path' or 'match'", "both or none");
+  if (node.Has("match")) {
+    distribution.match = node.At("match").String("a regular expression of repository paths");
+    if (distribution.match.empty()) node.At("match").Fail("a regular expression of repository paths");
+  } else {
+    distribution.path = node.At("path").String("a repository path");
+    if (distribution.path.empty() || distribution.path[0] != '/') node.At("path").Fail("a path starting with '/'");
+  }
   distribution.relative = node.Has("relative") && node.At("relative").Bool("true or false");
   if (node.Has("uniform") == node.Has("normal")) node.Fail("exactly one of 'uniform' or 'normal'", "both or none");
   if (node.Has("uniform")) {
@@ -177,7 +183,7 @@ ParameterDistribution ReadDistribution(const JsonNode& node) {
 // The shipped default randomisation of the motor model and the floor friction (docs/scenarios.md).
 void AddDefaultMotorRandomisation(std::vector<ParameterDistribution>& parameters) {
   const auto relative = [&](const char* path, double low, double high) {
-    parameters.push_back({path, ParameterDistribution::Kind::kUniform, low, high, 0.0, 0.0, true});
+    parameters.push_back({path, ParameterDistribution::Kind::kUniform, low, high, 0.0, 0.0, true, ""});
   };
   relative("/AngularMotor/PID/Proportional", 0.8, 1.2);
   relative("/AngularMotor/FMaxFactor", 0.9, 1.1);
@@ -185,7 +191,7 @@ void AddDefaultMotorRandomisation(std::vector<ParameterDistribution>& parameters
   relative("/AngularMotor/StaticFriction", 0.5, 1.5);
   relative("/AngularMotor/DynamicFriction", 0.7, 1.3);
   parameters.push_back({"/AngularMotor/DynamicFrictionOffset", ParameterDistribution::Kind::kUniform, 0.0, 0.01,
-                        0.0, 0.0, false});
+                        0.0, 0.0, false, ""});
   relative("/Simulation/ODE/FrictionScaling", 0.8, 1.2);
 }
 

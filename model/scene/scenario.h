@@ -27,13 +27,17 @@ namespace orcs::scene {
 /// How one repository value varies between parameter sets.
 struct ParameterDistribution {
   enum class Kind { kUniform, kNormal };
-  std::string path;             ///< repository path of a number (checked against the built world)
+  std::string path;             ///< repository path of a number (checked against the built world); "" with `match`
   Kind kind = Kind::kUniform;   ///< distribution
   double low = 0.0;             ///< uniform: lower bound; normal: lower clamp (−inf = none)
   double high = 0.0;            ///< uniform: upper bound; normal: upper clamp (+inf = none)
   double mean = 0.0;            ///< normal: mean
   double deviation = 0.0;       ///< normal: standard deviation, ≥ 0
   bool relative = false;        ///< true: low/high/mean/deviation are factors of the value's nominal value
+  /// Instead of `path`: a regular expression (RE2, whole path) naming many numbers, each drawn on its own from
+  /// this distribution, in registration order — "/Sim/Humanoid/.*/Mass" with relative [0.95, 1.05] varies each
+  /// link's mass by up to ±5 %. "" with `path`.
+  std::string match;
 };
 
 /// A named value file offered to the parameter sets (inlined: its assignments).

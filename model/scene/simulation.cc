@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <stdexcept>
 
 #include "model/core/error.h"
 #include "model/core/rotation.h"
@@ -138,8 +139,11 @@ void Simulation::RegisterMujocoValues() {
 void Simulation::LoadEnvironment(const EnvironmentDescription& environment) {
   assert(!built() && "LoadEnvironment() after Build()");
   WorldModel::RegisterObjectValues(environment, repository_);
-  if (!environment.agents.empty()) aseries::ASeriesAgent::AddSharedParameters(repository_);  // for -ival
+  for (const AgentDescription& agent : environment.agents) {  // for -ival
+    aseries::ASeriesAgent::AddAgentParameters(repository_, agent.name, *WorldModel::MorphologyOf(agent));
+  }
   environment_ = environment;
+  WatchStructure(environment);
 }
 
 void Simulation::Build() {
@@ -151,8 +155,58 @@ void Simulation::Build() {
 void Simulation::Attach(std::shared_ptr<const WorldModel> model) {
   assert(!built() && "Attach() after Build()");
   WorldModel::RegisterObjectValues(model->environment(), repository_);
+  // The repository says what the model was compiled from, so that a reset does not compile it back to the
+  // environment's own values.
+  for (const WorldModel::StructureValue& value : model->structure()) repository_.Set(value.path, value.text);
+  WatchStructure(model->environment());
   model_ = std::move(model);
   BindModel();
+}
+
+// Every structure value's write marks the world for a check at the next reset. The objects' poses are also what
+// the physics publishes: only a write from outside the step is a new start pose, kept until then.
+void Simulation::WatchStructure(const EnvironmentDescription& environment) {
+  for (const WorldModel::StructureValue& structure : WorldModel::StructurePaths(environment)) {
+    const std::string path = structure.path;
+    const bool pose = structure.pose;
+    repository_.Get(path).AddObserver([this, path, pose](const Value& value) {
+      if (publishing_pose_) return;
+      structure_changed_ = true;
+      if (pose) written_start_pose_[path] = value.ToString();
+    });
+  }
+}
+
+// At a reset: compiles the world again when a structure value differs from what it was compiled from. The
+// objects' poses go back to their start (the compiled one, or one written from outside since) before.
+void Simulation::ApplyStructureChanges() {
+  structure_changed_ = false;
+  std::vector<std::pair<std::string, std::string>> start_pose;
+  bool changed = false;
+  for (const WorldModel::StructureValue& compiled : model_->structure()) {
+    std::string now;
+    if (compiled.pose) {
+      const auto written = written_start_pose_.find(compiled.path);
+      now = written == written_start_pose_.end() ? compiled.text : written->second;
+      start_pose.emplace_back(compiled.path, now);
+    } else {
+      now = repository_.Get(compiled.path).ToString();
+    }
+    changed = changed || now != compiled.text;
+  }
+  written_start_pose_.clear();
+  if (!changed) return;
+  publishing_pose_ = true;
+  for (const auto& [path, text] : start_pose) repository_.Set(path, text);
+  publishing_pose_ = false;
+  std::shared_ptr<const WorldModel> recompiled = WorldModel::Compile(model_->environment(), repository_);
+  // Values change numbers, never the bodies and joints: the agents' indices into the world stay valid.
+  if (recompiled->physics()->body_count() != model_->physics()->body_count() ||
+      recompiled->physics()->joint_count() != model_->physics()->joint_count()) {
+    throw std::logic_error("Simulation: a structure value changed the world's bodies or joints");
+  }
+  model_ = std::move(recompiled);
+  MakeWorld();
 }
 
 void Simulation::MakeWorld() {
@@ -246,6 +300,7 @@ void Simulation::CheckEngineOnlyValues() const {
 
 void Simulation::Reset(std::uint64_t seed) {
   assert(built() && "Reset() before Build()");
+  if (structure_changed_) ApplyStructureChanges();
   if (repository_.Get(kEngine).as_string() != world_engine_) MakeWorld();
   world_->Reset();
   for (auto& agent : agents_) agent->Reset(*world_, seed);
@@ -363,6 +418,7 @@ std::uint64_t Simulation::seed() const {
 }
 
 void Simulation::PublishBodiesStage() {
+  publishing_pose_ = true;  // the moving pose, not a new start pose
   for (size_t body = 0; body < bodies_.size(); ++body) {
     const BodyBinding& binding = bodies_[body];
     if (binding.position == nullptr) continue;
@@ -371,6 +427,7 @@ void Simulation::PublishBodiesStage() {
     binding.quaternion->Set(state.orientation);
     binding.orientation->Set(EulerDegreesFromQuaternion(state.orientation));
   }
+  publishing_pose_ = false;
 }
 
 void Simulation::CollisionEventsStage() {

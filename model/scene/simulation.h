@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "model/aseries/aseries_agent.h"
@@ -54,6 +55,9 @@ class Simulation {
   void Attach(std::shared_ptr<const WorldModel> model);
 
   /// Back to the initial state: time 0, initial poses, no contacts; `seed` is published as /Simulation/Seed.
+  /// Structure values written since the world was compiled (a mass, a size, a material, an object's start pose;
+  /// WorldModel::StructureValue) apply here: the world is compiled again from the repository and made anew, so
+  /// such a write is never lost. Throws InputError when the new values cannot be compiled; the old world stays.
   void Reset(std::uint64_t seed = 0);
 
   /// Moves agent `index` rigidly, right after Reset(): turned by `yaw_degrees` about the vertical through its
@@ -108,6 +112,8 @@ class Simulation {
   void RegisterMujocoValues();
   void MakeWorld();
   void BindModel();
+  void WatchStructure(const EnvironmentDescription& environment);
+  void ApplyStructureChanges();
   void ReadParameters();
   void ReadMujocoSettings();
   void CheckEngineOnlyValues() const;
@@ -135,6 +141,12 @@ class Simulation {
   std::vector<std::unique_ptr<aseries::ASeriesAgent>> agents_;  // their observers point into them: not movable
   physics::PhysicsParameters parameters_;
   bool parameters_changed_ = true;  // set by observers of the /Simulation/... values
+  /// Set by observers of the structure values: one may differ from the compiled model (checked at Reset).
+  bool structure_changed_ = false;
+  /// True while the simulation itself writes the bodies' published pose, which is no new start pose.
+  bool publishing_pose_ = false;
+  /// An object's start pose written from outside since the last compile: path → value text.
+  std::unordered_map<std::string, std::string> written_start_pose_;
 
   double time_ = 0.0;
   std::int64_t steps_ = 0;

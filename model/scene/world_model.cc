@@ -1,6 +1,7 @@
 #include "model/scene/world_model.h"
 
 #include "model/aseries/aseries_morphology.h"
+#include "model/aseries/morphology_values.h"
 #include "model/aseries/pendulum_morphology.h"
 #include "model/core/error.h"
 #include "model/core/rotation.h"
@@ -8,6 +9,10 @@
 
 namespace orcs::scene {
 namespace {
+
+constexpr double kMaxObjectMass = 1e6;  // kg
+constexpr double kMinObjectSize = 1e-6;  // m
+constexpr double kMaxObjectSize = 1e6;   // m
 
 std::string ObjectPath(const std::string& object, const char* value) { return "/Sim/" + object + "/" + value; }
 
@@ -90,23 +95,24 @@ void WorldModel::RegisterObjectValues(const EnvironmentDescription& environment,
     values.Add(path("Orientation"), object.orientation);
     values.Add(path("OrientationQuaternion"), QuaternionFromEulerDegrees(object.orientation));
     values.Add(path("Dynamic"), object.dynamic);
-    values.Add(path("Mass"), object.mass);
+    // Ranges refuse where it is written what the world could not be compiled with (the compile checks again).
+    values.Add(path("Mass"), object.mass).SetRange(0.0, kMaxObjectMass);
     values.Add(path("Material"), object.material);
     values.Add(path("Color"), object.color);
     values.Add(path("Texture"), object.texture);
     if (object.type == ObjectType::kBox) {
-      values.Add(path("Width"), object.dimension.x());
-      values.Add(path("Height"), object.dimension.y());
-      values.Add(path("Depth"), object.dimension.z());
+      values.Add(path("Width"), object.dimension.x()).SetRange(kMinObjectSize, kMaxObjectSize);
+      values.Add(path("Height"), object.dimension.y()).SetRange(kMinObjectSize, kMaxObjectSize);
+      values.Add(path("Depth"), object.dimension.z()).SetRange(kMinObjectSize, kMaxObjectSize);
     } else {
-      values.Add(path("Radius"), object.dimension.x());
+      values.Add(path("Radius"), object.dimension.x()).SetRange(kMinObjectSize, kMaxObjectSize);
     }
     // Fallback friction for unknown materials: the original's body defaults.
     values.Add(path("StaticFriction"), 0.0);
     values.Add(path("DynamicFriction"), 0.0);
     values.Add(path("Elasticity"), 0.05);
   }
-  // Agent bodies publish their pose only; their structure is the morphology's (model/aseries).
+  // Agent bodies publish their pose; their structure values are the morphology's (model/aseries).
   for (const AgentDescription& agent : environment.agents) {
     const Eigen::Quaterniond orientation = QuaternionFromEulerDegrees(agent.orientation);
     const std::shared_ptr<const aseries::ASeriesMorphology> morphology = MorphologyOf(agent);
@@ -116,7 +122,30 @@ void WorldModel::RegisterObjectValues(const EnvironmentDescription& environment,
       values.Add(prefix + "Orientation", agent.orientation);
       values.Add(prefix + "OrientationQuaternion", orientation);
     }
+    aseries::AddMorphologyValues(*morphology, agent.name, values);
   }
+}
+
+std::vector<WorldModel::StructureValue> WorldModel::StructurePaths(const EnvironmentDescription& environment) {
+  std::vector<StructureValue> paths = {{"/Sim/Floor/Material", "", false}};
+  for (const ObjectDescription& object : environment.objects) {
+    const auto add = [&](const char* value, bool pose = false) { paths.push_back({ObjectPath(object.name, value), "", pose}); };
+    add("Position", true);
+    add("Orientation", true);
+    for (const char* value : {"Dynamic", "Mass", "Material", "Color", "Texture"}) add(value);
+    if (object.type == ObjectType::kBox) {
+      for (const char* value : {"Width", "Height", "Depth"}) add(value);
+    } else {
+      add("Radius");
+    }
+    for (const char* value : {"StaticFriction", "DynamicFriction", "Elasticity"}) add(value);
+  }
+  for (const AgentDescription& agent : environment.agents) {
+    for (std::string& path : aseries::MorphologyValuePaths(*MorphologyOf(agent), agent.name)) {
+      paths.push_back({std::move(path), "", false});
+    }
+  }
+  return paths;
 }
 
 std::shared_ptr<const WorldModel> WorldModel::Compile(const EnvironmentDescription& environment,
@@ -127,12 +156,15 @@ std::shared_ptr<const WorldModel> WorldModel::Compile(const EnvironmentDescripti
   std::shared_ptr<WorldModel> model(new WorldModel());
   for (const AgentDescription& agent : environment.agents) {
     const aseries::ASeriesPlacement placement{agent.name, agent.position, QuaternionFromEulerDegrees(agent.orientation)};
-    std::shared_ptr<const aseries::ASeriesMorphology> morphology = MorphologyOf(agent);
+    auto morphology = std::make_shared<const aseries::ASeriesMorphology>(
+        aseries::ApplyMorphologyValues(*MorphologyOf(agent), agent.name, values));
     model->agents_.push_back(aseries::AddASeries(*morphology, placement, description));
     if (!agent.hold_body.empty()) description.joints.push_back(StandJoint(agent));
     model->morphologies_.push_back(std::move(morphology));
   }
   model->environment_ = environment;
+  model->structure_ = StructurePaths(environment);
+  for (StructureValue& value : model->structure_) value.text = values.Get(value.path).ToString();
   model->physics_ = std::make_shared<const physics::PhysicsModel>(std::move(description));
   return model;
 }

@@ -5,8 +5,9 @@
 
 namespace orcs::scene {
 
-void SetUpWorld(Simulation& simulation, const std::string& environment_file,
-                const std::vector<std::string>& initial_value_files, const std::vector<std::string>& value_files) {
+IgnoredValues SetUpWorld(Simulation& simulation, const std::string& environment_file,
+                         const std::vector<std::string>& initial_value_files,
+                         const std::vector<std::string>& value_files, UnknownPaths unknown) {
   EnvironmentDescription environment;
   if (environment_file.empty()) {
     environment.source = "(default: one A-Series named Humanoid on the floor)";
@@ -15,9 +16,11 @@ void SetUpWorld(Simulation& simulation, const std::string& environment_file,
     environment = EnvironmentReader::ReadFile(environment_file);
   }
   simulation.LoadEnvironment(environment);
-  for (const std::string& file : initial_value_files) ValueFile::Apply(file, simulation.repository());
+  IgnoredValues ignored;
+  for (const std::string& file : initial_value_files) ignored.Add(ValueFile::Apply(file, simulation.repository(), unknown));
   simulation.Build();
-  for (const std::string& file : value_files) ValueFile::Apply(file, simulation.repository());
+  for (const std::string& file : value_files) ignored.Add(ValueFile::Apply(file, simulation.repository(), unknown));
+  return ignored;
 }
 
 }  // namespace orcs::scene

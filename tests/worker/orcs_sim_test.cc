@@ -385,8 +385,8 @@ TEST_F(OrcsSimTest, InitialValueFilesSetTheMotorModel) {
   const int y = csv.Column("/Sim/Humanoid/Middle/Head/Position.y");
   ASSERT_GE(y, 0);
   EXPECT_LT(csv.rows.back()[static_cast<std::size_t>(y)], 0.3) << "the weak robot's head after 2 s, m";
-  // In the empty world there is no motor, and the path is unknown there.
-  ExpectBadInput(Run({"-env", "scenarios/environments/empty.xml", "-ival", ival}));
+  // In the empty world there is no motor, and the path is unknown there: refused with --strict.
+  ExpectBadInput(Run({"-env", "scenarios/environments/empty.xml", "-ival", ival, "--strict"}));
 }
 
 TEST_F(OrcsSimTest, RunsTheEmptyEnvironment) {
@@ -442,20 +442,48 @@ TEST_F(OrcsSimTest, ValueFileLineWithoutEquals) {
   EXPECT_THAT(result.err, HasSubstr("path=value"));
 }
 
-TEST_F(OrcsSimTest, UnknownPathInInitialValueFile) {
+TEST_F(OrcsSimTest, UnknownPathInInitialValueFileIsRefusedWithStrict) {
   const std::string ival = dir_.Write("bad.val", "/Sim/SecondSphere/Mass=0.2\n\n/Sim/ThirdSphere/Mass=0.2\n");
-  const ProcessResult result = Run({"-env", kExample, "-ival", ival});
+  const ProcessResult result = Run({"-env", kExample, "-ival", ival, "--strict"});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(ival + ":3: "));
   EXPECT_THAT(result.err, HasSubstr("unknown repository path '/Sim/ThirdSphere/Mass'"));
 }
 
-TEST_F(OrcsSimTest, UnknownPathInValueFile) {
+TEST_F(OrcsSimTest, UnknownPathInValueFileIsRefusedWithStrict) {
   const std::string val = dir_.Write("bad.val", "/Simulation/TimeStepSiz=0.005\n");
-  const ProcessResult result = Run({"-env", kExample, "-val", val});
+  const ProcessResult result = Run({"-env", kExample, "-val", val, "--strict"});
   ExpectBadInput(result);
   EXPECT_THAT(result.err, HasSubstr(val + ":1: "));
   EXPECT_THAT(result.err, HasSubstr("/Simulation/TimeStepSiz"));
+}
+
+// A value file as the original saved it, with its GUI's and cameras' values beside the simulation's: it loads, the
+// values orcs has are set, the others are named in one warning; --strict refuses the file at its first such line.
+TEST_F(OrcsSimTest, AnOriginalValueFileWithGuiAndCameraValuesLoadsWithOneWarningAndStrictRefusesIt) {
+  const std::string val = dir_.Write("language_game.val",
+                                     "#ORCS Values\n#Saved at: 2008-05-14 10:21:07\n"
+                                     "/GUI/MainWindow/Width=800\n"
+                                     "/Sim/SecondSphere/Mass=0.3\n"
+                                     "/Camera/Main/Position=(0,0.5,1.2)\n"
+                                     "/Plugins/MotionEditor/Visible=F\n"
+                                     "/Simulation/TimeStepSiz=0.005\n");
+  const ProcessResult loaded = Run({"-env", kExample, "-val", val, "--print-values", "/Sim/SecondSphere/Mass"});
+  ASSERT_EQ(loaded.exit_code, 0) << loaded.err;
+  EXPECT_THAT(loaded.out, HasSubstr("/Sim/SecondSphere/Mass=0.3"));
+  std::size_t warnings = 0;
+  for (std::size_t at = loaded.err.find("warning:"); at != std::string::npos; at = loaded.err.find("warning:", at + 1)) {
+    ++warnings;
+  }
+  EXPECT_EQ(warnings, 1u) << loaded.err;
+  EXPECT_THAT(loaded.err, HasSubstr("ignored 4 value(s)"));
+  EXPECT_THAT(loaded.err, HasSubstr("/GUI/MainWindow/Width (" + val + ":3)"));
+  EXPECT_THAT(loaded.err, HasSubstr("/Camera/Main/Position (" + val + ":5)"));
+  EXPECT_THAT(loaded.err, HasSubstr("/Plugins/MotionEditor/Visible (" + val + ":6)"));
+  EXPECT_THAT(loaded.err, HasSubstr("unknown to orcs: /Simulation/TimeStepSiz (" + val + ":7)"));
+  const ProcessResult strict = Run({"-env", kExample, "-val", val, "--strict", "--print-values", "/Sim/.*"});
+  ExpectBadInput(strict);
+  EXPECT_THAT(strict.err, HasSubstr(val + ":3: unknown repository path '/GUI/MainWindow/Width'"));
 }
 
 TEST_F(OrcsSimTest, BadValueInValueFile) {

@@ -30,6 +30,7 @@ struct OspOptions {
   std::string environment;
   std::vector<std::string> initial_value_files;
   std::vector<std::string> value_files;
+  bool strict = false;  // --strict: a value file's path orcs lacks is an error, not a warning
   std::vector<std::pair<std::string, std::string>> play;  // -play AGENT RECORD...
   int port = -1;  // -1: /UDPCommunication/ServerPort
   int odcp_port = -1;  // base port of the ODCP servers; -1: /SimpleUdpMotorInterface/ServerPort
@@ -78,7 +79,10 @@ int Serve(const OspOptions& options) {
   orcs::scene::Simulation simulation;
   // The original's port values, so that a value file can set them as it could there.
   orcs::osp::AddProtocolValues(simulation.repository());
-  orcs::scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
+  const orcs::IgnoredValues ignored =
+      orcs::scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files,
+                              options.strict ? orcs::UnknownPaths::kRefuse : orcs::UnknownPaths::kIgnore);
+  if (!ignored.empty()) std::cerr << "orcs-osp: " << ignored.Warning() << "\n";
   simulation.Reset(0);
   std::vector<orcs::control::KeyframePlayer> players = orcs::sim::MakePlayers(options.play, simulation, "orcs-osp");
   orcs::osp::OspServerOptions server_options;
@@ -125,6 +129,8 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_option("--val", options.value_files, "value file loaded after the world is built (repeatable)")
       ->allow_extra_args(false);
+  app.add_flag("--strict", options.strict,
+               "refuse a value file naming a path orcs lacks (default: ignore it with a warning)");
   app.add_option("--play", options.play,
                  "AGENT RECORD: play a keyframe record into the agent's inputs in simulated time, as the clients "
                  "step (repeatable, one per agent; -play also accepted)")

@@ -19,6 +19,7 @@ int LaunchGui(const char* argv0, const SimOptions& options) {
   for (const std::string& file : options.initial_value_files) arguments.insert(arguments.end(), {"--ival", file});
   for (const std::string& file : options.value_files) arguments.insert(arguments.end(), {"--val", file});
   arguments.insert(arguments.end(), {"--seed", std::to_string(options.seed)});
+  if (options.strict) arguments.push_back("--strict");
   std::vector<char*> pointers;
   for (std::string& argument : arguments) pointers.push_back(argument.data());
   pointers.push_back(nullptr);

@@ -136,7 +136,9 @@ int Run(const SimOptions& options) {
   scene::Simulation simulation;
   osp::AddProtocolValues(simulation.repository());  // -port's ODCP switch, settable by -val as in the original
   simulation.repository().Add(kDelayPath, 0.0);
-  scene::SetUpWorld(simulation, options.environment, options.initial_value_files, options.value_files);
+  const IgnoredValues ignored = scene::SetUpWorld(simulation, options.environment, options.initial_value_files,
+                                                  options.value_files, options.strict ? UnknownPaths::kRefuse : UnknownPaths::kIgnore);
+  if (!ignored.empty()) std::cerr << "orcs-sim: " << ignored.Warning() << "\n";
   if (!options.engine.empty()) simulation.repository().Set("/Simulation/Engine", options.engine);  // Reset remakes
   simulation.Reset(options.seed);
   std::vector<control::KeyframePlayer> players = MakePlayers(options.play, simulation, "orcs-sim");

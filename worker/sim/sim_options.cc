@@ -17,6 +17,7 @@ void AddWorldOptions(CLI::App& app, SimOptions& o) {
       ->allow_extra_args(false);
   app.add_option("--val", o.value_files, "value file loaded after the world is built (repeatable)")
       ->allow_extra_args(false);
+  app.add_flag("--strict", o.strict, "refuse a value file naming a path orcs lacks (default: ignore it with a warning)");
   app.add_option("--duration", o.duration, "simulated seconds")->check(cli::NumberIn(0.0, 1e6));  // as a scenario's duration
   app.add_option("--seed", o.seed, "seed of the run's random streams")->check(cli::Seed());
   app.add_option("--engine", o.engine,

@@ -12,6 +12,7 @@ struct SimOptions {
   std::string environment;                       ///< -env FILE: ORCS XML environment ("" = floor only)
   std::vector<std::string> initial_value_files;  ///< -ival FILE...: loaded before the world is built
   std::vector<std::string> value_files;          ///< -val FILE...: loaded after the world is built
+  bool strict = false;                           ///< --strict: a value file's path orcs lacks is an error, not a warning
   double duration = 10.0;                        ///< --duration: simulated seconds
   bool duration_given = false;                   ///< --duration was on the command line (else -port runs until stopped)
   std::uint64_t seed = 0;                        ///< --seed: seed of every random stream of the run

@@ -66,7 +66,7 @@ TEST(VariableRepositoryTest, ErrorsEscapeControlCharactersSoTheyStayOneLine) {
   EXPECT_EQ(InputErrorOf([&] { repository.Get("/Sim/a\nb"); }), "unknown repository path '/Sim/a\\x0ab'");
   const std::string bad_pattern = InputErrorOf([&] { repository.Match("(\n"); });
   EXPECT_EQ(bad_pattern.find('\n'), std::string::npos) << bad_pattern;
-  EXPECT_THAT(bad_pattern, HasSubstr("invalid regular expression '(\\x0a'"));
+  EXPECT_THAT(bad_pattern, HasSubstr("invalid regular expression '(\\n'"));
 }
 
 TEST(VariableRepositoryTest, SetParsesAndNotifies) {

@@ -239,9 +239,9 @@ class ParameterSetsTest : public ::testing::Test {
     Randomisation randomisation;
     randomisation.sets = 50;
     randomisation.parameters.push_back({"/AngularMotor/PID/Proportional", ParameterDistribution::Kind::kUniform,
-                                        0.5, 2.0, 0, 0, true});
+                                        0.5, 2.0, 0, 0, true, ""});
     randomisation.parameters.push_back({"/Simulation/Gravitation", ParameterDistribution::Kind::kNormal, 9.0,
-                                        10.0, 9.81, 5.0, false});
+                                        10.0, 9.81, 5.0, false, ""});
     randomisation.parameter_files = {{"a.val", {}}, {"b.val", {}}, {"c.val", {}}};
     randomisation.start_pose.position = {0.1, 0.05, 0.1};
     return randomisation;
@@ -282,7 +282,7 @@ TEST_F(ParameterSetsTest, FilesInSequenceCycle) {
 
 TEST_F(ParameterSetsTest, UnknownOrNonNumericPathIsNamed) {
   Randomisation randomisation;
-  randomisation.parameters.push_back({"/AngularMotor/Nope", ParameterDistribution::Kind::kUniform, 0, 1, 0, 0, false});
+  randomisation.parameters.push_back({"/AngularMotor/Nope", ParameterDistribution::Kind::kUniform, 0, 1, 0, 0, false, ""});
   EXPECT_EQ(InputErrorOf([&] { DrawParameterSets(randomisation, 1, simulation_.repository(), Motors(), "s.json"); }),
             "s.json: field 'randomisation.parameters[0].path' names an unknown repository path '/AngularMotor/Nope'");
   randomisation.parameters[0].path = "/Sim/Floor/Material";

@@ -130,7 +130,7 @@ TEST_F(StartPoseTest, AnglesAreDrawnLastAndOnlyWhenRandomised) {
   Randomisation randomisation;
   randomisation.sets = 4;
   randomisation.parameters.push_back({"/AngularMotor/PID/Proportional", ParameterDistribution::Kind::kUniform, 10,
-                                      30, 0, 0, false});
+                                      30, 0, 0, false, ""});
   randomisation.parameter_files = {{"a.val", {}}, {"b.val", {}}};
   randomisation.start_pose.position = {0.1, 0.05, 0.1};
   randomisation.start_pose.yaw_degrees = 20.0;

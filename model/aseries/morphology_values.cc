@@ -1,0 +1,127 @@
+#include "model/aseries/morphology_values.h"
+
+#include <cctype>
+#include <functional>
+
+#include "model/core/error.h"
+#include "model/core/text.h"
+#include "model/physics/material_table.h"
+
+namespace orcs::aseries {
+namespace {
+
+// What a box of the robot can be: the physics must be able to build it (a zero mass or size cannot be).
+constexpr double kMinMass = 1e-6;  // kg
+constexpr double kMaxMass = 1e3;   // kg
+constexpr double kMinSize = 1e-5;  // m
+constexpr double kMaxSize = 10.0;  // m
+constexpr double kMaxStop = 360.0;  // degrees either way
+
+constexpr const char* kSizeNames[3] = {"Width", "Height", "Depth"};
+
+// The settable parts of one box, main or extra: pointers into a morphology being read or written.
+struct BoxFields {
+  double* mass;
+  Eigen::Vector3d* size;
+  std::string* material;
+  Rgba* color;
+};
+
+std::vector<std::string> MaterialNames() {
+  std::vector<std::string> names;
+  for (int i = 0; i < physics::MaterialTable::kCount; ++i) names.emplace_back(physics::MaterialTable::NameOf(i));
+  return names;
+}
+
+Color ToColor(const Rgba& rgba) { return {rgba[0], rgba[1], rgba[2], rgba[3]}; }
+Rgba ToRgba(const Color& color) { return {color.r, color.g, color.b, color.a}; }
+
+// Calls `box(prefix, fields)` for every main box and extra geom, then `hinge(prefix, motor)` for every motor, in
+// the morphology's order; prefix is the path up to the value name ("/Sim/Humanoid/Right/Foot/").
+void ForEachPart(ASeriesMorphology& morphology, const std::string& agent,
+                 const std::function<void(const std::string&, BoxFields)>& box,
+                 const std::function<void(const std::string&, MorphologyMotor&)>& hinge) {
+  const std::string root = "/Sim/" + agent + "/";
+  for (MorphologyBody& body : morphology.bodies) {
+    box(root + body.name + "/", {&body.mass, &body.size, &body.material, &body.color});
+  }
+  for (MorphologyGeom& geom : morphology.geoms) {
+    box(root + geom.host + "/" + GeomValueName(geom.name) + "/", {&geom.mass, &geom.size, &geom.material, &geom.color});
+  }
+  for (MorphologyMotor& motor : morphology.motors) hinge(root + motor.name + "/", motor);
+}
+
+}  // namespace
+
+std::string GeomValueName(const std::string& geom_name) {
+  std::string name;
+  bool word_start = true;
+  for (const char c : geom_name) {
+    if (std::isalnum(static_cast<unsigned char>(c)) == 0) {
+      word_start = true;
+      continue;
+    }
+    name += word_start ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
+    word_start = false;
+  }
+  return name;
+}
+
+void AddMorphologyValues(const ASeriesMorphology& morphology, const std::string& agent, VariableRepository& values) {
+  ASeriesMorphology copy = morphology;  // ForEachPart walks a mutable morphology; nothing is written to it here
+  const std::vector<std::string> materials = MaterialNames();
+  ForEachPart(
+      copy, agent,
+      [&](const std::string& prefix, BoxFields box) {
+        values.Add(prefix + "Mass", *box.mass).SetRange(kMinMass, kMaxMass);
+        for (int axis = 0; axis < 3; ++axis) {
+          values.Add(prefix + kSizeNames[axis], (*box.size)[axis]).SetRange(kMinSize, kMaxSize);
+        }
+        values.Add(prefix + "Material", *box.material).SetChoices(materials);
+        values.Add(prefix + "Color", ToColor(*box.color));
+      },
+      [&](const std::string& prefix, MorphologyMotor& motor) {
+        values.Add(prefix + "MinAngle", motor.min_degrees).SetRange(-kMaxStop, kMaxStop);
+        values.Add(prefix + "MaxAngle", motor.max_degrees).SetRange(-kMaxStop, kMaxStop);
+      });
+}
+
+std::vector<std::string> MorphologyValuePaths(const ASeriesMorphology& morphology, const std::string& agent) {
+  ASeriesMorphology copy = morphology;
+  std::vector<std::string> paths;
+  ForEachPart(
+      copy, agent,
+      [&](const std::string& prefix, BoxFields) {
+        for (const char* name : {"Mass", "Width", "Height", "Depth", "Material", "Color"}) paths.push_back(prefix + name);
+      },
+      [&](const std::string& prefix, MorphologyMotor&) {
+        paths.push_back(prefix + "MinAngle");
+        paths.push_back(prefix + "MaxAngle");
+      });
+  return paths;
+}
+
+ASeriesMorphology ApplyMorphologyValues(const ASeriesMorphology& morphology, const std::string& agent,
+                                        const VariableRepository& values) {
+  ASeriesMorphology applied = morphology;
+  ForEachPart(
+      applied, agent,
+      [&](const std::string& prefix, BoxFields box) {
+        *box.mass = values.Get(prefix + "Mass").as_double();
+        for (int axis = 0; axis < 3; ++axis) (*box.size)[axis] = values.Get(prefix + kSizeNames[axis]).as_double();
+        *box.material = values.Get(prefix + "Material").as_string();
+        *box.color = ToRgba(values.Get(prefix + "Color").as_color());
+      },
+      [&](const std::string& prefix, MorphologyMotor& motor) {
+        motor.min_degrees = values.Get(prefix + "MinAngle").as_double();
+        motor.max_degrees = values.Get(prefix + "MaxAngle").as_double();
+        if (motor.min_degrees > motor.max_degrees) {
+          throw InputError(prefix + "MinAngle", 0,
+                           "expected at most " + prefix + "MaxAngle (" + text::FormatDouble(motor.max_degrees) +
+                               "°), found " + text::FormatDouble(motor.min_degrees) + "°");
+        }
+      });
+  return applied;
+}
+
+}  // namespace orcs::aseries

@@ -1,0 +1,195 @@
+// The robot and the objects as values (issue 48): structure values written after the build apply at the next
+// reset, read back from the physics; values that cannot be built are refused; each motor has its own parameters.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "model/core/error.h"
+#include "model/physics/material_table.h"
+#include "model/scene/simulation.h"
+
+namespace orcs::scene {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string InputErrorOf(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "(no InputError)";
+}
+
+// The index of the physics body called `name`, or -1.
+int BodyIndex(const Simulation& simulation, const std::string& name) {
+  const physics::PhysicsModel& model = simulation.physics().model();
+  for (int b = 0; b < model.body_count(); ++b) {
+    if (model.body(b).name == name) return b;
+  }
+  return -1;
+}
+
+void RunFor(Simulation& simulation, double seconds) {
+  const int steps = static_cast<int>(std::lround(seconds / simulation.StepDuration()));
+  for (int i = 0; i < steps; ++i) ASSERT_EQ(simulation.Step(), SimulationStatus::kOk) << simulation.message();
+}
+
+double Height(const Simulation& simulation, const std::string& object) {
+  return simulation.repository().Get("/Sim/" + object + "/Position").as_vector3().y();
+}
+
+// A 10-cm cube dropped from 0.5 m onto the floor, on each engine.
+class BoxStructureTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    ObjectDescription box;
+    box.name = "Box";
+    box.position = {0.0, 0.5, 0.0};
+    box.dimension = {0.1, 0.1, 0.1};
+    box.dynamic = true;
+    box.mass = 0.2;
+    EnvironmentDescription environment;
+    environment.objects.push_back(box);
+    simulation_.LoadEnvironment(environment);
+    simulation_.repository().Set("/Simulation/Engine", GetParam());
+    simulation_.Build();
+  }
+  Simulation simulation_;
+};
+
+TEST_P(BoxStructureTest, ThePublishedPoseIsNoNewStartPoseAndAResetWithNothingWrittenKeepsTheModel) {
+  const auto model = simulation_.shared_model();
+  RunFor(simulation_, 1.5);
+  EXPECT_NEAR(Height(simulation_, "Box"), 0.05, 0.01) << "at rest on the floor";
+  simulation_.Reset();
+  EXPECT_DOUBLE_EQ(Height(simulation_, "Box"), 0.5) << "back where the environment put it";
+  EXPECT_EQ(simulation_.shared_model(), model) << "nothing written: the same compiled model";
+}
+
+TEST_P(BoxStructureTest, ASizeAndAStartPositionWrittenWhileRunningApplyAtTheReset) {
+  RunFor(simulation_, 0.5);
+  simulation_.repository().Set("/Sim/Box/Height", "0.3");
+  simulation_.repository().Set("/Sim/Box/Position", "(0, 1, 0)");
+  RunFor(simulation_, 1.0);
+  EXPECT_NEAR(Height(simulation_, "Box"), 0.05, 0.01) << "the running world keeps its box until the reset";
+  simulation_.Reset();
+  const int box = BodyIndex(simulation_, "Box");
+  ASSERT_GE(box, 0);
+  EXPECT_DOUBLE_EQ(simulation_.physics().model().body(box).geoms.front().size.y(), 0.3);
+  EXPECT_DOUBLE_EQ(Height(simulation_, "Box"), 1.0) << "the written start position";
+  RunFor(simulation_, 1.5);
+  EXPECT_NEAR(Height(simulation_, "Box"), 0.15, 0.01) << "the tall box rests on its new half height";
+  simulation_.Reset();
+  EXPECT_DOUBLE_EQ(Height(simulation_, "Box"), 1.0) << "the written start position stays the start";
+}
+
+INSTANTIATE_TEST_SUITE_P(Engines, BoxStructureTest, ::testing::Values("ODE", "MuJoCo"),
+                         [](const auto& engine) { return engine.param; });
+
+// One A-Series named Humanoid, built on ODE; `hold` welds a body to the world.
+void BuildRobot(Simulation& simulation, const std::string& hold = "") {
+  EnvironmentDescription environment;
+  AgentDescription robot;
+  robot.hold_body = hold;
+  environment.agents.push_back(robot);
+  simulation.LoadEnvironment(environment);
+  simulation.Build();
+}
+
+TEST(RobotStructureTest, AFootsMassAndASolePadsMaterialApplyAtTheResetAndNotBefore) {
+  Simulation simulation;
+  BuildRobot(simulation);
+  const int foot = BodyIndex(simulation, "Humanoid/Right/Foot");
+  ASSERT_GE(foot, 0);
+  const double before = simulation.physics().model().total_mass(foot);
+  simulation.repository().Set("/Sim/Humanoid/Right/Foot/Mass", "0.5");
+  simulation.repository().Set("/Sim/Humanoid/Right/Foot/RightSolePadHeel/Material", "ABS");
+  EXPECT_DOUBLE_EQ(simulation.physics().model().total_mass(foot), before);
+  simulation.Reset();
+  const physics::PhysicsModel& model = simulation.physics().model();
+  EXPECT_NEAR(model.total_mass(foot), before - 0.064219 + 0.5, 1e-12);  // the main box's 0.064219 kg replaced
+  const physics::BodyDescription& body = model.body(foot);
+  std::string heel_material;
+  for (const physics::GeomDescription& geom : body.geoms) {
+    if (geom.name == "Right sole pad heel") heel_material = geom.material;
+  }
+  EXPECT_EQ(heel_material, "ABS");
+  EXPECT_EQ(simulation.model().morphology(0).bodies[0].mass, 0.5);
+}
+
+TEST(RobotStructureTest, ValuesThatCannotBeBuiltAreRefusedWithWhatWouldDo) {
+  Simulation simulation;
+  BuildRobot(simulation);
+  VariableRepository& values = simulation.repository();
+  EXPECT_THAT(InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Foot/Mass", "0"); }),
+              HasSubstr("/Sim/Humanoid/Right/Foot/Mass: expected a number from 1e-06 to 1000, found '0'"));
+  EXPECT_THAT(InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Tibia/Height", "-0.1"); }),
+              HasSubstr("expected a number from 1e-05 to 10"));
+  EXPECT_THAT(InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Foot/Material", "Jelly"); }),
+              HasSubstr("expected one of PlasticsWhite, PlasticsGray, ABS, Latex"));
+  // Each stop is fine alone; together they cross: refused at the reset, which keeps the old world.
+  const double max = values.Get("/Sim/Humanoid/Right/Knee/MaxAngle").as_double();
+  values.Set("/Sim/Humanoid/Right/Knee/MinAngle", std::to_string(max + 1.0));
+  EXPECT_THAT(InputErrorOf([&] { simulation.Reset(); }),
+              HasSubstr("/Sim/Humanoid/Right/Knee/MinAngle: expected at most /Sim/Humanoid/Right/Knee/MaxAngle"));
+  RunFor(simulation, 0.1);
+}
+
+TEST(RobotStructureTest, TheRobotsValuesExistBeforeTheBuildForInitialValueFiles) {
+  Simulation simulation;
+  EnvironmentDescription environment;
+  environment.agents.push_back(AgentDescription{});
+  simulation.LoadEnvironment(environment);
+  simulation.repository().Set("/Sim/Humanoid/Middle/Head/Mass", "0.1");
+  simulation.repository().Set("/Sim/Humanoid/Right/Knee/AngularMotor/PID/Proportional", "12");
+  simulation.Build();
+  const int head = BodyIndex(simulation, "Humanoid/Middle/Head");
+  ASSERT_GE(head, 0);
+  EXPECT_DOUBLE_EQ(simulation.physics().model().total_mass(head), 0.1);
+  EXPECT_DOUBLE_EQ(simulation.repository().Get("/Sim/Humanoid/Right/Knee/AngularMotor/PID/Proportional").as_double(), 12);
+}
+
+struct ElbowErrors {
+  double right = 0.0;  ///< |JointAngle − DesiredAngle| of the right elbow, degrees
+  double left = 0.0;   ///< the same of the left elbow
+};
+
+// From the reset, both elbows of the held robot are asked to turn by 40° for `seconds`.
+ElbowErrors ElbowErrorsAfter(Simulation& simulation, double seconds) {
+  simulation.Reset();
+  VariableRepository& values = simulation.repository();
+  values.Set("/Sim/Humanoid/Right/Elbow/DesiredAngle", "40");
+  values.Set("/Sim/Humanoid/Left/Elbow/DesiredAngle", "40");
+  RunFor(simulation, seconds);
+  return {std::abs(values.Get("/Sim/Humanoid/Right/Elbow/JointAngle").as_double() - 40.0),
+          std::abs(values.Get("/Sim/Humanoid/Left/Elbow/JointAngle").as_double() - 40.0)};
+}
+
+TEST(PerMotorParameterTest, AMotorsOwnGainFollowsTheGlobalUntilWrittenAndThenThatJointTracksWorse) {
+  Simulation simulation;
+  BuildRobot(simulation, "Middle/UpperBody");
+  VariableRepository& values = simulation.repository();
+  const std::string right = "/Sim/Humanoid/Right/Elbow/AngularMotor/PID/Proportional";
+  const std::string left = "/Sim/Humanoid/Left/Elbow/AngularMotor/PID/Proportional";
+  EXPECT_EQ(values.Match("/Sim/Humanoid/.*/AngularMotor/PID/Proportional").size(), 21u);
+  values.Set("/AngularMotor/PID/Proportional", "25");
+  EXPECT_DOUBLE_EQ(values.Get(right).as_double(), 25.0) << "follows the global";
+  const ElbowErrors alike = ElbowErrorsAfter(simulation, 0.15);
+  EXPECT_NEAR(alike.right, alike.left, 0.25 * alike.left + 0.5) << "the same gain: mirror images";
+
+  values.Set(right, "1");
+  values.Set("/AngularMotor/PID/Proportional", "30");
+  EXPECT_DOUBLE_EQ(values.Get(right).as_double(), 1.0) << "written: keeps its own";
+  EXPECT_DOUBLE_EQ(values.Get(left).as_double(), 30.0) << "not written: still follows";
+  const ElbowErrors weak_right = ElbowErrorsAfter(simulation, 0.15);
+  EXPECT_GT(weak_right.right, 2.0 * weak_right.left) << "right " << weak_right.right << "°, left " << weak_right.left << "°";
+  EXPECT_GT(weak_right.right, alike.right);
+}
+
+}  // namespace
+}  // namespace orcs::scene
