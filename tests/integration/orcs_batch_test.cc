@@ -420,6 +420,21 @@ TEST_F(OrcsBatchTest, SweepWritesATableACsvAndAPlot) {
   EXPECT_EQ(dir_.Read(Out("sweep") + "/sweep.png").substr(1, 3), "PNG");
 }
 
+// A body of the robot as a sweep axis (issue 48): two masses of the right foot, through the real broker and
+// workers, give two fitness values for the same seeds; both points' jobs ran ok.
+TEST_F(OrcsBatchTest, ASweepOverAFootsMassChangesTheFitness) {
+  const ProcessResult result = Batch({"sweep", Scenario(), "--param", "/Sim/Humanoid/Right/Foot/Mass=0.05:0.6:2",
+                                      "--workers", "2", "--out", Out("feet")});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_THAT(result.out, HasSubstr("2 of 2 jobs ran: 2 ok"));
+  std::map<double, std::string> fitness_by_mass;
+  for (const nlohmann::json& line : ReadLines(Out("feet") + "/results.jsonl")) {
+    fitness_by_mass[line["params"]["/Sim/Humanoid/Right/Foot/Mass"].get<double>()] = line["fitness"].dump();
+  }
+  ASSERT_EQ(fitness_by_mass.size(), 2u);
+  EXPECT_NE(fitness_by_mass.at(0.05), fitness_by_mass.at(0.6));
+}
+
 std::vector<std::vector<std::string>> CsvRows(const std::string& text) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream lines(text);

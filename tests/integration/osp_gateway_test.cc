@@ -342,6 +342,38 @@ TEST_F(OspGatewayTest, ValuesAreReadAndSetById) {
   EXPECT_EQ(observed.Int(), 0);
 }
 
+// Structure values (issue 48): a sphere's radius written over OSP applies at the next reset — the physics then
+// rests it on its new radius, read back through its published position — and a robot body's mass that cannot
+// be built is refused (status 0), an acceptable one taken (status 1).
+TEST_F(OspGatewayTest, AStructureValueWrittenOverOspChangesTheWorldAtTheReset) {
+  Start();
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  ASSERT_TRUE(client.TakeControl(1));
+  const std::int32_t radius = client.ValueId("/Sim/SecondSphere/Radius");
+  const std::int32_t position = client.ValueId("/Sim/SecondSphere/Position");
+  const auto height_after_one_second = [&] {
+    for (int step = 0; step < 100; ++step) {
+      client.SendStep(1, Inputs(0.0f));
+      client.ReceiveStepResult(1);
+    }
+    const std::string text = client.Get(position);  // "(x,y,z)"
+    return std::stod(text.substr(text.find(',') + 1));
+  };
+  EXPECT_EQ(client.Set(radius, "0.15"), 1);
+  EXPECT_NEAR(height_after_one_second(), 0.05, 0.005) << "the running world keeps its sphere until the reset";
+  client.Reset(0);
+  client.Expect(75);
+  client.Send(Message().Byte(76));
+  EXPECT_NEAR(height_after_one_second(), 0.15, 0.005) << "after the reset the sphere has its new radius";
+
+  const std::int32_t foot = client.ValueId("/Sim/Humanoid/Right/Foot/Mass");
+  EXPECT_GT(foot, 0);
+  EXPECT_EQ(client.Set(foot, "0"), 0);
+  EXPECT_EQ(client.Set(foot, "0.2"), 1);
+  EXPECT_EQ(client.Get(foot), "0.2");
+}
+
 TEST_F(OspGatewayTest, AnObservedCollisionEventShowsUpInTheStepReply) {
   Start();
   OspClient client;

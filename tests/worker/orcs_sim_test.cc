@@ -267,6 +267,33 @@ TEST_F(OrcsSimTest, DescribeShowsInitialValueChanges) {
   EXPECT_EQ(world["bodies"][1]["size"], nlohmann::json({0.4, 0.2, 0.2}));
 }
 
+// The robot's bodies are values too (docs/model.md, "The robot's values"): a foot's mass, from an initial value
+// file (before the build) or a value file (after it, applied at the reset before the description), is the
+// robot's total mass in --describe, and the foot's.
+TEST_F(OrcsSimTest, DescribeShowsARobotFootsMassFromEitherValueFile) {
+  const auto describe = [&](std::vector<std::string> arguments) {
+    arguments.insert(arguments.begin(), kOrcsSim);
+    arguments.push_back("--describe");
+    const ProcessResult result = test_support::RunProcess(arguments);
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    return nlohmann::json::parse(result.out);
+  };
+  const auto foot_mass = [](const nlohmann::json& world) {
+    for (const nlohmann::json& body : world["bodies"]) {
+      if (body["name"] == "Humanoid/Right/Foot") return body["mass"].get<double>();
+    }
+    return -1.0;
+  };
+  const std::string heavy = dir_.Write("heavy_foot.val", "/Sim/Humanoid/Right/Foot/Mass=0.5\n");
+  const nlohmann::json plain = describe({});
+  const nlohmann::json initial = describe({"-ival", heavy});
+  const nlohmann::json later = describe({"-val", heavy});
+  const double added = 0.5 - 0.064219;  // the main box's mass replaced (model/aseries/aseries_morphology.json)
+  EXPECT_NEAR(initial["agents"][0]["mass"].get<double>(), plain["agents"][0]["mass"].get<double>() + added, 1e-12);
+  EXPECT_NEAR(foot_mass(initial), foot_mass(plain) + added, 1e-12);
+  EXPECT_EQ(later["agents"][0]["mass"], initial["agents"][0]["mass"]);
+}
+
 TEST_F(OrcsSimTest, InitialValueFileMovesTheStart) {
   const std::string ival = dir_.Write("start.val", "# start higher\n/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
   const Csv csv = RunLoggedExample({"-ival", ival});

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "model/aseries/aseries_morphology.h"
 #include "model/scene/scenario.h"
 #include "tests/support/input_error_of.h"
 
@@ -481,6 +482,58 @@ TEST(EvaluationTest, AFloorMaterialOverrideChangesTheFloor) {
   EXPECT_NE(ice.sets[0].terms, nominal.sets[0].terms);
   EXPECT_EQ(ice_by_scenario.sets[0].terms, ice.sets[0].terms);
 }
+
+
+namespace link_masses {
+
+// Hip oscillators on the free-standing A-Series for 0.3 s, two parameter sets varying every body's mass by up
+// to `spread` (a fraction) of its own.
+EvaluationRequest LinkMassJob(double spread, std::uint64_t seed) {
+  const nlohmann::json scenario = {
+      {"name", "link_masses"},
+      {"duration", 0.3},
+      {"controller", {{"type", "oscillator"}, {"joints", {"Right/HipPitch", "Left/HipPitch"}}}},
+      {"fitness", {{"terms", {{{"type", "distance"}, {"body", "Middle/UpperBody"}, {"axis", "z"}}}}}},
+      {"randomisation",
+       {{"sets", 2},
+        {"parameters",
+         {{{"match", "/Sim/Humanoid/[^/]+/[^/]+/Mass"}, {"uniform", {1.0 - spread, 1.0 + spread}}, {"relative", true}}}}}},
+      {"genome", {20, 2, 0, 0, 20, 2, 3, 0}}};
+  EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scenario, "link_masses.json");
+  request.genome = scenario["genome"];
+  request.seed = seed;
+  return request;
+}
+
+// ±5 % of each link's mass (docs/scenarios.md, "match"): every one of the 24 bodies drawn within its band, the
+// same bits for the same seed, other bits for another, and the draws reach the physics (the same sets' seeds
+// with the masses left alone give other fitness).
+TEST(EvaluationTest, LinkMassesVariedByFivePercentGiveReproducibleBitsPerSeedAndReachThePhysics) {
+  const EvaluationOutcome a = Evaluate(LinkMassJob(0.05, 5));
+  const EvaluationOutcome again = Evaluate(LinkMassJob(0.05, 5));
+  const EvaluationOutcome other_seed = Evaluate(LinkMassJob(0.05, 6));
+  const EvaluationOutcome nominal = Evaluate(LinkMassJob(0.0, 5));
+  ASSERT_EQ(a.status, EvaluationStatus::kOk) << a.message;
+  ASSERT_EQ(nominal.status, EvaluationStatus::kOk) << nominal.message;
+  ASSERT_EQ(a.sets.size(), 2u);
+  const aseries::ASeriesMorphology& robot = aseries::DefaultASeriesMorphology();
+  ASSERT_EQ(a.sets[0].drawn.size(), robot.bodies.size());
+  for (std::size_t b = 0; b < robot.bodies.size(); ++b) {
+    const auto& [path, mass] = a.sets[0].drawn[b];
+    EXPECT_EQ(path, "/Sim/Humanoid/" + robot.bodies[b].name + "/Mass");  // registration order: the bodies' order
+    EXPECT_GE(mass, 0.95 * robot.bodies[b].mass) << path;
+    EXPECT_LE(mass, 1.05 * robot.bodies[b].mass) << path;
+  }
+  EXPECT_NE(a.sets[0].drawn, a.sets[1].drawn);
+  for (std::size_t k = 0; k < a.sets.size(); ++k) {
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(a.sets[k].fitness), std::bit_cast<std::uint64_t>(again.sets[k].fitness));
+    EXPECT_NE(a.sets[k].drawn, other_seed.sets[k].drawn);
+    EXPECT_NE(a.sets[k].fitness, nominal.sets[k].fitness) << "set " << k << ": the drawn masses changed nothing";
+  }
+}
+
+}  // namespace link_masses
 
 }  // namespace
 }  // namespace orcs::evaluation
