@@ -47,10 +47,7 @@ LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
                                                   options.value_files, options.strict ? UnknownPaths::kRefuse : UnknownPaths::kIgnore);
   if (!ignored.empty()) std::cerr << "orcs-view: " << ignored.Warning() << "\n";
   simulation_.Reset(options.seed);
-  layout_ = std::make_unique<evaluation::RecordingLayout>(
-      simulation_, evaluation::RecordingSource{"orcs-view --live", options.environment, "", options.seed, 0, nullptr});
-  world_ = layout_->header();
-  frame_.values.resize(layout_->channel_count());
+  LayOut();
   running_ = options.start_running;
   run_start_wall_ = Clock::now();
   Publish();
@@ -182,6 +179,24 @@ void LiveSession::Publish() {
   frame_published_.notify_all();
 }
 
+// The recording layout of the world as compiled now; again after a reset that compiled it anew.
+void LiveSession::LayOut() {
+  auto layout = std::make_unique<evaluation::RecordingLayout>(
+      simulation_,
+      evaluation::RecordingSource{"orcs-view --live", options_.environment, "", options_.seed, 0, nullptr});
+  std::lock_guard lock(frame_mutex_);
+  layout_ = std::move(layout);
+  laid_out_ = simulation_.shared_model();
+  world_ = layout_->header();
+  frame_.values.resize(layout_->channel_count());
+  ++frame_.world_revision;
+}
+
+nlohmann::json LiveSession::world() {
+  std::lock_guard lock(frame_mutex_);
+  return world_;
+}
+
 LiveFrame LiveSession::FrameAfter(std::int64_t serial, std::chrono::milliseconds wait) {
   std::unique_lock lock(frame_mutex_);
   frame_published_.wait_for(lock, wait, [&] { return frame_.serial > serial; });
@@ -229,7 +244,8 @@ void LiveSession::Control(const std::string& action, bool realtime) {
       run_start_wall_ = Clock::now();
       run_start_time_ = simulation_.time();
     } else if (action == "reset") {
-      simulation_.Reset(options_.seed);
+      simulation_.Reset(options_.seed);  // applies the structure values written since (throws if one cannot)
+      if (simulation_.shared_model() != laid_out_) LayOut();
       last_error_.clear();
     }
     Publish();

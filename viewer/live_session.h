@@ -41,6 +41,9 @@ struct LiveFrame {
   double time = 0.0;                               ///< simulated s
   std::vector<float> values;                       ///< every channel of world()
   std::vector<evaluation::ContactSample> contacts;  ///< of the last step
+  /// Which world() the values belong to: it grows when a reset compiled the world anew (a structure value changed,
+  /// a box's size or a robot's mass): the page fetches world() again then.
+  int world_revision = 0;
 };
 
 class LiveSession {
@@ -51,8 +54,8 @@ class LiveSession {
   LiveSession(const LiveSession&) = delete;
   LiveSession& operator=(const LiveSession&) = delete;
 
-  /// The recording header of the live world (docs/recording.md).
-  const nlohmann::json& world() const { return world_; }
+  /// The recording header of the live world (docs/recording.md), as of the newest frame's world_revision.
+  nlohmann::json world();
 
   /// The newest frame after `serial` — waiting up to `wait` for one — or the newest there is.
   LiveFrame FrameAfter(std::int64_t serial, std::chrono::milliseconds wait);
@@ -99,6 +102,7 @@ class LiveSession {
   std::string FilePath(const std::string& file, const char* extension) const;
   /// Ends the log when it reached a bound or its page lost control (the stepping thread, without command_mutex_).
   void CheckLogger();
+  void LayOut();
   void EndLogger(const std::string& why);
   /// Whether `token` holds control now, without refreshing its silence clock.
   bool HeldBy(const std::string& token);
@@ -106,8 +110,9 @@ class LiveSession {
   LiveOptions options_;
   // Owned by the stepping thread (and the constructor, before it starts).
   scene::Simulation simulation_;
-  std::unique_ptr<evaluation::RecordingLayout> layout_;
-  nlohmann::json world_;
+  std::unique_ptr<evaluation::RecordingLayout> layout_;  // replaced under frame_mutex_ (LayOut)
+  std::shared_ptr<const scene::WorldModel> laid_out_;   // the compiled world layout_ was made from
+  nlohmann::json world_;                                // guarded by frame_mutex_
   std::unique_ptr<ValueLogger> logger_;
   std::string logger_file_;
   std::string logger_token_;    // the control token of the page that started the log

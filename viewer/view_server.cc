@@ -473,6 +473,7 @@ void ViewServer::AddLiveRoutes() {
     body["serial"] = frame.serial;
     body["step"] = frame.step;
     body["time"] = frame.time;
+    body["world_revision"] = frame.world_revision;
     body["controller"] = live_->Controls(request.get_header_value("X-Orcs-Token"));
     body["values"] = frame.values;
     body["contacts"] = ContactsJson(frame.contacts, 0, frame.contacts.size());

@@ -83,8 +83,8 @@ void BuildWorld(const EvaluationRequest& request, scene::Simulation& simulation)
 }
 
 // A fresh world on the job's compiled model: what BuildWorld gives, without reading and compiling the
-// environment again. Parameter sets apply their values after this, so they never change the structure and
-// every set shares the one model.
+// environment again. Parameter sets apply their values after this; a set that changes a structure value (a
+// link's mass) gets its own compiled world at its reset, the others share the job's.
 void AttachWorld(const EvaluationRequest& request, std::shared_ptr<const scene::WorldModel> model,
                  scene::Simulation& simulation) {
   simulation.Attach(std::move(model));

@@ -180,7 +180,6 @@ void Simulation::WatchStructure(const EnvironmentDescription& environment) {
 // At a reset: compiles the world again when a structure value differs from what it was compiled from. The
 // objects' poses go back to their start (the compiled one, or one written from outside since) before.
 void Simulation::ApplyStructureChanges() {
-  structure_changed_ = false;
   std::vector<std::pair<std::string, std::string>> start_pose;
   bool changed = false;
   for (const WorldModel::StructureValue& compiled : model_->structure()) {
@@ -194,19 +193,22 @@ void Simulation::ApplyStructureChanges() {
     }
     changed = changed || now != compiled.text;
   }
-  written_start_pose_.clear();
-  if (!changed) return;
-  publishing_pose_ = true;
-  for (const auto& [path, text] : start_pose) repository_.Set(path, text);
-  publishing_pose_ = false;
-  std::shared_ptr<const WorldModel> recompiled = WorldModel::Compile(model_->environment(), repository_);
-  // Values change numbers, never the bodies and joints: the agents' indices into the world stay valid.
-  if (recompiled->physics()->body_count() != model_->physics()->body_count() ||
-      recompiled->physics()->joint_count() != model_->physics()->joint_count()) {
-    throw std::logic_error("Simulation: a structure value changed the world's bodies or joints");
+  if (changed) {
+    publishing_pose_ = true;  // the start pose, not a write from outside
+    for (const auto& [path, text] : start_pose) repository_.Set(path, text);
+    publishing_pose_ = false;
+    // A value that cannot be compiled throws here and leaves everything as it was: the next reset says so again.
+    std::shared_ptr<const WorldModel> recompiled = WorldModel::Compile(model_->environment(), repository_);
+    // Values change numbers, never the bodies and joints: the agents' indices into the world stay valid.
+    if (recompiled->physics()->body_count() != model_->physics()->body_count() ||
+        recompiled->physics()->joint_count() != model_->physics()->joint_count()) {
+      throw std::logic_error("Simulation: a structure value changed the world's bodies or joints");
+    }
+    model_ = std::move(recompiled);
+    MakeWorld();
   }
-  model_ = std::move(recompiled);
-  MakeWorld();
+  written_start_pose_.clear();
+  structure_changed_ = false;
 }
 
 void Simulation::MakeWorld() {

@@ -372,6 +372,16 @@ TEST_F(OspGatewayTest, AStructureValueWrittenOverOspChangesTheWorldAtTheReset) {
   EXPECT_EQ(client.Set(foot, "0"), 0);
   EXPECT_EQ(client.Set(foot, "0.2"), 1);
   EXPECT_EQ(client.Get(foot), "0.2");
+
+  // Crossed stops cannot be built: the reset is answered, the gateway logs why and steps on with its world.
+  const std::int32_t max = client.ValueId("/Sim/Humanoid/Right/Knee/MaxAngle");
+  const double above = std::stod(client.Get(max)) + 1.0;
+  EXPECT_EQ(client.Set(client.ValueId("/Sim/Humanoid/Right/Knee/MinAngle"), std::to_string(above)), 1);
+  client.Reset(0);
+  client.Expect(75);
+  client.Send(Message().Byte(76));
+  EXPECT_NEAR(height_after_one_second(), 0.15, 0.005) << "stepping on";
+  EXPECT_THAT(server_->err(), ::testing::HasSubstr("reset refused, the world runs on unchanged: /Sim/Humanoid/Right/Knee/MinAngle"));
 }
 
 TEST_F(OspGatewayTest, AnObservedCollisionEventShowsUpInTheStepReply) {

@@ -378,5 +378,42 @@ TEST_F(ViewServerTest, LiveStepsWhenToldAndStandsStillWhenPaused) {
   EXPECT_EQ(live.State()["step"], 0);
 }
 
+// Simulation Properties' write of a structure value (issue 48): taken at once, applied at the reset, which
+// compiles the world anew; the world header (made from the physics model) then has the new size, and the frames
+// say that the world changed so that the page draws it again.
+TEST_F(ViewServerTest, AStructureValueWrittenLiveChangesTheWorldAtTheReset) {
+  LiveOptions options;
+  options.files_dir = dir_.PathOf("files");
+  LiveSession live(options);
+  Served served(web_, nullptr, &live);
+  httplib::Client page = served.Client();
+  const nlohmann::json claim = nlohmann::json::parse(page.Post("/api/live/claim", "", "application/json")->body);
+  const httplib::Headers headers = {{"X-Orcs-Token", claim["token"].get<std::string>()}};
+  const auto tibia_height = [&] {
+    const nlohmann::json world = nlohmann::json::parse(page.Get("/api/live/world")->body);
+    for (const nlohmann::json& body : world["bodies"]) {
+      if (body["name"] == "Humanoid/Right/Tibia") return body["geoms"][0]["size"][1].get<double>();
+    }
+    return -1.0;
+  };
+  const auto revision = [&] {
+    return nlohmann::json::parse(page.Get("/api/live/frame?since=-1", headers)->body)["world_revision"].get<int>();
+  };
+  EXPECT_DOUBLE_EQ(tibia_height(), 0.049);
+  const int before = revision();
+  const nlohmann::json longer = {{"path", "/Sim/Humanoid/Right/Tibia/Height"}, {"value", "0.08"}};
+  const httplib::Result set = page.Post("/api/live/values", headers, longer.dump(), "application/json");
+  ASSERT_EQ(set->status, 200) << set->body;
+  EXPECT_DOUBLE_EQ(tibia_height(), 0.049) << "until the reset";
+  const nlohmann::json reset = {{"action", "reset"}};
+  ASSERT_EQ(page.Post("/api/live/control", headers, reset.dump(), "application/json")->status, 200);
+  EXPECT_DOUBLE_EQ(tibia_height(), 0.08);
+  EXPECT_EQ(revision(), before + 1);
+  const nlohmann::json too_heavy = {{"path", "/Sim/Humanoid/Right/Foot/Mass"}, {"value", "5000"}};
+  const httplib::Result refused = page.Post("/api/live/values", headers, too_heavy.dump(), "application/json");
+  EXPECT_EQ(refused->status, 400);
+  EXPECT_THAT(refused->body, HasSubstr("expected a number from 1e-06 to 1000"));
+}
+
 }  // namespace
 }  // namespace orcs::viewer

@@ -437,9 +437,15 @@ void OspServer::ResetIfEveryoneAsked() {
     }
   }
   if (!anyone_asked) return;
-  simulation_.Reset(static_cast<std::uint32_t>(seed));
-  if (options_.after_reset) options_.after_reset();
-  Log("simulation reset with seed " + std::to_string(static_cast<std::uint32_t>(seed)));
+  try {
+    simulation_.Reset(static_cast<std::uint32_t>(seed));
+    if (options_.after_reset) options_.after_reset();
+    Log("simulation reset with seed " + std::to_string(static_cast<std::uint32_t>(seed)));
+  } catch (const InputError& error) {
+    // A structure value written over OSP that cannot be built (crossed hinge stops): OSP has no error reply, so
+    // the reset is answered, the world runs on as it was, and the log says why and what to fix.
+    Log(std::string("reset refused, the world runs on unchanged: ") + error.what() + "; write a valid value and reset again");
+  }
   for (auto& [id, session] : sessions_) {
     session->step_inputs.clear();
     if (!session->reset_requested) continue;

@@ -87,8 +87,22 @@ export class Live {
     }
   }
 
+  /** A reset compiled the world anew (a size, a mass, a material changed): its bodies are drawn again. */
+  async reloadWorld(revision) {
+    this.worldRevision = revision;
+    this.header = await getJson('/api/live/world');
+    this.ctx.world.load(this.header);
+    this.ctx.world.setContactsVisible($('toggle-contacts').checked);
+    this.ctx.world.setJointsVisible($('toggle-joints').checked);
+  }
+
   onFrame(f) {
     if (!f || typeof f !== 'object' || !Array.isArray(f.values)) return;
+    if (this.worldRevision === undefined) this.worldRevision = f.world_revision;
+    if (Number.isInteger(f.world_revision) && f.world_revision !== this.worldRevision) {
+      this.reloadWorld(f.world_revision).then(() => this.onFrame(f)).catch((e) => showError(e));
+      return;
+    }
     const { world, state } = this.ctx;
     const v = f.values;
     this.last = f;
