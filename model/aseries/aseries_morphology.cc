@@ -354,3 +354,55 @@ const ASeriesMorphology& DefaultASeriesMorphology() {
 }
 
 }  // namespace orcs::aseries
+
+namespace orcs::aseries {
+namespace {
+
+nlohmann::ordered_json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+std::string WriteASeriesMorphology(const ASeriesMorphology& morphology, const std::vector<std::string>& comment) {
+  nlohmann::ordered_json out = {{"format", "orcs-aseries-morphology"}, {"version", 1}};
+  if (!comment.empty()) out["comment"] = comment;
+  out["lift"] = morphology.lift;
+  out["root_body"] = morphology.root_body;
+  out["bodies"] = nlohmann::ordered_json::array();
+  for (const MorphologyBody& b : morphology.bodies) {
+    out["bodies"].push_back({{"name", b.name}, {"size", Vector(b.size)}, {"centre", Vector(b.centre)},
+                             {"mass", b.mass}, {"material", b.material}, {"color", b.color},
+                             {"texture", b.texture}, {"penetrable", b.penetrable}});
+  }
+  out["geoms"] = nlohmann::ordered_json::array();
+  for (const MorphologyGeom& g : morphology.geoms) {
+    out["geoms"].push_back({{"host", g.host}, {"name", g.name}, {"size", Vector(g.size)}, {"offset", Vector(g.offset)},
+                            {"mass", g.mass}, {"material", g.material}, {"color", g.color}, {"texture", g.texture}});
+  }
+  out["boards"] = nlohmann::ordered_json::array();
+  for (const MorphologyBoard& b : morphology.boards) {
+    out["boards"].push_back({{"name", b.name}, {"host", b.host}, {"position", Vector(b.position)},
+                             {"rotation_degrees", Vector(b.rotation_degrees)}, {"size", Vector(b.size)},
+                             {"mass", b.mass}, {"material", b.material}, {"color", b.color}, {"texture", b.texture},
+                             {"axis1", Vector(b.axis1)}, {"axis2", Vector(b.axis2)}});
+  }
+  out["motors"] = nlohmann::ordered_json::array();
+  for (const MorphologyMotor& m : morphology.motors) {
+    out["motors"].push_back({{"name", m.name}, {"first_body", m.first_body}, {"second_body", m.second_body},
+                             {"axis_point1", Vector(m.axis_point1)}, {"axis_point2", Vector(m.axis_point2)},
+                             {"min_degrees", m.min_degrees}, {"max_degrees", m.max_degrees}});
+  }
+  out["fixed_joints"] = nlohmann::ordered_json::array();
+  for (const MorphologyFixedJoint& f : morphology.fixed_joints) {
+    out["fixed_joints"].push_back({{"name", f.name}, {"first_body", f.first_body}, {"second_body", f.second_body}});
+  }
+  out["contact_exclusions"] = nlohmann::ordered_json::array();
+  for (const MorphologyExclusion& e : morphology.contact_exclusions) {
+    nlohmann::ordered_json entry = {{"first", e.first}};
+    if (!e.first_geom.empty()) entry["first_geom"] = e.first_geom;
+    entry["second"] = e.second;
+    out["contact_exclusions"].push_back(std::move(entry));
+  }
+  return out.dump(2) + "\n";
+}
+
+}  // namespace orcs::aseries

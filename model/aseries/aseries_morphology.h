@@ -120,6 +120,10 @@ struct ASeriesMorphology {
 /// Objects may carry a "comment" member, which is ignored.
 ASeriesMorphology ParseASeriesMorphology(const std::string& json, const std::string& source);
 
+/// A morphology as a robot file (the format ParseASeriesMorphology reads; docs/formats.md, "Robot files"), with
+/// `comment` lines as its "comment": what `orcs-sim --export-robot` writes. Parsing the text gives `morphology` back.
+std::string WriteASeriesMorphology(const ASeriesMorphology& morphology, const std::vector<std::string>& comment = {});
+
 /// The morphology embedded in the binary at build time (model/aseries/aseries_morphology.json), parsed once.
 const ASeriesMorphology& DefaultASeriesMorphology();
 

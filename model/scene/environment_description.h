@@ -3,9 +3,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "model/aseries/aseries_morphology.h"
 #include "model/core/value.h"
 
 namespace orcs::scene {
@@ -35,6 +37,10 @@ struct AgentDescription {
   Eigen::Vector3d orientation = Eigen::Vector3d::Zero();  ///< model rotation, Euler degrees
   /// ASeries: a body welded to the world (a test stand holding the robot), e.g. "Middle/UpperBody"; "" = none
   std::string hold_body;
+  /// ASeries: the robot's morphology read from a robot file (docs/formats.md, "Robot files"); null = the built-in
+  /// A-Series. Shared and immutable, so descriptions copy cheaply.
+  std::shared_ptr<const aseries::ASeriesMorphology> morphology;
+  std::string morphology_source;  ///< ASeries: the robot file's name, "" for the built-in A-Series
   double pole_mass = 0.5;     ///< Pendulum: kg
   double pole_length = 0.3;   ///< Pendulum: m, axis to tip
   int line = 0;                  ///< line in the source file, for messages

@@ -18,6 +18,8 @@
 namespace orcs::scene {
 namespace {
 
+namespace fs = std::filesystem;
+
 using tinyxml2::XMLElement;
 
 constexpr std::string_view kFormatVersion = "1.0";
@@ -197,12 +199,40 @@ ObjectDescription ReadObject(const XMLElement& element, const std::string& sourc
   return object;
 }
 
+[[noreturn]] void FailAt(const std::string& source, const XMLElement& element, const std::string& what) {
+  throw InputError(source, element.GetLineNum(), what);
+}
+
+// An <ASeries>'s robot from its <Morphology> child (a robot file inlined: InlineRobotFiles), or null for the
+// built-in A-Series. The robot file's errors name the file and the field (ParseASeriesMorphology).
+std::shared_ptr<const aseries::ASeriesMorphology> ReadMorphology(const XMLElement& element, const ElementReader& reader,
+                                                                 const std::string& source, std::string& robot_source) {
+  if (reader.Has("file")) {
+    reader.Fail("attribute 'file' names a robot file relative to the environment's file, and this environment has "
+                "none: read it from its file (-env), or put the robot inline as a <Morphology> child");
+  }
+  const XMLElement* inline_robot = nullptr;
+  for (const XMLElement* child = element.FirstChildElement(); child; child = child->NextSiblingElement()) {
+    if (std::string_view(child->Name()) != "Morphology" || inline_robot != nullptr) {
+      FailAt(source, *child, "unexpected element <" + std::string(child->Name()) + "> in <ASeries> (expected at most one <Morphology>)");
+    }
+    inline_robot = child;
+  }
+  if (inline_robot == nullptr) return nullptr;
+  const ElementReader morphology(*inline_robot, source, {"source"});
+  robot_source = morphology.String("source", source + ":" + std::to_string(inline_robot->GetLineNum()));
+  const char* json = inline_robot->GetText();
+  return std::make_shared<const aseries::ASeriesMorphology>(
+      aseries::ParseASeriesMorphology(json == nullptr ? "" : json, robot_source));
+}
+
 AgentDescription ReadAgent(const XMLElement& element, const std::string& source) {
   const bool pendulum = std::string_view(element.Name()) == "Pendulum";
   const ElementReader reader(element, source,
                              pendulum ? std::set<std::string_view>{"name", "position", "orientation", "poleMass",
                                                                    "poleLength"}
-                                      : std::set<std::string_view>{"name", "position", "orientation", "holdBody"});
+                                      : std::set<std::string_view>{"name", "position", "orientation", "holdBody",
+                                                                   "file"});
   AgentDescription agent;
   agent.line = reader.line();
   agent.type = element.Name();
@@ -214,18 +244,18 @@ AgentDescription ReadAgent(const XMLElement& element, const std::string& source)
   if (pendulum) {
     if (reader.Has("poleMass")) agent.pole_mass = reader.PositiveNumber("poleMass");
     if (reader.Has("poleLength")) agent.pole_length = reader.PositiveNumber("poleLength");
-  } else if (reader.Has("holdBody")) {
+    return agent;
+  }
+  agent.morphology = ReadMorphology(element, reader, source, agent.morphology_source);
+  if (reader.Has("holdBody")) {
     agent.hold_body = reader.RequiredString("holdBody");
-    if (aseries::DefaultASeriesMorphology().FindBody(agent.hold_body) < 0) {
-      reader.Fail("attribute 'holdBody' expected a body of the A-Series like \"Middle/UpperBody\", found " +
+    const aseries::ASeriesMorphology& robot = agent.morphology ? *agent.morphology : aseries::DefaultASeriesMorphology();
+    if (robot.FindBody(agent.hold_body) < 0) {
+      reader.Fail("attribute 'holdBody' expected a body of the robot like \"" + robot.root_body + "\", found " +
                   text::Quote(agent.hold_body));
     }
   }
   return agent;
-}
-
-[[noreturn]] void FailAt(const std::string& source, const XMLElement& element, const std::string& what) {
-  throw InputError(source, element.GetLineNum(), what);
 }
 
 void ReadEnvironment(const XMLElement& section, const std::string& source, EnvironmentDescription& out) {
@@ -340,7 +370,41 @@ EnvironmentDescription EnvironmentReader::ReadString(const std::string& xml, con
 }
 
 EnvironmentDescription EnvironmentReader::ReadFile(const std::string& file) {
-  return ReadString(ReadTextFile(file), file);
+  return ReadString(InlineRobotFiles(ReadTextFile(file), file), file);
+}
+
+std::string EnvironmentReader::InlineRobotFiles(const std::string& xml, const std::string& file) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS || document.RootElement() == nullptr) {
+    return xml;  // ReadString says what is wrong
+  }
+  bool inlined = false;
+  const fs::path folder = fs::path(file).parent_path();
+  for (XMLElement* section = document.RootElement()->FirstChildElement("Agent"); section;
+       section = section->NextSiblingElement("Agent")) {
+    for (XMLElement* robot = section->FirstChildElement("ASeries"); robot; robot = robot->NextSiblingElement("ASeries")) {
+      const char* name = robot->Attribute("file");
+      if (name == nullptr) continue;
+      const fs::path path = fs::path(name).is_absolute() ? fs::path(name) : folder / name;
+      std::string json;
+      try {
+        json = ReadTextFile(path.string());
+      } catch (const InputError& error) {
+        throw InputError(file, robot->GetLineNum(), "attribute 'file' expected a readable robot file, found " +
+                                                        text::Quote(path.string()) + ": " + error.what());
+      }
+      XMLElement* morphology = document.NewElement("Morphology");
+      morphology->SetAttribute("source", path.lexically_normal().string().c_str());
+      morphology->SetText(json.c_str());
+      robot->InsertFirstChild(morphology);
+      robot->DeleteAttribute("file");
+      inlined = true;
+    }
+  }
+  if (!inlined) return xml;  // the text exactly as written
+  tinyxml2::XMLPrinter printer;
+  document.Print(&printer);
+  return printer.CStr();
 }
 
 }  // namespace orcs::scene

@@ -6,7 +6,7 @@
 //               [material="ABS"] [color="red|(r,g,b[,a])"] [texture="..."] [dynamic="true|false"] [mass="0.1"]/>
 //     </Environment>
 //     <Agent>
-//       <ASeries name="Humanoid" [position="(x,y,z)"] [orientation="(a,b,c)"]/>
+//       <ASeries name="Humanoid" [position="(x,y,z)"] [orientation="(a,b,c)"] [holdBody="..."] [file="robot.json"]/>
 //     </Agent>
 //   </ORCS>
 //
@@ -23,8 +23,13 @@ namespace orcs::scene {
 
 class EnvironmentReader {
  public:
-  /// Reads and checks an environment file.
+  /// Reads and checks an environment file; its robot files (<ASeries file="...">) are read relative to it.
   static EnvironmentDescription ReadFile(const std::string& file);
+  /// Environment XML with every <ASeries file="robot.json"> replaced by the robot file's text inline
+  /// (<ASeries><Morphology source="...">{...}</Morphology></ASeries>), read relative to `file`: what a job carries,
+  /// so that a worker needs no file of the client's (docs/formats.md, "Robot files"). XML without robot files
+  /// comes back as it was. Throws InputError naming the environment file and line for an unreadable robot file.
+  static std::string InlineRobotFiles(const std::string& xml, const std::string& file);
   /// Reads and checks environment XML held in memory; `source` names it in messages.
   static EnvironmentDescription ReadString(const std::string& xml, const std::string& source);
   /// As ReadString, except that empty XML means the default environment: one A-Series on the floor (what

@@ -1,5 +1,7 @@
 #include "model/scene/scenario.h"
 
+#include "model/scene/environment_reader.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -396,8 +398,10 @@ Json ResolveScenarioFile(const std::string& path) {
   const fs::path folder = fs::path(path).parent_path();
   if (root.Has("environment") && scenario["environment"].is_string()) {
     const JsonNode environment = root.At("environment");
+    // The robot files it names travel inline, as the environment does (docs/formats.md, "Robot files").
     scenario["environment"] = {{"file", environment.String("a file name")},
-                               {"xml", ReadReferenced(folder, environment)}};
+                               {"xml", EnvironmentReader::InlineRobotFiles(ReadReferenced(folder, environment),
+                                                                           Referenced(folder, environment))}};
   }
   if (root.Has("value_files")) scenario["value_files"] = ResolveValueFiles(folder, root.At("value_files"));
   if (root.Has("randomisation") && scenario["randomisation"].is_object() &&

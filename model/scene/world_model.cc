@@ -83,6 +83,7 @@ std::shared_ptr<const aseries::ASeriesMorphology> WorldModel::MorphologyOf(const
     return std::make_shared<const aseries::ASeriesMorphology>(
         aseries::MakePendulumMorphology({.mass = agent.pole_mass, .length = agent.pole_length}));
   }
+  if (agent.morphology) return agent.morphology;  // from a robot file
   // The embedded A-Series morphology lives for the whole process; share it without owning it.
   return {std::shared_ptr<const aseries::ASeriesMorphology>(), &aseries::DefaultASeriesMorphology()};
 }

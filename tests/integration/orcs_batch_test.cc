@@ -435,6 +435,21 @@ TEST_F(OrcsBatchTest, ASweepOverAFootsMassChangesTheFitness) {
   EXPECT_NE(fitness_by_mass.at(0.05), fitness_by_mass.at(0.6));
 }
 
+// A robot from a file runs through the real broker and workers (issue 48): the scenario's environment names the
+// shipped long-shinned A-Series, the client sends it inline, and its jobs differ from the built-in robot's.
+TEST_F(OrcsBatchTest, ARobotFromAFileRunsInABatchThroughTheBroker) {
+  nlohmann::json long_shins = nlohmann::json::parse(kScenario);
+  long_shins["environment"] = ORCS_SOURCE_DIR "/scenarios/environments/long_shins.xml";
+  const ProcessResult tall = Batch({"run", dir_.Write("tall.json", long_shins.dump()), "--seed", "3", "--workers", "2",
+                                    "--out", Out("tall")});
+  ASSERT_EQ(tall.exit_code, 0) << tall.err;
+  EXPECT_THAT(tall.out, HasSubstr("1 of 1 jobs ran: 1 ok"));
+  const ProcessResult plain = Batch({"run", Scenario(), "--seed", "3", "--workers", "1", "--out", Out("plain")});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_NE(ReadLines(Out("tall") + "/results.jsonl").at(0)["fitness"].dump(),
+            ReadLines(Out("plain") + "/results.jsonl").at(0)["fitness"].dump());
+}
+
 std::vector<std::vector<std::string>> CsvRows(const std::string& text) {
   std::vector<std::vector<std::string>> rows;
   std::istringstream lines(text);

@@ -294,6 +294,26 @@ TEST_F(OrcsSimTest, DescribeShowsARobotFootsMassFromEitherValueFile) {
   EXPECT_EQ(later["agents"][0]["mass"], initial["agents"][0]["mass"]);
 }
 
+// --export-robot writes the robot with the value files' changes as a robot file; an environment naming that file
+// builds the same robot (the same total mass in --describe) without the value file.
+TEST_F(OrcsSimTest, AnExportedRobotFileLoadsAsTheRobotTheValueFilesMade) {
+  const std::string heavy = dir_.Write("heavy_foot.val", "/Sim/Humanoid/Right/Foot/Mass=0.5\n");
+  ASSERT_EQ(Run({"-val", heavy, "--export-robot", dir_.PathOf("heavy.json")}).exit_code, 0);
+  const nlohmann::json robot = nlohmann::json::parse(dir_.Read("heavy.json"));
+  EXPECT_EQ(robot["format"], "orcs-aseries-morphology");
+  EXPECT_EQ(robot["bodies"][0]["name"], "Right/Foot");
+  EXPECT_EQ(robot["bodies"][0]["mass"], 0.5);
+  const std::string environment = dir_.Write("heavy.xml", "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n"
+                                                          "    <ASeries name=\"Humanoid\" file=\"heavy.json\"/>\n"
+                                                          "  </Agent>\n</ORCS>\n");
+  const ProcessResult from_file = Run({"-env", environment, "--describe"});
+  const ProcessResult from_values = Run({"-val", heavy, "--describe"});
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.err;
+  ASSERT_EQ(from_values.exit_code, 0) << from_values.err;
+  EXPECT_EQ(nlohmann::json::parse(from_file.out)["agents"][0]["mass"],
+            nlohmann::json::parse(from_values.out)["agents"][0]["mass"]);
+}
+
 TEST_F(OrcsSimTest, InitialValueFileMovesTheStart) {
   const std::string ival = dir_.Write("start.val", "# start higher\n/Sim/SecondSphere/Position=(-0.3,1,0.3)\n");
   const Csv csv = RunLoggedExample({"-ival", ival});

@@ -151,6 +151,16 @@ int Run(const SimOptions& options) {
     std::cout << Describe(simulation).dump(2) << "\n";
     return cli::kExitOk;
   }
+  if (!options.export_robot.empty()) {
+    if (simulation.agent_count() == 0) throw InputError("--export-robot", 0, "the environment has no robot to write");
+    AtomicFile file(options.export_robot);
+    file.stream() << aseries::WriteASeriesMorphology(
+        simulation.model().morphology(0),
+        {"Robot " + simulation.agent(0).name() + " of " + simulation.model().environment().source +
+         ", written by orcs-sim --export-robot with the value files' changes applied."});
+    file.Commit();
+    return cli::kExitOk;
+  }
   if (!options.export_mjcf.empty()) {
     AtomicFile file(options.export_mjcf);
     file.stream() << physics::ExportMjcf(*simulation.model().physics(), {.exclusions = true});

@@ -51,6 +51,9 @@ void AddModeOptions(CLI::App& app, SimOptions& o) {
   app.add_option("--export-mjcf", o.export_mjcf,
                  "write the world as the MJCF model the MuJoCo engine compiles (docs/model.md) to this file and "
                  "exit; for raw MuJoCo (simulate, benchmarks)");
+  app.add_option("--export-robot", o.export_robot,
+                 "write the environment's first robot as a robot file (docs/formats.md, \"Robot files\"), with the "
+                 "value files' changes applied, to this file and exit");
   CLI::Option* scenario =
       app.add_option("--scenario", o.scenario, "evaluate one job of this scenario (docs/scenarios.md) with --seed and "
                                                "print its result as one JSON line, as orcs-batch writes it");
@@ -72,10 +75,11 @@ void CheckCombinations(const CLI::App& app, const SimOptions& o) {
   if (o.log.empty() && !o.out.empty()) throw CLI::ValidationError("--out", "needs at least one --log REGEX");
   const bool world_options = !o.environment.empty() || !o.initial_value_files.empty() || !o.value_files.empty() ||
                              !o.play.empty() || !o.log.empty() || !o.print_values.empty() || o.describe ||
-                             !o.export_mjcf.empty() || app.count("--duration") > 0 || o.realtime ||
-                             o.odcp_port >= 0;
+                             !o.export_mjcf.empty() || !o.export_robot.empty() || app.count("--duration") > 0 ||
+                             o.realtime || o.odcp_port >= 0;
   const bool run_options = !o.play.empty() || !o.log.empty() || !o.record.empty() || !o.scenario.empty() ||
-                           !o.print_values.empty() || o.describe || !o.export_mjcf.empty() || o.realtime ||
+                           !o.print_values.empty() || o.describe || !o.export_mjcf.empty() ||
+                           !o.export_robot.empty() || o.realtime ||
                            app.count("--duration") > 0 || o.odcp_port >= 0;
   if (o.gui && run_options) {
     throw CLI::ValidationError("-gui", "opens the world (-env, -ival, -val, --seed) in orcs-view --live; run, log, "

@@ -28,6 +28,7 @@ struct SimOptions {
   std::string print_values;                      ///< --print-values REGEX: print matching values and exit
   bool describe = false;                         ///< --describe: print the world as JSON and exit
   std::string export_mjcf;                       ///< --export-mjcf FILE: write the world's MuJoCo model and exit
+  std::string export_robot;                      ///< --export-robot FILE: write the first robot as a robot file and exit
   std::string scenario;                          ///< --scenario FILE.json: evaluate one job and print its result
   std::string genome;                            ///< --genome JSON or @FILE: the job's genome ("" = the scenario's)
   bool realtime = false;                         ///< --realtime: steps paced to the wall clock
