@@ -12,6 +12,7 @@
 #include "model/core/text_file.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
+#include "tests/support/input_error_of.h"
 #include "tests/support/temp_dir.h"
 
 namespace orcs::scene {
@@ -24,15 +25,6 @@ const std::string kLongShins = ORCS_SOURCE_DIR "/scenarios/environments/long_shi
 
 double HeadHeight(const Simulation& simulation) {
   return simulation.repository().Get("/Sim/Humanoid/Middle/Head/Position").as_vector3().y();
-}
-
-std::string ErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "(no InputError)";
 }
 
 class LongShinsTest : public ::testing::TestWithParam<std::string> {};
@@ -64,7 +56,7 @@ TEST(RobotFileTest, AJobCarriesTheRobotInlineAndNeedsNoFile) {
   ASSERT_NE(environment.agents[0].morphology, nullptr);
   EXPECT_DOUBLE_EQ(environment.agents[0].morphology->bodies[2].size.y(), 0.079);  // Right/Tibia
   // XML without a file of its own cannot resolve a robot file's name.
-  EXPECT_THAT(ErrorOf([&] { EnvironmentReader::ReadString(ReadTextFile(kLongShins), "job"); }),
+  EXPECT_THAT(test_support::InputErrorOf([&] { EnvironmentReader::ReadString(ReadTextFile(kLongShins), "job"); }),
               HasSubstr("job:5: <ASeries> 'Humanoid': attribute 'file' names a robot file relative to the environment's file"));
 }
 
@@ -78,14 +70,14 @@ TEST(RobotFileTest, BadRobotFilesAreOneLineNamingTheFileAndTheField) {
   };
   std::string massless = robot;
   massless.replace(massless.find("\"mass\": 0.13391"), 15, "\"mass\": -1");
-  const std::string negative = ErrorOf([&] { EnvironmentReader::ReadFile(environment_with(massless)); });
+  const std::string negative = test_support::InputErrorOf([&] { EnvironmentReader::ReadFile(environment_with(massless)); });
   EXPECT_THAT(negative, HasSubstr(dir.PathOf("robot.json") + ": field 'bodies[1].mass'"));
   EXPECT_EQ(negative.find('\n'), std::string::npos);
-  const std::string broken = ErrorOf([&] { EnvironmentReader::ReadFile(environment_with("{\"format\": ")); });
+  const std::string broken = test_support::InputErrorOf([&] { EnvironmentReader::ReadFile(environment_with("{\"format\": ")); });
   EXPECT_THAT(broken, HasSubstr(dir.PathOf("robot.json")));
   const std::string missing = dir.Write("missing.xml", "<?xml version=\"1.0\"?>\n<ORCS version=\"1.0\">\n  <Agent>\n"
                                                        "    <ASeries file=\"nowhere.json\"/>\n  </Agent>\n</ORCS>\n");
-  EXPECT_THAT(ErrorOf([&] { EnvironmentReader::ReadFile(missing); }),
+  EXPECT_THAT(test_support::InputErrorOf([&] { EnvironmentReader::ReadFile(missing); }),
               HasSubstr(missing + ":4: attribute 'file' expected a readable robot file"));
 }
 

@@ -10,20 +10,12 @@
 #include "model/core/error.h"
 #include "model/physics/material_table.h"
 #include "model/scene/simulation.h"
+#include "tests/support/input_error_of.h"
 
 namespace orcs::scene {
 namespace {
 
 using ::testing::HasSubstr;
-
-std::string InputErrorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "(no InputError)";
-}
 
 // The index of the physics body called `name`, or -1.
 int BodyIndex(const Simulation& simulation, const std::string& name) {
@@ -126,16 +118,16 @@ TEST(RobotStructureTest, ValuesThatCannotBeBuiltAreRefusedWithWhatWouldDo) {
   Simulation simulation;
   BuildRobot(simulation);
   VariableRepository& values = simulation.repository();
-  EXPECT_THAT(InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Foot/Mass", "0"); }),
+  EXPECT_THAT(test_support::InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Foot/Mass", "0"); }),
               HasSubstr("/Sim/Humanoid/Right/Foot/Mass: expected a number from 1e-06 to 1000, found '0'"));
-  EXPECT_THAT(InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Tibia/Height", "-0.1"); }),
+  EXPECT_THAT(test_support::InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Tibia/Height", "-0.1"); }),
               HasSubstr("expected a number from 1e-05 to 10"));
-  EXPECT_THAT(InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Foot/Material", "Jelly"); }),
+  EXPECT_THAT(test_support::InputErrorOf([&] { values.Set("/Sim/Humanoid/Right/Foot/Material", "Jelly"); }),
               HasSubstr("expected one of PlasticsWhite, PlasticsGray, ABS, Latex"));
   // Each stop is fine alone; together they cross: refused at the reset, which keeps the old world.
   const double max = values.Get("/Sim/Humanoid/Right/Knee/MaxAngle").as_double();
   values.Set("/Sim/Humanoid/Right/Knee/MinAngle", std::to_string(max + 1.0));
-  EXPECT_THAT(InputErrorOf([&] { simulation.Reset(); }),
+  EXPECT_THAT(test_support::InputErrorOf([&] { simulation.Reset(); }),
               HasSubstr("/Sim/Humanoid/Right/Knee/MinAngle: expected at most /Sim/Humanoid/Right/Knee/MaxAngle"));
   RunFor(simulation, 0.1);
 }
