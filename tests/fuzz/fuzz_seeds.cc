@@ -45,6 +45,14 @@ std::vector<Seed> FilesIn(const fs::path& dir, const std::string& extension) {
   return seeds;
 }
 
+// The shipped environments as a job carries them: their robot files inline (EnvironmentReader::InlineRobotFiles).
+std::vector<Seed> InlinedEnvironments(const fs::path& root) {
+  const fs::path dir = root / "scenarios/environments";
+  std::vector<Seed> seeds = FilesIn(dir, ".xml");
+  for (Seed& seed : seeds) seed.bytes = scene::EnvironmentReader::InlineRobotFiles(seed.bytes, (dir / seed.name).string());
+  return seeds;
+}
+
 std::vector<Seed> ResolvedScenarios(const fs::path& root) {
   std::vector<Seed> seeds;
   for (Seed& seed : FilesIn(root / "scenarios/examples", ".json")) {
@@ -287,7 +295,7 @@ std::vector<Seed> ViewRequests() {
 
 std::vector<Seed> SeedsFor(const std::string& target, const std::string& source_dir) {
   const fs::path root(source_dir);
-  if (target == "environment_xml") return FilesIn(root / "scenarios/environments", ".xml");
+  if (target == "environment_xml") return InlinedEnvironments(root);
   if (target == "value_file") return ValueFiles();
   if (target == "motion_record") {
     std::vector<Seed> seeds = FilesIn(root / "scenarios/motions", ".csv");

@@ -1,5 +1,5 @@
 // The seed corpus of every fuzz target: valid inputs the fuzzer starts from. Files come from scenarios/ (the
-// environments, motion records and example scenarios, resolved); messages, datagrams, value files and measured runs
+// environments with their robot files inline, motion records and example scenarios, resolved); messages, datagrams, value files and measured runs
 // are built here from the same scenarios. scripts/fuzz.sh writes them with orcs-fuzz-seeds; the regression test
 // feeds them in memory, and every one must be accepted.
 #pragma once
