@@ -4,8 +4,8 @@
 // group, got it too and left, and evolve waited for ever for a generation nobody ran.
 //  - One Ctrl-C: the command exits 130 within 5 s, progress.json says "interrupted", stderr names the exact resume
 //    command, no worker of the run is left, and that command finishes the run with the bits of an uninterrupted one.
-//  - A second Ctrl-C while the first is being handled (workers busy with long jobs): exit within 1 s of it, nothing
-//    left running, and the folder still resumes to the same bits.
+//  - A second Ctrl-C while the first is being handled (it waits for a worker that does not answer): exit within
+//    1 s of it, nothing left running, and the folder still resumes to the same bits.
 //  - orcs-gap, which has no resume: exit 130 within 5 s, saying so.
 // The waits are on conditions (a file's lines, a progress field) with deadlines, never fixed sleeps.
 #include <gmock/gmock.h>
@@ -181,6 +181,20 @@ bool AwaitWhileRunning(BackgroundProcess& process, const std::function<bool()>& 
   return false;
 }
 
+// Kills a process group when it goes out of scope, if its leader still runs.
+class KilledAtTheEnd {
+ public:
+  explicit KilledAtTheEnd(ProcInfo leader) : leader_(leader) {}
+  ~KilledAtTheEnd() {
+    if (StillRuns(leader_)) ::kill(-leader_.pgrp, SIGKILL);
+  }
+  KilledAtTheEnd(const KilledAtTheEnd&) = delete;
+  KilledAtTheEnd& operator=(const KilledAtTheEnd&) = delete;
+
+ private:
+  ProcInfo leader_;
+};
+
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 class CtrlCTest : public ::testing::Test {
@@ -291,23 +305,27 @@ TEST_F(CtrlCTest, EvolveStopsOnOneCtrlCToItsGroupWithinFiveSecondsAndItsResumeCo
   EXPECT_EQ(Progress(Out("cut")).value_or(nlohmann::json())["state"], "finished");
 }
 
-// Jobs of 10 simulated seconds (about a second each, more on busy cores): at the second Ctrl-C the workers are in
-// the middle of jobs, which the first one's orderly stop would let run for up to a second more. (With 2 s jobs a
-// worker was sometimes between jobs at the first Ctrl-C, the orderly stop took under 50 ms, and there was no second
-// Ctrl-C to test.)
+// The first Ctrl-C's orderly stop is short (the broker revokes the jobs, the workers stop them at once), too short
+// to be sure of a second Ctrl-C inside it. What makes a second one needed is a worker that does not answer: one
+// worker, with its simulation process, is stopped (SIGSTOP, as a wedged or swapped-out process), so the orderly stop
+// waits for it for its grace of a second — and the second Ctrl-C must end everything at once, that worker too.
 TEST_F(CtrlCTest, ASecondCtrlCExitsWithinOneSecondKillsTheWorkersAndLeavesAResumableFolder) {
-  const std::string scenario = dir_.Write("s.json", Scenario(10.0));
+  const std::string scenario = dir_.Write("s.json", Scenario(1.0));
   const std::vector<std::string> batch = {kBatch, "run", scenario, "--jobs", "4", "--workers", "2", "--quiet"};
   std::vector<std::string> cut = batch;
   cut.insert(cut.end(), {"--out", Out("cut")});
   BackgroundProcess command(cut, /*own_process_group=*/true);
   const std::vector<ProcInfo> workers = ExpectWorkersInTheirOwnGroups(command);
+  ASSERT_FALSE(workers.empty());
   const std::string partial = Out("cut") + "/results.jsonl.partial";
   ASSERT_TRUE(AwaitWhileRunning(command, [&] { return !Lines(ReadIfThere(partial)).empty(); })) << command.err();
 
+  const ProcInfo stopped = workers.front();  // a worker (its simulation process is in its group)
+  const KilledAtTheEnd unless_gone(stopped);  // a failed assertion below must not leave it stopped for ever
+  ASSERT_EQ(::kill(-stopped.pgrp, SIGSTOP), 0) << "worker " << stopped.pid;
   command.SignalGroup(SIGINT);
-  const std::optional<ProcessResult> early = command.Wait(milliseconds(50));  // the first one is being handled
-  ASSERT_FALSE(early.has_value()) << "ended before the second Ctrl-C: " << early->err;
+  const std::optional<ProcessResult> early = command.Wait(milliseconds(50));  // waiting for the stopped worker
+  ASSERT_FALSE(early.has_value()) << "ended before the second Ctrl-C, with a worker stopped: " << early->err;
   const Clock::time_point second = Clock::now();
   command.SignalGroup(SIGINT);
   const std::optional<ProcessResult> ended = command.Wait(milliseconds(1000));
@@ -316,6 +334,8 @@ TEST_F(CtrlCTest, ASecondCtrlCExitsWithinOneSecondKillsTheWorkersAndLeavesAResum
   std::cout << "[ measured ] run: exit " << seconds << " s after a second Ctrl-C\n";
   EXPECT_LT(seconds, 1.0);
   EXPECT_EQ(ended->exit_code, kExitInterrupted) << ended->out << ended->err;
+  // The second Ctrl-C's own line, not the orderly stop's (which would also end within about a second, its grace).
+  EXPECT_THAT(ended->err, HasSubstr("stopped at once (a second Ctrl-C)"));
   EXPECT_THAT(ended->err, HasSubstr("continue with: orcs-batch run --resume " + Out("cut") + " --workers 2"));
   ExpectNoneLeft(workers);
 
