@@ -155,7 +155,8 @@ void LiveSession::Publish() {
   nlohmann::json state;
   {
     std::lock_guard lock(command_mutex_);
-    state = {{"running", running_}, {"realtime", realtime_}};
+    const double running_for = running_ ? std::chrono::duration<double>(Clock::now() - real_since_).count() : 0.0;
+    state = {{"running", running_}, {"realtime", realtime_}, {"real_time", real_seconds_before_ + running_for}};
   }
   state["time"] = simulation_.time();
   state["step"] = simulation_.steps();
@@ -235,6 +236,10 @@ void LiveSession::Control(const std::string& action, bool realtime) {
   OnSimulationThread([&] {
     {
       std::lock_guard lock(command_mutex_);
+      const Clock::time_point now = Clock::now();
+      if (running_) real_seconds_before_ += std::chrono::duration<double>(now - real_since_).count();
+      if (action == "reset") real_seconds_before_ = 0.0;
+      real_since_ = now;
       realtime_ = realtime;
       running_ = action == "run";
       if (action == "step") ++pending_steps_;
@@ -279,6 +284,10 @@ std::string LiveSession::SetValue(const std::string& path, const std::string& te
     Publish();  // a paused page sees the change
     return simulation_.repository().Get(path).ToString();
   });
+}
+
+void LiveSession::KeepPoseAsStart(const std::string& name) {
+  OnSimulationThread([&] { simulation_.KeepPoseAsStart(name); });
 }
 
 std::string LiveSession::FilePath(const std::string& file, const char* extension) const {

@@ -78,6 +78,9 @@ class LiveSession {
   /// Sets a value from text; returns its new text. Throws InputError naming the path and what was expected, and
   /// for a text with a control character (a line feed, a NUL: text::FindControlCharacter) — a value is one line.
   std::string SetValue(const std::string& path, const std::string& text);
+  /// Object Properties' "set as initial": object `name`'s pose now is its start pose from the next reset on
+  /// (Simulation::KeepPoseAsStart). Throws InputError when `name` is no object of the environment.
+  void KeepPoseAsStart(const std::string& name);
   /// Saves the values matching `pattern` as a value file in the files folder. Throws InputError for a bad name.
   void Save(const std::string& file, const std::string& pattern);
   /// Applies a value file from the files folder.
@@ -120,6 +123,10 @@ class LiveSession {
   std::string logger_stopped_;  // why the last log ended by itself, "" = it did not
   std::string last_error_;  // why running stopped (a bad value), "" = none
   std::chrono::steady_clock::time_point run_start_wall_;
+  // Real time spent running since the last reset (the page's time display): before the current run, and the
+  // current run's start. Guarded by command_mutex_.
+  double real_seconds_before_ = 0.0;
+  std::chrono::steady_clock::time_point real_since_;
   double run_start_time_ = 0.0;
 
   // Commands for the stepping thread, and whether it should run.

@@ -507,6 +507,10 @@ void ViewServer::AddLiveValueRoutes() {
     const std::string value = live_->SetValue(path, StringField(body, "value"));
     SendJson(response, {{"path", path}, {"value", value}});
   }));
+  server_->Post("/api/live/initial", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
+    live_->KeepPoseAsStart(StringField(body, "object"));
+    SendJson(response, {{"object", StringField(body, "object")}});
+  }));
   server_->Get("/api/live/files", [this](const Request&, Response& response) { SendJson(response, live_->Files()); });
   server_->Post("/api/live/save", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
     const std::string filter = body.contains("filter") ? StringField(body, "filter") : ".*";

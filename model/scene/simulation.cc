@@ -211,6 +211,20 @@ void Simulation::ApplyStructureChanges() {
   structure_changed_ = false;
 }
 
+void Simulation::KeepPoseAsStart(const std::string& name) {
+  assert(built() && "KeepPoseAsStart() before Build()");
+  const std::vector<ObjectDescription>& objects = model_->environment().objects;
+  if (std::none_of(objects.begin(), objects.end(), [&](const ObjectDescription& o) { return o.name == name; })) {
+    throw InputError(name, 0, "no object of the environment has this name: only an object's pose can be kept as "
+                              "its start (a robot starts where its agent is placed)");
+  }
+  for (const char* leaf : {"Position", "Orientation"}) {
+    const std::string path = "/Sim/" + name + "/" + leaf;
+    written_start_pose_[path] = repository_.Get(path).ToString();
+  }
+  structure_changed_ = true;
+}
+
 void Simulation::MakeWorld() {
   world_engine_ = repository_.Get(kEngine).as_string();
   world_ = world_engine_ == "MuJoCo" ? physics::MakeMujocoWorld(model_->physics())

@@ -60,6 +60,11 @@ class Simulation {
   /// such a write is never lost. Throws InputError when the new values cannot be compiled; the old world stays.
   void Reset(std::uint64_t seed = 0);
 
+  /// Object Properties' "set as initial": object `name`'s pose now becomes its start pose at the next Reset and
+  /// after (as if its Position and Orientation had been written from outside). Throws InputError naming `name`
+  /// when it is no object of the environment: a robot starts where its agent is placed.
+  void KeepPoseAsStart(const std::string& name);
+
   /// Moves agent `index` rigidly, right after Reset(): turned by `yaw_degrees` about the vertical through its
   /// placement position, then shifted by `offset` (m) — start-pose randomisation. Its sensors restart there.
   void MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_degrees);

@@ -150,13 +150,15 @@ export function snapshotCanvas(page, name) {
 
 /**
  * Compares two snapshots pixel by pixel (summed |ΔR|+|ΔG|+|ΔB| > 24 counts as changed): how many changed in
- * all, near the centre (the middle half across, two thirds down), and in the bottom-left eighth.
+ * all, near the centre (the middle half across, two thirds down), in the bottom-left eighth, and in the columns
+ * between fractions `columns` = [from, to] of the width (`inColumns`, of `columnPixels`).
  */
-export function diffSnapshots(page, a, b) {
-  return page.evaluate(([ka, kb]) => {
+export function diffSnapshots(page, a, b, columns = [0, 1]) {
+  return page.evaluate(([ka, kb, [from, to]]) => {
     const A = window.__testSnapshots[ka], B = window.__testSnapshots[kb];
     const { width, height } = A;
-    let changed = 0, centre = 0, corner = 0;
+    let changed = 0, centre = 0, corner = 0, inColumns = 0;
+    const x0 = Math.floor(from * width), x1 = Math.floor(to * width);
     for (let y = 0; y < height; y++) {
       for (let x = 0; x < width; x++) {
         const i = 4 * (y * width + x);
@@ -165,10 +167,11 @@ export function diffSnapshots(page, a, b) {
         changed++;
         if (Math.abs(x - width / 2) < width / 4 && Math.abs(y - height / 2) < height / 3) centre++;
         if (x < width / 8 && y > (height * 7) / 8) corner++;
+        if (x >= x0 && x < x1) inColumns++;
       }
     }
-    return { width, height, changed, centre, corner };
-  }, [a, b]);
+    return { width, height, changed, centre, corner, inColumns, columnPixels: (x1 - x0) * height };
+  }, [a, b, columns]);
 }
 
 /** Float64 or Float32 array from a route of the server. */

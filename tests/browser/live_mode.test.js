@@ -1,10 +1,11 @@
 // orcs-view --live in a real browser: take control, run, move a motor slider (the Motor Control Manager), see
-// the value set and the joint follow, pause and see the clock stand.
+// the value set and the joint follow, pause and see the clock stand; a head camera beside the main view (the
+// Camera Manager) that sees the head turn; Object Properties edits an object and keeps its pose as its start.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { mkdir } from 'node:fs/promises';
-import { repoRoot, tempDir, startServer, launchBrowser, openPage, frames, fetchJson, until } from './helpers.js';
+import { repoRoot, tempDir, startServer, launchBrowser, openPage, frames, fetchJson, until, snapshotCanvas, diffSnapshots } from './helpers.js';
 
 let tmp, server, browser, page;
 let KNEE;  // /Sim/<the first agent with a Right/Knee motor>/Right/Knee
@@ -31,6 +32,25 @@ const value = async (regex) => {
   const rows = await fetchJson(`${server.url}api/live/values?filter=${encodeURIComponent(regex)}`);
   assert.equal(rows.length, 1, `one value matches ${regex}`);
   return Number(rows[0].value);
+};
+
+const vector = async (path) => {
+  const rows = await fetchJson(`${server.url}api/live/values?filter=${encodeURIComponent(path)}`);
+  assert.equal(rows.length, 1, `one value is ${path}`);
+  return String(rows[0].value).replace(/[()]/g, '').split(',').map(Number);
+};
+
+const claimed = async () => {
+  if (await page.locator('#live-claim').isEnabled()) await page.click('#live-claim');
+  await until(() => page.locator('#live-run').isEnabled(), 20_000, 'control taken');
+};
+
+/** Runs the simulation until `done()` holds, then pauses it. */
+const runUntil = async (done, what) => {
+  await page.click('#live-run');
+  await until(done, 20_000, what);
+  await page.click('#live-pause');
+  await until(() => page.evaluate(() => !orcsView.playing), 20_000, 'paused');
 };
 
 test('the live world is drawn: every robot of example.xml', async () => {
@@ -163,4 +183,65 @@ test('screenshot: in control, a motor moved, its plot and Simulation Properties 
   const dir = path.resolve(repoRoot, process.env.ORCS_SCREENSHOT_DIR);
   await mkdir(dir, { recursive: true });
   await page.screenshot({ path: path.join(dir, 'viewer_live.png') });
+});
+
+test('Camera Manager: a head camera beside the main view sees what the head sees, and its picture moves as the head turns', async () => {
+  await claimed();
+  const agent = KNEE.split('/')[2];
+  const TILT = `/Sim/${agent}/Head/Tilt`;
+  await page.selectOption('#view-add', { label: `head camera: ${agent}` });
+  await until(() => page.evaluate(() => orcsView.views.length === 1), 5000, 'the view added');
+  assert.deepEqual((await page.evaluate(() => orcsView.views)).map((v) => [v.kind, v.body]), [['body', `${agent}/Middle/Head`]]);
+  assert.match(await page.locator('.view-label').textContent(), /head camera/);
+  await frames(page, 3);
+  await snapshotCanvas(page, 'head-level');
+  // The head tilts 40° down: the horizon moves up across the head camera's picture (the right half of the canvas).
+  const slider = page.locator(`#motor-sliders input[data-path="${TILT}/DesiredAngle"]`);
+  await slider.fill('-40');
+  await runUntil(async () => Math.abs((await value(`${TILT}/JointAngle`)) + 40) < 4, 'the head tilted');
+  await frames(page, 3);
+  await snapshotCanvas(page, 'head-tilted');
+  const head = await diffSnapshots(page, 'head-level', 'head-tilted', [0.5, 1]);
+  const main = await diffSnapshots(page, 'head-level', 'head-tilted', [0, 0.5]);
+  assert.ok(head.inColumns > 0.1 * head.columnPixels, `the head camera: ${head.inColumns} of ${head.columnPixels} pixels changed`);
+  assert.ok(head.inColumns > 3 * main.inColumns, `the head camera changed ${head.inColumns} pixels, the main view ${main.inColumns}`);
+  if (process.env.ORCS_SCREENSHOT_DIR) {
+    const dir = path.resolve(repoRoot, process.env.ORCS_SCREENSHOT_DIR);
+    await mkdir(dir, { recursive: true });
+    await page.screenshot({ path: path.join(dir, 'viewer_cameras.png') });
+  }
+  await slider.fill('0');
+  await runUntil(async () => Math.abs(await value(`${TILT}/JointAngle`)) < 4, 'the head level again');
+  await page.click('.view-label button');
+  await until(() => page.evaluate(() => orcsView.views.length === 0), 5000, 'the view closed');
+});
+
+test('Object Properties: an object\'s mass edited and its pose set as initial survive a reset; a robot body has no Set as initial', async () => {
+  await claimed();
+  assert.equal(await page.evaluate(() => orcsView.select('SecondSphere')), true);
+  const mass = page.locator('#object-table input[data-path="/Sim/SecondSphere/Mass"]');
+  await mass.waitFor();
+  // It was dropped from 0.5 m at the start and has lain on the floor since the runs above.
+  const lying = await vector('/Sim/SecondSphere/Position');
+  assert.ok(lying[1] < 0.1, `the sphere on the floor: ${lying}`);
+  await mass.fill('0.3');
+  await mass.press('Enter');
+  await until(async () => (await value('/Sim/SecondSphere/Mass')) === 0.3, 10_000, 'the mass set');
+  await page.click('#object-initial');
+  await until(async () => /next Reset/.test(await page.locator('#object-state').textContent()), 10_000, 'kept as initial');
+  const revision = (await fetchJson(`${server.url}api/live/frame?since=-1`)).world_revision;
+  await page.click('#live-reset');
+  await until(async () => (await fetchJson(`${server.url}api/live/frame?since=-1`)).world_revision !== revision, 20_000,
+    'the world compiled anew at the reset (a mass changed)');
+  const after = await vector('/Sim/SecondSphere/Position');
+  for (let i = 0; i < 3; i++) assert.ok(Math.abs(after[i] - lying[i]) < 1e-6, `started where it lay: ${after} vs ${lying}`);
+  assert.equal(await value('/Sim/SecondSphere/Mass'), 0.3);
+  await runUntil(() => page.evaluate(() => orcsView.time > 0.3), 'a moment run');
+  assert.match(await page.locator('#live-time').textContent(), /t = \d+\.\d{3} s \(real \d+\.\d s\)/, 'simulated and real time');
+  assert.ok((await vector('/Sim/SecondSphere/Position'))[1] < 0.1, 'no drop from 0.5 m after the reset');
+
+  assert.equal(await page.evaluate((b) => orcsView.select(b), `${KNEE.split('/')[2]}/Right/Foot`), true);
+  await until(async () => /robot body/.test(await page.locator('#object-name').textContent()), 5000, 'a robot body shown');
+  assert.equal(await page.locator('#object-initial').isVisible(), false, 'a robot starts where its agent is placed');
+  assert.deepEqual(page.orcsProblems.filter((p) => !/status of 400/.test(p)), []);
 });

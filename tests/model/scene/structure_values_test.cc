@@ -80,6 +80,21 @@ TEST_P(BoxStructureTest, ASizeAndAStartPositionWrittenWhileRunningApplyAtTheRese
   EXPECT_DOUBLE_EQ(Height(simulation_, "Box"), 1.0) << "the written start position stays the start";
 }
 
+// Object Properties' "set as initial": the box at rest on the floor is where every later reset starts it.
+TEST_P(BoxStructureTest, APoseKeptAsStartIsWhereEveryLaterResetStartsTheObject) {
+  RunFor(simulation_, 1.5);
+  const double resting = Height(simulation_, "Box");
+  ASSERT_NEAR(resting, 0.05, 0.01) << "at rest on the floor";
+  simulation_.KeepPoseAsStart("Box");
+  simulation_.Reset();
+  EXPECT_DOUBLE_EQ(Height(simulation_, "Box"), resting);
+  RunFor(simulation_, 0.5);
+  simulation_.Reset();
+  EXPECT_DOUBLE_EQ(Height(simulation_, "Box"), resting) << "kept, not only for one reset";
+  EXPECT_THAT(test_support::InputErrorOf([&] { simulation_.KeepPoseAsStart("Humanoid/Right/Foot"); }),
+              HasSubstr("Humanoid/Right/Foot: no object of the environment has this name"));
+}
+
 INSTANTIATE_TEST_SUITE_P(Engines, BoxStructureTest, ::testing::Values("ODE", "MuJoCo"),
                          [](const auto& engine) { return engine.param; });
 

@@ -40,6 +40,9 @@ const state = {
   select: (name) => select(name),
   plot: (path) => plot(path),
   open: (id) => open(id),
+  get views() { return world ? world.viewList() : []; },
+  addView: (spec) => addView(spec),
+  removeView: (id) => removeView(id),
 };
 window.orcsView = state;
 onError((text) => state.errors.push(text));
@@ -430,6 +433,7 @@ async function select(name) {
   world.highlight(found.kind === 'body' ? found.obj.name : null);
   markTree();
   $('selection').textContent = `${found.kind}: ${found.obj.name}`;
+  if (live) live.showObject(found.kind === 'body' ? found.obj.name : null).catch((err) => showError(err));
   plots.clear();
   for (const path of channelsFor(found)) await plots.add(path);
   if (live) plots.refreshLive();
@@ -443,9 +447,35 @@ async function plot(path) {
   return ok;
 }
 
+// The Camera Manager: views beside the main one (world.js addView).
+function addView(spec) {
+  const id = world.addView(spec);
+  if (id === null) showError(`no view added: ${JSON.stringify(spec)} (at most 3 views, of a body or robot in this world)`);
+  return id;
+}
+
+function removeView(id) { world.removeView(Number(id)); }
+
+/** The choices of the "+ view" menu for the shown world: each robot's head camera and follow view, the presets, the selection. */
+function fillViewChoices() {
+  const header = headerOf();
+  const menu = $('view-add');
+  const option = (spec, text) => el('option', { value: JSON.stringify(spec) }, text);
+  const choices = [el('option', { value: '' }, '+ view')];
+  const names = new Set((header && header.bodies || []).map((b) => b.name));
+  for (const agent of (header && header.agents) || []) {
+    if (names.has(`${agent.name}/Middle/Head`)) choices.push(option({ kind: 'body', body: `${agent.name}/Middle/Head`, label: `head camera: ${agent.name}` }, `head camera: ${agent.name}`));
+    choices.push(option({ kind: 'follow', agent: agent.name }, `follow ${agent.name}`));
+  }
+  for (const preset of ['front', 'left', 'top']) choices.push(option({ kind: 'preset', preset }, `fixed: ${preset}`));
+  choices.push(el('option', { value: 'selected' }, 'camera on the selected body'));
+  menu.replaceChildren(...choices);
+}
+
 function fillTree() {
   const header = headerOf();
   if (!header) return;
+  fillViewChoices();
   const filter = matcher($('tree-filter').value || '') || (() => true);
   const entries = [];
   for (const b of header.bodies || []) {
@@ -513,6 +543,14 @@ function wireUi() {
     applyFrame(f);
   });
   $('tree-filter').addEventListener('input', fillTree);
+  $('view-add').addEventListener('change', (e) => {
+    const choice = e.target.value;
+    e.target.value = '';
+    if (!choice) return;
+    if (choice !== 'selected') addView(JSON.parse(choice));
+    else if (selected && world.byName.has(selected)) addView({ kind: 'body', body: selected });
+    else showError('select a body first (click it, or pick it from Bodies & joints)');
+  });
   $('channel-search').addEventListener('input', channelSearch);
   $('plot-clear').addEventListener('click', () => plots.clear());
   $('compare').addEventListener('change', (e) => setOverlay(e.target.value));

@@ -121,7 +121,8 @@ export class Live {
       this.plotDirty = true;
     }
     const stopped = f.message ? `   stopped: ${f.message}` : (f.status && f.status !== 'ok' ? `   ${f.status}` : '');
-    $('live-time').textContent = `t = ${Number(f.time).toFixed(3)} s   step ${f.step}   ${f.running ? 'running' : 'paused'}${f.realtime ? ', real time' : ', as fast as possible'}${stopped}`;
+    const real = Number.isFinite(f.real_time) ? ` (real ${Number(f.real_time).toFixed(1)} s)` : '';
+    $('live-time').textContent = `t = ${Number(f.time).toFixed(3)} s${real}   step ${f.step}   ${f.running ? 'running' : 'paused'}${f.realtime ? ', real time' : ', as fast as possible'}${stopped}`;
     if (f.message && f.message !== this.shownMessage) showError(`the simulation stopped: ${f.message}`);
     this.shownMessage = f.message || '';
     $('time-label').textContent = `t = ${Number(f.time).toFixed(3)} s`;
@@ -176,7 +177,7 @@ export class Live {
     document.body.classList.toggle('has-token', on);
     for (const node of document.querySelectorAll('.needs-token')) node.disabled = !on;
     for (const s of this.sliders.values()) s.input.disabled = !on;
-    for (const input of document.querySelectorAll('#props-table input')) input.disabled = !on;
+    for (const input of document.querySelectorAll('#props-table input, #object-table input')) input.disabled = !on;
     $('live-claim-state').textContent = on ? 'you control the simulation' : 'watching (take control to steer)';
     $('live-claim').disabled = on;
   }
@@ -202,6 +203,7 @@ export class Live {
     $('live-realtime').addEventListener('change', () => this.control(this.last && this.last.running ? 'run' : 'pause'));
     $('pose-save').addEventListener('click', () => this.save($('pose-file').value, '.*DesiredAngle'));
     $('pose-load').addEventListener('click', () => this.load($('pose-files').value));
+    $('object-initial').addEventListener('click', () => this.keepAsInitial());
     $('props-refresh').addEventListener('click', () => this.refreshProps().catch((e) => showError(e)));
     $('props-filter').addEventListener('keydown', (e) => { if (e.key === 'Enter') this.refreshProps().catch((err) => showError(err)); });
     $('props-save').addEventListener('click', () => this.save($('props-file').value, $('props-filter').value || '.*'));
@@ -295,35 +297,64 @@ export class Live {
     }
   }
 
+  // --- Object Properties ----------------------------------------------------------------------------------
+  /** Shows the values of body or object `name` (null: none), each editable as in Simulation Properties. */
+  async showObject(name) {
+    this.object = name || null;
+    const isObject = !!name && !(this.header.agents || []).some((a) => name.startsWith(`${a.name}/`));
+    $('object-name').textContent = name ? `${isObject ? 'object' : 'robot body'}: ${name}` : 'click a body or pick one from Bodies & joints';
+    $('object-initial').hidden = !isObject;  // a robot starts where its agent is placed
+    $('object-state').textContent = '';
+    const body = $('object-table').querySelector('tbody');
+    if (!name) { body.replaceChildren(); return; }
+    const escaped = name.replace(/[.*+?^${}()|[\]\\]/g, '\\$&');
+    const rows = await getJson(`/api/live/values?filter=${encodeURIComponent(`/Sim/${escaped}/[^/]+`)}`);
+    body.replaceChildren(...(Array.isArray(rows) ? rows : []).map((row) => this.valueRow(row)));
+  }
+
+  /** Set as initial: the object's pose now is where the next reset and every later one start it. */
+  async keepAsInitial() {
+    if (!this.needToken() || !this.object) return;
+    try {
+      await post('/api/live/initial', { object: this.object });
+      $('object-state').textContent = 'its pose now is its start from the next Reset on';
+    } catch (err) {
+      showError(err.reason || err);
+    }
+  }
+
   // --- Simulation Properties ------------------------------------------------------------------------------
   async refreshProps() {
     const filter = $('props-filter').value || '.*';
     const rows = await getJson(`/api/live/values?filter=${encodeURIComponent(filter)}`);
     const body = $('props-table').querySelector('tbody');
-    body.replaceChildren(...(Array.isArray(rows) ? rows : []).map((row) => {
-      const input = el('input', { value: String(row.value ?? ''), dataset: { path: row.path }, disabled: !getToken() });
-      const tr = el('tr', {}, el('td', { class: 'path', title: row.path }, row.path), el('td', { class: 'muted' }, row.type || ''), el('td', {}, input));
-      const commit = async () => {
-        if (input.value === input.defaultValue) return;
-        if (!this.needToken()) return;
-        try {
-          const answer = await post('/api/live/values', { path: row.path, value: input.value });
-          const now = answer && answer.value !== undefined ? String(answer.value) : input.value;
-          input.value = now;
-          input.defaultValue = now;
-          tr.classList.remove('bad');
-          tr.title = '';
-        } catch (err) {
-          tr.classList.add('bad');
-          tr.title = err.reason || err.message;
-          input.value = input.defaultValue;  // back to the value in force, so a later blur does not send it again
-          showError(err.reason || err);       // the server's reason names the path already
-        }
-      };
-      input.addEventListener('keydown', (e) => { if (e.key === 'Enter') commit(); if (e.key === 'Escape') input.value = input.defaultValue; });
-      input.addEventListener('blur', commit);
-      return tr;
-    }));
+    body.replaceChildren(...(Array.isArray(rows) ? rows : []).map((row) => this.valueRow(row)));
+  }
+
+  /** A table row of one value: path, type and an input that sets it (Enter or leaving the cell). */
+  valueRow(row) {
+    const input = el('input', { value: String(row.value ?? ''), dataset: { path: row.path }, disabled: !getToken() });
+    const tr = el('tr', {}, el('td', { class: 'path', title: row.path }, row.path), el('td', { class: 'muted' }, row.type || ''), el('td', {}, input));
+    const commit = async () => {
+      if (input.value === input.defaultValue) return;
+      if (!this.needToken()) return;
+      try {
+        const answer = await post('/api/live/values', { path: row.path, value: input.value });
+        const now = answer && answer.value !== undefined ? String(answer.value) : input.value;
+        input.value = now;
+        input.defaultValue = now;
+        tr.classList.remove('bad');
+        tr.title = '';
+      } catch (err) {
+        tr.classList.add('bad');
+        tr.title = err.reason || err.message;
+        input.value = input.defaultValue;  // back to the value in force, so a later blur does not send it again
+        showError(err.reason || err);       // the server's reason names the path already
+      }
+    };
+    input.addEventListener('keydown', (e) => { if (e.key === 'Enter') commit(); if (e.key === 'Escape') input.value = input.defaultValue; });
+    input.addEventListener('blur', commit);
+    return tr;
   }
 
   // --- the Logger -----------------------------------------------------------------------------------------

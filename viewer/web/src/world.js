@@ -1,11 +1,21 @@
 // The 3D view: every body of a recording header (docs/recording.md) as three.js meshes, posed per frame from
-// the pose channels; the floor; contacts; joint axes; camera presets; picking. Entirely data-driven: any
-// number of robots and objects. World frame +Y up, metres, quaternions [w, x, y, z].
+// the pose channels; the floor; contacts; joint axes; camera presets; the Camera Manager's extra views (a camera
+// fixed to a body such as the head, one following a robot, a preset) side by side with the main one; picking.
+// Entirely data-driven: any number of robots and objects. World frame +Y up, +Z forward, metres, quaternions
+// [w, x, y, z].
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 const CONTACT_CAPACITY = 512;
 const UP = new THREE.Vector3(0, 1, 0);
+// Camera offsets from the robot's centre, in robot sizes: the presets of the original (follow: front-right).
+const PRESET_OFFSETS = {
+  front: [0, 0.45, 1], back: [0, 0.45, -1], left: [1, 0.45, 0], right: [-1, 0.45, 0],
+  top: [0, 1.3, 0.001], follow: [-0.62, 0.38, 0.78],
+};
+// A three.js camera looks along its -Z; a body's forward is its +Z: half a turn about +Y between them.
+const LOOK_FORWARD = new THREE.Quaternion().setFromAxisAngle(UP, Math.PI);
+const MAX_VIEWS = 3;  // extra views beside the main one: each gets a column of the canvas
 
 function colorOf(rgba) {
   const c = Array.isArray(rgba) && rgba.length >= 3 ? rgba : [180, 180, 180, 255];
@@ -179,6 +189,9 @@ export class World {
     this.following = false;
     this.lastCenter = null;
     this.selected = null;
+    this.views = [];        // the Camera Manager's extra views: {id, kind, body, agent, preset, camera, eye, label}
+    this.nextViewId = 1;
+    this.viewport = { width: 1, height: 1 };  // the canvas in CSS pixels
     this._tmpM = new THREE.Matrix4();
     this._tmpV = new THREE.Vector3();
     this._tmpQ = new THREE.Quaternion();
@@ -202,8 +215,8 @@ export class World {
       this.canvas.style.width = `${w}px`;
       this.canvas.style.height = `${h}px`;
     }
-    this.camera.aspect = w / h;
-    this.camera.updateProjectionMatrix();
+    this.viewport = { width: w, height: h };
+    this.layOutViews();
     this.needsDraw = true;
   }
 
@@ -431,9 +444,8 @@ export class World {
     return out;
   }
 
-  /** The centre of the first robot (the mean of its bodies), else of the dynamic bodies, else the origin. */
-  robotCenter(target = new THREE.Vector3()) {
-    const agent = this.agents[0];
+  /** The centre of a robot (default the first; the mean of its bodies), else of the dynamic bodies, else the origin. */
+  robotCenter(target = new THREE.Vector3(), agent = this.agents[0]) {
     let chosen = agent ? this.bodies.filter((b) => b.name.startsWith(agent + '/')) : [];
     if (!chosen.length) chosen = this.bodies.filter((b) => b.dynamic);
     target.set(0, 0, 0);
@@ -442,8 +454,7 @@ export class World {
     return target.multiplyScalar(1 / chosen.length);
   }
 
-  robotSize() {
-    const agent = this.agents[0];
+  robotSize(agent = this.agents[0]) {
     const chosen = agent ? this.bodies.filter((b) => b.name.startsWith(agent + '/')) : this.bodies.filter((b) => b.dynamic);
     if (!chosen.length) return 0.5;
     const box = new THREE.Box3();
@@ -459,12 +470,8 @@ export class World {
   setPreset(name, distance = 3) {
     const c = this.robotCenter();
     const d = this.robotSize() * distance;
-    const offsets = {
-      front: [0, 0.45, 1], back: [0, 0.45, -1], left: [1, 0.45, 0], right: [-1, 0.45, 0],
-      top: [0, 1.3, 0.001], follow: [-0.62, 0.38, 0.78],
-    };
-    const o = offsets[name] || offsets.front;
-    this.preset = name in offsets ? name : 'front';
+    const o = PRESET_OFFSETS[name] || PRESET_OFFSETS.front;
+    this.preset = name in PRESET_OFFSETS ? name : 'front';
     this.following = this.preset === 'follow';
     this.camera.position.set(c.x + o[0] * d, c.y + o[1] * d, c.z + o[2] * d);
     this.camera.up.copy(UP);
@@ -500,7 +507,9 @@ export class World {
   /** The body under a client-space point, or null. */
   pick(clientX, clientY) {
     const rect = this.canvas.getBoundingClientRect();
-    const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+    const mainWidth = rect.width * this.mainShare();  // the main view is the left column
+    if (clientX - rect.left > mainWidth) return null;
+    const ndc = new THREE.Vector2(((clientX - rect.left) / mainWidth) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
     this.raycaster.setFromCamera(ndc, this.camera);
     const meshes = [];
     for (const b of this.bodies) if (b.group.parent && b.group.parent.visible) meshes.push(...b.meshes);
@@ -515,8 +524,144 @@ export class World {
     this.needsDraw = true;
   }
 
+  // --- the Camera Manager ---------------------------------------------------------------------------------
+  /**
+   * Adds a view beside the main one and returns its id (null when there are MAX_VIEWS already or the body is not
+   * in the world). `spec.kind`:
+   *  - 'body': a camera fixed to `spec.body`, at the front of its geoms looking along its +Z — on a robot's
+   *    Middle/Head, what the head sees (the original's head camera);
+   *  - 'follow': keeps its offset to robot `spec.agent` (default the first) as it moves;
+   *  - 'preset': a fixed camera at preset `spec.preset` (front, back, left, right, top).
+   * `spec.label` names it over its picture.
+   */
+  addView(spec) {
+    if (this.views.length >= MAX_VIEWS || !spec || typeof spec !== 'object') return null;
+    const view = { id: this.nextViewId++, kind: String(spec.kind), camera: new THREE.PerspectiveCamera(50, 1, 0.005, 200) };
+    if (view.kind === 'body') {
+      const body = this.byName.get(String(spec.body));
+      if (!body) return null;
+      view.body = body.name;
+      view.eye = this.frontOf(body);
+      view.camera.fov = 60;
+      view.label = `${body.name} camera`;
+    } else if (view.kind === 'follow') {
+      view.agent = this.agents.includes(spec.agent) ? spec.agent : this.agents[0];
+      view.label = `follow ${view.agent || 'the bodies'}`;
+    } else if (view.kind === 'preset' && spec.preset in PRESET_OFFSETS) {
+      view.preset = spec.preset;
+      view.label = spec.preset;
+      this.placeAtPreset(view.camera, view.preset);
+    } else {
+      return null;
+    }
+    if (spec.label) view.label = String(spec.label);
+    this.views.push(view);
+    this.layOutViews();
+    this.needsDraw = true;
+    return view.id;
+  }
+
+  removeView(id) {
+    this.views = this.views.filter((v) => v.id !== id);
+    this.layOutViews();
+    this.needsDraw = true;
+  }
+
+  /** The extra views as the page's state shows them. */
+  viewList() {
+    return this.views.map(({ id, kind, body, agent, preset, label }) => ({ id, kind, body, agent, preset, label }));
+  }
+
+  /** The share of the canvas' width the main view gets: all of it alone, else an equal column. */
+  mainShare() { return 1 / (1 + this.views.length); }
+
+  /** Where a body's camera sits in the body's frame: the middle of the front face (+Z) of its geoms, 2 mm out. */
+  frontOf(body) {
+    const box = new THREE.Box3();
+    for (const mesh of body.meshes) {
+      if (!mesh.geometry.boundingBox) mesh.geometry.computeBoundingBox();
+      mesh.updateMatrix();
+      box.union(mesh.geometry.boundingBox.clone().applyMatrix4(mesh.matrix));
+    }
+    if (box.isEmpty()) return new THREE.Vector3(0, 0, 0);
+    const centre = box.getCenter(new THREE.Vector3());
+    return new THREE.Vector3(centre.x, centre.y, box.max.z + 0.002);
+  }
+
+  placeAtPreset(camera, preset, agent = this.agents[0]) {
+    const c = this.robotCenter(new THREE.Vector3(), agent);
+    const d = this.robotSize(agent) * 3;
+    const o = PRESET_OFFSETS[preset];
+    camera.position.set(c.x + o[0] * d, c.y + o[1] * d, c.z + o[2] * d);
+    camera.up.copy(UP);
+    camera.lookAt(c);
+  }
+
+  /** Moves the cameras that go with a body or a robot to where it is now. */
+  poseViewCameras() {
+    for (const view of this.views) {
+      if (view.kind === 'body') {
+        const body = this.byName.get(view.body);
+        if (!body) continue;  // the world was loaded anew without it: the view stays where it was
+        body.group.updateMatrix();
+        view.camera.position.copy(view.eye).applyMatrix4(body.group.matrix);
+        view.camera.quaternion.copy(body.group.quaternion).multiply(LOOK_FORWARD);
+      } else if (view.kind === 'follow') {
+        this.placeAtPreset(view.camera, 'follow', view.agent);
+      }
+    }
+  }
+
+  /** Columns of equal width, the main view first; each camera's aspect follows its column. */
+  layOutViews() {
+    const { width, height } = this.viewport;
+    const column = width / (1 + this.views.length);
+    for (const camera of [this.camera, ...this.views.map((v) => v.camera)]) {
+      camera.aspect = column / Math.max(1, height);
+      camera.updateProjectionMatrix();
+    }
+    this.placeViewLabels(column);
+  }
+
+  /** A label over each extra view, with a button that closes it (the canvas' parent holds them). */
+  placeViewLabels(column) {
+    const parent = this.canvas.parentElement;
+    if (!parent || this.fixedSize) return;
+    for (const old of parent.querySelectorAll('.view-label')) old.remove();
+    this.views.forEach((view, i) => {
+      const label = document.createElement('div');
+      label.className = 'view-label';
+      label.dataset.view = String(view.id);
+      label.style.left = `${(i + 1) * column + 8}px`;
+      label.textContent = view.label;
+      const close = document.createElement('button');
+      close.textContent = '×';
+      close.title = 'close this view';
+      close.addEventListener('click', () => this.removeView(view.id));
+      label.append(close);
+      parent.append(label);
+    });
+  }
+
   render() {
-    this.renderer.render(this.scene, this.camera);
+    if (!this.views.length) {
+      this.renderer.render(this.scene, this.camera);
+      this.needsDraw = false;
+      return;
+    }
+    this.poseViewCameras();
+    const { width, height } = this.viewport;
+    const column = width / (1 + this.views.length);
+    this.renderer.setScissorTest(true);
+    [this.camera, ...this.views.map((v) => v.camera)].forEach((camera, i) => {
+      const x = Math.round(i * column), w = Math.round((i + 1) * column) - x;
+      this.renderer.setViewport(x, 0, w, height);
+      this.renderer.setScissor(x, 0, w, height);
+      this.renderer.render(this.scene, camera);
+    });
+    this.renderer.setScissorTest(false);
+    this.renderer.setViewport(0, 0, width, height);
     this.needsDraw = false;
   }
 }
+
