@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <csignal>
 #include <cmath>
 #include <cstring>
 #include <optional>
 #include <regex>
 
+#include "model/evaluation/recording_reader.h"
 #include "tests/support/background_process.h"
 #include "tests/support/temp_dir.h"
 #include "tests/support/udp_peer.h"
@@ -498,6 +500,41 @@ TEST_F(OspGatewayTest, PlayDrivesARobotInSimulatedTimeAsTheClientsStepAndStartsA
   client.Expect(75);
   client.Send(Message().Byte(76));
   EXPECT_NEAR(step_to(40), 45.0, 2.0) << "after the reset the record plays from its start";
+}
+
+// --record DIR: the OSP-driven run, watched afterwards in orcs-view — one recording per episode (reset to reset),
+// the last one written when the gateway stops.
+TEST_F(OspGatewayTest, RecordWritesOneRecordingPerEpisodeThatTheViewerReads) {
+  const std::string folder = dir_.PathOf("recorded");
+  Start({"--record", folder});
+  OspClient client;
+  ASSERT_TRUE(client.Handshake(port_));
+  ASSERT_TRUE(client.TakeControl(1));
+  const auto steps = [&](int count) {
+    for (int i = 0; i < count; ++i) {
+      client.SendStep(1, Inputs(0.3f));
+      client.ReceiveStepResult(1);
+    }
+  };
+  steps(30);
+  client.Reset(1);
+  client.Expect(75);
+  client.Send(Message().Byte(76));
+  steps(10);
+  server_->Signal(SIGTERM);
+  const std::optional<test_support::ProcessResult> ended = server_->Wait(milliseconds(10000));
+  ASSERT_TRUE(ended.has_value());
+  EXPECT_EQ(ended->exit_code, 0) << ended->err;
+
+  const evaluation::Recording first = evaluation::ReadRecording(folder + "/episode-0001.orcsrec");
+  const evaluation::Recording second = evaluation::ReadRecording(folder + "/episode-0002.orcsrec");
+  EXPECT_EQ(first.frame_count(), 31) << "frame 0 and the 30 steps before the reset";
+  EXPECT_EQ(second.frame_count(), 11) << "frame 0 and the 10 steps after it";
+  EXPECT_EQ(first.header.value("program", ""), "orcs-osp");
+  const int knee = first.FindChannel("/Sim/Humanoid/Right/Knee/JointAngle");
+  ASSERT_GE(knee, 0);
+  EXPECT_GT(std::abs(first.value(30, knee) - first.value(0, knee)), 5.0f) << "the client's inputs moved the knee";
+  EXPECT_THAT(ended->err, ::testing::HasSubstr("recorded episode 2: " + folder + "/episode-0002.orcsrec, 11 frames"));
 }
 
 TEST_F(OspGatewayTest, ResetWithASeedGivesTheSameSensorTraceTwice) {

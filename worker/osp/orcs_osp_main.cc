@@ -5,13 +5,14 @@
 // serves until SIGINT or SIGTERM.
 //
 //   orcs-osp [-env FILE] [-ival FILE]... [-val FILE]... [-play AGENT RECORD]... [-port 45454]
-//            [-odcp_port 45453] [--bind 127.0.0.1] [--client-timeout 10]
+//            [-odcp_port 45453] [--bind 127.0.0.1] [--client-timeout 10] [--record DIR]
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <iostream>
 
 #include "model/core/error.h"
 #include "net/cli_style.h"
+#include "worker/osp/episode_recorder.h"
 #include "worker/osp/odcp_server.h"
 #include "worker/osp/osp_server.h"
 #include "worker/osp/protocol_values.h"
@@ -36,6 +37,7 @@ struct OspOptions {
   int odcp_port = -1;  // base port of the ODCP servers; -1: /SimpleUdpMotorInterface/ServerPort
   std::string bind_address = "127.0.0.1";
   double client_timeout_seconds = 10.0;
+  std::string record;  // --record DIR: one recording per episode, "" = none
 };
 
 // The port of an option, or of its repository value when the option was not given; InputError when out of range.
@@ -93,8 +95,19 @@ int Serve(const OspOptions& options) {
   server_options.before_step = [&players](double time) {
     for (orcs::control::KeyframePlayer& player : players) player.Apply(time);
   };
-  server_options.after_reset = [&players] {
+  std::unique_ptr<orcs::osp::EpisodeRecorder> recorder;
+  if (!options.record.empty()) {
+    recorder = std::make_unique<orcs::osp::EpisodeRecorder>(
+        simulation, orcs::osp::EpisodeRecorderOptions{.folder = options.record,
+                                                      .environment = options.environment,
+                                                      .log = [](std::string_view line) {
+                                                        std::cerr << "orcs-osp: " << line << std::endl;
+                                                      }});
+    server_options.after_step = [&recorder] { recorder->Sample(); };
+  }
+  server_options.after_reset = [&players, &recorder] {
     for (orcs::control::KeyframePlayer& player : players) player.Reset();  // the record starts again at time 0
+    if (recorder) recorder->NextEpisode();
   };
   std::unique_ptr<orcs::osp::OspServer> server;
   try {
@@ -142,6 +155,8 @@ int main(int argc, char** argv) {
                  "/SimpleUdpMotorInterface/ServerPort, 45453; 0 = any)")
       ->check(CLI::Range(0, 65535));
   app.add_option("--bind", options.bind_address, "interface to listen on (default 127.0.0.1; * = every interface)");
+  app.add_option("--record", options.record,
+                 "folder for one recording per episode (reset to reset): episode-0001.orcsrec, ... for orcs-view");
   app.add_option("--client-timeout", options.client_timeout_seconds,
                  "seconds of silence after which a client loses its agents (default 10)")
       ->check(orcs::cli::NumberIn(0.001, 1e6));

@@ -372,6 +372,7 @@ void OspServer::RunStep() {
   } catch (const InputError& error) {  // a value a client wrote that the step refuses: the gateway serves on
     Log("the step did not run: " + std::string(error.what()));
   }
+  if (options_.after_step) options_.after_step();
   std::lock_guard lock(stats_mutex_);
   ++stats_.steps;
 }

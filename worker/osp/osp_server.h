@@ -51,6 +51,8 @@ struct OspServerOptions {
   /// Called before each step with the simulated time (s), before the clients' inputs are written, so that
   /// what it writes (the -play records) a client's finite inputs override. Empty = nothing.
   std::function<void(double time)> before_step;
+  /// Called after each step the clients' inputs ran (the --record frames). Empty = nothing.
+  std::function<void()> after_step;
   /// Called after each simulation reset (70). Empty = nothing.
   std::function<void()> after_reset;
 };
