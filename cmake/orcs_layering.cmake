@@ -14,7 +14,7 @@ set(_ORCS_LAYER_USES_model   "")
 set(_ORCS_LAYER_USES_net     "proto")
 set(_ORCS_LAYER_USES_broker  "net;proto")
 set(_ORCS_LAYER_USES_worker  "model;net;proto")
-set(_ORCS_LAYER_USES_viewer  "model;net;proto")
+set(_ORCS_LAYER_USES_viewer  "model;net;proto;worker")  # worker/osp: the OSP-driven live mode (orcs-osp -gui)
 set(_ORCS_LAYER_USES_clients "model;net;proto;broker")
 set(_ORCS_LAYER_FOLDERS proto model net broker worker viewer clients)
 

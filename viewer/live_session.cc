@@ -1,5 +1,8 @@
 #include "viewer/live_session.h"
 
+#include <sys/eventfd.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <future>
@@ -10,6 +13,7 @@
 #include "model/core/value_file.h"
 #include "model/scene/world_setup.h"
 #include "proto/secure_random.h"
+#include "worker/osp/protocol_values.h"
 
 namespace orcs::viewer {
 namespace {
@@ -42,7 +46,21 @@ bool IsSafeFileName(const std::string& file, const char* extension) {
   });
 }
 
+// --osp: the posted commands, served in the gateway's thread when the eventfd says there are some.
+class LiveSession::CommandService : public osp::DatagramService {
+ public:
+  CommandService(int fd, std::function<void()> run) : fd_(fd), run_(std::move(run)) {}
+  int fd() const override { return fd_; }
+  void OnReadable() override { run_(); }
+
+ private:
+  int fd_;
+  std::function<void()> run_;
+};
+
 LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
+  // The original's port values, so that a value file can set them as it could there (orcs-osp does the same).
+  if (options.osp.enabled) osp::AddProtocolValues(simulation_.repository());
   const IgnoredValues ignored = scene::SetUpWorld(simulation_, options.environment, options.initial_value_files,
                                                   options.value_files, options.strict ? UnknownPaths::kRefuse : UnknownPaths::kIgnore);
   if (!ignored.empty()) std::cerr << "orcs-view: " << ignored.Warning() << "\n";
@@ -50,8 +68,76 @@ LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
   LayOut();
   running_ = options.start_running;
   run_start_wall_ = Clock::now();
+  real_since_ = run_start_wall_;
+  if (options.osp.enabled) {
+    StartOsp();
+    return;
+  }
   Publish();
   thread_ = std::thread([this] { Loop(); });
+}
+
+// The gateway binds its sockets here, so that a port in use is an InputError from the constructor; then its
+// thread steps the simulation as the clients ask, and runs the pages' commands between datagrams.
+void LiveSession::StartOsp() {
+  running_ = false;
+  const LiveOspOptions& o = options_.osp;
+  if (!o.record.empty()) {
+    recorder_ = std::make_unique<osp::EpisodeRecorder>(
+        simulation_, osp::EpisodeRecorderOptions{.folder = o.record,
+                                                 .environment = options_.environment,
+                                                 .log = [](std::string_view line) {
+                                                   std::cerr << "orcs-view: " << line << std::endl;
+                                                 }});
+  }
+  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (wake_fd_ < 0) throw std::runtime_error("LiveSession: eventfd failed");
+  command_service_ = std::make_unique<CommandService>(wake_fd_, [this] { OnOspCommands(); });
+  osp::OspGatewayOptions gateway;
+  gateway.port = o.port;
+  gateway.odcp_port = o.odcp_port;
+  gateway.bind_address = o.bind_address;
+  gateway.client_timeout_seconds = o.client_timeout_seconds;
+  gateway.log = [](std::string_view line) { std::cerr << "orcs-view: OSP: " << line << std::endl; };
+  gateway.after_step = [this] { OnOspStep(); };
+  gateway.after_reset = [this] { OnOspReset(); };
+  gateway_ = std::make_unique<osp::OspGateway>(simulation_, std::move(gateway));
+  gateway_->AddService(command_service_.get());
+  osp_endpoint_ = gateway_->server().endpoint().ToString();
+  Publish();
+  thread_ = std::thread([this] { gateway_->Run(); });
+}
+
+std::vector<std::string> LiveSession::OspEndpointLines() const {
+  return gateway_ ? gateway_->EndpointLines("orcs-view") : std::vector<std::string>{};
+}
+
+void LiveSession::OnOspCommands() {
+  std::uint64_t posted = 0;
+  [[maybe_unused]] const ssize_t read_bytes = read(wake_fd_, &posted, sizeof posted);  // resets the eventfd
+  std::unique_lock lock(command_mutex_);
+  RunCommands(lock);
+  lock.unlock();
+  if (logger_) CheckLogger();
+}
+
+void LiveSession::OnOspStep() {
+  if (logger_) {
+    logger_->Sample(simulation_.time());
+    CheckLogger();
+  }
+  if (recorder_) recorder_->Sample();
+  Publish();
+}
+
+void LiveSession::OnOspReset() {
+  if (simulation_.shared_model() != laid_out_) LayOut();
+  if (recorder_) recorder_->NextEpisode();
+  {
+    std::lock_guard lock(command_mutex_);
+    real_since_ = Clock::now();
+  }
+  Publish();
 }
 
 LiveSession::~LiveSession() {
@@ -60,8 +146,11 @@ LiveSession::~LiveSession() {
     stopping_ = true;
   }
   command_posted_.notify_all();
+  if (gateway_) gateway_->Stop();
   thread_.join();
   if (logger_) logger_->Finish();
+  recorder_.reset();  // writes the last episode, before the gateway and the simulation go
+  if (wake_fd_ >= 0) close(wake_fd_);
 }
 
 template <typename Task>
@@ -73,6 +162,10 @@ auto LiveSession::OnSimulationThread(Task task) -> decltype(task()) {
     commands_.push_back([job] { (*job)(); });
   }
   command_posted_.notify_all();
+  if (wake_fd_ >= 0) {  // --osp: the gateway's poll runs the commands
+    const std::uint64_t one = 1;
+    [[maybe_unused]] const ssize_t written = write(wake_fd_, &one, sizeof one);
+  }
   return result.get();
 }
 
@@ -155,9 +248,12 @@ void LiveSession::Publish() {
   nlohmann::json state;
   {
     std::lock_guard lock(command_mutex_);
-    const double running_for = running_ ? std::chrono::duration<double>(Clock::now() - real_since_).count() : 0.0;
+    // Driven over OSP, the clients pace it: the real time is all of it since the reset.
+    const bool clock_runs = running_ || gateway_ != nullptr;
+    const double running_for = clock_runs ? std::chrono::duration<double>(Clock::now() - real_since_).count() : 0.0;
     state = {{"running", running_}, {"realtime", realtime_}, {"real_time", real_seconds_before_ + running_for}};
   }
+  state["osp"] = gateway_ ? nlohmann::json(osp_endpoint_) : nlohmann::json(nullptr);
   state["time"] = simulation_.time();
   state["step"] = simulation_.steps();
   state["status"] = scene::SimulationStatusName(simulation_.status());
@@ -232,6 +328,10 @@ bool LiveSession::HeldBy(const std::string& token) {
 void LiveSession::Control(const std::string& action, bool realtime) {
   if (action != "run" && action != "pause" && action != "step" && action != "reset") {
     throw InputError("action", 0, "expected run, pause, step or reset, found " + text::Quote(action));
+  }
+  if (gateway_) {
+    throw InputError("action", 0, "OSP clients step and reset this simulation (orcs-osp -gui, at " + osp_endpoint_ +
+                                      "): the page watches, sets values and logs");
   }
   OnSimulationThread([&] {
     {

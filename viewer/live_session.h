@@ -1,7 +1,9 @@
 // orcs-view's live mode: one simulation running in the server (the original's GUI, docs/viewer.md). A thread steps
 // it — in real time or as fast as it can — and publishes frames; pages read frames, and the one page holding the
 // control token runs, pauses, steps and resets it, sets values (motor sliders, the property editor), saves and
-// loads value files and starts the Logger. Every public method is safe to call from any server thread.
+// loads value files and starts the Logger. With --osp (orcs-osp -gui) OSP clients step and reset it instead:
+// orcs-osp's gateway runs in the stepping thread and the pages' commands run between its datagrams. Every public
+// method is safe to call from any server thread.
 #pragma once
 
 #include <chrono>
@@ -18,8 +20,22 @@
 #include "model/core/value_logger.h"
 #include "model/evaluation/recording_layout.h"
 #include "model/scene/simulation.h"
+#include "worker/osp/episode_recorder.h"
+#include "worker/osp/osp_gateway.h"
 
 namespace orcs::viewer {
+
+/// --osp (orcs-osp -gui): OSP clients drive the live simulation — they step and reset it — while pages watch, set
+/// values and log, as the original ClientSimulator did with its -gui. The page's Run, Pause, Step and Reset are
+/// refused then. The gateway is orcs-osp's (worker/osp/osp_gateway.h), with its ODCP servers.
+struct LiveOspOptions {
+  bool enabled = false;                    ///< --osp
+  int port = -1;                           ///< --osp-port; -1 = /UDPCommunication/ServerPort (45454); 0 = any
+  int odcp_port = -1;                      ///< --odcp-port; -1 = /SimpleUdpMotorInterface/ServerPort; 0 = any
+  std::string bind_address = "127.0.0.1";  ///< --osp-bind: the OSP and ODCP sockets' interface
+  double client_timeout_seconds = 10.0;    ///< --client-timeout, s
+  std::string record;                      ///< --record DIR: one recording per episode (osp/episode_recorder.h)
+};
 
 struct LiveOptions {
   std::string environment;                       ///< ORCS XML environment, "" = one A-Series on the floor
@@ -32,6 +48,7 @@ struct LiveOptions {
   std::size_t log_max_bytes = std::size_t{64} << 20;  ///< --log-max-mib: a log stops at this size
   double log_max_seconds = 600.0;                ///< --log-max-seconds: a log stops after this long (wall clock)
   double control_timeout = 10.0;                 ///< --control-timeout: a silent controller loses control (s)
+  LiveOspOptions osp;                            ///< --osp: OSP clients step it instead
 };
 
 /// One published state of the simulation.
@@ -50,6 +67,9 @@ class LiveSession {
  public:
   /// Builds the world (throws InputError naming the file) and starts the stepping thread, paused.
   explicit LiveSession(const LiveOptions& options);
+  /// With --osp: where OSP and ODCP clients find the gateway, one line each ("orcs-view osp=ADDRESS:PORT", then
+  /// "orcs-view odcp AGENT=ADDRESS:PORT"); empty without.
+  std::vector<std::string> OspEndpointLines() const;
   ~LiveSession();
   LiveSession(const LiveSession&) = delete;
   LiveSession& operator=(const LiveSession&) = delete;
@@ -71,7 +91,7 @@ class LiveSession {
   bool Controls(const std::string& token);
 
   /// "run", "pause", "step" or "reset"; `realtime` paces running to the wall clock. Throws InputError for an
-  /// unknown action.
+  /// unknown action, and for any action when OSP clients drive the simulation (--osp).
   void Control(const std::string& action, bool realtime);
   /// Values whose path matches `pattern` (RE2, bounded): [{"id", "path", "type", "value"}], at most `limit`.
   nlohmann::json Values(const std::string& pattern, std::size_t limit);
@@ -99,6 +119,11 @@ class LiveSession {
   template <typename Task>
   auto OnSimulationThread(Task task) -> decltype(task());
   void Loop();
+  // --osp: the gateway's thread runs instead of Loop(); these are its hooks.
+  void StartOsp();
+  void OnOspCommands();
+  void OnOspStep();
+  void OnOspReset();
   void RunCommands(std::unique_lock<std::mutex>& lock);
   void StepOnce();
   void Publish();
@@ -143,6 +168,15 @@ class LiveSession {
   std::condition_variable frame_published_;
   LiveFrame frame_;
   nlohmann::json state_;  // State() as of the newest frame
+
+  // --osp: the gateway that steps the simulation in the stepping thread, the episode recorder, and the eventfd
+  // that wakes the gateway's poll when a command is posted (the command service polls it).
+  class CommandService;
+  std::unique_ptr<osp::EpisodeRecorder> recorder_;
+  std::unique_ptr<CommandService> command_service_;
+  std::unique_ptr<osp::OspGateway> gateway_;
+  std::string osp_endpoint_;  // the OSP server's address, for State()
+  int wake_fd_ = -1;
 
   // Who controls.
   std::mutex token_mutex_;

@@ -18,13 +18,24 @@
 namespace orcs::viewer {
 namespace {
 
-// Stops the server on SIGINT or SIGTERM: a thread waits for the signals, so no work happens in a handler.
-std::thread WatchSignals(ViewServer& server) {
+sigset_t StopSignals() {
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
+  return signals;
+}
+
+// Stops the server on SIGINT or SIGTERM: a thread waits for the signals, so no work happens in a handler. Every
+// thread must block them, the live session's too, or the kernel could end the process in one (no log finished, no
+// recording written): BlockStopSignals() comes before any thread starts.
+void BlockStopSignals() {
+  const sigset_t signals = StopSignals();
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+}
+
+std::thread WatchSignals(ViewServer& server) {
+  const sigset_t signals = StopSignals();
   return std::thread([signals, &server] {
     int received = 0;
     sigwait(&signals, &received);
@@ -33,6 +44,7 @@ std::thread WatchSignals(ViewServer& server) {
 }
 
 int Serve(const ViewOptions& options) {
+  BlockStopSignals();
   const WebAssets assets(options.web_dir);
   std::unique_ptr<ViewCatalog> catalog;
   std::unique_ptr<LiveSession> live;
@@ -54,6 +66,9 @@ int Serve(const ViewOptions& options) {
   const bool any = options.bind == "0.0.0.0" || options.bind == "::";
   const bool ipv6 = !any && options.bind.find(':') != std::string::npos && !options.bind.starts_with('[');
   const std::string host = any ? "127.0.0.1" : ipv6 ? "[" + options.bind + "]" : options.bind;
+  if (live) {
+    for (const std::string& line : live->OspEndpointLines()) std::cout << line << std::endl;
+  }
   std::cout << "orcs-view: serving http://" << host << ":" << port << "/ (Ctrl-C to stop)" << std::endl;
   server.Serve();
   return cli::kExitOk;

@@ -54,6 +54,22 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
   app.add_option("--control-timeout", l.control_timeout,
                  "with --live: a page silent this many seconds loses control, and its log stops (default 10)")
       ->check(CLI::Range(1.0, 3600.0))->needs(live);
+  LiveOspOptions& osp = l.osp;
+  CLI::Option* osp_flag = app.add_flag("--osp", osp.enabled,
+                                       "with --live: OSP clients step and reset the simulation (orcs-osp -gui); the "
+                                       "page watches, sets values and logs")
+                              ->needs(live);
+  app.add_option("--osp-port", osp.port, "with --osp: the OSP server port (default 45454; 0 = any)")
+      ->check(CLI::Range(0, 65535))->needs(osp_flag);
+  app.add_option("--odcp-port", osp.odcp_port, "with --osp: the ODCP servers' base port (default 45453; 0 = any)")
+      ->check(CLI::Range(0, 65535))->needs(osp_flag);
+  app.add_option("--osp-bind", osp.bind_address, "with --osp: the OSP and ODCP sockets' interface (default 127.0.0.1)")
+      ->needs(osp_flag);
+  app.add_option("--client-timeout", osp.client_timeout_seconds,
+                 "with --osp: seconds of silence after which an OSP client loses its agents (default 10)")
+      ->check(cli::NumberIn(0.001, 1e6))->needs(osp_flag);
+  app.add_option("--record", osp.record, "with --osp: folder for one recording per episode (reset to reset)")
+      ->needs(osp_flag);
   CLI::Option* broker = app.add_option("--broker", o.broker,
                                        "show this broker's dashboard: workers, batches, throughput (its client "
                                        "endpoint, e.g. tcp://127.0.0.1:5555)")
@@ -88,6 +104,9 @@ ParsedViewOptions ParseViewOptions(int argc, const char* const* argv) {
                                  "give recordings or folders to open, --broker ENDPOINT, --live, or --render RUN --out FILE");
     }
     if (r.to >= 0 && r.to <= r.from) throw CLI::ValidationError("--to", "must be after --from");
+    if (osp.enabled && l.start_running) {
+      throw CLI::ValidationError("--run", "not with --osp: the OSP clients step the simulation");
+    }
     l.log_max_bytes = log_max_mib << 20;
   };
   parsed.exit_code = cli::ParseArguments(app, argc, argv, {"env", "ival", "val"}, validate);

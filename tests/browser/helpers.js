@@ -29,13 +29,17 @@ export async function makeRecording(file, args = []) {
 
 /**
  * Starts orcs-view on a free loopback port (--port 0) and waits for its "serving http://..." line. The page is
- * this checkout's viewer/web (its files.txt), or ORCS_WEB_DIR when set. Returns {url, stop()}.
+ * this checkout's viewer/web (its files.txt), or ORCS_WEB_DIR when set. `program` may be another program that
+ * becomes orcs-view (orcs-osp -gui: give it its own port options). Returns {url, osp, stop()}: `osp` is the
+ * OSP server's {host, port} when orcs-view printed one (--osp), else null.
  */
-export function startServer(args) {
-  const webDir = ['--web-dir', path.resolve(repoRoot, process.env.ORCS_WEB_DIR || 'viewer/web')];
-  const child = spawn(path.join(binDir, 'orcs-view'), [...args, '--port', '0', ...webDir], {
+export function startServer(args, { program = 'orcs-view' } = {}) {
+  const own = program === 'orcs-view'
+    ? ['--port', '0', '--web-dir', path.resolve(repoRoot, process.env.ORCS_WEB_DIR || 'viewer/web')] : [];
+  const child = spawn(path.join(binDir, program), [...args, ...own], {
     cwd: repoRoot, stdio: ['ignore', 'pipe', 'pipe'],
   });
+  let osp = null;
   let stderr = '';
   child.stderr.on('data', (d) => { stderr += d; });
   const exited = new Promise((resolve) => child.once('exit', (code, signal) => resolve({ code, signal })));
@@ -47,6 +51,8 @@ export function startServer(args) {
     child.once('error', (err) => { clearTimeout(timer); reject(err); });
     const lines = createInterface({ input: child.stdout });
     lines.on('line', (line) => {
+      const o = / osp=([^\s:]+):(\d+)$/.exec(line);
+      if (o) osp = { host: o[1], port: Number(o[2]) };
       const m = /serving (http:\/\/[^\s/]+)/.exec(line);
       if (m) { clearTimeout(timer); resolve(m[1] + '/'); }
     });
@@ -57,6 +63,7 @@ export function startServer(args) {
   });
   return url.then((u) => ({
     url: u,
+    osp,
     stderr: () => stderr,
     stop: async () => {
       if (child.exitCode === null && child.signalCode === null) child.kill('SIGTERM');

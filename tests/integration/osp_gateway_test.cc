@@ -14,6 +14,7 @@
 
 #include "model/evaluation/recording_reader.h"
 #include "tests/support/background_process.h"
+#include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
 #include "tests/support/udp_peer.h"
 
@@ -225,9 +226,9 @@ class OspGatewayTest : public ::testing::Test {
     const std::optional<std::string> line = server_->ReadLine(milliseconds(10000));
     ASSERT_TRUE(line.has_value()) << server_->err();
     std::smatch match;
-    const std::regex pattern("orcs-osp osp=127\\.0\\.0\\.1:(\\d+)");
+    const std::regex pattern("orcs-(osp|view) osp=127\\.0\\.0\\.1:(\\d+)");  // orcs-view: with -gui
     ASSERT_TRUE(std::regex_match(*line, match, pattern)) << *line;
-    port_ = static_cast<std::uint16_t>(std::stoi(match[1]));
+    port_ = static_cast<std::uint16_t>(std::stoi(match[2]));
   }
   test_support::TempDir dir_;
   std::unique_ptr<BackgroundProcess> server_;
@@ -537,24 +538,58 @@ TEST_F(OspGatewayTest, RecordWritesOneRecordingPerEpisodeThatTheViewerReads) {
   EXPECT_THAT(ended->err, ::testing::HasSubstr("recorded episode 2: " + folder + "/episode-0002.orcsrec, 11 frames"));
 }
 
+// -gui hands the world to orcs-view (tests/browser/osp_gui.test.js drives that page); what it cannot pass on is
+// refused with one line before anything starts.
+TEST_F(OspGatewayTest, GuiRefusesWhatItCannotPassOnWithOneLine) {
+  const std::string record = dir_.Write("r.csv", "# layout: raw\n");
+  const test_support::ProcessResult played = test_support::RunProcess({kBin + "orcs-osp", "-gui", "-play", "Humanoid", record});
+  EXPECT_EQ(played.exit_code, 2);
+  EXPECT_THAT(played.err, ::testing::HasSubstr("-play: not with -gui yet"));
+  const test_support::ProcessResult port = test_support::RunProcess({kBin + "orcs-osp", "--view-port", "0"});
+  EXPECT_EQ(port.exit_code, 2);
+  EXPECT_THAT(port.err, ::testing::HasSubstr("--view-port: only with -gui"));
+}
+
+// With noise on, a seeded reset and 20 steps of a sine on every motor: the outputs, as floats.
+std::vector<float> SeededTrace(OspClient& client, std::int32_t seed) {
+  client.Reset(seed);
+  client.Expect(75);
+  client.Send(Message().Byte(76));
+  std::vector<float> angles;
+  for (int step = 0; step < 20; ++step) {
+    client.SendStep(1, Inputs(0.2f * std::sin(0.3f * static_cast<float>(step))));
+    const std::vector<float> outputs = client.ReceiveStepResult(1).outputs;
+    angles.insert(angles.end(), outputs.begin(), outputs.end());
+  }
+  return angles;
+}
+
+// orcs-osp -gui runs the same gateway inside orcs-view's live session: a client gets the same bits from it.
+TEST_F(OspGatewayTest, TheGuiGatewayGivesTheSameBitsAsOrcsOsp) {
+  const auto traced = [&](std::vector<std::string> extra) {
+    Start(std::move(extra));
+    OspClient client;
+    EXPECT_TRUE(client.Handshake(port_));
+    EXPECT_TRUE(client.TakeControl(1));
+    EXPECT_EQ(client.Set(client.ValueId("/AngularMotor/IncludeNoise"), "T"), 1);
+    std::vector<float> trace = SeededTrace(client, 7);
+    server_->Signal(SIGTERM);
+    EXPECT_TRUE(server_->Wait(milliseconds(10000)).has_value());
+    return trace;
+  };
+  const std::vector<float> headless = traced({});
+  const std::vector<float> watched = traced({"-gui", "--view-port", "0"});
+  ASSERT_EQ(watched.size(), headless.size());
+  EXPECT_EQ(std::memcmp(watched.data(), headless.data(), headless.size() * sizeof(float)), 0) << "bit for bit";
+}
+
 TEST_F(OspGatewayTest, ResetWithASeedGivesTheSameSensorTraceTwice) {
   Start();
   OspClient client;
   ASSERT_TRUE(client.Handshake(port_));
   ASSERT_TRUE(client.TakeControl(1));
   EXPECT_EQ(client.Set(client.ValueId("/AngularMotor/IncludeNoise"), "T"), 1);
-  const auto trace = [&](std::int32_t seed) {
-    client.Reset(seed);
-    client.Expect(75);
-    client.Send(Message().Byte(76));
-    std::vector<float> angles;
-    for (int step = 0; step < 20; ++step) {
-      client.SendStep(1, Inputs(0.2f * std::sin(0.3f * static_cast<float>(step))));
-      const std::vector<float> outputs = client.ReceiveStepResult(1).outputs;
-      angles.insert(angles.end(), outputs.begin(), outputs.end());
-    }
-    return angles;
-  };
+  const auto trace = [&](std::int32_t seed) { return SeededTrace(client, seed); };
   const std::vector<float> first = trace(7);
   const std::vector<float> second = trace(7);
   EXPECT_EQ(std::memcmp(first.data(), second.data(), first.size() * sizeof(float)), 0) << "bit for bit";

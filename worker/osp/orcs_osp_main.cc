@@ -5,26 +5,27 @@
 // serves until SIGINT or SIGTERM.
 //
 //   orcs-osp [-env FILE] [-ival FILE]... [-val FILE]... [-play AGENT RECORD]... [-port 45454]
-//            [-odcp_port 45453] [--bind 127.0.0.1] [--client-timeout 10] [--record DIR]
+//            [-odcp_port 45453] [--bind 127.0.0.1] [--client-timeout 10] [--record DIR] [-gui [--view-port P]]
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <iostream>
 
 #include "model/core/error.h"
 #include "net/cli_style.h"
+#include "model/core/text.h"
 #include "worker/osp/episode_recorder.h"
-#include "worker/osp/odcp_server.h"
-#include "worker/osp/osp_server.h"
+#include "worker/osp/osp_gateway.h"
 #include "worker/osp/protocol_values.h"
+#include "worker/view_launch.h"
 #include "worker/sim/played_records.h"
 #include "model/scene/world_setup.h"
 
 namespace {
 
-orcs::osp::OspServer* running_server = nullptr;
+orcs::osp::OspGateway* running_gateway = nullptr;
 
 extern "C" void OnSignal(int) {
-  if (running_server != nullptr) running_server->Stop();  // async-signal-safe: one write()
+  if (running_gateway != nullptr) running_gateway->Stop();  // async-signal-safe: one write()
 }
 
 struct OspOptions {
@@ -38,44 +39,9 @@ struct OspOptions {
   std::string bind_address = "127.0.0.1";
   double client_timeout_seconds = 10.0;
   std::string record;  // --record DIR: one recording per episode, "" = none
+  bool gui = false;    // -gui: orcs-view --live --osp on this world
+  int view_port = -1;  // --view-port: orcs-view's HTTP port with -gui; -1 = its default (8765)
 };
-
-// The port of an option, or of its repository value when the option was not given; InputError when out of range.
-int PortOf(int option, const orcs::VariableRepository& repository, std::string_view path) {
-  const std::int64_t port = option >= 0 ? option : repository.Get(path).as_int();
-  if (port < 0 || port > 65535) {
-    throw orcs::InputError(std::string(path), 0, "expected a port 0..65535, found " + std::to_string(port));
-  }
-  return static_cast<int>(port);
-}
-
-// One ODCP server per agent (docs/osp.md, "Ports"), served in the OSP server's thread; a line on stdout each.
-struct OdcpServers {
-  std::vector<std::unique_ptr<orcs::osp::AgentMotors>> motors;  // what each server drives (outlives it)
-  std::vector<std::unique_ptr<orcs::osp::OdcpServer>> servers;  // by agent index
-};
-
-OdcpServers StartOdcp(orcs::scene::Simulation& simulation, orcs::osp::OspServer& osp, const OspOptions& options) {
-  OdcpServers odcp;
-  const int base = PortOf(options.odcp_port, simulation.repository(), orcs::osp::kOdcpServerPortPath);
-  try {
-    const std::vector<std::uint16_t> ports = orcs::osp::OdcpPorts(base, simulation.agent_count(), osp.endpoint().port);
-    for (int a = 0; a < simulation.agent_count(); ++a) {
-      odcp.motors.push_back(std::make_unique<orcs::osp::AgentMotors>(
-          orcs::osp::MakeAgentInterface(simulation, a),
-          simulation.repository().Find(orcs::osp::kOdcpReportGoalAnglesPath)));
-      orcs::osp::OdcpServerOptions server_options;
-      server_options.bind_address = options.bind_address;
-      server_options.port = ports[static_cast<std::size_t>(a)];
-      server_options.name = "orcs-osp: ODCP " + odcp.motors.back()->name();
-      odcp.servers.push_back(std::make_unique<orcs::osp::OdcpServer>(*odcp.motors.back(), server_options));
-      osp.AddService(odcp.servers.back().get());
-    }
-  } catch (const std::runtime_error& error) {  // a port in use or beyond 65535: bad input
-    throw orcs::InputError(std::string("-odcp_port: ") + error.what());
-  }
-  return odcp;
-}
 
 int Serve(const OspOptions& options) {
   orcs::scene::Simulation simulation;
@@ -87,14 +53,6 @@ int Serve(const OspOptions& options) {
   if (!ignored.empty()) std::cerr << "orcs-osp: " << ignored.Warning() << "\n";
   simulation.Reset(0);
   std::vector<orcs::control::KeyframePlayer> players = orcs::sim::MakePlayers(options.play, simulation, "orcs-osp");
-  orcs::osp::OspServerOptions server_options;
-  server_options.bind_address = options.bind_address;
-  server_options.port =
-      static_cast<std::uint16_t>(PortOf(options.port, simulation.repository(), orcs::osp::kOspServerPortPath));
-  server_options.client_timeout = std::chrono::milliseconds(std::lround(options.client_timeout_seconds * 1000.0));
-  server_options.before_step = [&players](double time) {
-    for (orcs::control::KeyframePlayer& player : players) player.Apply(time);
-  };
   std::unique_ptr<orcs::osp::EpisodeRecorder> recorder;
   if (!options.record.empty()) {
     recorder = std::make_unique<orcs::osp::EpisodeRecorder>(
@@ -103,33 +61,48 @@ int Serve(const OspOptions& options) {
                                                       .log = [](std::string_view line) {
                                                         std::cerr << "orcs-osp: " << line << std::endl;
                                                       }});
-    server_options.after_step = [&recorder] { recorder->Sample(); };
   }
-  server_options.after_reset = [&players, &recorder] {
+  orcs::osp::OspGatewayOptions gateway_options;
+  gateway_options.port = options.port;
+  gateway_options.odcp_port = options.odcp_port;
+  gateway_options.bind_address = options.bind_address;
+  gateway_options.client_timeout_seconds = options.client_timeout_seconds;
+  gateway_options.before_step = [&players](double time) {
+    for (orcs::control::KeyframePlayer& player : players) player.Apply(time);
+  };
+  if (recorder) gateway_options.after_step = [&recorder] { recorder->Sample(); };
+  gateway_options.after_reset = [&players, &recorder] {
     for (orcs::control::KeyframePlayer& player : players) player.Reset();  // the record starts again at time 0
     if (recorder) recorder->NextEpisode();
   };
-  std::unique_ptr<orcs::osp::OspServer> server;
-  try {
-    server = std::make_unique<orcs::osp::OspServer>(simulation, server_options);
-  } catch (const std::runtime_error& error) {  // a port in use, an address that cannot be bound: bad input
-    throw orcs::InputError(error.what());
-  }
-  const OdcpServers odcp = StartOdcp(simulation, *server, options);
-  running_server = server.get();
+  orcs::osp::OspGateway gateway(simulation, std::move(gateway_options));
+  running_gateway = &gateway;
   struct sigaction action = {};
   action.sa_handler = OnSignal;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
-  std::cout << "orcs-osp osp=" << server->endpoint().ToString() << std::endl;
-  for (std::size_t a = 0; a < odcp.servers.size(); ++a) {
-    std::cout << "orcs-osp odcp " << odcp.motors[a]->name() << "=" << odcp.servers[a]->endpoint().ToString()
-              << std::endl;
-  }
-  server->Run();
-  running_server = nullptr;
+  for (const std::string& line : gateway.EndpointLines("orcs-osp")) std::cout << line << std::endl;
+  gateway.Run();
+  running_gateway = nullptr;
   return orcs::cli::kExitOk;
+}
+
+// -gui: the original ClientSimulator's -gui. orcs-view's live mode serves the same world to the browser while OSP
+// clients drive it (orcs-view --live --osp, docs/viewer.md).
+int LaunchGui(const char* argv0, const OspOptions& options) {
+  std::vector<std::string> arguments = {"--osp"};
+  if (!options.environment.empty()) arguments.insert(arguments.end(), {"--env", options.environment});
+  for (const std::string& file : options.initial_value_files) arguments.insert(arguments.end(), {"--ival", file});
+  for (const std::string& file : options.value_files) arguments.insert(arguments.end(), {"--val", file});
+  if (options.strict) arguments.push_back("--strict");
+  if (options.port >= 0) arguments.insert(arguments.end(), {"--osp-port", std::to_string(options.port)});
+  if (options.odcp_port >= 0) arguments.insert(arguments.end(), {"--odcp-port", std::to_string(options.odcp_port)});
+  arguments.insert(arguments.end(), {"--osp-bind", options.bind_address, "--client-timeout",
+                                     orcs::text::FormatDouble(options.client_timeout_seconds)});
+  if (!options.record.empty()) arguments.insert(arguments.end(), {"--record", options.record});
+  if (options.view_port >= 0) arguments.insert(arguments.end(), {"--port", std::to_string(options.view_port)});
+  return orcs::ReplaceWithLiveView(argv0, "orcs-osp", arguments);
 }
 
 }  // namespace
@@ -160,9 +133,23 @@ int main(int argc, char** argv) {
   app.add_option("--client-timeout", options.client_timeout_seconds,
                  "seconds of silence after which a client loses its agents (default 10)")
       ->check(orcs::cli::NumberIn(0.001, 1e6));
-  if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"env", "ival", "val", "play", "port", "odcp_port"}); exit_code >= 0) {
+  app.add_flag("--gui", options.gui,
+               "serve the world to orcs-view's page while OSP clients drive it (orcs-view --live --osp; the "
+               "original ClientSimulator's -gui; -gui also accepted)");
+  app.add_option("--view-port", options.view_port, "with -gui: orcs-view's HTTP port (default 8765; 0 = any)")
+      ->check(CLI::Range(0, 65535));
+  const auto validate = [&options] {
+    if (options.gui && !options.play.empty()) {
+      throw CLI::ValidationError("-play", "not with -gui yet: play the record from an OSP client, or run without -gui");
+    }
+    if (!options.gui && options.view_port >= 0) throw CLI::ValidationError("--view-port", "only with -gui");
+  };
+  if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv,
+                                                      {"env", "ival", "val", "play", "port", "odcp_port", "gui"}, validate);
+      exit_code >= 0) {
     return exit_code;
   }
+  if (options.gui) return LaunchGui(argv[0], options);
   try {
     return Serve(options);
   } catch (const orcs::InputError& error) {

@@ -122,7 +122,10 @@ export class Live {
     }
     const stopped = f.message ? `   stopped: ${f.message}` : (f.status && f.status !== 'ok' ? `   ${f.status}` : '');
     const real = Number.isFinite(f.real_time) ? ` (real ${Number(f.real_time).toFixed(1)} s)` : '';
-    $('live-time').textContent = `t = ${Number(f.time).toFixed(3)} s${real}   step ${f.step}   ${f.running ? 'running' : 'paused'}${f.realtime ? ', real time' : ', as fast as possible'}${stopped}`;
+    // orcs-osp -gui: the OSP clients step and reset it; the page has no Run, Pause, Step or Reset then.
+    document.body.classList.toggle('osp-driven', !!f.osp);
+    const how = f.osp ? `driven over OSP at ${f.osp}` : `${f.running ? 'running' : 'paused'}${f.realtime ? ', real time' : ', as fast as possible'}`;
+    $('live-time').textContent = `t = ${Number(f.time).toFixed(3)} s${real}   step ${f.step}   ${how}${stopped}`;
     if (f.message && f.message !== this.shownMessage) showError(`the simulation stopped: ${f.message}`);
     this.shownMessage = f.message || '';
     $('time-label').textContent = `t = ${Number(f.time).toFixed(3)} s`;

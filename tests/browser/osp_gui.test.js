@@ -1,0 +1,69 @@
+// orcs-osp -gui, the original ClientSimulator's -gui, in a real browser: orcs-osp hands its world to orcs-view,
+// whose live simulation the OSP clients step. The shipped example client (scripts/osp_example_client.py) swings a
+// robot's shoulder while the page watches: the page's frames follow the client's steps, the arm moves in the 3D
+// view, the run bar says who drives, the page offers no Run, Step or Reset (the server refuses them), and the
+// client's reset at its end takes the page back to step 0.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import path from 'node:path';
+import { spawn } from 'node:child_process';
+import { mkdir } from 'node:fs/promises';
+import { repoRoot, startServer, launchBrowser, openPage, fetchJson, until } from './helpers.js';
+
+let server, browser, page;
+
+before(async () => {
+  server = await startServer(['-gui', '-port', '0', '-odcp_port', '0', '--view-port', '0'], { program: 'orcs-osp' });
+  browser = await launchBrowser();
+  page = await openPage(browser, server.url);
+});
+
+after(async () => {
+  await browser?.close();
+  await server?.stop();
+});
+
+/** The example client for `steps` steps on the gateway: resolves to {code, out}. */
+function exampleClient(steps) {
+  const child = spawn('python3', [path.join(repoRoot, 'scripts/osp_example_client.py'), '--host', server.osp.host,
+    '--port', String(server.osp.port), '--joint', 'Right/ShoulderYaw', '--steps', String(steps)], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let out = '';
+  child.stdout.on('data', (d) => { out += d; });
+  child.stderr.on('data', (d) => { out += d; });
+  return new Promise((resolve) => child.once('exit', (code) => resolve({ code, out })));
+}
+
+test('an OSP client drives the simulation the page shows; the page watches and cannot step it', async () => {
+  assert.ok(server.osp, `orcs-view printed its OSP address: ${server.stderr()}`);
+  const bar = page.locator('#live-time');
+  await until(async () => new RegExp(`driven over OSP at ${server.osp.host}:${server.osp.port}`).test(await bar.textContent()),
+    10_000, 'the run bar naming the OSP server');
+  for (const id of ['live-run', 'live-step', 'live-reset']) assert.equal(await page.locator(`#${id}`).isVisible(), false, `#${id} hidden`);
+  const arm = 'Humanoid/Right/UpperArm';
+  const before = await page.evaluate((b) => orcsView.bodies[b].quaternion.slice(), arm);
+  assert.equal(await page.evaluate(() => orcsView.frame), 0);
+
+  const client = exampleClient(300);
+  await until(() => page.evaluate(() => orcsView.frame >= 100), 30_000, 'the page following the client\'s steps');
+  const swung = await page.evaluate((b) => orcsView.bodies[b].quaternion.slice(), arm);
+  const turned = 2 * Math.acos(Math.min(1, Math.abs(before.reduce((s, q, i) => s + q * swung[i], 0)))) * 180 / Math.PI;
+  assert.ok(turned > 5, `the upper arm turned ${turned.toFixed(1)}° in the page as the client swung the shoulder`);
+  if (process.env.ORCS_SCREENSHOT_DIR) {
+    const dir = path.resolve(repoRoot, process.env.ORCS_SCREENSHOT_DIR);
+    await mkdir(dir, { recursive: true });
+    await page.click('[data-camera="follow"]');
+    await page.screenshot({ path: path.join(dir, 'viewer_osp.png') });
+  }
+  const { code, out } = await client;
+  assert.equal(code, 0, out);
+  assert.match(out, /steps: 300/);
+  await until(() => page.evaluate(() => orcsView.frame === 0 && orcsView.time === 0), 10_000, 'the client\'s reset shown');
+
+  const { token } = await fetchJson(`${server.url}api/live/claim`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{}' });
+  const refused = await fetch(`${server.url}api/live/control`, {
+    method: 'POST', headers: { 'Content-Type': 'application/json', 'X-Orcs-Token': token }, body: JSON.stringify({ action: 'run' }),
+  });
+  assert.equal(refused.status, 400);
+  assert.match(await refused.text(), /OSP clients step and reset this simulation/);
+  assert.deepEqual(page.orcsProblems, []);
+});
