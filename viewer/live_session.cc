@@ -108,6 +108,13 @@ void LiveSession::StartOsp() {
   thread_ = std::thread([this] { gateway_->Run(); });
 }
 
+std::string LiveSession::Title() const {
+  const std::string world = options_.environment.empty()
+                                ? "one A-Series"
+                                : std::filesystem::path(options_.environment).filename().string();
+  return "live: " + world + (gateway_ ? " · driven over OSP at " + osp_endpoint_ : "");
+}
+
 std::vector<std::string> LiveSession::OspEndpointLines() const {
   return gateway_ ? gateway_->EndpointLines("orcs-view") : std::vector<std::string>{};
 }

@@ -70,6 +70,8 @@ class LiveSession {
   /// With --osp: where OSP and ODCP clients find the gateway, one line each ("orcs-view osp=ADDRESS:PORT", then
   /// "orcs-view odcp AGENT=ADDRESS:PORT"); empty without.
   std::vector<std::string> OspEndpointLines() const;
+  /// What the page's header names: "live: example.xml" (or "live: one A-Series"), "· driven over OSP" with --osp.
+  std::string Title() const;
   ~LiveSession();
   LiveSession(const LiveSession&) = delete;
   LiveSession& operator=(const LiveSession&) = delete;

@@ -342,6 +342,22 @@ std::vector<std::string> ViewServer::Answer(std::string_view bytes, int max_requ
   return answers;
 }
 
+namespace {
+
+// The page header's name for what is served: the top items' labels, at most three ("b1, swing +2 more").
+std::string TitleOf(const nlohmann::json& items) {
+  std::vector<std::string> labels;
+  for (const nlohmann::json& item : items) {
+    if (!item.contains("parent")) labels.push_back(item.value("label", item.value("id", "")));
+  }
+  std::string title;
+  for (std::size_t i = 0; i < labels.size() && i < 3; ++i) title += (i ? ", " : "") + labels[i];
+  if (labels.size() > 3) title += " +" + std::to_string(labels.size() - 3) + " more";
+  return title;
+}
+
+}  // namespace
+
 void ViewServer::AddPageRoutes() {
   server_->Get("/", [this](const Request&, Response& response) {
     const WebAsset* page = assets_.Find("index.html");
@@ -356,8 +372,9 @@ void ViewServer::AddPageRoutes() {
     response.set_content(asset->content, asset->content_type);
   });
   server_->Get("/api/session", [this](const Request&, Response& response) {
-    nlohmann::json session = {{"mode", live_ != nullptr ? "live" : "files"}, {"title", "orcs-view"}};
+    nlohmann::json session = {{"mode", live_ != nullptr ? "live" : "files"}, {"title", ""}};
     if (catalog_ != nullptr) session["items"] = catalog_->ItemsJson();
+    session["title"] = live_ != nullptr ? live_->Title() : TitleOf(session.value("items", nlohmann::json::array()));
     if (live_ != nullptr) session["items"] = {{{"id", "live"}, {"kind", "live"}, {"label", "live simulation"}}};
     if (render_ != nullptr) session["render"] = true;
     if (broker_ != nullptr) {

@@ -190,6 +190,9 @@ test('once a worker connects again, the page follows the run to its end without 
   assert.equal(s.lineState, 'finished');
   assert.match(s.lineClass, /\bstate-finished\b/);
   assert.match(s.lineText, /evolve finished/);
+  // Ended, the line counts generations, not the last generation's jobs (which read as the run's: "12/12 jobs").
+  assert.match(s.lineText, new RegExp(`generations 0–${GENERATIONS} of 0–${GENERATIONS}`));
+  assert.doesNotMatch(s.lineText, /jobs/);
   assert.doesNotMatch(s.detail, /null|undefined|NaN/);
   // The curve: drawn again from generations 0 to 6 (fitness.csv as the server reads it).
   assert.equal(s.generations, `${GENERATIONS + 1} generations`);

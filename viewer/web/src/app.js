@@ -41,6 +41,7 @@ const state = {
   plot: (path) => plot(path),
   open: (id) => open(id),
   get views() { return world ? world.viewList() : []; },
+  screenOf: (body) => world.screenOf(String(body)),
   addView: (spec) => addView(spec),
   removeView: (id) => removeView(id),
 };
@@ -426,13 +427,14 @@ function channelsFor(found) {
   return all.filter((c) => c.startsWith(prefix)).slice(0, 6);
 }
 
-async function select(name) {
+async function select(name, geom = '') {
   const found = resolve(String(name));
   if (!found) { showError(`nothing named "${name}" in this world`); return false; }
   selected = found.obj.name;
   world.highlight(found.kind === 'body' ? found.obj.name : null);
   markTree();
-  $('selection').textContent = `${found.kind}: ${found.obj.name}`;
+  const part = geom && !found.obj.name.endsWith(geom) ? ` — its part ${geom}` : '';
+  $('selection').textContent = `${found.kind}: ${found.obj.name}${part}`;
   if (live) live.showObject(found.kind === 'body' ? found.obj.name : null).catch((err) => showError(err));
   plots.clear();
   for (const path of channelsFor(found)) await plots.add(path);
@@ -531,6 +533,8 @@ function wireUi() {
   $('toggle-joints').addEventListener('change', (e) => world.setJointsVisible(e.target.checked));
   $('toggle-bodies').addEventListener('change', (e) => world.setBodiesVisible(e.target.checked));
   $('toggle-ghost').addEventListener('change', (e) => world.setGhostVisible(e.target.checked));
+  $('toggle-shadows').checked = world.shadows;
+  $('toggle-shadows').addEventListener('change', (e) => world.setShadows(e.target.checked));
   $('tl-play').addEventListener('click', () => (state.playing ? pause() : play()));
   $('tl-back').addEventListener('click', () => step(-1));
   $('tl-forward').addEventListener('click', () => step(1));
@@ -561,7 +565,7 @@ function wireUi() {
   canvas.addEventListener('pointerup', (e) => {
     if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
     const name = world.pick(e.clientX, e.clientY);
-    if (name) select(name);
+    if (name) select(name, world.pickedGeom);
   });
 
   window.addEventListener('keydown', (e) => {

@@ -17,6 +17,41 @@ function duration(s) {
 const FOLLOW_MS = 1000;       // how often a running item is asked for again
 const STALE_SECONDS = 120;    // no news for this long: the command may have stopped
 
+/**
+ * The run an item opens with: a batch's fittest job with a recording, an evolve run's winner, a gap report's first
+ * run (its replay with the measured run overlaid). {rid, opts} or null.
+ */
+function bestRun(kind, id, answer) {
+  if (kind === 'batch') {
+    const jobs = (Array.isArray(answer.jobs) ? answer.jobs : []).filter((j) => j.recording);
+    if (!jobs.length) return null;
+    const score = (j) => (typeof j.fitness === 'number' && Number.isFinite(j.fitness) ? j.fitness : -Infinity);
+    const best = jobs.reduce((a, b) => (score(b) > score(a) ? b : a));
+    return { rid: best.recording, opts: { label: `${answer.name || id} · ${best.job} (best)` } };
+  }
+  if (kind === 'evolve' && answer.recording) return { rid: answer.recording, opts: { label: `${answer.name || id} · winner` } };
+  if (kind === 'gap') {
+    const run = (Array.isArray(answer.runs) ? answer.runs : []).find((r) => r.simulated);
+    if (!run) return null;
+    return { rid: run.simulated, opts: { label: `${run.name} (simulated)`, overlay: run.measured || null, overlayLabel: `${run.name} (measured)` } };
+  }
+  return null;
+}
+
+/** Equal-width bins over `values` (finite numbers): {centres, counts, width}; null for fewer than two values. */
+function histogram(values) {
+  if (values.length < 2) return null;
+  const lo = Math.min(...values), hi = Math.max(...values);
+  const bins = Math.max(5, Math.min(20, Math.ceil(Math.sqrt(values.length))));
+  const width = hi > lo ? (hi - lo) / bins : 1;
+  const counts = new Array(bins).fill(0);
+  for (const v of values) counts[Math.min(bins - 1, Math.floor((v - lo) / width))]++;
+  return { centres: counts.map((_, i) => lo + (i + 0.5) * width), counts, width };
+}
+
+// Tick steps for axes that count (generations, jobs): no 0.2 of a generation.
+const WHOLE_STEPS = [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000];
+
 const KIND_ICON = { recording: '▶', batch: '▦', evolve: '↗', gap: '≈', live: '●', broker: '⛁' };
 
 export class Items {
@@ -51,6 +86,7 @@ export class Items {
 
   clearDetail() {
     if (this.fitnessPlot) { this.fitnessPlot.destroy(); this.fitnessPlot = null; }
+    this.detail().hidden = true;
     clearTimeout(this.followTimer);
     this.followTimer = null;
     this.current = null;
@@ -78,8 +114,12 @@ export class Items {
       if (this.fitnessPlot) { this.fitnessPlot.destroy(); this.fitnessPlot = null; }
       this.current = id;
       this.shownBody = bodyText;
+      this.detail().hidden = false;
       this.detail().append(el('div', { id: 'run-progress' }));
       render(answer);
+      // Opened anew: the 3D view shows the item's best run at once rather than staying empty.
+      const best = same ? null : bestRun(kind, id, answer);
+      if (best) await this.ctx.openRecording(best.rid, best.opts);
       const table = this.detail().querySelector('.table-wrap');
       if (table && scroll) table.scrollTop = scroll;  // a growing table keeps the reader's place
       if (same) this.ctx.refreshSession?.();  // recordings may have appeared: list them
@@ -101,9 +141,14 @@ export class Items {
     if (!box) return;
     if (!p) { box.replaceChildren(); box.className = ''; return; }
     const parts = [];
-    if (p.label) parts.push(p.label);
-    if (typeof p.done === 'number' && typeof p.total === 'number') {
-      parts.push(`${p.done}/${p.total} jobs (ok ${p.ok ?? p.done}, failed ${p.failed ?? 0})`);
+    // An evolve run's counts are its generation's, not the run's: said so, and left out once it has ended.
+    const generationJobs = kind === 'evolve' && typeof p.generation === 'number';
+    const ended = generationJobs && p.state !== 'running' && typeof p.generations === 'number';
+    if (p.label && !ended) parts.push(p.label);
+    if (ended) {
+      parts.push(`generations 0–${p.last_generation ?? p.generation} of 0–${p.generations}`);
+    } else if (typeof p.done === 'number' && typeof p.total === 'number') {
+      parts.push(`${p.done}/${p.total} jobs${generationJobs ? ' in this generation' : ''} (ok ${p.ok ?? p.done}, failed ${p.failed ?? 0})`);
       if (p.jobs_per_second > 0) parts.push(`${fmt(p.jobs_per_second, 3)} jobs/s`);
       if (p.eta_seconds >= 0 && p.state === 'running') parts.push(`ETA ${duration(p.eta_seconds)}`);
     }
@@ -176,10 +221,28 @@ export class Items {
       },
     }, col)));
     renderRows();
+    const histogramDiv = el('div', { class: 'chart', id: 'fitness-histogram' });
     put(this.detail(),
       el('h2', {}, `Batch: ${batch.name || id}`),
       el('div', { class: 'muted' }, `${jobs.length} jobs; click a row with a recording to open it; click a column to sort`),
-      el('div', { class: 'table-wrap' }, el('table', { class: 'grid', id: 'batch-table' }, el('thead', {}, headRow), tbody)));
+      el('div', { class: 'item-panes' },
+        el('div', { class: 'table-wrap' }, el('table', { class: 'grid', id: 'batch-table' }, el('thead', {}, headRow), tbody)),
+        histogramDiv));
+    this.drawHistogram(histogramDiv, jobs.map((j) => j.fitness).filter((f) => typeof f === 'number' && Number.isFinite(f)));
+  }
+
+  /** The batch's fitness histogram: how many jobs in each of 5–20 equal bins. */
+  drawHistogram(div, fitness) {
+    const h = histogram(fitness);
+    if (!h) { div.append(el('div', { class: 'muted' }, 'a histogram needs two jobs with a fitness')); return; }
+    const axis = { stroke: '#aeb6c2', grid: { stroke: '#2c323b' }, ticks: { stroke: '#3a414b' } };
+    this.fitnessPlot = new uPlot({
+      title: `Fitness of ${fitness.length} jobs`,
+      width: 280, height: 190,
+      scales: { x: { time: false, range: [h.centres[0] - h.width, h.centres[h.centres.length - 1] + h.width] }, y: { range: [0, Math.max(...h.counts) + 1] } },
+      axes: [{ ...axis, label: 'fitness' }, { ...axis, label: 'jobs', size: 40, incrs: WHOLE_STEPS }],
+      series: [{ label: 'fitness' }, { label: 'jobs', fill: 'rgba(78, 161, 255, 0.55)', stroke: '#4ea1ff', paths: uPlot.paths.bars({ size: [0.92, 100] }), points: { show: false } }],
+    }, [h.centres, h.counts], div);
   }
 
   renderEvolve(id, evo) {
@@ -199,7 +262,7 @@ export class Items {
       title: 'Fitness (higher is better)',
       width, height: 200,
       scales: { x: { time: false } },
-      axes: [{ ...axis, label: 'generation' }, { ...axis, label: 'fitness', size: 52 }],
+      axes: [{ ...axis, label: 'generation', incrs: WHOLE_STEPS }, { ...axis, label: 'fitness', size: 52 }],
       series: [{ label: 'generation' },
         { label: 'best', stroke: '#2ed573', width: 2 },
         { label: 'median', stroke: '#4ea1ff', width: 1.5 },

@@ -92,6 +92,29 @@ function quat(a) {
   return new THREE.Quaternion(q[1], q[2], q[3], q[0]);  // header [w, x, y, z] -> three (x, y, z, w)
 }
 
+/**
+ * A square grid on the XZ plane, `size` metres wide with `divisions` cells a side, each line cut into one segment
+ * per cell. THREE.GridHelper draws each line as one segment, and software GL (SwiftShader) drops a segment that
+ * crosses the camera's plane instead of clipping it: seen from inside the grid (every preset, a head camera)
+ * the lines running away from the camera vanished and the floor showed as stripes.
+ */
+function segmentedGrid(size, divisions, color, opacity = 1) {
+  const half = size / 2, step = size / divisions;
+  const points = new Float32Array((divisions + 1) * divisions * 2 * 2 * 3);
+  let k = 0;
+  const put = (x, z) => { points[k++] = x; points[k++] = 0; points[k++] = z; };
+  for (let i = 0; i <= divisions; i++) {
+    const a = -half + i * step;
+    for (let j = 0; j < divisions; j++) {
+      const b0 = -half + j * step, b1 = b0 + step;
+      put(a, b0); put(a, b1);  // along Z
+      put(b0, a); put(b1, a);  // along X
+    }
+  }
+  const material = new THREE.LineBasicMaterial({ color, transparent: opacity < 1, opacity });
+  return new THREE.LineSegments(new THREE.BufferGeometry().setAttribute('position', new THREE.BufferAttribute(points, 3)), material);
+}
+
 function geometryOf(geom) {
   const s = geom.size || [];
   switch (geom.shape) {
@@ -151,7 +174,16 @@ export class World {
     this.scene.add(hemi);
     const sun = new THREE.DirectionalLight(0xffffff, 1.6);
     sun.position.set(-1.5, 3, 2);
-    this.scene.add(sun);
+    this.scene.add(sun, sun.target);
+    this.sun = sun;
+    // Shadows on the floor make depth readable (where a foot is, how high the robot is). They cost a second
+    // pass and a floor-wide fill, too much for software GL: there they start off (the "shadows" box).
+    this.renderer.shadowMap.enabled = true;
+    sun.shadow.mapSize.set(1024, 1024);
+    sun.shadow.bias = -0.0005;
+    Object.assign(sun.shadow.camera, { left: -1, right: 1, top: 1, bottom: -1, near: 0.1, far: 10 });
+    this.shadowCatcher = null;  // a plane over the floor that shows only the shadows (addFloor)
+    this.shadows = !softwareGL();
 
     this.root = new THREE.Group();         // bodies of the shown run
     this.ghostRoot = new THREE.Group();    // a second run drawn translucent
@@ -189,6 +221,7 @@ export class World {
     this.following = false;
     this.lastCenter = null;
     this.selected = null;
+    this.pickedGeom = '';   // the geom the last pick() hit
     this.views = [];        // the Camera Manager's extra views: {id, kind, body, agent, preset, camera, eye, label}
     this.nextViewId = 1;
     this.viewport = { width: 1, height: 1 };  // the canvas in CSS pixels
@@ -273,9 +306,11 @@ export class World {
         }
         if (!ghost && opacity === 0) material.visible = false;
         const mesh = new THREE.Mesh(geometry, material);
+        mesh.castShadow = !ghost && opacity > 0;
         mesh.position.copy(vec(geom.offset));
         mesh.quaternion.copy(quat(geom.rotation));
         mesh.userData.body = body.name;
+        mesh.userData.geom = geom.name || '';
         if (geom.texture) mesh.userData.texture = geom.texture;
         group.add(mesh);
         meshes.push(mesh);
@@ -298,13 +333,17 @@ export class World {
     floor.rotation.x = -Math.PI / 2;
     floor.position.y = y;
     floor.userData.floor = true;
-    const grid = new THREE.GridHelper(4, 40, 0x6c7380, 0x6c7380);
+    const grid = segmentedGrid(4, 40, 0x6c7380, 0.35);
     grid.position.y = y + 0.0005;
-    grid.material.transparent = true;
-    grid.material.opacity = 0.35;
-    const major = new THREE.GridHelper(20, 20, 0x4f5662, 0x4f5662);
+    const major = segmentedGrid(20, 20, 0x4f5662);
     major.position.y = y + 0.0008;
-    this.staticRoot.add(floor, grid, major);
+    const catcher = new THREE.Mesh(new THREE.PlaneGeometry(40, 40), new THREE.ShadowMaterial({ opacity: 0.35 }));
+    catcher.rotation.x = -Math.PI / 2;
+    catcher.position.y = y + 0.0002;
+    catcher.receiveShadow = true;
+    this.shadowCatcher = catcher;
+    this.staticRoot.add(floor, catcher, grid, major);
+    this.setShadows(this.shadows);
   }
 
   /** Replaces the world by a recording header's bodies, joints and agents. */
@@ -318,7 +357,7 @@ export class World {
     this.agents = (header.agents || []).map((a) => a.name);
     this.hasFloor = (header.bodies || []).some((b) => (b.geoms || []).some((g) => g.shape === 'plane'));
     if (!this.hasFloor) {
-      const grid = new THREE.GridHelper(10, 100, 0x8a94a6, 0x4a515c);
+      const grid = segmentedGrid(10, 100, 0x4a515c);
       this.staticRoot.add(grid);
     }
     this.buildJoints(header);
@@ -408,6 +447,22 @@ export class World {
     });
     pos.needsUpdate = true;
     this.jointDots.instanceMatrix.needsUpdate = true;
+  }
+
+  /** Shadows of the bodies on the floor, from the light above the robot. */
+  setShadows(on) {
+    this.shadows = !!on;
+    this.sun.castShadow = this.shadows;
+    if (this.shadowCatcher) this.shadowCatcher.visible = this.shadows;
+    this.needsDraw = true;
+  }
+
+  /** Keeps the light's shadow box on the first robot as it moves. */
+  aimLight() {
+    if (!this.shadows) return;
+    const c = this.robotCenter(this._tmpV);
+    this.sun.target.position.copy(c);
+    this.sun.position.set(c.x - 1.5, c.y + 3, c.z + 2);
   }
 
   setJointsVisible(on) { this.jointGroup.visible = on; this.updateJoints(); this.needsDraw = true; }
@@ -514,7 +569,20 @@ export class World {
     const meshes = [];
     for (const b of this.bodies) if (b.group.parent && b.group.parent.visible) meshes.push(...b.meshes);
     const hits = this.raycaster.intersectObjects(meshes, false).filter((h) => h.object.material.visible);
+    // Which of the body's geoms was hit: a body's name can hide what one sees (the A-Series' pelvis is
+    // Middle/InvisiblePart, an invisible box carrying the hip servos and plate).
+    this.pickedGeom = hits.length ? hits[0].object.userData.geom : '';
     return hits.length ? hits[0].object.userData.body : null;
+  }
+
+  /** Where body `name`'s origin is drawn in the main view, in client pixels {x, y}; null when it is not in the world. */
+  screenOf(name) {
+    const body = this.byName.get(name);
+    if (!body) return null;
+    const p = body.group.getWorldPosition(new THREE.Vector3()).project(this.camera);
+    const rect = this.canvas.getBoundingClientRect();
+    const width = rect.width * this.mainShare();
+    return { x: rect.left + ((p.x + 1) / 2) * width, y: rect.top + ((1 - p.y) / 2) * rect.height };
   }
 
   highlight(name) {
@@ -644,6 +712,7 @@ export class World {
   }
 
   render() {
+    this.aimLight();
     if (!this.views.length) {
       this.renderer.render(this.scene, this.camera);
       this.needsDraw = false;
