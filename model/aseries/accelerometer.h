@@ -17,21 +17,27 @@ class RandomStream;
 
 namespace orcs::aseries {
 
-/// Parameters shared by all boards.
+/// One board's parameters (each board has its own copies of the /AccelSensor/... values: per_motor_parameters.h).
 struct AccelerometerParameters {
   double deviation = 0.0001;      ///< σ of the reading noise, m/s², 0 = none, /AccelSensor/Deviation
   int low_pass_filter_delay = 1;  ///< moving-average window N, samples, 1..kMaxWindow, /AccelSensor/LowPassFilterDelay
   double gravity = 9.81;          ///< gravity magnitude along −y, m/s², /Simulation/Gravitation
-  double cut_off = 11.772;        ///< |reading| above which the last in-range pair is held, m/s² (1.2 g)
-  double range = 16.072704;       ///< readings are clamped to ±range, m/s² (±1.6384 g)
+  double cut_off = 11.772;        ///< |reading| above which the last in-range pair is held, m/s² (1.2 g), /AccelSensor/CutOff
+  double range = 16.072704;       ///< readings are clamped to ±range, m/s² (±1.6384 g), /AccelSensor/Range
 
   static constexpr int kMaxWindow = 64;  ///< capacity of the moving-average window
 };
 
-/// Repository paths of the AccelerometerParameters fields that live in the repository.
-inline constexpr std::array<ParameterField<AccelerometerParameters>, 3> kAccelerometerParameterTable{{
+/// Repository paths of a board's own AccelerometerParameters fields (copied per board: /Sim/<agent>/<board> + path).
+inline constexpr std::array<ParameterField<AccelerometerParameters>, 4> kAccelerometerParameterTable{{
     {"/AccelSensor/Deviation", &AccelerometerParameters::deviation},
     {"/AccelSensor/LowPassFilterDelay", &AccelerometerParameters::low_pass_filter_delay},
+    {"/AccelSensor/CutOff", &AccelerometerParameters::cut_off},
+    {"/AccelSensor/Range", &AccelerometerParameters::range},
+}};
+
+/// The gravity every board adds: the simulation's, one value for all.
+inline constexpr std::array<ParameterField<AccelerometerParameters>, 1> kAccelerometerGravityTable{{
     {"/Simulation/Gravitation", &AccelerometerParameters::gravity},
 }};
 

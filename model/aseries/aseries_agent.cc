@@ -29,6 +29,7 @@ void ASeriesAgent::AddSharedParameters(VariableRepository& values) {
   AddParameters(values, kDynamixelParameterTable);
   AddParameters(values, kAngleSensorParameterTable);
   AddParameters(values, kAccelerometerParameterTable);
+  AddParameters(values, kAccelerometerGravityTable);
   AddParameters(values, kMotorEffectsTable);
   AddParameters(values, kServoParameterTable);
 }
@@ -36,9 +37,10 @@ void ASeriesAgent::AddSharedParameters(VariableRepository& values) {
 void ASeriesAgent::AddAgentParameters(VariableRepository& values, const std::string& agent,
                                       const ASeriesMorphology& morphology) {
   AddSharedParameters(values);
-  std::vector<std::string> motors;
+  std::vector<std::string> motors, boards;
   for (const MorphologyMotor& motor : morphology.motors) motors.push_back(motor.name);
-  AddPerMotorParameters(values, agent, motors);
+  for (const MorphologyBoard& board : morphology.boards) boards.push_back(board.name);
+  AddPerMotorParameters(values, agent, motors, boards);
 }
 
 ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout layout, int index,
@@ -46,7 +48,7 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     : layout_(std::move(layout)), index_(index), values_(values) {
   WatchParameters(values, kDynamixelParameterTable, parameters_changed_);
   WatchParameters(values, kAngleSensorParameterTable, parameters_changed_);
-  WatchParameters(values, kAccelerometerParameterTable, parameters_changed_);
+  WatchParameters(values, kAccelerometerGravityTable, parameters_changed_);
   WatchParameters(values, kMotorEffectsTable, parameters_changed_);
   WatchParameters(values, kServoParameterTable, parameters_changed_);
   AddAgentParameters(values, layout_.agent_name, morphology);
@@ -64,8 +66,7 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     motor.current_velocity = &values.Add(path + "CurrentVelocity", 0.0);
     motor.motor_torque = &values.Add(path + "MotorTorque", 0.0);
     motor.parameter_prefix = PerMotorPrefix(layout_.agent_name, spec.name);
-    for (const auto& field : kDynamixelParameterTable) WatchCopy(values, motor.parameter_prefix, field.path);
-    for (const auto& field : kAngleSensorParameterTable) WatchCopy(values, motor.parameter_prefix, field.path);
+    for (const std::string_view copied : PerMotorPaths()) WatchCopy(values, motor.parameter_prefix, copied);
     // The angle sensor's range, published as the original did (spec §4d); informative: the sensor model reads
     // its own parameters (kAngleSensorParameterTable).
     values.Add(path + "MinSensorAngle", -150.0);
@@ -76,6 +77,8 @@ ASeriesAgent::ASeriesAgent(const ASeriesMorphology& morphology, ASeriesLayout la
     const ASeriesBoardLayout& spec = layout_.boards[b];
     Board& board = boards_[b];
     board.host_body = spec.host_body;
+    board.parameter_prefix = PerMotorPrefix(layout_.agent_name, spec.name);
+    for (const std::string_view copied : PerBoardPaths()) WatchCopy(values, board.parameter_prefix, copied);
     board.board = MakeAccelerometerBoard(spec.local_position, spec.local_rotation);
     board.axis1 = &values.Add(prefix + spec.name + "/AccelAxis1", 0.0);
     board.axis2 = &values.Add(prefix + spec.name + "/AccelAxis2", 0.0);
@@ -128,16 +131,22 @@ void ASeriesAgent::FindDistalBodies(const ASeriesMorphology& morphology) {
 }
 
 void ASeriesAgent::ReadParameters() {
+  aseries::ReadParameters(values_, kMotorEffectsTable, effects_);
+  servo_enabled_ = values_.Get(kServoEnabledPath).as_bool();  // one switch for all: which model runs
   for (Motor& motor : motors_) {
     aseries::ReadParameters(values_, kDynamixelParameterTable, motor.parameters, motor.parameter_prefix);
     aseries::ReadParameters(values_, kAngleSensorParameterTable, motor.sensor, motor.parameter_prefix);
+    aseries::ReadParameters(values_, kServoParameterTable, motor.servo, motor.parameter_prefix, kServoEnabledPath);
+    CheckEffectsFitServo(motor.servo, effects_);
   }
-  aseries::ReadParameters(values_, kAccelerometerParameterTable, accel_parameters_);
-  aseries::ReadParameters(values_, kMotorEffectsTable, effects_);
-  aseries::ReadParameters(values_, kServoParameterTable, servo_);
+  aseries::ReadParameters(values_, kAccelerometerGravityTable, gravity_);
+  for (Board& board : boards_) {
+    aseries::ReadParameters(values_, kAccelerometerParameterTable, board.parameters, board.parameter_prefix);
+    board.parameters.gravity = gravity_.gravity;
+  }
   parameters_changed_ = false;
-  CheckEffectsFitServo(servo_, effects_);
 }
+
 
 void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed) {
   const auto stream_index = static_cast<std::uint64_t>(index_);
@@ -161,7 +170,7 @@ void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed)
 
 void ASeriesAgent::MotorStage(physics::PhysicsWorld& world, double dt) {
   if (parameters_changed_) ReadParameters();
-  if ((effects_.rotor_inertia || servo_.enabled) && !rotor_inertia_added_) AddRotorInertia(world);
+  if ((effects_.rotor_inertia || servo_enabled_) && !rotor_inertia_added_) AddRotorInertia(world);
   for (Motor& motor : motors_) MoveMotor(world, motor, dt);
 }
 
@@ -170,15 +179,15 @@ void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double 
   const double desired_angle = motor.desired_angle->as_double();
   const double desired_torque = motor.desired_torque->as_double();
   DynamixelCommand command;
-  if (effects_.any() || servo_.enabled) {  // the original's bits stay untouched while every effect is off
+  if (effects_.any() || servo_enabled_) {  // the original's bits stay untouched while every effect is off
     // Gravity's torque on the load only where an effect reads it: it costs a pass over the load's bodies.
     const double gravity_torque =
         effects_.gravity_load_friction
-            ? motor.gravity_load->Torque(world, Eigen::Vector3d(0.0, -accel_parameters_.gravity, 0.0))
+            ? motor.gravity_load->Torque(world, Eigen::Vector3d(0.0, -gravity_.gravity, 0.0))
             : 0.0;
     const JointReading reading{angle, world.joint_rate(motor.joint), world.joint_motor_torque(motor.joint),
                                gravity_torque};
-    const EffectCommand with_effects = UpdateWithEffects(motor.parameters, servo_, effects_, motor.state,
+    const EffectCommand with_effects = UpdateWithEffects(motor.parameters, motor.servo, effects_, motor.state,
                                                          motor.effect_state, reading, desired_angle, desired_torque,
                                                          dt, &*motor_noise_);
     world.SetJointMotorCompliance(motor.joint, with_effects.compliance);
@@ -193,9 +202,11 @@ void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double 
 
 // The effect's rotor inertia and the servo mode's armature: both are the rotor's, reflected through the gearbox.
 void ASeriesAgent::AddRotorInertia(physics::PhysicsWorld& world) {
-  const double inertia = (effects_.rotor_inertia ? std::max(effects_.inertia, 0.0) : 0.0) +
-                         (servo_.enabled ? std::max(servo_.armature, 0.0) : 0.0);
-  for (const Motor& motor : motors_) world.AddBodyInertia(motor.distal_body, motor.axis_in_body, inertia);
+  for (const Motor& motor : motors_) {
+    const double inertia = (effects_.rotor_inertia ? std::max(effects_.inertia, 0.0) : 0.0) +
+                           (servo_enabled_ ? std::max(motor.servo.armature, 0.0) : 0.0);
+    world.AddBodyInertia(motor.distal_body, motor.axis_in_body, inertia);
+  }
   rotor_inertia_added_ = true;
 }
 
@@ -206,7 +217,7 @@ void ASeriesAgent::SensorStage(const physics::PhysicsWorld& world, double dt) {
   }
   for (Board& board : boards_) {
     const physics::BodyState host = world.body_state(board.host_body);
-    const std::array<double, 2> reading = Measure(accel_parameters_, board.board, board.state, host.position,
+    const std::array<double, 2> reading = Measure(board.parameters, board.board, board.state, host.position,
                                                   host.orientation, dt, &*accel_noise_);
     board.axis1->Set(reading[0]);
     board.axis2->Set(reading[1]);

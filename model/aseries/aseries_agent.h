@@ -75,6 +75,7 @@ class ASeriesAgent {
     std::string parameter_prefix;       // "/Sim/<agent>/<motor>": where its own parameter copies are
     DynamixelParameters parameters;     // this motor's, from its copies
     AngleSensorParameters sensor;       // this motor's angle sensor's, from its copies
+    ServoParameters servo;              // this motor's physical servo model's, from its copies
     DynamixelState state;
     MotorEffectState effect_state;
     int distal_body = -1;  // physics body on the far side from the root: it carries the rotor inertia
@@ -84,6 +85,8 @@ class ASeriesAgent {
   };
   struct Board {
     int host_body = -1;  // physics body index
+    std::string parameter_prefix;  // "/Sim/<agent>/<board>": where its own parameter copies are
+    AccelerometerParameters parameters;  // this board's, from its copies (gravity: the simulation's)
     AccelerometerBoard board;
     Value* axis1 = nullptr;  // m/s²
     Value* axis2 = nullptr;  // m/s²
@@ -102,9 +105,9 @@ class ASeriesAgent {
   std::vector<Motor> motors_;
   std::vector<std::string> motor_names_;
   std::vector<Board> boards_;
-  AccelerometerParameters accel_parameters_;
+  AccelerometerParameters gravity_;  // only its gravity: /Simulation/Gravitation
   MotorEffects effects_;
-  ServoParameters servo_;
+  bool servo_enabled_ = false;       // /Servo/Enabled: the physical servo model runs for every motor
   bool rotor_inertia_added_ = false;  // since the last Reset (the world's Reset takes it away)
   bool parameters_changed_ = true;  // set by observers of the global parameter values
   std::optional<RandomStream> motor_noise_;

@@ -40,13 +40,14 @@ void AddParameters(VariableRepository& repository, const std::array<ParameterFie
 
 /// Copies the repository's current values of every field of `table` into `parameters`: the values at
 /// `prefix` + the field's path (per-motor copies, "/Sim/Humanoid/Right/Knee" + "/AngularMotor/..."), or at the
-/// field's path itself for an empty prefix. Throws InputError when a path is not registered.
+/// field's path itself for an empty prefix and for `no_copy` (a global that has no per-motor copy, such as
+/// /Servo/Enabled). Throws InputError when a path is not registered.
 template <typename Parameters, std::size_t N>
 void ReadParameters(const VariableRepository& repository, const std::array<ParameterField<Parameters>, N>& table,
-                    Parameters& parameters, std::string_view prefix = {}) {
+                    Parameters& parameters, std::string_view prefix = {}, std::string_view no_copy = {}) {
   for (const ParameterField<Parameters>& field : table) {
-    const Value& value =
-        prefix.empty() ? repository.Get(field.path) : repository.Get(std::string(prefix) + std::string(field.path));
+    const bool global = prefix.empty() || field.path == no_copy;
+    const Value& value = global ? repository.Get(field.path) : repository.Get(std::string(prefix) + std::string(field.path));
     std::visit(
         [&](auto member) {
           using Member = std::remove_reference_t<decltype(parameters.*member)>;

@@ -49,6 +49,9 @@ struct ServoParameters {
   double viscous_friction = 0.02;  ///< N·m·s/rad, the gearbox's friction per speed, /Servo/ViscousFriction
 };
 
+/// Which motor model runs, one switch for every motor (it has no per-motor copy: per_motor_parameters.h).
+inline constexpr std::string_view kServoEnabledPath = "/Servo/Enabled";
+
 inline constexpr std::array<ParameterField<ServoParameters>, 19> kServoParameterTable{{
     {"/Servo/Enabled", &ServoParameters::enabled},
     {"/Servo/FirmwareKp", &ServoParameters::firmware_kp},

@@ -324,13 +324,19 @@ TEST(AccelerometerTest, OutputIsClampedToTheRange) {
 TEST(AccelerometerParameterTableTest, ReadsTheRepository) {
   VariableRepository repository;
   AddParameters(repository, kAccelerometerParameterTable);
+  AddParameters(repository, kAccelerometerGravityTable);
   EXPECT_EQ(repository.Get("/AccelSensor/Deviation").as_double(), 0.0001);
   EXPECT_EQ(repository.Get("/AccelSensor/LowPassFilterDelay").as_int(), 1);
+  EXPECT_EQ(repository.Get("/AccelSensor/CutOff").as_double(), 11.772) << "1.2 g, the board's cut-off";
+  EXPECT_EQ(repository.Get("/AccelSensor/Range").as_double(), 16.072704) << "±1.6384 g, its output range";
   repository.Set("/AccelSensor/LowPassFilterDelay", "3");
+  repository.Set("/AccelSensor/Range", "9.81");
   repository.Set("/Simulation/Gravitation", "1.62");
   AccelerometerParameters p;
   ReadParameters(repository, kAccelerometerParameterTable, p);
+  ReadParameters(repository, kAccelerometerGravityTable, p);
   EXPECT_EQ(p.low_pass_filter_delay, 3);
+  EXPECT_EQ(p.range, 9.81);
   EXPECT_EQ(p.gravity, 1.62);
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "model/core/error.h"
+#include "model/core/text.h"
 #include "model/physics/material_table.h"
 #include "model/scene/simulation.h"
 #include "tests/support/input_error_of.h"
@@ -196,6 +197,45 @@ TEST(PerMotorParameterTest, AMotorsOwnGainFollowsTheGlobalUntilWrittenAndThenTha
   const ElbowErrors weak_right = ElbowErrorsAfter(simulation, 0.15);
   EXPECT_GT(weak_right.right, 2.0 * weak_right.left) << "right " << weak_right.right << "°, left " << weak_right.left << "°";
   EXPECT_GT(weak_right.right, alike.right);
+}
+
+// The physical servo model's values are per motor too: the right elbow's own torque constant a tenth of the
+// others' makes it track worse than the left, while the global switch /Servo/Enabled runs the model for all.
+TEST(PerMotorParameterTest, AMotorsOwnServoTorqueConstantMakesThatJointTrackWorse) {
+  Simulation simulation;
+  BuildRobot(simulation, "Middle/UpperBody");
+  VariableRepository& values = simulation.repository();
+  values.Set("/Servo/Enabled", "T");
+  const std::string right = "/Sim/Humanoid/Right/Elbow/Servo/TorqueConstant";
+  EXPECT_EQ(values.Find("/Sim/Humanoid/Right/Elbow/Servo/Enabled"), nullptr) << "one switch for every motor";
+  const ElbowErrors alike = ElbowErrorsAfter(simulation, 0.15);
+  EXPECT_NEAR(alike.right, alike.left, 0.25 * alike.left + 0.5) << "the same servos: mirror images";
+  values.Set(right, text::FormatDouble(values.Get("/Servo/TorqueConstant").as_double() / 10.0));
+  const ElbowErrors weak_right = ElbowErrorsAfter(simulation, 0.15);
+  EXPECT_GT(weak_right.right, 2.0 * weak_right.left) << "right " << weak_right.right << "°, left " << weak_right.left << "°";
+}
+
+// Each accelerometer board has its own copies of the /AccelSensor/... values: ABFR's own output range of 0 holds
+// its readings at 0, the other boards read on; a write of the global reaches the boards that kept theirs.
+TEST(PerBoardParameterTest, ABoardsOwnRangeBoundsItsReadingsAndNotTheOthers) {
+  Simulation simulation;
+  BuildRobot(simulation, "Middle/UpperBody");
+  VariableRepository& values = simulation.repository();
+  EXPECT_EQ(values.Match("/Sim/Humanoid/[^/]+/AccelSensor/Range").size(), 8u) << "one copy per board";
+  values.Set("/Sim/Humanoid/ABFR/AccelSensor/Range", "0");
+  values.Set("/AccelSensor/Range", "20");
+  EXPECT_DOUBLE_EQ(values.Get("/Sim/Humanoid/ABFL/AccelSensor/Range").as_double(), 20.0) << "follows the global";
+  EXPECT_DOUBLE_EQ(values.Get("/Sim/Humanoid/ABFR/AccelSensor/Range").as_double(), 0.0) << "keeps its own";
+  simulation.Reset();
+  RunFor(simulation, 0.1);
+  double others = 0.0;
+  for (const char* board : {"ABFL", "ABHR", "ABHL"}) {
+    others += std::abs(values.Get(std::string("/Sim/Humanoid/") + board + "/AccelAxis1").as_double()) +
+              std::abs(values.Get(std::string("/Sim/Humanoid/") + board + "/AccelAxis2").as_double());
+  }
+  EXPECT_EQ(values.Get("/Sim/Humanoid/ABFR/AccelAxis1").as_double(), 0.0);
+  EXPECT_EQ(values.Get("/Sim/Humanoid/ABFR/AccelAxis2").as_double(), 0.0);
+  EXPECT_GT(others, 0.0) << "the other boards read on (noise and gravity at least)";
 }
 
 }  // namespace
