@@ -422,17 +422,20 @@ TEST_F(OrcsBatchTest, SweepWritesATableACsvAndAPlot) {
 
 // A body of the robot as a sweep axis (issue 48): two masses of the right foot, through the real broker and
 // workers, give two fitness values for the same seeds; both points' jobs ran ok.
-TEST_F(OrcsBatchTest, ASweepOverAFootsMassChangesTheFitness) {
-  const ProcessResult result = Batch({"sweep", Scenario(), "--param", "/Sim/Humanoid/Right/Foot/Mass=0.05:0.6:2",
-                                      "--workers", "2", "--out", Out("feet")});
+// A body's mass as a numeric axis and a sole pad's material as a categorical one (issue 48): every point differs.
+TEST_F(OrcsBatchTest, ASweepOverAFootsMassAndItsSolePadsMaterialChangesTheFitness) {
+  const std::string mass = "/Sim/Humanoid/Right/Foot/Mass", material = "/Sim/Humanoid/Right/Foot/RightSolePadHeel/Material";
+  const ProcessResult result = Batch({"sweep", Scenario(), "--param", mass + "=0.05:0.6:2", "--param",
+                                      material + "=Latex,Wood", "--workers", "2", "--out", Out("feet")});
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  EXPECT_THAT(result.out, HasSubstr("2 of 2 jobs ran: 2 ok"));
-  std::map<double, std::string> fitness_by_mass;
+  EXPECT_THAT(result.out, HasSubstr("4 of 4 jobs ran: 4 ok"));
+  std::map<std::pair<double, std::string>, std::string> fitness;
   for (const nlohmann::json& line : ReadLines(Out("feet") + "/results.jsonl")) {
-    fitness_by_mass[line["params"]["/Sim/Humanoid/Right/Foot/Mass"].get<double>()] = line["fitness"].dump();
+    fitness[{line["params"][mass].get<double>(), line["params"][material].get<std::string>()}] = line["fitness"].dump();
   }
-  ASSERT_EQ(fitness_by_mass.size(), 2u);
-  EXPECT_NE(fitness_by_mass.at(0.05), fitness_by_mass.at(0.6));
+  ASSERT_EQ(fitness.size(), 4u);
+  EXPECT_NE(fitness.at({0.05, "Latex"}), fitness.at({0.6, "Latex"})) << "the mass";
+  EXPECT_NE(fitness.at({0.05, "Latex"}), fitness.at({0.05, "Wood"})) << "the material";
 }
 
 // A robot from a file runs through the real broker and workers (issue 48): the scenario's environment names the
