@@ -130,6 +130,17 @@ void ASeriesAgent::FindDistalBodies(const ASeriesMorphology& morphology) {
   }
 }
 
+void ASeriesAgent::UpdateGeometry(const ASeriesMorphology& morphology, const ASeriesLayout& layout) {
+  layout_ = layout;
+  for (size_t b = 0; b < boards_.size(); ++b) {
+    boards_[b].board = MakeAccelerometerBoard(layout_.boards[b].local_position, layout_.boards[b].local_rotation);
+  }
+  for (size_t m = 0; m < motors_.size(); ++m) {
+    const MorphologyMotor& spec = morphology.motors[m];
+    motors_[m].axis_in_body = (spec.axis_point2 - spec.axis_point1).normalized();  // as FindDistalBodies
+  }
+}
+
 void ASeriesAgent::ReadParameters() {
   aseries::ReadParameters(values_, kMotorEffectsTable, effects_);
   servo_enabled_ = values_.Get(kServoEnabledPath).as_bool();  // one switch for all: which model runs

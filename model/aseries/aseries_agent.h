@@ -57,6 +57,11 @@ class ASeriesAgent {
   /// Back to the initial state after the world has been reset; noise streams restart from `seed`.
   void Reset(const physics::PhysicsWorld& world, std::uint64_t seed);
 
+  /// After the world was compiled anew from changed structure values (Simulation::Reset, before this agent's
+  /// Reset): the boards' placement and the hinges' axes as `morphology` and `layout` have them now. The bodies,
+  /// joints and boards are the same ones (values change numbers only), so every index stays valid.
+  void UpdateGeometry(const ASeriesMorphology& morphology, const ASeriesLayout& layout);
+
   /// Motor stage: every motor's controller reads its joint angle and desired values and sets the joint's motor
   /// velocity, torque limit and friction (spec §6b), in motor order.
   void MotorStage(physics::PhysicsWorld& world, double dt);

@@ -4,6 +4,7 @@
 #include <functional>
 
 #include "model/core/error.h"
+#include "model/core/rotation.h"
 #include "model/core/text.h"
 #include "model/physics/material_table.h"
 
@@ -16,6 +17,7 @@ constexpr double kMaxMass = 1e3;   // kg
 constexpr double kMinSize = 1e-5;  // m
 constexpr double kMaxSize = 10.0;  // m
 constexpr double kMaxStop = 360.0;  // degrees either way
+constexpr double kMinAxisLength = 1e-6;  // m between a hinge's two axis points: less has no direction
 
 constexpr const char* kSizeNames[3] = {"Width", "Height", "Depth"};
 
@@ -36,10 +38,12 @@ std::vector<std::string> MaterialNames() {
 Color ToColor(const Rgba& rgba) { return {rgba[0], rgba[1], rgba[2], rgba[3]}; }
 Rgba ToRgba(const Color& color) { return {color.r, color.g, color.b, color.a}; }
 
-// Calls `box(prefix, fields)` for every main box and extra geom, then `hinge(prefix, motor)` for every motor, in
-// the morphology's order; prefix is the path up to the value name ("/Sim/Humanoid/Right/Foot/").
+// Calls `box(prefix, fields)` for every main box, extra geom and accelerometer board, `board(prefix, board)` for
+// every board's placement, and `hinge(prefix, motor)` for every motor, in the morphology's order; prefix is the
+// path up to the value name ("/Sim/Humanoid/Right/Foot/", "/Sim/Humanoid/ABFR/").
 void ForEachPart(ASeriesMorphology& morphology, const std::string& agent,
                  const std::function<void(const std::string&, BoxFields)>& box,
+                 const std::function<void(const std::string&, MorphologyBoard&)>& board,
                  const std::function<void(const std::string&, MorphologyMotor&)>& hinge) {
   const std::string root = "/Sim/" + agent + "/";
   for (MorphologyBody& body : morphology.bodies) {
@@ -47,6 +51,10 @@ void ForEachPart(ASeriesMorphology& morphology, const std::string& agent,
   }
   for (MorphologyGeom& geom : morphology.geoms) {
     box(root + geom.host + "/" + GeomValueName(geom.name) + "/", {&geom.mass, &geom.size, &geom.material, &geom.color});
+  }
+  for (MorphologyBoard& b : morphology.boards) {
+    box(root + b.name + "/", {&b.mass, &b.size, &b.material, &b.color});
+    board(root + b.name + "/", b);
   }
   for (MorphologyMotor& motor : morphology.motors) hinge(root + motor.name + "/", motor);
 }
@@ -80,9 +88,15 @@ void AddMorphologyValues(const ASeriesMorphology& morphology, const std::string&
         values.Add(prefix + "Material", *box.material).SetChoices(materials);
         values.Add(prefix + "Color", ToColor(*box.color));
       },
+      [&](const std::string& prefix, MorphologyBoard& board) {
+        values.Add(prefix + "Position", board.position);
+        values.Add(prefix + "Rotation", board.rotation_degrees);
+      },
       [&](const std::string& prefix, MorphologyMotor& motor) {
         values.Add(prefix + "MinAngle", motor.min_degrees).SetRange(-kMaxStop, kMaxStop);
         values.Add(prefix + "MaxAngle", motor.max_degrees).SetRange(-kMaxStop, kMaxStop);
+        values.Add(prefix + "AxisPoint1", motor.axis_point1);
+        values.Add(prefix + "AxisPoint2", motor.axis_point2);
       });
 }
 
@@ -94,9 +108,11 @@ std::vector<std::string> MorphologyValuePaths(const ASeriesMorphology& morpholog
       [&](const std::string& prefix, BoxFields) {
         for (const char* name : {"Mass", "Width", "Height", "Depth", "Material", "Color"}) paths.push_back(prefix + name);
       },
+      [&](const std::string& prefix, MorphologyBoard&) {
+        for (const char* name : {"Position", "Rotation"}) paths.push_back(prefix + name);
+      },
       [&](const std::string& prefix, MorphologyMotor&) {
-        paths.push_back(prefix + "MinAngle");
-        paths.push_back(prefix + "MaxAngle");
+        for (const char* name : {"MinAngle", "MaxAngle", "AxisPoint1", "AxisPoint2"}) paths.push_back(prefix + name);
       });
   return paths;
 }
@@ -112,9 +128,20 @@ ASeriesMorphology ApplyMorphologyValues(const ASeriesMorphology& morphology, con
         *box.material = values.Get(prefix + "Material").as_string();
         *box.color = ToRgba(values.Get(prefix + "Color").as_color());
       },
+      [&](const std::string& prefix, MorphologyBoard& board) {
+        board.position = values.Get(prefix + "Position").as_vector3();
+        board.rotation_degrees = values.Get(prefix + "Rotation").as_vector3();
+        board.rotation = QuaternionFromEulerDegrees(board.rotation_degrees);
+      },
       [&](const std::string& prefix, MorphologyMotor& motor) {
         motor.min_degrees = values.Get(prefix + "MinAngle").as_double();
         motor.max_degrees = values.Get(prefix + "MaxAngle").as_double();
+        motor.axis_point1 = values.Get(prefix + "AxisPoint1").as_vector3();
+        motor.axis_point2 = values.Get(prefix + "AxisPoint2").as_vector3();
+        if ((motor.axis_point2 - motor.axis_point1).norm() < kMinAxisLength) {
+          throw InputError(prefix + "AxisPoint2", 0,
+                           "expected a point other than " + prefix + "AxisPoint1: the hinge's axis runs through both");
+        }
         if (motor.min_degrees > motor.max_degrees) {
           throw InputError(prefix + "MinAngle", 0,
                            "expected at most " + prefix + "MaxAngle (" + text::FormatDouble(motor.max_degrees) +

@@ -205,6 +205,9 @@ void Simulation::ApplyStructureChanges() {
       throw std::logic_error("Simulation: a structure value changed the world's bodies or joints");
     }
     model_ = std::move(recompiled);
+    for (std::size_t a = 0; a < agents_.size(); ++a) {
+      agents_[a]->UpdateGeometry(model_->morphology(static_cast<int>(a)), model_->agents()[a]);
+    }
     MakeWorld();
   }
   written_start_pose_.clear();

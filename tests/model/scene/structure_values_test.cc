@@ -238,5 +238,68 @@ TEST(PerBoardParameterTest, ABoardsOwnRangeBoundsItsReadingsAndNotTheOthers) {
   EXPECT_GT(others, 0.0) << "the other boards read on (noise and gravity at least)";
 }
 
+// The physics joint called `name`, or null.
+const physics::JointDescription* JointNamed(const Simulation& simulation, const std::string& name) {
+  const physics::PhysicsModel& model = simulation.physics().model();
+  for (int j = 0; j < model.joint_count(); ++j) {
+    if (model.joint(j).name == name) return &model.joint(j);
+  }
+  return nullptr;
+}
+
+// A board's placement and material and a hinge's axis points are structure values too: written, they apply at
+// the reset; an axis of two equal points is refused there, naming the value.
+TEST(RobotStructureTest, ABoardsPlacementAndAHingesAxisApplyAtTheReset) {
+  Simulation simulation;
+  BuildRobot(simulation, "Middle/UpperBody");
+  VariableRepository& values = simulation.repository();
+  const int foot = BodyIndex(simulation, "Humanoid/Right/Foot");
+  ASSERT_GE(foot, 0);
+  const auto board = [&]() -> const physics::GeomDescription& {
+    for (const physics::GeomDescription& geom : simulation.physics().model().body(foot).geoms) {
+      if (geom.name == "ABFR") return geom;
+    }
+    throw std::logic_error("no ABFR geom on the right foot");
+  };
+  const Eigen::Vector3d placed = board().offset;
+  const Eigen::Vector3d moved = values.Get("/Sim/Humanoid/ABFR/Position").as_vector3() + Eigen::Vector3d(0.01, 0, 0);
+  values.Set("/Sim/Humanoid/ABFR/Position", Value(moved).ToString());
+  values.Set("/Sim/Humanoid/ABFR/Material", "Latex");
+  const Eigen::Vector3d axis = JointNamed(simulation, "Humanoid/Right/Knee")->axis;
+  const Eigen::Vector3d p1 = values.Get("/Sim/Humanoid/Right/Knee/AxisPoint1").as_vector3();
+  values.Set("/Sim/Humanoid/Right/Knee/AxisPoint2", Value(Eigen::Vector3d(p1 + Eigen::Vector3d(0, 0.1, 0))).ToString());
+  EXPECT_EQ(board().offset, placed) << "not before the reset";
+  simulation.Reset();
+  EXPECT_NEAR((board().offset - placed).x(), 0.01, 1e-12);
+  EXPECT_EQ(board().material, "Latex");
+  const Eigen::Vector3d tilted = JointNamed(simulation, "Humanoid/Right/Knee")->axis.normalized();
+  EXPECT_GT((tilted - axis.normalized()).norm(), 0.5) << "the knee turns about the vertical now";
+  EXPECT_NEAR(std::abs(tilted.y()), 1.0, 1e-9);
+
+  values.Set("/Sim/Humanoid/Right/Knee/AxisPoint2", Value(p1).ToString());
+  EXPECT_THAT(test_support::InputErrorOf([&] { simulation.Reset(); }),
+              HasSubstr("/Sim/Humanoid/Right/Knee/AxisPoint2: expected a point other than /Sim/Humanoid/Right/Knee/AxisPoint1"));
+}
+
+// A board turned on its host senses along its turned axes: the sensor model, not only the physics, takes the
+// new placement at the reset. ABSR sits on the held upper body, at rest: it reads gravity's projections.
+TEST(RobotStructureTest, ABoardTurnedOnItsHostReadsAlongItsNewAxesAfterTheReset) {
+  Simulation simulation;
+  BuildRobot(simulation, "Middle/UpperBody");
+  VariableRepository& values = simulation.repository();
+  const auto reading = [&] {
+    RunFor(simulation, 0.1);
+    return Eigen::Vector2d(values.Get("/Sim/Humanoid/ABSR/AccelAxis1").as_double(),
+                           values.Get("/Sim/Humanoid/ABSR/AccelAxis2").as_double());
+  };
+  simulation.Reset();
+  const Eigen::Vector2d before = reading();
+  const Eigen::Vector3d rotation = values.Get("/Sim/Humanoid/ABSR/Rotation").as_vector3();
+  values.Set("/Sim/Humanoid/ABSR/Rotation", Value(Eigen::Vector3d(rotation + Eigen::Vector3d(90, 0, 0))).ToString());
+  simulation.Reset();
+  const Eigen::Vector2d after = reading();
+  EXPECT_GT((after - before).norm(), 1.0) << "before (" << before.transpose() << "), after (" << after.transpose() << ")";
+}
+
 }  // namespace
 }  // namespace orcs::scene
