@@ -76,6 +76,7 @@ class Assembly {
       out.name = prefix_ + body.name;
       out.dynamic = true;
       out.mass = body.mass;
+      out.inertia = body.inertia;
       out.position = place_.Point(body.centre);
       out.orientation = place_.rotation;
       physics::GeomDescription main_box = BoxGeom("", body.size, Eigen::Vector3d::Zero(),

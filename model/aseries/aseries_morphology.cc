@@ -19,6 +19,15 @@
 
 namespace orcs::aseries {
 
+std::string InertiaProblem(const Eigen::Vector3d& inertia) {
+  if (inertia.isZero(0.0)) return "";
+  const bool positive = inertia.minCoeff() > 0.0 && inertia.allFinite();
+  const bool triangle = inertia.x() <= inertia.y() + inertia.z() && inertia.y() <= inertia.x() + inertia.z() &&
+                        inertia.z() <= inertia.x() + inertia.y();
+  if (positive && triangle) return "";
+  return "all zero (the mass rule), or three positive moments in kg·m², each at most the sum of the other two";
+}
+
 // Defined in the file CMake generates from aseries_morphology.json.
 namespace internal {
 extern const char kASeriesMorphologyJson[];
@@ -107,7 +116,7 @@ std::string BodyRef(const Node& node, const ASeriesMorphology& morphology) {
 }
 
 MorphologyBody ParseBody(const Node& node) {
-  node.ExpectOnly({"name", "size", "centre", "mass", "material", "color", "texture", "penetrable"});
+  node.ExpectOnly({"name", "size", "centre", "mass", "material", "color", "texture", "penetrable", "inertia"});
   MorphologyBody body;
   body.name = NonEmptyString(node.At("name"), "body name");
   body.size = Size(node.At("size"));
@@ -117,6 +126,11 @@ MorphologyBody ParseBody(const Node& node) {
   body.color = ColorOf(node.At("color"));
   body.texture = node.At("texture").String("a texture name or \"\"");
   body.penetrable = node.At("penetrable").Bool("true or false");
+  if (node.Has("inertia")) {
+    const Node inertia = node.At("inertia");
+    body.inertia = inertia.Vector3("principal moments of inertia in kg·m²");
+    if (const std::string problem = InertiaProblem(body.inertia); !problem.empty()) inertia.Fail(problem, Vec(body.inertia));
+  }
   return body;
 }
 
@@ -372,6 +386,7 @@ std::string WriteASeriesMorphology(const ASeriesMorphology& morphology, const st
     out["bodies"].push_back({{"name", b.name}, {"size", Vector(b.size)}, {"centre", Vector(b.centre)},
                              {"mass", b.mass}, {"material", b.material}, {"color", b.color},
                              {"texture", b.texture}, {"penetrable", b.penetrable}});
+    if (!b.inertia.isZero(0.0)) out["bodies"].back()["inertia"] = Vector(b.inertia);
   }
   out["geoms"] = nlohmann::ordered_json::array();
   for (const MorphologyGeom& g : morphology.geoms) {

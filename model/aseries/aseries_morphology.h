@@ -29,7 +29,14 @@ struct MorphologyBody {
   Rgba color{};          ///< display colour of the main box
   std::string texture;   ///< display texture, visual only; "" for none
   bool penetrable = false;  ///< true: the main box collides with nothing (the pelvis box); extra geoms still do
+  /// Principal moments of inertia about the body centre along the body's x, y, z, kg·m²; zero = NERD's rule (a
+  /// uniform box of the main box's size carrying the body's whole mass, §2b).
+  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
 };
+
+/// Why `inertia` (principal moments, kg·m²) cannot be a body's: "" when it can — all zero (the mass rule), or all
+/// positive with each at most the sum of the other two, as a rigid body's are.
+std::string InertiaProblem(const Eigen::Vector3d& inertia);
 
 /// An extra collision box rigidly attached to a host body (§3a), axis-aligned in the host frame.
 struct MorphologyGeom {

@@ -21,12 +21,14 @@ constexpr double kMinAxisLength = 1e-6;  // m between a hinge's two axis points:
 
 constexpr const char* kSizeNames[3] = {"Width", "Height", "Depth"};
 
-// The settable parts of one box, main or extra: pointers into a morphology being read or written.
+// The settable parts of one box, main or extra: pointers into a morphology being read or written. `inertia` is
+// a main box's only (null for extra geoms and boards, whose mass joins their host's).
 struct BoxFields {
   double* mass;
   Eigen::Vector3d* size;
   std::string* material;
   Rgba* color;
+  Eigen::Vector3d* inertia = nullptr;
 };
 
 std::vector<std::string> MaterialNames() {
@@ -47,13 +49,13 @@ void ForEachPart(ASeriesMorphology& morphology, const std::string& agent,
                  const std::function<void(const std::string&, MorphologyMotor&)>& hinge) {
   const std::string root = "/Sim/" + agent + "/";
   for (MorphologyBody& body : morphology.bodies) {
-    box(root + body.name + "/", {&body.mass, &body.size, &body.material, &body.color});
+    box(root + body.name + "/", {&body.mass, &body.size, &body.material, &body.color, &body.inertia});
   }
   for (MorphologyGeom& geom : morphology.geoms) {
-    box(root + geom.host + "/" + GeomValueName(geom.name) + "/", {&geom.mass, &geom.size, &geom.material, &geom.color});
+    box(root + geom.host + "/" + GeomValueName(geom.name) + "/", {&geom.mass, &geom.size, &geom.material, &geom.color, nullptr});
   }
   for (MorphologyBoard& b : morphology.boards) {
-    box(root + b.name + "/", {&b.mass, &b.size, &b.material, &b.color});
+    box(root + b.name + "/", {&b.mass, &b.size, &b.material, &b.color, nullptr});
     board(root + b.name + "/", b);
   }
   for (MorphologyMotor& motor : morphology.motors) hinge(root + motor.name + "/", motor);
@@ -87,6 +89,7 @@ void AddMorphologyValues(const ASeriesMorphology& morphology, const std::string&
         }
         values.Add(prefix + "Material", *box.material).SetChoices(materials);
         values.Add(prefix + "Color", ToColor(*box.color));
+        if (box.inertia != nullptr) values.Add(prefix + "Inertia", *box.inertia);
       },
       [&](const std::string& prefix, MorphologyBoard& board) {
         values.Add(prefix + "Position", board.position);
@@ -105,8 +108,9 @@ std::vector<std::string> MorphologyValuePaths(const ASeriesMorphology& morpholog
   std::vector<std::string> paths;
   ForEachPart(
       copy, agent,
-      [&](const std::string& prefix, BoxFields) {
+      [&](const std::string& prefix, BoxFields box) {
         for (const char* name : {"Mass", "Width", "Height", "Depth", "Material", "Color"}) paths.push_back(prefix + name);
+        if (box.inertia != nullptr) paths.push_back(prefix + "Inertia");
       },
       [&](const std::string& prefix, MorphologyBoard&) {
         for (const char* name : {"Position", "Rotation"}) paths.push_back(prefix + name);
@@ -127,6 +131,12 @@ ASeriesMorphology ApplyMorphologyValues(const ASeriesMorphology& morphology, con
         for (int axis = 0; axis < 3; ++axis) (*box.size)[axis] = values.Get(prefix + kSizeNames[axis]).as_double();
         *box.material = values.Get(prefix + "Material").as_string();
         *box.color = ToRgba(values.Get(prefix + "Color").as_color());
+        if (box.inertia != nullptr) {
+          *box.inertia = values.Get(prefix + "Inertia").as_vector3();
+          if (const std::string problem = InertiaProblem(*box.inertia); !problem.empty()) {
+            throw InputError(prefix + "Inertia", 0, "expected " + problem + ", found " + Value(*box.inertia).ToString());
+          }
+        }
       },
       [&](const std::string& prefix, MorphologyBoard& board) {
         board.position = values.Get(prefix + "Position").as_vector3();

@@ -52,6 +52,9 @@ struct BodyDescription {
   /// uniform solid of geoms[0]'s shape carrying the total mass (body mass + extra geom masses), centred at
   /// the body origin.
   std::vector<GeomDescription> geoms;
+  /// Principal moments of inertia about the body origin along the body frame's x, y, z axes, kg·m²; zero = the
+  /// mass rule above (a robot file's or a value's own inertia replaces it).
+  Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
   double static_friction = 0.0;   ///< fallback static friction coefficient (unknown materials), -
   double dynamic_friction = 0.0;  ///< fallback dynamic friction coefficient (unknown materials), -
   double elasticity = 0.05;       ///< fallback restitution factor (unknown materials), -

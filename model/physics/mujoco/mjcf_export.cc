@@ -239,7 +239,9 @@ class MjcfWriter {
   }
 
   void WriteInertial(tinyxml2::XMLElement* element, int b) {
-    const Eigen::Matrix3d inertia = MainGeomInertia(model_.body(b).geoms[0], model_.total_mass(b));
+    const Eigen::Vector3d& given = model_.body(b).inertia;  // its own inertia, else the rule's
+    const Eigen::Matrix3d inertia = given.isZero(0.0) ? MainGeomInertia(model_.body(b).geoms[0], model_.total_mass(b))
+                                                      : Eigen::Matrix3d(given.asDiagonal());
     tinyxml2::XMLElement* inertial = Child(element, "inertial");
     inertial->SetAttribute("pos", "0 0 0");
     inertial->SetAttribute("mass", Number(model_.total_mass(b)).c_str());

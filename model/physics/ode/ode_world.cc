@@ -309,7 +309,10 @@ void OdeWorld::BuildBody(int b) {
     dQuaternion q;
     ToOde(body.orientation, q);
     dBodySetQuaternion(id, q);
-    const dMass mass = MainGeomMass(body.geoms[0], model_->total_mass(b));
+    dMass mass = MainGeomMass(body.geoms[0], model_->total_mass(b));
+    if (!body.inertia.isZero(0.0)) {  // its own inertia, given: the rule's is replaced
+      dMassSetParameters(&mass, model_->total_mass(b), 0, 0, 0, body.inertia.x(), body.inertia.y(), body.inertia.z(), 0, 0, 0);
+    }
     dBodySetMass(id, &mass);
   }
   bodies_[b] = id;

@@ -266,6 +266,22 @@ TEST(ASeriesMorphologyTest, BadValuesAreNamed) {
   EXPECT_THAT(ErrorAfter([](Json& j) { j["contact_exclusions"][3]["first_geom"] = "ABAL"; }),
               HasSubstr("'contact_exclusions[3].first_geom'"));
   EXPECT_THAT(ErrorAfter([](Json& j) { j["version"] = 2; }), HasSubstr("'version'"));
+  EXPECT_THAT(ErrorAfter([](Json& j) { j["bodies"][3]["inertia"] = Json::array({1.0, 0.1, 0.1}); }),
+              AllOf(HasSubstr("'bodies[3].inertia'"), HasSubstr("each at most the sum of the other two")));
+  EXPECT_THAT(ErrorAfter([](Json& j) { j["bodies"][3]["inertia"] = Json::array({0.001, -0.001, 0.001}); }),
+              HasSubstr("'bodies[3].inertia'"));
+}
+
+// A body's own inertia (optional; absent = the mass rule) is read and written back.
+TEST(ASeriesMorphologyTest, ABodysOwnInertiaIsReadAndWrittenBack) {
+  Json json = DefaultJson();
+  json["bodies"][3]["inertia"] = Json::array({0.001, 0.002, 0.0025});
+  const ASeriesMorphology parsed = ParseASeriesMorphology(json.dump(), "robot.json");
+  EXPECT_EQ(parsed.bodies[3].inertia, Eigen::Vector3d(0.001, 0.002, 0.0025));
+  EXPECT_EQ(parsed.bodies[4].inertia, Eigen::Vector3d::Zero()) << "none given: the mass rule";
+  const ASeriesMorphology again = ParseASeriesMorphology(WriteASeriesMorphology(parsed), "again.json");
+  EXPECT_EQ(again.bodies[3].inertia, parsed.bodies[3].inertia);
+  EXPECT_FALSE(Json::parse(WriteASeriesMorphology(parsed))["bodies"][4].contains("inertia"));
 }
 
 TEST(ASeriesMorphologyTest, DuplicateNamesAreRejected) {

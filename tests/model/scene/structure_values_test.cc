@@ -301,5 +301,30 @@ TEST(RobotStructureTest, ABoardTurnedOnItsHostReadsAlongItsNewAxesAfterTheReset)
   EXPECT_GT((after - before).norm(), 1.0) << "before (" << before.transpose() << "), after (" << after.transpose() << ")";
 }
 
+// A body's own inertia replaces the mass rule on either engine: the right lower arm given an inertia far above its
+// rule's inertia makes the right elbow track slower than the left. One that no rigid body has is refused.
+TEST(RobotStructureTest, ABodysOwnInertiaReplacesTheMassRuleOnEitherEngine) {
+  for (const char* engine : {"ODE", "MuJoCo"}) {
+    SCOPED_TRACE(engine);
+    Simulation simulation;
+    BuildRobot(simulation, "Middle/UpperBody");
+    VariableRepository& values = simulation.repository();
+    values.Set("/Simulation/Engine", engine);
+    const std::string inertia = "/Sim/Humanoid/Right/LowerArm/Inertia";
+    EXPECT_EQ(values.Get(inertia).as_vector3(), Eigen::Vector3d::Zero()) << "zero: the mass rule";
+    const ElbowErrors alike = ElbowErrorsAfter(simulation, 0.15);
+    EXPECT_NEAR(alike.right, alike.left, 0.25 * alike.left + 0.5) << "the same arms: mirror images";
+    values.Set(inertia, "(0.05, 0.05, 0.05)");
+    const ElbowErrors heavy_right = ElbowErrorsAfter(simulation, 0.15);
+    const int arm = BodyIndex(simulation, "Humanoid/Right/LowerArm");
+    ASSERT_GE(arm, 0);
+    EXPECT_EQ(simulation.physics().model().body(arm).inertia, Eigen::Vector3d::Constant(0.05));
+    EXPECT_GT(heavy_right.right, 1.5 * heavy_right.left) << "right " << heavy_right.right << "°, left " << heavy_right.left << "°";
+    values.Set(inertia, "(1, 0.1, 0.1)");
+    EXPECT_THAT(test_support::InputErrorOf([&] { simulation.Reset(); }),
+                HasSubstr(inertia + ": expected all zero (the mass rule), or three positive moments"));
+  }
+}
+
 }  // namespace
 }  // namespace orcs::scene
