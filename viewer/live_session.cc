@@ -332,7 +332,7 @@ bool LiveSession::HeldBy(const std::string& token) {
   return !token_.empty() && token == token_ && Clock::now() - token_seen_ < Seconds(options_.control_timeout);
 }
 
-void LiveSession::Control(const std::string& action, bool realtime) {
+void LiveSession::Control(const std::string& action, bool realtime, int steps) {
   if (action != "run" && action != "pause" && action != "step" && action != "reset") {
     throw InputError("action", 0, "expected run, pause, step or reset, found " + text::Quote(action));
   }
@@ -349,7 +349,7 @@ void LiveSession::Control(const std::string& action, bool realtime) {
       real_since_ = now;
       realtime_ = realtime;
       running_ = action == "run";
-      if (action == "step") ++pending_steps_;
+      if (action == "step") pending_steps_ += std::clamp(steps, 1, kMaxStepsAtOnce);
     }
     if (action == "run") {
       last_error_.clear();

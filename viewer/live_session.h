@@ -92,9 +92,11 @@ class LiveSession {
   /// Whether `token` holds control now; refreshes the holder's silence clock.
   bool Controls(const std::string& token);
 
-  /// "run", "pause", "step" or "reset"; `realtime` paces running to the wall clock. Throws InputError for an
-  /// unknown action, and for any action when OSP clients drive the simulation (--osp).
-  void Control(const std::string& action, bool realtime);
+  /// "run", "pause", "step" or "reset"; `realtime` paces running to the wall clock; "step" does `steps` steps
+  /// (1…kMaxStepsAtOnce), as fast as it can, then pauses. Throws InputError for an unknown action, and for any
+  /// action when OSP clients drive the simulation (--osp).
+  void Control(const std::string& action, bool realtime, int steps = 1);
+  static constexpr int kMaxStepsAtOnce = 100000;
   /// Values whose path matches `pattern` (RE2, bounded): [{"id", "path", "type", "value"}], at most `limit`.
   nlohmann::json Values(const std::string& pattern, std::size_t limit);
   /// Sets a value from text; returns its new text. Throws InputError naming the path and what was expected, and

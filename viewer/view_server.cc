@@ -75,6 +75,17 @@ bool BoolField(const nlohmann::json& body, const char* key, bool fallback) {
   return it->get<bool>();
 }
 
+// An optional whole number from `min` to `max`: `fallback` when absent, an InputError (400) naming the field else.
+int IntField(const nlohmann::json& body, const char* key, int fallback, int min, int max) {
+  const auto it = body.find(key);
+  if (it == body.end()) return fallback;
+  if (!it->is_number_integer() || *it < min || *it > max) {
+    throw InputError(key, 0, "expected a whole number " + std::to_string(min) + "…" + std::to_string(max) + ", found " +
+                                 it->dump().substr(0, 40));
+  }
+  return it->get<int>();
+}
+
 // "3,4,5" → channel indices, each < count; nullopt for anything else.
 std::optional<std::vector<int>> ParseIds(const std::string& text, int count) {
   std::vector<int> ids;
@@ -506,7 +517,8 @@ void ViewServer::AddLiveRoutes() {
     SendJson(response, {{"token", token}});
   });
   server_->Post("/api/live/control", Controlled(live_, [this](const nlohmann::json& body, Response& response) {
-    live_->Control(StringField(body, "action"), BoolField(body, "realtime", true));
+    live_->Control(StringField(body, "action"), BoolField(body, "realtime", true),
+                   IntField(body, "steps", 1, 1, LiveSession::kMaxStepsAtOnce));
     SendJson(response, live_->State());
   }));
   AddLiveValueRoutes();

@@ -17,11 +17,11 @@ before(async () => {
   const replays = path.join(folder, 'replays');
   await mkdir(replays, { recursive: true });
   await writeFile(path.join(folder, 'report.json'), JSON.stringify({ verdict: { effect: 'LuGre' } }));
-  const bend = ['-play', 'Humanoid', path.join(repoRoot, 'scenarios/motions/waist_bend.csv'), '--duration', '2'];
+  const bend = ['-play', 'Humanoid', path.join(repoRoot, 'scenarios/motions/waist_bend.csv'), '--duration', '1.5'];
   await Promise.all([
     makeRecording(path.join(replays, 'waist_bend.orcsrec'), bend),
     makeRecording(path.join(replays, 'waist_bend.given.orcsrec'), [...bend, '-ival', path.join(repoRoot, 'scenarios/values/servo_ax12.val')]),
-    makeRecording(path.join(replays, 'waist_bend.measured.orcsrec'), ['--duration', '2']),
+    makeRecording(path.join(replays, 'waist_bend.measured.orcsrec'), ['--duration', '1.5']),
   ]);
   server = await startServer([folder]);
   browser = await launchBrowser();
@@ -58,7 +58,7 @@ test('the report names its effect above the 3D view, which opens its first run w
   if (!process.env.ORCS_SCREENSHOT_DIR) return;
   const dir = path.resolve(repoRoot, process.env.ORCS_SCREENSHOT_DIR);
   await mkdir(dir, { recursive: true });
-  await page.evaluate(() => orcsView.seek(1.5));
+  await page.evaluate(() => orcsView.seek(1.2));
   await frames(page, 3);
   await page.screenshot({ path: path.join(dir, 'viewer_gap.png') });
 });

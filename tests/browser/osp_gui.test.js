@@ -44,10 +44,16 @@ test('an OSP client drives the simulation the page shows; the page watches and c
   assert.equal(await page.evaluate(() => orcsView.frame), 0);
 
   const client = exampleClient(300);
-  await until(() => page.evaluate(() => orcsView.frame >= 100), 30_000, 'the page following the client\'s steps');
-  const swung = await page.evaluate((b) => orcsView.bodies[b].quaternion.slice(), arm);
-  const turned = 2 * Math.acos(Math.min(1, Math.abs(before.reduce((s, q, i) => s + q * swung[i], 0)))) * 180 / Math.PI;
-  assert.ok(turned > 5, `the upper arm turned ${turned.toFixed(1)}° in the page as the client swung the shoulder`);
+  // The arm swings to and fro (a period of 150 steps): sampled while the client steps, the page shows the steps
+  // advancing and the arm turned by more than 5° at some frame. (A loaded machine samples seldom: the condition
+  // collects what it saw rather than asking for both at one sample.)
+  let most = 0, latest = 0;
+  await until(() => page.evaluate((b) => [orcsView.frame, orcsView.bodies[b].quaternion.slice()], arm).then(([frame, q]) => {
+    const turned = 2 * Math.acos(Math.min(1, Math.abs(before.reduce((s, x, i) => s + x * q[i], 0)))) * 180 / Math.PI;
+    most = Math.max(most, turned);
+    latest = Math.max(latest, frame);
+    return latest >= 30 && most > 5;
+  }), 30_000, 'the page following the client\'s steps and the arm turning by over 5°');
   if (process.env.ORCS_SCREENSHOT_DIR) {
     const dir = path.resolve(repoRoot, process.env.ORCS_SCREENSHOT_DIR);
     await mkdir(dir, { recursive: true });
