@@ -8,9 +8,9 @@ import assert from 'node:assert/strict';
 import path from 'node:path';
 import { mkdir, readFile, writeFile } from 'node:fs/promises';
 import { spawn } from 'node:child_process';
-import { repoRoot, binDir, tempDir, startServer, launchBrowser, openPage, frames, snapshotCanvas, diffSnapshots, until } from './helpers.js';
+import { repoRoot, binDir, tempDir, openViewer, frames, snapshotCanvas, diffSnapshots, until } from './helpers.js';
 
-let tmp, server, browser, page, folder;
+let tmp, server, page, close, folder;
 
 function run(program, args) {
   const child = spawn(path.join(binDir, program), args, { cwd: repoRoot, stdio: ['ignore', 'ignore', 'pipe'] });
@@ -30,16 +30,10 @@ before(async () => {
   const made = await run('orcs-batch', ['run', scenarioFile, '--jobs', '4',
     '--workers', '2', '--record', 'all', '--out', folder, '--quiet']);
   assert.equal(made.code, 0, made.err);
-  server = await startServer([folder]);
-  browser = await launchBrowser();
-  page = await openPage(browser, server.url);
+  ({ server, page, close } = await openViewer([folder], { tmp }));
 });
 
-after(async () => {
-  await browser?.close();
-  await server?.stop();
-  await tmp?.cleanup();
-});
+after(async () => { await (close ? close() : tmp?.cleanup()); });
 
 test('the batch opens with its table and histogram in the main area and its fittest job in the 3D view', async () => {
   const batch = await (await fetch(`${server.url}api/batch/${await page.evaluate(() => orcsView.item)}`)).json();

@@ -7,9 +7,9 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { mkdir, writeFile } from 'node:fs/promises';
-import { repoRoot, tempDir, makeRecording, startServer, launchBrowser, openPage, frames, until } from './helpers.js';
+import { repoRoot, tempDir, makeRecording, openViewer, frames, until } from './helpers.js';
 
-let tmp, server, browser, page;
+let tmp, server, page, close;
 
 before(async () => {
   tmp = await tempDir();
@@ -23,16 +23,10 @@ before(async () => {
     makeRecording(path.join(replays, 'waist_bend.given.orcsrec'), [...bend, '-ival', path.join(repoRoot, 'scenarios/values/servo_ax12.val')]),
     makeRecording(path.join(replays, 'waist_bend.measured.orcsrec'), ['--duration', '1.5']),
   ]);
-  server = await startServer([folder]);
-  browser = await launchBrowser();
-  page = await openPage(browser, server.url);
+  ({ server, page, close } = await openViewer([folder], { tmp }));
 });
 
-after(async () => {
-  await browser?.close();
-  await server?.stop();
-  await tmp?.cleanup();
-});
+after(async () => { await (close ? close() : tmp?.cleanup()); });
 
 test('the report names its effect above the 3D view, which opens its first run with the measured run overlaid', async () => {
   const detail = page.locator('#item-detail');

@@ -134,6 +134,24 @@ export async function openPage(browser, url, viewport = { width: 1400, height: 8
   return page;
 }
 
+/**
+ * orcs-view on `args` (startServer), a headless browser and the page, ready: {server, browser, page, close()}.
+ * close() ends all three and removes `tmp` (a tempDir()) when given.
+ */
+export async function openViewer(args, { program, tmp } = {}) {
+  const server = await startServer(args, program ? { program } : {});
+  const browser = await launchBrowser();
+  const page = await openPage(browser, server.url);
+  return {
+    server, browser, page,
+    close: async () => {
+      await browser.close();
+      await server.stop();
+      await tmp?.cleanup();
+    },
+  };
+}
+
 /** Waits for n animation frames in the page (the view has drawn what was set before). */
 export function frames(page, n = 2) {
   return page.evaluate((k) => new Promise((resolve) => {

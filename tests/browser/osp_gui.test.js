@@ -8,20 +8,15 @@ import assert from 'node:assert/strict';
 import path from 'node:path';
 import { spawn } from 'node:child_process';
 import { mkdir } from 'node:fs/promises';
-import { repoRoot, startServer, launchBrowser, openPage, fetchJson, until } from './helpers.js';
+import { repoRoot, openViewer, fetchJson, until } from './helpers.js';
 
-let server, browser, page;
+let server, page, close;
 
 before(async () => {
-  server = await startServer(['-gui', '-port', '0', '-odcp_port', '0', '--view-port', '0'], { program: 'orcs-osp' });
-  browser = await launchBrowser();
-  page = await openPage(browser, server.url);
+  ({ server, page, close } = await openViewer(['-gui', '-port', '0', '-odcp_port', '0', '--view-port', '0'], { program: 'orcs-osp' }));
 });
 
-after(async () => {
-  await browser?.close();
-  await server?.stop();
-});
+after(async () => { await close?.(); });
 
 /** The example client for `steps` steps on the gateway: resolves to {code, out}. */
 function exampleClient(steps) {
