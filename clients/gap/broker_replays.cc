@@ -49,7 +49,11 @@ std::vector<ReplayOutcome> BrokerReplays::Replay(const std::vector<ReplayRequest
 
 v1::Job MakeReplayJob(const ReplayRequest& request) {
   nlohmann::json scenario = request.run->scenario;
-  if (request.log) scenario["log"] = {"/Sim/" + scenario["agent"].get<std::string>() + "/.*/(JointAngle|MotorTorque)"};
+  if (request.log) {
+    const std::string quantities = request.run->accelerometers.empty() ? "JointAngle|MotorTorque"
+                                                                        : "JointAngle|MotorTorque|AccelAxis1|AccelAxis2";
+    scenario["log"] = {"/Sim/" + scenario["agent"].get<std::string>() + "/.*/(" + quantities + ")"};
+  }
   nlohmann::json& term = scenario["fitness"]["terms"][0];
   if (request.loss == identify::Loss::kAbsolute) term["norm"] = "mean_absolute";
   if (std::isfinite(request.stop_above)) term["stop_above"] = request.stop_above;

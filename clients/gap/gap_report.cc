@@ -57,11 +57,33 @@ std::string RunCell(const RunGap& run) {
          text::FormatDouble(std::round(run.rms * 1000.0) / 1000.0) + "°";
 }
 
+// report.json's "bound" of a fitted value: null inside its range.
+nlohmann::json BoundName(BoundState bound) {
+  switch (bound) {
+    case BoundState::kInside: return nullptr;
+    case BoundState::kBeyond: return "beyond";
+    case BoundState::kAtLower: return "lower";
+    case BoundState::kAtUpper: return "upper";
+  }
+  return nullptr;
+}
+
+// report.md's note on a fitted value's bound ("" inside its range).
+std::string BoundNote(BoundState bound) {
+  switch (bound) {
+    case BoundState::kInside: return "";
+    case BoundState::kBeyond: return " (beyond the catalogue's range)";
+    case BoundState::kAtLower: return " (at the bottom of its range)";
+    case BoundState::kAtUpper: return " (at the top of its range)";
+  }
+  return "";
+}
+
 nlohmann::json ScoreJson(const ModelScore& s) {
   nlohmann::json values = nlohmann::json::array();
   for (const FittedValue& v : s.values) {
     values.push_back({{"path", v.path}, {"unit", v.unit}, {"start", v.start}, {"value", v.value},
-                      {"ci95", RoundedOrNull(v.ci95)}, {"identified", v.identified}});
+                      {"ci95", RoundedOrNull(v.ci95)}, {"identified", v.identified}, {"bound", BoundName(v.bound)}});
   }
   return {{"model", s.label},
           {"summary", s.summary},
@@ -73,7 +95,7 @@ nlohmann::json ScoreJson(const ModelScore& s) {
           {"score", RoundedOrNull(s.score)},
           {"fit", {{"generations", s.fit.generations}, {"evaluations", s.fit.evaluations},
                    {"converged", s.fit.converged}, {"abandoned", s.fit.abandoned}, {"convergence", s.fit.convergence},
-                   {"polish", s.fit.polish}}}};
+                   {"local_starts", s.fit.local_starts}, {"polish", s.fit.polish}}}};
 }
 
 // The motors of the worst channels, worst first, without repeats (for the plots).
@@ -121,6 +143,22 @@ std::string TraceCsv(const ChannelTrace& before, const ChannelTrace& refit, cons
   return csv.str();
 }
 
+nlohmann::json RivalsJson(const Diagnosis& d) {
+  nlohmann::json rivals = nlohmann::json::array();
+  for (const Rival& r : d.rivals) {
+    rivals.push_back({{"effect", r.effect}, {"loss_difference", r.loss_difference},
+                      {"standard_error", r.standard_error}, {"relation", r.relation},
+                      {"kind", r.contains_named ? "contains the named effect, fits no better" : "tie"}});
+  }
+  return rivals;
+}
+
+nlohmann::json TellApartJson(const TellApart& t) {
+  if (t.probe.empty()) return nullptr;
+  return {{"probe", t.probe}, {"motor", t.motor}, {"description", t.description}, {"shows", t.shows},
+          {"difference_deg", t.difference}, {"noise_deg", t.noise}};
+}
+
 }  // namespace
 
 nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOptions& options) {
@@ -139,6 +177,10 @@ nlohmann::json ReportJson(const Diagnosis& d, const Rig& rig, const DiagnosisOpt
       {"candidates", candidates},
       {"verdict",
        {{"effect", d.effect.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.effect)},
+        {"effects", d.effects},
+        {"tie", d.effects.size() > 1},
+        {"rivals", RivalsJson(d)},
+        {"tell_apart", TellApartJson(d.tell_apart)},
         {"text", d.verdict},
         {"quantity", d.quantity},
         {"holdout_rms_before", RoundedOrNull(d.before.holdout_rms)},
@@ -169,6 +211,9 @@ std::string ModelValueFile(const Diagnosis& d, const std::vector<ValueAssignment
   file << "# orcs-gap fitted model\n";
   file << "# " << (d.effect.empty() ? "no missing effect found; base parameters refitted" : "added effect: " + d.effect)
        << "\n";
+  for (std::size_t i = 1; i < d.effects.size(); ++i) {
+    file << "# tied with " << d.effects[i] << ": the held-out runs cannot tell them apart (report.md)\n";
+  }
   for (const ValueAssignment& line : model) file << line.path << "=" << line.value << "\n";
   for (const Override& value : d.model_values) file << value.first << "=" << value.second << "\n";
   return file.str();
@@ -243,28 +288,19 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
   const auto row = [&](const ModelScore& s) {
     md << "| " << s.label << " | " << s.added_parameters << " | " << Deg(s.fit_rms) << " | " << Deg(s.holdout_rms)
        << " | " << text::FormatDouble(std::round(s.score / d.base.score * 1000.0) / 1000.0) << " | "
-       << (s.fit.abandoned ? "abandoned after " + std::to_string(s.fit.generations) + " generations" +
-                                 (s.fit.abandoned_unmoved ? ", before its search moved" : "")
+       << (s.fit.abandoned ? "abandoned after " + std::to_string(s.fit.generations) + " generations, converged " +
+                                 (s.fit.converged ? "yes" : "no")
                            : s.fit.converged ? "yes" : "no")
        << " |";
     for (const FittedValue& v : s.values) {
       md << " " << v.path.substr(v.path.rfind('/') + 1) << " " << Digits(v.value, 4)
          << (std::isfinite(v.ci95) ? " ± " + Digits(v.ci95, 3) : "") << " " << v.unit
-         << (v.identified || s.fit.abandoned ? "" : " (not identified)") << ";";
+         << (v.identified || s.fit.abandoned ? "" : " (not identified)") << BoundNote(v.bound) << ";";
     }
     md << " |\n";
   };
   row(d.base);
   for (const ModelScore& s : d.candidates) row(s);
-  const auto unmoved = std::count_if(d.candidates.begin(), d.candidates.end(),
-                                     [](const ModelScore& s) { return s.fit.abandoned_unmoved; });
-  if (unmoved > 0) {
-    md << "\n"
-       << (unmoved == 1 ? "1 candidate was abandoned before its search moved: its best"
-                        : std::to_string(unmoved) + " candidates were abandoned before their search moved: their best")
-       << " had not changed since the swarm's first generation, so the race judged where the search started, not "
-          "where it could get. `--no-race` fits every candidate to the end.\n";
-  }
   md << "\nScore: held-out " << (options.loss == Loss::kAbsolute ? "mean absolute error" : "RMS²") << " × (1 + "
      << options.penalty_per_parameter
      << " × added parameters); an effect is named when its score is below " << options.win_ratio

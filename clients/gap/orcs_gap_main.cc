@@ -17,6 +17,9 @@
 #include "clients/gap/gap_report.h"
 #include "clients/gap/synthetic_runs.h"
 #include "model/identify/effect_catalogue.h"
+#include "model/identify/probe_motion.h"
+#include "model/control/keyframe_record.h"
+#include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 #include "model/scene/engine_names.h"
@@ -53,6 +56,9 @@ struct GapOptions {
   std::vector<std::string> sets;
   std::uint64_t noise_seed = 1;
   double duration = 0.0;
+  std::string probe;        // synth --probe: a probe motion (model/identify/probe_motion.h) to make and play
+  std::string probe_motor;  // the motor it moves ("" = the rig's first)
+  bool accelerometers = false;  // synth: log the accelerometer axes too
 };
 
 void AddRigOptions(CLI::App& app, GapOptions& o) {
@@ -89,18 +95,52 @@ std::vector<Override> HiddenValues(const GapOptions& o) {
   return hidden;
 }
 
+// synth --probe: the probe motion's keyframe record, written to OUT/motions/<probe>.csv (to play on the robot and
+// in the synthetic run).
+std::string WriteProbeRecord(const Rig& rig, const GapOptions& o) {
+  const std::string motor = o.probe_motor.empty() ? rig.motors.front() : o.probe_motor;
+  const ProbeMotion probe = FindProbe(rig, motor, o.probe);
+  const control::KeyframeRecord record = CommandsAsRecord(ProbeRun(rig, probe, nullptr), rig.motors);
+  const std::filesystem::path folder = std::filesystem::path(o.out) / "motions";
+  std::filesystem::create_directories(folder);
+  const std::string path = (folder / (probe.name + ".csv")).string();
+  AtomicFile file(path);
+  file.stream() << control::FormatKeyframeRecord(
+      record, {"orcs-gap probe motion " + probe.name + " of " + rig.agent + "/" + motor + ": " + probe.description,
+               "it shows " + probe.shows,
+               "play: orcs-sim -play " + rig.agent + " " + path + " (or on the robot)"});
+  file.Commit();
+  std::cout << "orcs-gap: wrote " << path << " (" << probe.description << ")\n";
+  return path;
+}
+
 int Synth(const GapOptions& o) {
   const std::vector<ValueAssignment> model = ReadModel(o);
   const std::string agent = !o.agent.empty() ? o.agent : o.rig.kind == "pendulum" ? "Pendulum" : "Humanoid";
   const Rig rig = MakeRig(o.rig, agent, model);
   SynthOptions synth;
   synth.motions = o.motions;
+  if (!o.probe.empty()) synth.motions.push_back(WriteProbeRecord(rig, o));
   synth.hidden = HiddenValues(o);
   synth.seed = o.noise_seed;
   synth.duration = o.duration;
+  synth.accelerometers = o.accelerometers;
   synth.out = o.out;
   for (const std::string& file : WriteSyntheticRuns(rig, model, synth)) std::cout << "orcs-gap: wrote " << file << "\n";
   return cli::kExitOk;
+}
+
+// The synth command of this diagnosis's rig, for the verdict's advice on a motion that tells two effects apart.
+std::string SynthCommand(const GapOptions& o) {
+  std::string command = "orcs-gap synth --rig " + o.rig.kind;
+  if (o.rig.kind == "pendulum") {
+    command += " --pole-mass " + text::FormatDouble(o.rig.pole_mass) + " --pole-length " +
+               text::FormatDouble(o.rig.pole_length);
+  }
+  if (!o.rig.environment_file.empty()) command += " --env " + o.rig.environment_file;
+  if (!o.model.empty()) command += " --model " + o.model;
+  if (!o.engine.empty()) command += " --engine " + o.engine;
+  return command;
 }
 
 std::vector<MeasuredRun> ReadRuns(const std::vector<std::string>& files, const ColumnMapping* mapping) {
@@ -134,6 +174,7 @@ int Diagnose(const GapOptions& o) {
   options.loss = o.loss == "absolute" ? Loss::kAbsolute : Loss::kSquared;
   options.fit.seed = o.seed;
   options.candidates = o.effects;
+  options.synth_command = SynthCommand(o);
   std::filesystem::create_directories(o.out);
   batch::RunnerOptions runner_options;
   runner_options.broker = o.broker;
@@ -236,15 +277,26 @@ int main(int argc, char** argv) {
   app.add_option("--effects", o.effects, "only these candidate effects (default: the whole catalogue)")->delimiter(',');
   CLI::App* synth = app.add_subcommand("synth", "make \"measured\" runs with hidden values (an effect, mistuned gains)");
   AddRigOptions(*synth, o);
-  synth->add_option("--motion", o.motions, "keyframe records to play, one run each")->required();
+  synth->add_option("--motion", o.motions, "keyframe records to play, one run each");
   synth->add_option("--effect", o.effect_switches, "switch an effect on (repeatable)");
   synth->add_option("--set", o.sets, "PATH=VALUE, a hidden value (repeatable)");
   synth->add_option("--seed", o.noise_seed, "noise seed of the first run (default 1)")->check(orcs::cli::Seed());
   synth->add_option("--duration", o.duration, "seconds per run (default: the record's length)");
   synth->add_option("--agent", o.agent, "the agent (default Pendulum / Humanoid)");
+  synth->add_option("--probe", o.probe,
+                    "also make and play a probe motion that tells effects apart (slow_reversals, speed_ladder, "
+                    "loaded_lowering, fast_steps, small_steps, limp_drops, torque_ladder; docs/gap.md): its keyframe "
+                    "record goes to OUT/motions/NAME.csv, its run to OUT/NAME.csv");
+  synth->add_option("--probe-motor", o.probe_motor, "the motor the probe moves (default: the rig's first)");
+  synth->add_flag("--accelerometers", o.accelerometers,
+                  "log the agent's accelerometer axes too (A-Series: the eight ADXL213 boards), with the noise of "
+                  "/AccelSensor/Deviation; orcs-gap compares them beside the joint angles (docs/gap_measured_data.md)");
   synth->add_option("--out", o.out, "output folder")->required();
   const int parsed = orcs::cli::ParseArguments(app, argc, argv, {"env"}, [&] {
     if (!synth->parsed() && o.measured.empty()) throw CLI::RequiredError("--measured");
+    if (synth->parsed() && o.motions.empty() && o.probe.empty()) {
+      throw CLI::ValidationError("synth: give --motion RECORD... or --probe NAME (or both)");
+    }
   });
   if (parsed >= 0) return parsed;
   if (relax_scan->count() == 0) o.relax_scan = RelaxScanByDefault(o.rig.kind);

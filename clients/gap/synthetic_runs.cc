@@ -18,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 nlohmann::json SynthScenario(const Rig& rig, const std::vector<ValueAssignment>& model, const std::string& motion,
-                             double duration) {
+                             double duration, bool accelerometers) {
   const std::string record_text = ReadTextFile(motion);
   if (duration <= 0.0) {
     const control::KeyframeRecord record =
@@ -38,6 +38,7 @@ nlohmann::json SynthScenario(const Rig& rig, const std::vector<ValueAssignment>&
   };
   // Under the servo model the firmware gain is an input of each run (docs/gap_measured_data.md): it is logged.
   if (UsesServo(rig, model)) scenario["log"].push_back("/Servo/FirmwareKp");
+  if (accelerometers) scenario["log"].push_back("/Sim/" + rig.agent + "/[^/]+/(AccelAxis1|AccelAxis2)");
   if (!rig.environment_xml.empty()) {
     scenario["environment"] = {{"file", rig.environment_name}, {"xml", rig.environment_xml}};
   }
@@ -55,7 +56,7 @@ std::vector<std::string> WriteSyntheticRuns(const Rig& rig, const std::vector<Va
   for (std::size_t k = 0; k < options.motions.size(); ++k) {
     const std::string& motion = options.motions[k];
     evaluation::EvaluationRequest request;
-    request.scenario = scene::ParseScenario(SynthScenario(rig, model, motion, options.duration), motion);
+    request.scenario = scene::ParseScenario(SynthScenario(rig, model, motion, options.duration, options.accelerometers), motion);
     request.seed = options.seed + k;
     for (const Override& value : options.hidden) request.overrides.push_back({value.first, value.second, "--set", 0});
     const evaluation::EvaluationOutcome outcome = evaluation::Evaluate(request);

@@ -18,6 +18,7 @@ struct SynthOptions {
   std::uint64_t seed = 1;            ///< noise seed of the first run; run k uses seed + k
   double duration = 0.0;             ///< simulated seconds per run; ≤ 0 = each record's last keyframe
   std::string out;                   ///< folder for <motion stem>.csv
+  bool accelerometers = false;       ///< log the agent's accelerometer axes too (docs/gap_measured_data.md)
 };
 
 /// Writes one run per motion and returns the files written. Throws InputError for unreadable records, unknown

@@ -128,12 +128,21 @@ class TrackingError : public FitnessTerm {
   double step_start_ = 0.0;
 };
 
+// The error of the simulated joint angles (and accelerometer axes, weighted into degrees) against measured ones,
+// RMS or mean absolute over every listed entry: the gap workflow's replays (model/identify/replay.h).
 class MeasuredError : public FitnessTerm {
  public:
-  MeasuredError(std::vector<std::vector<double>> measured, std::vector<const Value*> angles, bool absolute,
-                double stop_above)
-      : measured_(std::move(measured)), angles_(std::move(angles)), absolute_(absolute), stop_above_(stop_above) {
-    for (const std::vector<double>& trace : measured_) listed_ += static_cast<long>(trace.size());
+  // One compared channel: what it reads, what was measured after each step, and its weight (1 for an angle; deg
+  // per m/s² for an accelerometer axis).
+  struct Channel {
+    const Value* value = nullptr;
+    std::vector<double> measured;
+    double weight = 1.0;
+  };
+
+  MeasuredError(std::vector<Channel> channels, bool absolute, double stop_above)
+      : channels_(std::move(channels)), absolute_(absolute), stop_above_(stop_above) {
+    for (const Channel& channel : channels_) listed_ += static_cast<long>(channel.measured.size());
   }
   void Start(const scene::Simulation&) override {
     sum_ = 0.0;
@@ -142,9 +151,9 @@ class MeasuredError : public FitnessTerm {
     finished_ = false;
   }
   void Sample(const scene::Simulation&, double) override {
-    for (std::size_t m = 0; m < angles_.size(); ++m) {
-      if (step_ >= measured_[m].size()) continue;
-      const double error = angles_[m]->as_double() - measured_[m][step_];
+    for (const Channel& channel : channels_) {
+      if (step_ >= channel.measured.size()) continue;
+      const double error = channel.weight * (channel.value->as_double() - channel.measured[step_]);
       sum_ += absolute_ ? std::abs(error) : error * error;
       ++count_;
     }
@@ -165,15 +174,14 @@ class MeasuredError : public FitnessTerm {
     return absolute_ ? mean : std::sqrt(mean);
   }
 
-  std::vector<std::vector<double>> measured_;  // per listed motor: degrees after each step
-  std::vector<const Value*> angles_;           // the motors' JointAngle values
-  bool absolute_;                              // "norm": "mean_absolute" (else RMS)
-  double stop_above_;                          // degrees in the norm; +∞ = run to the end
-  long listed_ = 0;                            // entries over all motors
-  double sum_ = 0.0;                           // Σ error² (deg²) or Σ |error| (deg)
-  long count_ = 0;                             // entries compared so far
+  std::vector<Channel> channels_;  // the motors' JointAngle values, then the accelerometer axes
+  bool absolute_;                  // "norm": "mean_absolute" (else RMS)
+  double stop_above_;              // degrees in the norm; +∞ = run to the end
+  long listed_ = 0;                // entries over all channels
+  double sum_ = 0.0;               // Σ error² (deg²) or Σ |error| (deg)
+  long count_ = 0;                 // entries compared so far
   std::size_t step_ = 0;
-  bool finished_ = false;                      // the norm over all listed entries exceeds stop_above_
+  bool finished_ = false;          // the norm over all listed entries exceeds stop_above_
 };
 
 class Falls : public FitnessTerm {
@@ -228,14 +236,30 @@ std::unique_ptr<FitnessTerm> MakeMeasuredError(const JsonNode& entry, const scen
   const JsonNode angles = entry.At("angles");
   if (!angles.value().is_object()) angles.Fail("an object {\"<motor>\": [degrees, ...]}");
   const std::string prefix = "/Sim/" + simulation.model().agents()[agent_index].agent_name + "/";
-  std::vector<std::vector<double>> measured;
-  std::vector<const Value*> values;
+  std::vector<MeasuredError::Channel> channels;
   for (const auto& [motor, list] : angles.Members()) {
-    const Value* angle = simulation.repository().Find(prefix + motor + "/JointAngle");
-    if (angle == nullptr) list.Fail("the angles of a motor of the agent");
-    values.push_back(angle);
-    std::vector<double>& trace = measured.emplace_back();
-    for (const JsonNode& element : list.Elements()) trace.push_back(element.Number("a finite angle in degrees"));
+    MeasuredError::Channel& channel = channels.emplace_back();
+    channel.value = simulation.repository().Find(prefix + motor + "/JointAngle");
+    if (channel.value == nullptr) list.Fail("the angles of a motor of the agent");
+    for (const JsonNode& element : list.Elements()) channel.measured.push_back(element.Number("a finite angle in degrees"));
+  }
+  if (entry.Has("accelerations")) {
+    const JsonNode accelerations = entry.At("accelerations");
+    if (!accelerations.value().is_object()) {
+      accelerations.Fail("an object {\"<board>/AccelAxis1\": {\"values\": [m/s², ...], \"weight\": deg per m/s²}}");
+    }
+    for (const auto& [axis, node] : accelerations.Members()) {
+      node.ExpectOnly({"values", "weight"});
+      MeasuredError::Channel& channel = channels.emplace_back();
+      const bool is_axis = axis.size() > 10 && (axis.ends_with("/AccelAxis1") || axis.ends_with("/AccelAxis2"));
+      channel.value = is_axis ? simulation.repository().Find(prefix + axis) : nullptr;
+      if (channel.value == nullptr) node.Fail("the readings of an accelerometer axis of the agent (\"ABSR/AccelAxis1\")");
+      for (const JsonNode& element : node.At("values").Elements()) {
+        channel.measured.push_back(element.Number("a finite acceleration in m/s²"));
+      }
+      channel.weight = node.At("weight").Number("a positive weight in degrees per m/s²");
+      if (!(channel.weight > 0.0)) node.At("weight").Fail("a positive weight in degrees per m/s²");
+    }
   }
   bool absolute = false;
   if (entry.Has("norm")) {
@@ -248,7 +272,7 @@ std::unique_ptr<FitnessTerm> MakeMeasuredError(const JsonNode& entry, const scen
     stop_above = entry.At("stop_above").Number("an error in degrees, at least 0");
     if (stop_above < 0) entry.At("stop_above").Fail("an error in degrees, at least 0");
   }
-  return std::make_unique<MeasuredError>(std::move(measured), std::move(values), absolute, stop_above);
+  return std::make_unique<MeasuredError>(std::move(channels), absolute, stop_above);
 }
 
 }  // namespace
@@ -281,7 +305,7 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
     return MakeTrackingError(entry, simulation, agent_index);
   }
   if (type == "measured_error") {
-    entry.ExpectOnly({"type", "name", "weight", "angles", "norm", "stop_above"});
+    entry.ExpectOnly({"type", "name", "weight", "angles", "accelerations", "norm", "stop_above"});
     return MakeMeasuredError(entry, simulation, agent_index);
   }
   if (type == "falls") {

@@ -37,8 +37,41 @@ const std::vector<EffectDescription>& EffectCatalogue() {
        {{"/Effects/BackDrive/Coefficient", "1", 0.01, 1.0, true}}, false, true},
       {"GravityLoadFriction", "gearbox friction grows with the load's pull against the motor (BAM's M3)", "load",
        {{"/Effects/GravityLoadFriction/Coefficient", "1", 0.01, 1.0, true}}, false, true},
+      // Not a motor effect: one link of the robot is heavier or lighter than the model says (a payload, a battery,
+      // a part the model lacks). The servos hide it from the joint angles as long as they have torque to spare;
+      // the accelerometers feel it in the robot's sway.
+      {"LinkMass", "a link's mass is off", "acceleration", {}, true, true, /*switched=*/false, /*per_link=*/true,
+       /*needs_accelerometers=*/true},
   };
   return catalogue;
+}
+
+const EffectRelation* FindRelation(std::string_view a, std::string_view b) {
+  static const std::vector<EffectRelation> relations{
+      {"GearEfficiency", "LoadFriction", true,
+       "GearEfficiency is LoadFriction with a curvature: at Curvature 0 the two are one"},
+      {"LuGre", "Stribeck", false,
+       "LuGre's friction in steady sliding is a Stribeck curve; what it adds is the bristles' memory"},
+      {"BackDrive", "LoadFriction", false,
+       "both add friction that grows with the motor's torque, BackDrive only while the load drives the gearbox "
+       "backwards"},
+      {"GravityLoadFriction", "LoadFriction", false,
+       "both add friction that grows with the load, GravityLoadFriction with gravity's pull against the motor, on a "
+       "limp servo too"},
+      {"GravityLoadFriction", "BackDrive", false, "both brake a gearbox that the load drives backwards"},
+      {"Backlash", "DeadBand", false,
+       "both leave small moves unanswered, DeadBand in the controller, Backlash in the gears where the load turns"},
+      {"Stribeck", "DeadBand", false, "both hold a joint still under a small error"},
+      {"TransportDelay", "RotorInertia", false, "both make the joint lag behind its command"},
+      {"TransportDelay", "Elasticity", false, "both make the joint lag behind its command"},
+      {"RotorInertia", "Elasticity", false, "both slow the joint's response to a fast command"},
+  };
+  for (const EffectRelation& relation : relations) {
+    if ((relation.first == a && relation.second == b) || (relation.first == b && relation.second == a)) {
+      return &relation;
+    }
+  }
+  return nullptr;
 }
 
 const EffectDescription* FindEffect(std::string_view name) {

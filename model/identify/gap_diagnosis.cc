@@ -9,6 +9,7 @@
 
 #include "model/identify/effect_catalogue.h"
 #include "model/identify/least_squares_polish.h"
+#include "model/identify/probe_motion.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 
@@ -65,8 +66,9 @@ std::vector<FittedValue> Report(const std::vector<FitParameter>& parameters, con
   std::vector<FittedValue> report;
   for (std::size_t i = 0; i < parameters.size(); ++i) {
     const double ci95 = i < fit.ci95.size() ? fit.ci95[i] : std::numeric_limits<double>::quiet_NaN();
+    const BoundState bound = i < fit.bounds.size() ? fit.bounds[i] : BoundState::kInside;
     report.push_back({parameters[i].path, parameters[i].unit, parameters[i].start, fit.values[i], ci95,
-                      Identified(fit.values[i], ci95)});
+                      Identified(fit.values[i], ci95), bound});
   }
   return report;
 }
@@ -157,7 +159,8 @@ ModelScore ScoreFit(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit,
 
 std::vector<Override> ModelOf(const ModelScore& score, const std::string& effect) {
   std::vector<Override> model;
-  if (!effect.empty()) model.emplace_back("/Effects/" + effect + "/Enabled", "T");
+  const EffectDescription* description = effect.empty() ? nullptr : FindEffect(effect);
+  if (description != nullptr && description->switched) model.emplace_back("/Effects/" + effect + "/Enabled", "T");
   for (const FittedValue& value : score.values) model.emplace_back(value.path, text::FormatDouble(value.value));
   return model;
 }
@@ -165,13 +168,15 @@ std::vector<Override> ModelOf(const ModelScore& score, const std::string& effect
 // The effects to try: the named ones, or the catalogue's defaults for the motor model (`servo`: the physical
 // servo's). An effect the model switches on already is part of the base (BaseParameters), not a candidate.
 std::vector<const EffectDescription*> Candidates(const std::vector<std::string>& names, bool servo,
-                                                 const std::vector<const EffectDescription*>& enabled) {
+                                                 const std::vector<const EffectDescription*>& enabled,
+                                                 bool accelerometers) {
   const auto in_model = [&enabled](const EffectDescription* effect) {
     return std::find(enabled.begin(), enabled.end(), effect) != enabled.end();
   };
   std::vector<const EffectDescription*> candidates;
   if (names.empty()) {
     for (const EffectDescription& effect : EffectCatalogue()) {
+      if (effect.needs_accelerometers && !accelerometers) continue;
       if ((servo ? effect.with_servo : effect.with_original) && !in_model(&effect)) candidates.push_back(&effect);
     }
     return candidates;
@@ -192,8 +197,48 @@ std::vector<const EffectDescription*> Candidates(const std::vector<std::string>&
   return candidates;
 }
 
+bool HasAccelerometers(const std::vector<ReplayRun>& runs) {
+  return std::any_of(runs.begin(), runs.end(), [](const ReplayRun& run) { return !run.accelerometers.empty(); });
+}
+
 std::string Percent(double fraction) { return text::FormatDouble(std::round(fraction * 1000.0) / 10.0) + " %"; }
 std::string Degrees(double value) { return text::FormatDouble(std::round(value * 1000.0) / 1000.0) + "°"; }
+
+const ModelScore& ScoreOf(const Diagnosis& d, const std::string& label) {
+  for (const ModelScore& candidate : d.candidates) {
+    if (candidate.label == label) return candidate;
+  }
+  throw std::logic_error("no candidate " + label);
+}
+
+// A rival's held-out loss against the named model's: "0.4 % above it, ± 1.1 %" (the standard error).
+std::string Difference(const Rival& rival, double named_loss) {
+  if (!(named_loss > 0.0)) return "";
+  const double above = std::round(rival.loss_difference / named_loss * 1000.0) / 10.0;
+  const double error = std::round(rival.standard_error / named_loss * 1000.0) / 10.0;
+  return text::FormatDouble(std::abs(above) == 0.0 ? 0.0 : std::abs(above)) + " % " +
+         (above < 0 ? "below" : "above") + " it, ± " + text::FormatDouble(error) + " %";
+}
+
+std::string TellApartAdvice(const Diagnosis& d, const DiagnosisOptions& options) {
+  const TellApart& t = d.tell_apart;
+  if (t.probe.empty()) return "";
+  std::ostringstream text;
+  const double times = t.noise > 0.0 ? t.difference / t.noise : 0.0;
+  if (times < 1.0) {
+    text << " None of orcs's probe motions tells them apart: their fitted models differ by at most "
+         << Degrees(t.difference) << " RMS (" << t.probe << ", on " << t.motor << "), within the noise.";
+    return text.str();
+  }
+  const std::string synth = options.synth_command.empty() ? "orcs-gap synth" : options.synth_command;
+  text << " To tell them apart, record " << t.description << " on " << t.motor << " (it shows " << t.shows
+       << "): their fitted models differ there by " << Degrees(t.difference) << " RMS, "
+       << text::FormatDouble(std::round(times * 10.0) / 10.0) << " times the noise. `" << synth << " --probe "
+       << t.probe << " --probe-motor " << t.motor
+       << " --out DIR` writes it as a keyframe record to play on the robot (DIR/motions/" << t.probe
+       << ".csv); diagnose again with its measured run among the held-out runs.";
+  return text.str();
+}
 
 std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
   std::ostringstream text;
@@ -208,27 +253,157 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
     text << ".";
     return text.str();
   }
-  const ModelScore& winner = d.candidates[0];
+  const ModelScore& winner = ScoreOf(d, d.effect);
+  if (d.effects.size() > 1) {
+    text << "Missing effect: " << d.effects[0];
+    for (std::size_t i = 1; i < d.effects.size(); ++i) text << (i + 1 == d.effects.size() ? " or " : ", ") << d.effects[i];
+    text << ". The held-out runs cannot tell them apart:";
+    for (const Rival& rival : d.rivals) {
+      if (rival.contains_named) continue;
+      text << " " << rival.effect << "'s held-out loss is within the noise of " << d.effect << "'s ("
+           << Difference(rival, winner.holdout_loss) << (rival.relation.empty() ? "" : "; " + rival.relation) << ").";
+    }
+    text << " With " << d.effect << " (" << winner.summary << ") the held-out gap falls from "
+         << Degrees(d.before.holdout_rms) << " (model as given) and " << Degrees(d.base.holdout_rms)
+         << " (base parameters refitted) to " << Degrees(winner.holdout_rms) << " RMS";
+    for (std::size_t i = 1; i < d.effects.size(); ++i) {
+      text << ", with " << d.effects[i] << " to " << Degrees(ScoreOf(d, d.effects[i]).holdout_rms);
+    }
+    text << "." << TellApartAdvice(d, options);
+    return text.str();
+  }
   text << "Missing effect: " << d.effect << " (" << winner.summary << "). With it the held-out gap falls from "
        << Degrees(d.before.holdout_rms) << " (model as given) and " << Degrees(d.base.holdout_rms)
        << " (base parameters refitted) to " << Degrees(winner.holdout_rms) << " RMS; its penalised score is "
        << Percent(winner.score / base) << " of \"nothing missing\"";
-  if (d.candidates.size() > 1) {
-    text << ", the runner-up " << d.candidates[1].label << " reaches " << Percent(d.candidates[1].score / base);
+  for (const ModelScore& other : d.candidates) {
+    if (other.label == d.effect) continue;
+    text << ", the runner-up " << other.label << " reaches " << Percent(other.score / base);
+    break;
   }
   text << ".";
+  for (const Rival& rival : d.rivals) {
+    if (rival.contains_named) {
+      text << " " << rival.effect << ", which contains it, fits the held-out runs no better (its loss "
+           << Difference(rival, winner.holdout_loss) << "; " << rival.relation << ").";
+    }
+  }
   return text.str();
+}
+
+// The held-out loss of every sample (r² or |r|) of each point's replays; empty for a failed replay.
+std::vector<std::vector<double>> SampleLosses(ReplayEvaluator& replays, const std::vector<ReplayRun>& holdout,
+                                              const std::vector<std::vector<Override>>& models, Loss loss) {
+  std::vector<std::vector<double>> losses = ReplayObjective(replays, holdout, {}, Loss::kSquared).Residuals(models);
+  for (std::vector<double>& point : losses) {
+    for (double& r : point) r = loss == Loss::kAbsolute ? std::abs(r) : r * r;
+  }
+  return losses;
+}
+
+// The named effect and the candidates the held-out runs cannot tell from it (docs/gap.md, "When two effects explain
+// the data"): every other candidate that also clears the naming bar is compared with the winner sample by sample; one
+// whose held-out loss is within kTieStandardErrors standard errors of the winner's is tied with it, unless one of
+// the two contains the other exactly (EffectRelation::nested) — then the simpler is named alone.
+void NameEffects(ReplayEvaluator& replays, const std::vector<ReplayRun>& holdout, const DiagnosisOptions& options,
+                 Diagnosis& d) {
+  d.effect = d.candidates[0].label;
+  std::vector<const ModelScore*> nameable;
+  for (std::size_t i = 1; i < d.candidates.size(); ++i) {
+    if (d.candidates[i].score < options.win_ratio * d.base.score && !d.candidates[i].fit.abandoned) {
+      nameable.push_back(&d.candidates[i]);
+    }
+  }
+  if (!nameable.empty()) {
+    std::vector<std::vector<Override>> models = {ModelOf(d.candidates[0], d.candidates[0].label)};
+    for (const ModelScore* c : nameable) models.push_back(ModelOf(*c, c->label));
+    const std::vector<std::vector<double>> losses = SampleLosses(replays, holdout, models, options.loss);
+    for (std::size_t i = 0; i < nameable.size(); ++i) {
+      if (losses[0].empty() || losses[i + 1].size() != losses[0].size()) continue;
+      const PairedDifference difference = ComparePaired(losses[0], losses[i + 1]);
+      if (difference.mean > kTieStandardErrors * difference.standard_error) continue;
+      const EffectRelation* relation = FindRelation(d.effect, nameable[i]->label);
+      Rival rival{nameable[i]->label, difference.mean, difference.standard_error,
+                  relation != nullptr ? std::string(relation->text) : "", false};
+      if (relation != nullptr && relation->nested) {
+        // Nested and no better: the simpler of the two is named, the other said to add nothing.
+        if (relation->first == d.effect) {
+          rival.effect = d.effect;
+          rival.loss_difference = -rival.loss_difference;
+          d.effect = nameable[i]->label;
+        }
+        rival.contains_named = true;
+      }
+      d.rivals.push_back(std::move(rival));
+    }
+  }
+  d.effects = {d.effect};
+  for (const Rival& rival : d.rivals) {
+    if (!rival.contains_named && rival.effect != d.effect) d.effects.push_back(rival.effect);
+  }
+}
+
+// For a tie: every probe motion of the worst channel's motor, replayed under the two first named models (noise off,
+// as replays are); the one where their angles differ most.
+TellApart BestProbe(ReplayEvaluator& replays, const Rig& rig, const std::vector<ValueAssignment>& model,
+                    const std::vector<ReplayRun>& fit, const Diagnosis& d) {
+  TellApart best;
+  const std::string& worst = d.before.channels.empty() ? rig.motors.front() : d.before.channels.front().name;
+  best.motor = worst.substr(worst.find(':') + 1);
+  best.noise = ScoreOf(d, d.effects[0]).holdout_rms;
+  const std::vector<ProbeMotion> probes = ProbeMotions(rig, best.motor);
+  std::vector<MeasuredRun> runs;
+  for (const ProbeMotion& probe : probes) runs.push_back(ProbeRun(rig, probe, fit.empty() ? nullptr : fit[0].run));
+  std::vector<ReplayRun> probe_replays;
+  for (const MeasuredRun& run : runs) probe_replays.push_back(MakeReplayRun(rig, run, model));
+  const std::vector<Override> first = ModelOf(ScoreOf(d, d.effects[0]), d.effects[0]);
+  const std::vector<Override> second = ModelOf(ScoreOf(d, d.effects[1]), d.effects[1]);
+  std::vector<ReplayRequest> requests;
+  for (const ReplayRun& run : probe_replays) {
+    requests.push_back({&run, first, /*log=*/true});
+    requests.push_back({&run, second, /*log=*/true});
+  }
+  const std::vector<ReplayOutcome> outcomes = replays.Replay(requests);
+  const std::string path = MotorColumn(rig.agent, best.motor, "JointAngle");
+  const auto column = [&path](const ReplayOutcome& outcome) -> const std::vector<double>* {
+    for (const auto& [name, values] : outcome.columns) {
+      if (name == path) return &values;
+    }
+    return nullptr;
+  };
+  best.difference = -1.0;
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    const std::vector<double>* a = column(outcomes[2 * k]);
+    const std::vector<double>* b = column(outcomes[2 * k + 1]);
+    if (a == nullptr || b == nullptr || a->size() != b->size() || a->empty()) continue;
+    double sum = 0.0;
+    for (std::size_t row = 0; row < a->size(); ++row) sum += ((*a)[row] - (*b)[row]) * ((*a)[row] - (*b)[row]);
+    const double rms = std::sqrt(sum / static_cast<double>(a->size()));
+    if (std::isfinite(rms) && rms > best.difference) {
+      best.difference = rms;
+      best.probe = probes[k].name;
+      best.description = probes[k].description;
+      best.shows = probes[k].shows;
+    }
+  }
+  if (best.difference < 0.0) best.difference = 0.0;
+  return best;
 }
 
 }  // namespace
 
 std::vector<const EffectDescription*> EnabledEffects(const Rig& rig, const std::vector<ValueAssignment>& model) {
   std::vector<std::string> paths;
-  for (const EffectDescription& effect : EffectCatalogue()) paths.push_back(EnabledPath(effect));
+  std::vector<const EffectDescription*> switched;
+  for (const EffectDescription& effect : EffectCatalogue()) {
+    if (!effect.switched) continue;
+    paths.push_back(EnabledPath(effect));
+    switched.push_back(&effect);
+  }
   const std::vector<bool> on = ModelSwitches(rig, model, paths);
   std::vector<const EffectDescription*> enabled;
   for (std::size_t i = 0; i < on.size(); ++i) {
-    if (on[i]) enabled.push_back(&EffectCatalogue()[i]);
+    if (on[i]) enabled.push_back(switched[i]);
   }
   return enabled;
 }
@@ -305,8 +480,13 @@ void Relax(const ReplayObjective& objective, const std::vector<FitParameter>& pa
   }
 }
 
-void ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<Override>& enabled,
-                       std::vector<FitParameter>& parameters, std::size_t main, bool relax, Loss loss) {
+// Returns the scan's points (relaxed where they were) as starts for the fit's local stages (FitOptions::starts).
+// `given`: the base parameters' values in the model as given. The refit can take up an effect's signature in the
+// wrong way (a heavier arm's sway in the accelerometers as a weaker torque limit), so the scan is repeated with the
+// base at the model's values, and those points are starts for the local stages too.
+std::vector<FitStart> ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit,
+                                        const std::vector<Override>& enabled, std::vector<FitParameter>& parameters,
+                                        std::size_t main, bool relax, Loss loss, const std::vector<double>& given) {
   std::vector<ScanPoint> scan;
   for (int k = 0; k < kScanPoints; ++k) {
     ScanPoint& point = scan.emplace_back();
@@ -315,16 +495,28 @@ void ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& f
   }
   ScanPoint& weak = scan.emplace_back();  // the weak start competes too
   for (const FitParameter& p : parameters) weak.values.push_back(p.start);
+  std::vector<ScanPoint> scan_given;
+  if (!std::equal(given.begin(), given.end(), scan.front().values.begin())) {
+    for (int k = 0; k < kScanPoints; ++k) {
+      ScanPoint& point = scan_given.emplace_back(scan[static_cast<std::size_t>(k)]);
+      std::copy(given.begin(), given.end(), point.values.begin());
+    }
+  }
   std::vector<std::vector<Override>> points;
   for (const ScanPoint& point : scan) points.push_back(OverridesOf(parameters, point.values));
+  for (const ScanPoint& point : scan_given) points.push_back(OverridesOf(parameters, point.values));
   const ReplayObjective objective(replays, fit, enabled, loss);
   const std::vector<double> errors = objective.Losses(points);
   for (std::size_t k = 0; k < scan.size(); ++k) scan[k].mse = errors[k];
+  for (std::size_t k = 0; k < scan_given.size(); ++k) scan_given[k].mse = errors[scan.size() + k];
 
+  std::vector<FitStart> starts;
+  for (const ScanPoint& point : scan_given) starts.push_back({point.values, point.mse});
   if (!relax) {
-    parameters[main].start = scan[static_cast<std::size_t>(std::min_element(errors.begin(), errors.end()) -
+    parameters[main].start = scan[static_cast<std::size_t>(std::min_element(errors.begin(), errors.begin() + scan.size()) -
                                                            errors.begin())].values[main];
-    return;
+    for (const ScanPoint& point : scan) starts.push_back({point.values, point.mse});
+    return starts;
   }
   const std::size_t best = static_cast<std::size_t>(
       std::min_element(errors.begin(), errors.begin() + kScanPoints) - errors.begin());
@@ -337,28 +529,97 @@ void ScanMainParameter(ReplayEvaluator& replays, const std::vector<ReplayRun>& f
   const auto relaxed_best = std::min_element(bracket.begin(), bracket.end(),
                                              [](const ScanPoint& a, const ScanPoint& b) { return a.mse < b.mse; });
   // Only the main parameter's value: the swarm starts from the others' refit values as before. Started from the
-  // relaxed point itself, the fit of a hidden Stribeck friction stopped in a local minimum nearby.
+  // relaxed point itself, the fit of a hidden Stribeck friction stopped in a local minimum nearby. The relaxed
+  // points themselves are starts for the local stages.
   parameters[main].start = relaxed_best->values[main];
+  for (const ScanPoint& point : scan) starts.push_back({point.values, point.mse});
+  for (const ScanPoint& point : bracket) starts.push_back({point.values, point.mse});
+  return starts;
+}
+
+// LinkMass (a per-link effect): which link. Each link's mass at kLinkFactors of the model's, the base parameters at
+// the refit's values, as one batch; the link of the best point, its mass the parameter (a quarter to four times the
+// model's, started at the best factor). `summary` says which link it is.
+constexpr double kLinkFactors[] = {0.5, 1.5, 3.0};
+
+FitParameter ChooseLink(ReplayEvaluator& replays, const Rig& rig, const std::vector<ValueAssignment>& model,
+                        const std::vector<ReplayRun>& fit, const std::vector<FitParameter>& refitted,
+                        const std::vector<double>& given, Loss loss, std::string& summary,
+                        std::vector<FitStart>& starts) {
+  std::vector<std::string> paths;
+  for (const std::string& link : rig.links) paths.push_back("/Sim/" + rig.agent + "/" + link + "/Mass");
+  const std::vector<double> masses = ModelValues(rig, model, paths);
+  std::vector<double> refit_values;
+  for (const FitParameter& p : refitted) refit_values.push_back(p.start);
+  const std::vector<const std::vector<double>*> bases = {&refit_values, &given};
+  struct Tried {
+    std::size_t link;
+    double factor;
+    const std::vector<double>* base;
+  };
+  std::vector<std::vector<Override>> points;
+  std::vector<Tried> tried;
+  for (const std::vector<double>* base : bases) {
+    for (std::size_t l = 0; l < rig.links.size(); ++l) {
+      if (!(masses[l] > 0.0)) continue;
+      for (double factor : kLinkFactors) {
+        std::vector<Override> point = OverridesOf(refitted, *base);
+        point.emplace_back(paths[l], text::FormatDouble(masses[l] * factor));
+        points.push_back(std::move(point));
+        tried.push_back({l, factor, base});
+      }
+    }
+  }
+  if (points.empty()) throw InputError(rig.environment_name + ": LinkMass: agent '" + rig.agent + "' has no link with a mass");
+  const std::vector<double> losses = ReplayObjective(replays, fit, {}, loss).Losses(points);
+  const std::size_t best = static_cast<std::size_t>(std::min_element(losses.begin(), losses.end()) - losses.begin());
+  const Tried& chosen = tried[best];
+  summary = rig.links[chosen.link];
+  const double mass = masses[chosen.link] * chosen.factor;
+  // The best point of either base, as a start for the local stages.
+  for (const std::vector<double>* base : bases) {
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < tried.size(); ++k) {
+      if (tried[k].link == chosen.link && tried[k].base == base) lowest = std::min(lowest, losses[k]);
+    }
+    for (std::size_t k = 0; k < tried.size(); ++k) {
+      if (tried[k].link != chosen.link || tried[k].base != base || losses[k] != lowest) continue;
+      std::vector<double> values = *base;
+      values.push_back(masses[chosen.link] * tried[k].factor);
+      starts.push_back({std::move(values), losses[k]});
+      break;
+    }
+  }
+  return {paths[chosen.link], "kg", masses[chosen.link] / 4.0, masses[chosen.link] * 4.0, true, mass};
 }
 
 // One candidate effect fitted together with the (refitted) base parameters, scored with its penalty.
-ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
-                          const std::vector<FitParameter>& refitted, const ModelScore& refit, const EffectDescription& effect,
-                          const DiagnosisOptions& options) {
+ModelScore ScoreCandidate(ReplayEvaluator& replays, const Rig& rig, const std::vector<ValueAssignment>& model,
+                          const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+                          const std::vector<FitParameter>& refitted, const std::vector<double>& given,
+                          const ModelScore& refit, const EffectDescription& effect, const DiagnosisOptions& options) {
   std::vector<FitParameter> parameters = refitted;
+  std::string summary(effect.summary);
+  if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
+  std::vector<FitStart> link_starts;
+  if (effect.per_link) {
+    parameters.push_back(ChooseLink(replays, rig, model, fit, refitted, given, options.loss, summary, link_starts));
+  }
   for (FitParameter p : effect.parameters) {
     // Effects start weak: the geometric middle between the bottom of the range and its middle.
     p.start = std::sqrt(p.lower * std::sqrt(p.lower * p.upper));
     parameters.push_back(std::move(p));
   }
-  const std::vector<Override> enabled{{EnabledPath(effect), "T"}};
-  if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
-  ScanMainParameter(replays, fit, enabled, parameters, refitted.size(), options.relax_scan, options.loss);
-  const int added = static_cast<int>(effect.parameters.size());
+  std::vector<Override> enabled;
+  if (effect.switched) enabled.emplace_back(EnabledPath(effect), "T");
+  FitOptions fit_options = options.fit;
+  fit_options.starts = ScanMainParameter(replays, fit, enabled, parameters, refitted.size(), options.relax_scan,
+                                         options.loss, given);
+  fit_options.starts.insert(fit_options.starts.end(), link_starts.begin(), link_starts.end());
+  const int added = static_cast<int>(parameters.size() - refitted.size());
   const auto penalised = [&](double holdout_loss) {
     return holdout_loss * (1.0 + options.penalty_per_parameter * added);
   };
-  FitOptions fit_options = options.fit;
   if (std::isfinite(options.abandon_share)) {
     // A candidate stays in the race when its best point so far already fits the fit runs clearly better than the
     // refit, or scores no worse on the held-out runs (the selection criterion itself). Either alone loses effects:
@@ -367,10 +628,10 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
       if (!(refit.score > 0.0) || !(refit.fit.mse > 0.0)) return "";  // a perfect refit: nothing to race against
       const double fit_share = mse / refit.fit.mse;
       if (fit_share <= kRaceFitShare) return "";
-      std::vector<Override> model = enabled;
+      std::vector<Override> candidate = enabled;
       const std::vector<Override> point = OverridesOf(parameters, values);
-      model.insert(model.end(), point.begin(), point.end());
-      const double share = penalised(LossOf(replays, holdout, model, options.loss)) / refit.score;
+      candidate.insert(candidate.end(), point.begin(), point.end());
+      const double share = penalised(LossOf(replays, holdout, candidate, options.loss)) / refit.score;
       if (share <= options.abandon_share) return "";
       return "its fit error was " + Percent(fit_share) + " of the refit's (limit " + Percent(kRaceFitShare) +
              ") and its penalised held-out score " + Percent(share) + " (limit " + Percent(options.abandon_share) + ")";
@@ -378,7 +639,13 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
   }
   ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, fit_options, options.loss);
   score.label = std::string(effect.name);
-  score.summary = std::string(effect.summary);
+  score.summary = summary;
+  if (effect.per_link) {
+    const double fitted = score.values.back().value;
+    const double nominal = ModelValues(rig, model, {score.values.back().path})[0];
+    score.summary = "the mass of " + summary + " is " + text::FormatDouble(std::round(fitted * 1e4) / 1e4) +
+                    " kg, not the model's " + text::FormatDouble(nominal) + " kg";
+  }
   score.quantity = std::string(effect.quantity);
   score.added_parameters = added;
   score.score = penalised(score.holdout_loss);
@@ -387,16 +654,21 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const std::vector<ReplayRun>
 }
 
 // Every candidate effect, fitted with the base parameters started from the refit, all at once; best first.
-std::vector<ModelScore> ScoreCandidates(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit,
+std::vector<ModelScore> ScoreCandidates(ReplayEvaluator& replays, const Rig& rig,
+                                        const std::vector<ValueAssignment>& model, const std::vector<ReplayRun>& fit,
                                         const std::vector<ReplayRun>& holdout, const std::vector<FitParameter>& base,
                                         const ModelScore& refit, const DiagnosisOptions& options,
                                         const std::vector<const EffectDescription*>& candidates) {
   std::vector<FitParameter> refitted = base;
-  for (std::size_t i = 0; i < base.size(); ++i) refitted[i].start = refit.fit.values[i];
+  std::vector<double> given;  // the base parameters' values in the model as given
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    refitted[i].start = refit.fit.values[i];
+    given.push_back(base[i].start);
+  }
   std::vector<std::future<ModelScore>> fits;
   for (const EffectDescription* effect : candidates) {
     fits.push_back(std::async(std::launch::async, [&, effect] {
-      return ScoreCandidate(replays, fit, holdout, refitted, refit, *effect, options);
+      return ScoreCandidate(replays, rig, model, fit, holdout, refitted, given, refit, *effect, options);
     }));
   }
   std::vector<ModelScore> scores;
@@ -417,7 +689,7 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   std::vector<ReplayRun> fit, holdout;
   SplitRuns(fit_given, holdout_given, fit, holdout, d);
   const std::vector<const EffectDescription*> candidates =
-      Candidates(options.candidates, UsesServo(rig, model), EnabledEffects(rig, model));
+      Candidates(options.candidates, UsesServo(rig, model), EnabledEffects(rig, model), HasAccelerometers(fit_given));
 
   // 1. The model as given.
   d.before = Snapshot(replays, fit, holdout, {}, rig.step, /*record=*/true);
@@ -427,17 +699,23 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   if (options.on_fit) options.on_fit("refit", nullptr);
   d.base = ScoreFit(replays, fit, holdout, base, {}, options.fit, options.loss);
   d.base.label = "refit";
-  d.base.score = d.base.holdout_loss;
+  // "Nothing missing" is the refit or the model as given, whichever scores better held out: a refit can take up
+  // a missing effect's signature in the wrong way and generalise worse than the model it started from.
+  d.base.score = std::min(d.base.holdout_loss, LossOf(replays, holdout, {}, options.loss));
   if (options.on_fit) options.on_fit("refit", &d.base);
 
   // 3. Every candidate effect.
-  d.candidates = ScoreCandidates(replays, fit, holdout, base, d.base, options, candidates);
+  d.candidates = ScoreCandidates(replays, rig, model, fit, holdout, base, d.base, options, candidates);
 
-  // 4. The verdict, and the gap of the model it leaves.
+  // 4. The verdict — the winner, and any candidate the held-out runs cannot tell from it — and the gap of the
+  // model it leaves.
   const bool won = !d.candidates.empty() && d.candidates[0].score < options.win_ratio * d.base.score;
-  d.effect = won ? d.candidates[0].label : "";
-  d.quantity = won ? d.candidates[0].quantity : "speed";
-  d.model_values = won ? ModelOf(d.candidates[0], d.effect) : ModelOf(d.base, "");
+  if (won) {
+    NameEffects(replays, holdout, options, d);
+    if (d.effects.size() > 1) d.tell_apart = BestProbe(replays, rig, model, fit, d);
+  }
+  d.quantity = won ? ScoreOf(d, d.effect).quantity : "speed";
+  d.model_values = won ? ModelOf(ScoreOf(d, d.effect), d.effect) : ModelOf(d.base, "");
   // The fitted model's replays are recorded for replays/<run>.orcsrec: the winner's, else the refit's.
   d.refit = Snapshot(replays, fit, holdout, ModelOf(d.base, ""), rig.step, /*record=*/!won);
   d.after = won ? Snapshot(replays, fit, holdout, d.model_values, rig.step, /*record=*/true) : d.refit;

@@ -19,6 +19,10 @@ namespace orcs::identify {
 
 struct ModelScore;
 
+/// A candidate within this many standard errors of the winner's held-out loss explains the held-out runs as well:
+/// the verdict names both (docs/gap.md, "When two effects explain the data").
+inline constexpr double kTieStandardErrors = 2.0;
+
 inline constexpr double kRaceAbandonShare = 1.0;  ///< abandoned when no better than "nothing missing"...
 inline constexpr double kRaceFitShare = 0.8;      ///< ...and its fit error above this share of the refit's
 
@@ -43,6 +47,9 @@ struct DiagnosisOptions {
   /// Told when a fit starts (`finished` null; `model` is "refit" or the effect's name) and when it ends (its
   /// score), for progress. Candidates are fitted at once: it is called from several threads.
   std::function<void(const std::string& model, const ModelScore* finished)> on_fit;
+  /// The `orcs-gap synth` command of this rig ("orcs-gap synth --rig pendulum"), for the verdict's advice on how to
+  /// make the motion that tells two tied effects apart; "" = "orcs-gap synth".
+  std::string synth_command;
 };
 
 /// A fitted parameter as reported.
@@ -53,6 +60,7 @@ struct FittedValue {
   double value = 0.0;  ///< where it ended
   double ci95 = std::numeric_limits<double>::quiet_NaN();  ///< 95 % half-width in the unit; NaN = not determined
   bool identified = false;  ///< the data determine it: a finite interval narrower than the value (Identified)
+  BoundState bound = BoundState::kInside;  ///< where it ended against its range (FitOutcome::bounds)
 };
 
 /// One model's fit and scores.
@@ -68,6 +76,28 @@ struct ModelScore {
                                       ///< absolute error (deg) with Loss::kAbsolute
   double score = 0.0;                 ///< holdout_loss · (1 + penalty · added_parameters)
   FitOutcome fit;                     ///< budget, convergence
+};
+
+/// A candidate beside the winner that the held-out runs cannot tell from it (docs/gap.md, "When two effects
+/// explain the data"): its held-out loss is within kTieStandardErrors standard errors of the winner's.
+struct Rival {
+  std::string effect;            ///< its name
+  double loss_difference = 0.0;  ///< its held-out loss minus the winner's, mean per sample, unpenalised (deg² or deg)
+  double standard_error = 0.0;   ///< of that mean (ComparePaired: AR(1)-widened)
+  std::string relation;          ///< how the two relate (EffectRelation::text), "" when the catalogue says nothing
+  /// It contains the named effect exactly (EffectRelation::nested) and fits no better: the simpler is named alone
+  /// and this one is said to add nothing the data need. Otherwise it is named beside the winner: a tie.
+  bool contains_named = false;
+};
+
+/// For a tie: the probe motion (probe_motion.h) on which the two fitted models differ most.
+struct TellApart {
+  std::string probe;        ///< ProbeMotion::name; "" = none was tried (no tie)
+  std::string motor;        ///< the motor it moves: the worst channel of the model as given
+  std::string description;  ///< what it does
+  std::string shows;        ///< what it shows
+  double difference = 0.0;  ///< RMS difference of the two fitted models' angles of `motor` on it, degrees
+  double noise = 0.0;       ///< the named model's held-out RMS, degrees: the noise as the best model leaves it
 };
 
 /// One run's gap under one model version.
@@ -100,6 +130,9 @@ struct Diagnosis {
   ModelScore base;                        ///< the refit
   std::vector<ModelScore> candidates;     ///< every effect tried, best score first
   std::string effect;                     ///< the winner, "" = no missing effect found
+  std::vector<std::string> effects;       ///< every effect named: the winner, then those tied with it
+  std::vector<Rival> rivals;              ///< candidates the held-out runs cannot tell from the winner
+  TellApart tell_apart;                   ///< for a tie: the motion that tells the first two apart
   std::string verdict;                    ///< one paragraph
   std::string quantity;                   ///< the quantity its residual is plotted against ("speed" when none)
   std::vector<Override> model_values;     ///< the fitted model: refit base values, winner's switch and values

@@ -8,6 +8,8 @@
 #include <limits>
 #include <memory>
 
+#include "model/identify/gap_statistics.h"
+
 namespace orcs::identify {
 namespace {
 
@@ -87,24 +89,10 @@ double MeanSquare(const std::vector<double>& r) {
   return r.empty() ? std::numeric_limits<double>::infinity() : sum / static_cast<double>(r.size());
 }
 
-// Lag-1 autocorrelation of the residuals, clamped to [0, 0.99]: how much each row repeats the one before.
-double Lag1Correlation(const std::vector<double>& r) {
-  double mean = 0.0;
-  for (double v : r) mean += v;
-  mean /= static_cast<double>(r.size());
-  double variance = 0.0;
-  double covariance = 0.0;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    variance += (r[i] - mean) * (r[i] - mean);
-    if (i > 0) covariance += (r[i] - mean) * (r[i - 1] - mean);
-  }
-  return variance > 0.0 ? std::clamp(covariance / variance, 0.0, 0.99) : 0.0;
-}
-
 // The 95 % half-widths at `unit` from one Jacobian batch, in each parameter's unit; NaN where the Jacobian is
 // singular in that parameter's direction.
-std::vector<double> ConfidenceIntervals(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                                        const std::vector<double>& unit, int& evaluations) {
+std::vector<double> IntervalsAt(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                                const std::vector<double>& unit, int& evaluations) {
   const std::size_t n = parameters.size();
   std::vector<double> ci(n, std::numeric_limits<double>::quiet_NaN());
   std::vector<std::vector<Override>> points;
@@ -149,6 +137,13 @@ std::vector<double> ConfidenceIntervals(const ReplayObjective& objective, const 
 
 }  // namespace
 
+std::vector<double> ConfidenceIntervals(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                                        const std::vector<double>& values, int& evaluations) {
+  std::vector<double> unit;
+  for (std::size_t i = 0; i < parameters.size(); ++i) unit.push_back(ToUnit(parameters[i], values[i]));
+  return IntervalsAt(objective, parameters, unit, evaluations);
+}
+
 bool Identified(double value, double ci95) { return std::isfinite(ci95) && ci95 < std::abs(value); }
 
 PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
@@ -187,6 +182,7 @@ PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::ve
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   const double polished_mse = 2.0 * summary.final_cost / static_cast<double>(first[0].size());
+  outcome.converged = summary.termination_type == ceres::CONVERGENCE;
   outcome.summary = "Levenberg–Marquardt: " + std::to_string(summary.iterations.size()) + " iterations, " +
                     (summary.termination_type == ceres::CONVERGENCE ? "converged" : "stopped") + " (" +
                     summary.message + ")";
@@ -196,7 +192,7 @@ PolishOutcome PolishLeastSquares(const ReplayObjective& objective, const std::ve
     outcome.improved = true;
     unit = polished;
   }
-  outcome.ci95 = polish.intervals ? ConfidenceIntervals(objective, parameters, unit, outcome.evaluations)
+  outcome.ci95 = polish.intervals ? IntervalsAt(objective, parameters, unit, outcome.evaluations)
                            : std::vector<double>(parameters.size(), std::numeric_limits<double>::quiet_NaN());
   return outcome;
 }

@@ -227,6 +227,34 @@ std::optional<MotorField> ParseMotorColumn(std::string_view name, int field) {
   return std::nullopt;
 }
 
+// An accelerometer column "/Sim/<agent>/<board>/AccelAxis1|2" of an orcs log: its agent and channel
+// ("<board>/AccelAxisN").
+struct AccelerometerField {
+  std::string agent;
+  std::string channel;
+  int field = 0;
+};
+
+std::optional<AccelerometerField> ParseAccelerometerColumn(std::string_view name, int field) {
+  if (name.substr(0, kSimPrefix.size()) != kSimPrefix) return std::nullopt;
+  const std::vector<std::string_view> parts = text::Split(name.substr(kSimPrefix.size()), '/');
+  if (parts.size() != 3 || parts[0].empty() || parts[1].empty()) return std::nullopt;
+  if (parts[2] != "AccelAxis1" && parts[2] != "AccelAxis2") return std::nullopt;
+  return AccelerometerField{std::string(parts[0]), std::string(parts[1]) + "/" + std::string(parts[2]), field};
+}
+
+// The accelerometer axes of a mapping or log must be a board's AccelAxis1 or AccelAxis2.
+bool IsAccelerometerChannel(const std::string& channel) {
+  const std::size_t slash = channel.find('/');
+  if (slash == 0 || slash == std::string::npos || channel.find('/', slash + 1) != std::string::npos) return false;
+  const std::string axis = channel.substr(slash + 1);
+  return axis == "AccelAxis1" || axis == "AccelAxis2";
+}
+
+// Accelerometer readings beyond this are no reading of an ADXL213 (its range is ±1.7 g) nor of any board a robot
+// carries: a careless export.
+constexpr double kMaxAcceleration = 1000.0;
+
 // The motor columns of an orcs log header, checked: one agent, no column twice.
 std::vector<MotorField> MotorFields(const Table& table, const std::string& source) {
   std::vector<MotorField> fields;
@@ -296,6 +324,17 @@ std::vector<SeriesSource> NativePlan(const Table& table, const std::string& sour
   run_input(kFirmwareKpColumn, run.firmware_kp_column, run.firmware_kp);
   run_input(kWindingTemperatureColumn, run.winding_temperature_column, run.winding_temperature);
   run_input(kSupplyVoltageColumn, run.supply_voltage_column, run.supply_voltage);
+  for (size_t i = 1; i < table.columns.size(); ++i) {
+    const std::optional<AccelerometerField> accelerometer =
+        ParseAccelerometerColumn(table.columns[i], static_cast<int>(i));
+    if (!accelerometer || accelerometer->agent != run.agent) continue;
+    if (run.acceleration.count(accelerometer->channel) != 0) {
+      throw InputError(source, 0, "column " + text::Quote(table.columns[i]) + " appears twice");
+    }
+    run.accelerometers.push_back(accelerometer->channel);
+    plan.push_back({table.columns[i], accelerometer->field, 1.0, 0.0, 0.0, &run.acceleration[accelerometer->channel],
+                    kMaxAcceleration});
+  }
   return plan;
 }
 
@@ -359,6 +398,21 @@ void CheckMapping(const ColumnMapping& m) {
   if (std::none_of(m.channels.begin(), m.channels.end(), [](const ChannelMapping& c) { return c.joint_angle; })) {
     FieldError(m.source, "channels", "at least one channel with a 'joint_angle'", "none");
   }
+  std::set<std::string> axes;
+  for (size_t i = 0; i < m.accelerometers.size(); ++i) {
+    const AccelerometerMapping& a = m.accelerometers[i];
+    const std::string field = "accelerometers[" + std::to_string(i) + "]";
+    if (!IsAccelerometerChannel(a.channel)) {
+      FieldError(m.source, field + ".channel", "a board's axis (e.g. \"ABSR/AccelAxis1\")", text::Quote(a.channel));
+    }
+    if (!axes.insert(a.channel).second) {
+      FieldError(m.source, field + ".channel", "an axis not named before", text::Quote(a.channel));
+    }
+    CheckSource(a.value, field, true, m.source);
+    if (a.noise && !(*a.noise > 0.0 && std::isfinite(*a.noise))) {
+      FieldError(m.source, field + ".noise", "a positive σ in m/s²", text::FormatDouble(*a.noise));
+    }
+  }
 }
 
 ColumnSource ParseColumnSource(const JsonNode& node) {
@@ -399,6 +453,19 @@ ChannelMapping ParseChannel(const JsonNode& node) {
   if (node.Has("desired_torque")) c.desired_torque = ParseColumnSource(node.At("desired_torque"));
   if (node.Has("joint_angle")) c.joint_angle = ParseColumnSource(node.At("joint_angle"));
   return c;
+}
+
+AccelerometerMapping ParseAccelerometer(const JsonNode& node) {
+  node.ExpectOnly({"channel", "column", "scale", "offset", "noise"});
+  AccelerometerMapping a;
+  a.channel = std::string(text::Trim(node.At("channel").String("a board's axis, e.g. \"ABSR/AccelAxis1\"")));
+  if (!node.Has("column")) node.Fail("an object with \"column\"", "none");
+  a.value.column = std::string(text::Trim(node.At("column").String("a column name")));
+  if (a.value.column.empty()) node.At("column").Fail("a column name");
+  a.value.scale = node.NumberOr("scale", 1.0, "a finite number");
+  a.value.offset = node.NumberOr("offset", 0.0, "a finite number");
+  if (node.Has("noise")) a.noise = node.At("noise").Number("a positive σ in m/s²");
+  return a;
 }
 
 char ParseDelimiter(const JsonNode& node) {
@@ -507,6 +574,14 @@ std::vector<SeriesSource> MappedPlan(const Table& table, const ColumnMapping& m,
     plan.push_back(RunInputSeries(*m.supply_voltage, "supply_voltage", "the servo's supply voltage", table, m, source,
                                   run.supply_voltage, run.supply_voltage_column));
   }
+  for (size_t i = 0; i < m.accelerometers.size(); ++i) {
+    const AccelerometerMapping& a = m.accelerometers[i];
+    run.accelerometers.push_back(a.channel);
+    if (a.noise) run.acceleration_noise[a.channel] = *a.noise;
+    plan.push_back(MappedSeries(a.value, "accelerometers[" + std::to_string(i) + "]", table, m, source,
+                                run.acceleration[a.channel]));
+    plan.back().max_magnitude = kMaxAcceleration;
+  }
   return plan;
 }
 
@@ -526,10 +601,13 @@ double ValueOf(const SeriesSource& s, const std::vector<std::string>& fields, co
                                        text::FormatDouble(s.scale) + " is not a finite number");
   }
   if (std::abs(value) > s.max_magnitude) {
+    const bool acceleration = s.max_magnitude == kMaxAcceleration;
+    const std::string unit = acceleration ? " m/s²" : "°";
     throw InputError(source, line,
                      "column " + text::Quote(s.column) + ": " + text::Quote(cell) + " gives " + text::FormatDouble(value) +
-                         "°, not a physical joint angle (expected −" + text::FormatDouble(s.max_magnitude) + "…" +
-                         text::FormatDouble(s.max_magnitude) + "°)");
+                         unit + (acceleration ? ", not an accelerometer's reading" : ", not a physical joint angle") +
+                         " (expected −" + text::FormatDouble(s.max_magnitude) + "…" +
+                         text::FormatDouble(s.max_magnitude) + unit + ")");
   }
   return value;
 }
@@ -673,6 +751,10 @@ std::optional<double> WindingTemperature(const MeasuredRun& run) {
   return sum / static_cast<double>(run.winding_temperature.size());
 }
 
+std::string AccelerometerColumn(const std::string& agent, const std::string& channel) {
+  return std::string(kSimPrefix) + agent + "/" + channel;
+}
+
 std::string MotorColumn(const std::string& agent, const std::string& motor, const std::string& quantity) {
   return std::string(kSimPrefix) + agent + "/" + motor + "/" + quantity;
 }
@@ -683,7 +765,7 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
   }
   const JsonNode root(j, "", source);
   root.ExpectOnly({"agent", "time", "channels", "delimiter", "firmware_kp", "winding_temperature", "supply_voltage",
-                   "command_timing"});
+                   "command_timing", "accelerometers"});
   ColumnMapping mapping;
   mapping.source = source;
   mapping.agent = root.At("agent").String("an agent name");
@@ -694,6 +776,11 @@ ColumnMapping ParseColumnMapping(const nlohmann::json& j, const std::string& sou
   if (root.Has("winding_temperature")) mapping.winding_temperature = ParseColumnSource(root.At("winding_temperature"));
   if (root.Has("supply_voltage")) mapping.supply_voltage = ParseColumnSource(root.At("supply_voltage"));
   if (root.Has("command_timing")) mapping.command_timing = ParseCommandTiming(root.At("command_timing"));
+  if (root.Has("accelerometers")) {
+    for (const JsonNode& axis : root.At("accelerometers").Elements()) {
+      mapping.accelerometers.push_back(ParseAccelerometer(axis));
+    }
+  }
   CheckMapping(mapping);
   return mapping;
 }

@@ -57,6 +57,14 @@ struct MeasuredRun {
   /// motor draws current. An input of the run, like the firmware gain.
   std::vector<double> supply_voltage;
   std::string supply_voltage_column;  ///< where it came from, as firmware_kp_column
+  /// Accelerometer channels ("ABSR/AccelAxis1": board, then axis) with a column, in column order: the ADXL213
+  /// boards' readings, compared with the simulated ones beside the joint angles (docs/gap_measured_data.md,
+  /// "Accelerometers").
+  std::vector<std::string> accelerometers;
+  std::map<std::string, std::vector<double>> acceleration;  ///< per channel: m/s² per row
+  /// per channel: the noise of its readings, m/s² (σ), when the mapping gives it; otherwise the model's
+  /// /Sim/<agent>/<board>/AccelSensor/Deviation is taken
+  std::map<std::string, double> acceleration_noise;
 };
 
 /// The run's firmware gain, or nullopt when the data has none.
@@ -84,6 +92,13 @@ struct ChannelMapping {
   std::optional<ColumnSource> joint_angle;     ///< degrees, the measured angle; always a column
 };
 
+/// One accelerometer axis of a mapped CSV.
+struct AccelerometerMapping {
+  std::string channel;           ///< "ABSR/AccelAxis1": the board's name, then AccelAxis1 or AccelAxis2
+  ColumnSource value;            ///< m/s² after scaling (scale e.g. 9.81 for g); always a column
+  std::optional<double> noise;   ///< σ of its readings, m/s²; unset = the model's AccelSensor/Deviation
+};
+
 /// Column mapping for CSVs that are not orcs logs (docs/gap_measured_data.md, "Column mapping"), read from JSON.
 struct ColumnMapping {
   std::string agent;                     ///< the agent the runs belong to
@@ -94,6 +109,7 @@ struct ColumnMapping {
   std::optional<ColumnSource> winding_temperature;  ///< °C, the servo's temperature: as firmware_kp
   std::optional<ColumnSource> supply_voltage;  ///< V, the servo's supply voltage per row: as firmware_kp
   CommandTiming command_timing = CommandTiming::kUntilRow;  ///< when a row's commands (and supply voltage) act
+  std::vector<AccelerometerMapping> accelerometers;  ///< accelerometer axes to compare, in this order
   std::string source;                    ///< the mapping file, for messages
 };
 
@@ -125,6 +141,10 @@ void CheckDisjoint(const std::vector<std::string>& fit_paths, const std::vector<
 /// commands act from their row (CommandTiming::kFromRow). Throws InputError
 /// "file: no column '/Sim/<agent>/<motor>/DesiredAngle'" when a motor in motor_order lacks commands.
 control::KeyframeRecord CommandsAsRecord(const MeasuredRun& run, const std::vector<std::string>& motor_order);
+
+/// The orcs log column of an accelerometer channel: AccelerometerColumn("Humanoid", "ABSR/AccelAxis1") is
+/// "/Sim/Humanoid/ABSR/AccelAxis1".
+std::string AccelerometerColumn(const std::string& agent, const std::string& channel);
 
 /// The orcs log column of one motor quantity: MotorColumn("Humanoid", "Right/Knee", "JointAngle") is
 /// "/Sim/Humanoid/Right/Knee/JointAngle".

@@ -4,10 +4,12 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
-#include <limits>
+#include <functional>
 #include <future>
+#include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <pagmo/algorithm.hpp>
 #include <pagmo/algorithms/cmaes.hpp>
@@ -31,16 +33,21 @@ std::vector<double> Values(const std::vector<FitParameter>& parameters, const do
   return values;
 }
 
-// What a fit's evaluations have seen, for the race (FitOptions::abandon): the best point and how many batches the
-// swarm has sent. Shared by the problem's evaluator and Fit.
+pagmo::vector_double UnitOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
+  pagmo::vector_double unit;
+  for (std::size_t i = 0; i < parameters.size(); ++i) unit.push_back(ToUnit(parameters[i], values[i]));
+  return unit;
+}
+
+// What one search's evaluations have seen: the best point, and how many batches the swarm has sent. Shared by the
+// problem's evaluator and whoever runs the search; every search (the swarm, each local search) has its own.
 struct FitWatch {
   const FitOptions* options = nullptr;
   const std::vector<FitParameter>* parameters = nullptr;
   pagmo::vector_double best_x;                             // the best point evaluated so far (unit box)
   double best_f = std::numeric_limits<double>::infinity();  // its objective, deg²
   std::uint64_t evaluated = 0;                             // points evaluated through the problem
-  int swarm_batches = -1;                                  // generations of the swarm so far; −1 before it starts
-  double first_generation_best = std::numeric_limits<double>::infinity();  // best_f after the swarm's first, deg²
+  int swarm_batches = -1;                                  // generations of the swarm so far; −1: not a swarm
   // Early stops (FitOptions::stop_replays_early): per point, the objective above which its value no longer matters.
   std::vector<double> particle_best;             // the swarm: each particle's best so far, as pso_gen keeps it
   std::map<pagmo::vector_double, double> bounds;  // the swarm batch being evaluated: point → its particle's best
@@ -89,32 +96,18 @@ struct SwarmBatch {
   }
 };
 
-// Thrown out of the swarm's evaluator when the race abandons the fit: pagmo's evolve has no other way to stop.
-struct FitAbandoned {
-  std::string why;
-};
-
-// What the race cannot tell apart: a swarm whose best has not changed since its first generation may not have
-// started to search yet (on the XL330 logs GearEfficiency's swarm sat at its start until generation 21, then
-// won). Said with the verdict, so that the user knows when --no-race is worth a run.
-std::string StalledSince(const FitWatch& watch) {
-  if (watch.best_f < watch.first_generation_best) return "";  // as FitOutcome::abandoned_unmoved
-  return "; its best had not changed since the swarm's first generation, so its search may not have started "
-         "(--no-race fits every candidate to the end)";
-}
-
 // The pagmo problem: evolve's unit-box BatchProblem, whose cache evaluates what pagmo asks for as one batch of
-// replays (member_bfe calls batch_fitness; every generation is one call). After the swarm's abandon_after-th
-// generation the race is asked about the best point so far.
-pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::shared_ptr<FitWatch>& watch) {
+// replays (member_bfe calls batch_fitness; every generation is one call). `after_batch` is told after each batch
+// (the swarm's race); it may throw to stop the search.
+pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::shared_ptr<FitWatch>& watch,
+                             std::function<void()> after_batch = {}) {
   auto cache = std::make_shared<GenerationCache>();
-  cache->evaluate = [&objective, watch](const std::vector<pagmo::vector_double>& xs) {
+  cache->evaluate = [&objective, watch, after_batch](const std::vector<pagmo::vector_double>& xs) {
     const std::vector<FitParameter>& parameters = *watch->parameters;
     std::vector<std::vector<Override>> points;
     for (const pagmo::vector_double& x : xs) points.push_back(OverridesOf(parameters, Values(parameters, x.data())));
-    const FitOptions& options = *watch->options;
     std::vector<double> bounds;
-    if (options.stop_replays_early) {
+    if (watch->options->stop_replays_early) {
       for (const pagmo::vector_double& x : xs) bounds.push_back(watch->BoundOf(x));
     }
     const std::vector<double> errors = objective.Losses(points, bounds);
@@ -123,196 +116,54 @@ pagmo::problem ReplayProblem(const ReplayObjective& objective, const std::shared
       if (errors[i] < watch->best_f) std::tie(watch->best_x, watch->best_f) = std::tie(xs[i], errors[i]);
       if (watch->in_compass) watch->compass_best = std::min(watch->compass_best, errors[i]);
     }
-    if (watch->swarm_batches >= 0 && ++watch->swarm_batches == 1) watch->first_generation_best = watch->best_f;
-    if (watch->swarm_batches == options.abandon_after && options.abandon) {
-      const std::string why = options.abandon(Values(parameters, watch->best_x.data()), watch->best_f);
-      if (!why.empty()) {
-        throw FitAbandoned{"abandoned after " + std::to_string(options.abandon_after) + " generations: " + why +
-                           StalledSince(*watch)};
-      }
-    }
+    if (watch->swarm_batches >= 0) ++watch->swarm_batches;
+    if (after_batch) after_batch();
     return errors;
   };
   return pagmo::problem{BatchProblem(watch->parameters->size(), std::move(cache))};
 }
 
-// The polish stops when its step has shrunk below kPolishStop of the (normalised) range, or after its budget.
+// The local search stops when its step has shrunk below kPolishStop of the (normalised) range, or after its budget.
 constexpr double kPolishStart = 0.05;
 constexpr double kPolishStop = 0.002;
 constexpr unsigned kPolishBudgetPerDimension = 40;
-constexpr int kQuickLookIterations = 5;
 // The CMA-ES islands' first step, as a share of the unit box: wide enough to leave the swarm's basin.
 constexpr double kIslandStep = 0.3;
-
-// A fit given up in its swarm: the best point seen (the quick look's included), with no local stages and no
-// confidence intervals.
-FitOutcome Abandoned(const std::vector<FitParameter>& parameters, const FitWatch& watch, const std::string& why,
-                     int look_evaluations) {
-  FitOutcome outcome;
-  outcome.values = Values(parameters, watch.best_x.data());
-  outcome.mse = watch.best_f;
-  outcome.generations = watch.swarm_batches;
-  outcome.evaluations = static_cast<int>(watch.evaluated) + look_evaluations;
-  outcome.abandoned = true;
-  outcome.abandoned_unmoved = !(watch.best_f < watch.first_generation_best);
-  outcome.convergence = "did not converge: " + why;
-  outcome.polish = "not run: the fit was abandoned";
-  outcome.ci95.assign(parameters.size(), std::numeric_limits<double>::quiet_NaN());
-  return outcome;
-}
-
-// A quick local look for the race: a few Levenberg–Marquardt steps from the start. The swarm's first generations
-// seldom beat a good start, so without it the race would judge little more than the start; an effect that helps
-// nearby shows it here. Its point counts as seen (watch) but does not join the swarm, whose search stays the one
-// it would be without the race. Returns the replays it took.
-int QuickLook(const ReplayObjective& objective, const std::vector<FitParameter>& parameters, FitWatch& watch) {
-  std::vector<double> start;
-  for (const FitParameter& p : parameters) start.push_back(p.start);
-  const PolishOutcome look =
-      PolishLeastSquares(objective, parameters, start,
-                         {.iterations = kQuickLookIterations, .intervals = false});
-  if (look.improved && look.mse < watch.best_f) {
-    watch.best_x.clear();
-    for (std::size_t i = 0; i < parameters.size(); ++i) watch.best_x.push_back(ToUnit(parameters[i], look.values[i]));
-    watch.best_f = look.mse;
-  }
-  return look.evaluations;
-}
-
-}  // namespace
-
-ReplayObjective::ReplayObjective(ReplayEvaluator& replays, const std::vector<ReplayRun>& runs,
-                                 std::vector<Override> fixed, Loss loss)
-    : replays_(replays), runs_(runs), fixed_(std::move(fixed)), loss_(loss) {}
-
-double ReplayObjective::RunBound(double bound, const ReplayRun& run) const {
-  double samples = 0.0;
-  for (const ReplayRun& each : runs_) samples += static_cast<double>(each.samples);
-  if (!std::isfinite(bound) || run.samples == 0) return std::numeric_limits<double>::infinity();
-  // One run alone beyond this error puts the pooled loss above the bound, whatever the other runs give; the margin
-  // keeps that true through the rounding of error² · samples (error · samples).
-  constexpr double kRoundingMargin = 1e-9;
-  const double share = bound * samples / static_cast<double>(run.samples);
-  return (loss_ == Loss::kAbsolute ? share : std::sqrt(share)) * (1.0 + kRoundingMargin);
-}
-
-std::vector<double> ReplayObjective::Losses(const std::vector<std::vector<Override>>& points,
-                                            const std::vector<double>& bounds) const {
-  assert(bounds.empty() || bounds.size() == points.size());
-  std::vector<ReplayRequest> requests;
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    std::vector<Override> overrides = fixed_;
-    overrides.insert(overrides.end(), points[p].begin(), points[p].end());
-    for (const ReplayRun& run : runs_) {
-      ReplayRequest& request = requests.emplace_back(ReplayRequest{&run, overrides});
-      request.loss = loss_;
-      if (!bounds.empty()) request.stop_above = RunBound(bounds[p], run);
-    }
-  }
-  const std::vector<ReplayOutcome> outcomes = replays_.Replay(requests);
-  std::vector<double> losses;
-  std::size_t next = 0;
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    double sum = 0.0;
-    double samples = 0.0;
-    bool failed = false;
-    for (const ReplayRun& run : runs_) {
-      const ReplayOutcome& outcome = outcomes[next++];
-      failed = failed || !outcome.ok || !std::isfinite(outcome.error);
-      const double per_sample = loss_ == Loss::kAbsolute ? outcome.error : outcome.error * outcome.error;
-      sum += per_sample * static_cast<double>(run.samples);
-      samples += static_cast<double>(run.samples);
-    }
-    losses.push_back(failed || samples == 0.0 ? kFailedPoint : sum / samples);
-  }
-  return losses;
-}
-
-std::vector<std::vector<double>> ReplayObjective::Residuals(const std::vector<std::vector<Override>>& points) const {
-  std::vector<ReplayRequest> requests;
-  for (const std::vector<Override>& point : points) {
-    std::vector<Override> overrides = fixed_;
-    overrides.insert(overrides.end(), point.begin(), point.end());
-    for (const ReplayRun& run : runs_) requests.push_back({&run, overrides, /*log=*/true});
-  }
-  const std::vector<ReplayOutcome> outcomes = replays_.Replay(requests);
-  std::vector<std::vector<double>> residuals;
-  std::size_t next = 0;
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    std::vector<double>& point = residuals.emplace_back();
-    bool failed = false;
-    for (const ReplayRun& run : runs_) {
-      const ReplayOutcome& outcome = outcomes[next++];
-      failed = failed || !outcome.ok;
-      for (const std::string& motor : run.channels) {
-        const std::vector<double>& measured = run.run->joint_angle.at(motor);
-        const std::string path = "/Sim/" + run.run->agent + "/" + motor + "/JointAngle";
-        const std::vector<double>* simulated = nullptr;
-        for (const auto& [name, values] : outcome.columns) {
-          if (name == path) simulated = &values;
-        }
-        if (simulated == nullptr || simulated->size() < measured.size()) {
-          failed = true;
-          continue;
-        }
-        for (std::size_t row = 1; row < measured.size(); ++row) point.push_back((*simulated)[row] - measured[row]);
-      }
-    }
-    const bool finite = std::all_of(point.begin(), point.end(), [](double r) { return std::isfinite(r); });
-    if (failed || !finite) point.clear();
-  }
-  return residuals;
-}
-
-std::vector<std::vector<double>> ReplayObjective::LossResiduals(
-    const std::vector<std::vector<Override>>& points) const {
-  std::vector<std::vector<double>> residuals = Residuals(points);
-  if (loss_ == Loss::kAbsolute) {
-    for (std::vector<double>& point : residuals) {
-      for (double& r : point) r = std::copysign(std::sqrt(std::abs(r)), r);
-    }
-  }
-  return residuals;
-}
-
-std::vector<Override> OverridesOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
-  std::vector<Override> overrides;
-  for (std::size_t i = 0; i < parameters.size(); ++i) {
-    overrides.emplace_back(parameters[i].path, text::FormatDouble(values[i]));
-  }
-  return overrides;
-}
-
-namespace {
+// Two starts of the local stages are distinct when they differ by at least this share of some parameter's range.
+constexpr double kDistinctStarts = 0.05;
+// A parameter within this share of its range from a bound is at the bound.
+constexpr double kAtBound = 0.005;
+// A log-scaled parameter at a bound is re-searched in a range this many times wider on that side.
+constexpr double kWidening = 4.0;
 
 // The local stages from one start: a compass search until its step is small (the convergence test), then
-// Levenberg–Marquardt on the residuals with the confidence intervals. `evaluations` counts both.
+// Levenberg–Marquardt on the residuals, without the confidence intervals (Fit computes those once, for its best).
+// Each local search has its own problem and watch, so that several run at once.
 FitOutcome LocalStages(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                       const pagmo::problem& problem, FitWatch& watch, const pagmo::vector_double& start_x,
-                       double start_f, unsigned seed) {
-  pagmo::population polish(problem, 0u, seed);
+                       const FitOptions& options, const pagmo::vector_double& start_x, double start_f) {
+  auto watch = std::make_shared<FitWatch>();
+  watch->options = &options;
+  watch->parameters = &parameters;
+  const pagmo::problem problem = ReplayProblem(objective, watch);
+  pagmo::population polish(problem, 0u, options.seed);
   polish.push_back(start_x, {start_f});
   const unsigned budget = kPolishBudgetPerDimension * static_cast<unsigned>(parameters.size());
   // pagmo's compass search moves only to a trial point strictly better than its current one, so a trial's value
   // matters only below the current point's: that is its bound.
-  watch.in_compass = true;
-  watch.compass_best = start_f;
-  const std::uint64_t replayed_before = watch.evaluated;
+  watch->in_compass = true;
+  watch->compass_best = start_f;
   polish = pagmo::algorithm{pagmo::compass_search(budget, kPolishStart, kPolishStop, 0.5)}.evolve(polish);
-  watch.in_compass = false;
-  // Its budget counts the points it asks for; a point another local search of this fit asked for is cached.
+  // Its budget counts the points it asks for; a point asked for twice is cached.
   const auto polish_evaluations = polish.get_problem().get_fevals();
-  const std::uint64_t polish_replays = watch.evaluated - replayed_before;
 
-  const PolishOutcome squares =
-      PolishLeastSquares(objective, parameters, Values(parameters, polish.champion_x().data()));
-
+  const PolishOutcome squares = PolishLeastSquares(objective, parameters, Values(parameters, polish.champion_x().data()),
+                                                   {.intervals = false});
   FitOutcome outcome;
   outcome.values = squares.values;
   outcome.mse = std::min(squares.mse, polish.champion_f()[0]);
   outcome.polish = squares.summary;
-  outcome.ci95 = squares.ci95;
-  outcome.evaluations = static_cast<int>(polish_replays) + squares.evaluations;
+  outcome.evaluations = static_cast<int>(watch->evaluated) + squares.evaluations;
+  outcome.local_starts = 1;
   outcome.converged = polish_evaluations < budget;
   outcome.convergence =
       outcome.converged
@@ -323,17 +174,200 @@ FitOutcome LocalStages(const ReplayObjective& objective, const std::vector<FitPa
   return outcome;
 }
 
-struct IslandsOutcome {
-  pagmo::vector_double best_x;  // the best point of all islands (unit box)
-  double best_f = std::numeric_limits<double>::infinity();
-  int evaluations = 0;
+// A Levenberg–Marquardt polish from one start, on its own (the local stages' first step from every start, and the
+// race's convergence before it may abandon a fit): converged when Ceres met its tolerance.
+FitOutcome Polish(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                  const pagmo::vector_double& start_x) {
+  const PolishOutcome polished =
+      PolishLeastSquares(objective, parameters, Values(parameters, start_x.data()), {.intervals = false});
+  FitOutcome outcome;
+  outcome.values = polished.values;
+  outcome.mse = polished.mse;
+  outcome.polish = polished.summary;
+  outcome.evaluations = polished.evaluations;
+  outcome.local_starts = 1;
+  outcome.converged = polished.converged;
+  outcome.convergence = polished.converged ? "converged: Levenberg–Marquardt met its tolerance"
+                                           : "did not converge: " + polished.summary;
+  return outcome;
+}
+
+// A start of the local stages: a point of the unit box and its objective.
+struct Start {
+  pagmo::vector_double x;
+  double f = 0.0;
 };
+
+bool Distinct(const pagmo::vector_double& a, const pagmo::vector_double& b) {
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (std::abs(a[i] - b[i]) >= kDistinctStarts) return true;
+  }
+  return false;
+}
+
+// Adds to `chosen` the best points of `pool` distinct from every chosen one, until it holds `count`.
+void AddBestDistinct(std::vector<Start> pool, std::size_t count, std::vector<Start>& chosen) {
+  std::stable_sort(pool.begin(), pool.end(), [](const Start& a, const Start& b) { return a.f < b.f; });
+  for (const Start& start : pool) {
+    if (chosen.size() >= count) break;
+    if (!std::isfinite(start.f)) continue;
+    const bool distinct = std::all_of(chosen.begin(), chosen.end(), [&](const Start& c) { return Distinct(c.x, start.x); });
+    if (distinct) chosen.push_back(start);
+  }
+}
+
+// The starts of the local stages: the swarm's best point, the best of the other sources (the scan, the islands)
+// distinct from it — each source's best gets its own search, since a basin the swarm left is often the scan's —
+// then the best distinct points of all until there are `count`.
+std::vector<Start> ChooseStarts(const std::vector<Start>& swarm, const std::vector<std::vector<Start>>& others,
+                                int count) {
+  std::vector<Start> chosen;
+  AddBestDistinct(swarm, 1, chosen);
+  std::vector<Start> all = swarm;
+  for (const std::vector<Start>& source : others) {
+    AddBestDistinct(source, chosen.size() + 1, chosen);
+    all.insert(all.end(), source.begin(), source.end());
+  }
+  AddBestDistinct(std::move(all), static_cast<std::size_t>(std::max(count, 1)), chosen);
+  return chosen;
+}
+
+// The polishes from every start at once (their replays share the workers); the finished polishes in start order.
+std::vector<FitOutcome> PolishFrom(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                                   const std::vector<Start>& starts) {
+  std::vector<std::future<FitOutcome>> searches;
+  for (const Start& start : starts) {
+    searches.push_back(std::async(std::launch::async, [&objective, &parameters, &start] {
+      FitOutcome polished = Polish(objective, parameters, start.x);
+      if (!(polished.mse < start.f)) {  // nothing better than the start (a failed replay, a flat spot)
+        polished.values = Values(parameters, start.x.data());
+        polished.mse = start.f;
+      }
+      return polished;
+    }));
+  }
+  std::vector<FitOutcome> outcomes;
+  for (auto& search : searches) outcomes.push_back(search.get());
+  return outcomes;
+}
+
+// The best of several finished fits (the first of equals), with every fit's replays counted.
+FitOutcome BestOf(std::vector<FitOutcome> fits) {
+  assert(!fits.empty());
+  int evaluations = 0;
+  int local_starts = 0;
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    evaluations += fits[i].evaluations;
+    local_starts += fits[i].local_starts;
+    if (fits[i].mse < fits[best].mse) best = i;
+  }
+  FitOutcome outcome = std::move(fits[best]);
+  outcome.evaluations = evaluations;
+  outcome.local_starts = local_starts;
+  return outcome;
+}
+
+// Where each value sits against its parameter's range.
+std::vector<BoundState> BoundsOf(const std::vector<FitParameter>& parameters, const std::vector<double>& values) {
+  std::vector<BoundState> bounds;
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    const double u = ToUnit(parameters[i], values[i]);
+    bounds.push_back(u <= kAtBound ? BoundState::kAtLower : u >= 1.0 - kAtBound ? BoundState::kAtUpper
+                                                                                 : BoundState::kInside);
+  }
+  return bounds;
+}
+
+// A fit whose best point has a parameter at a bound of its range: such a point is often a local minimum that a
+// wider range would let go on (a Stribeck friction's breakaway torque at the top of its range, its velocity a tenth
+// of the truth). Each log-scaled parameter at a bound has its range widened kWidening times on that side, and the
+// local stages run again from the point; the better fit is kept. What is still at a bound of its (widened) range
+// is reported; a parameter that moved past the catalogue's range is reported as beyond it. `ranges` comes in as
+// the fit's parameters and goes out as the ranges the result belongs to.
+FitOutcome ReSearchBeyondBounds(const ReplayObjective& objective, std::vector<FitParameter>& ranges,
+                                const FitOptions& options, FitOutcome fit) {
+  const std::vector<FitParameter> catalogue = ranges;
+  fit.bounds = BoundsOf(catalogue, fit.values);
+  std::vector<FitParameter> widened = catalogue;
+  bool widen = false;
+  for (std::size_t i = 0; i < catalogue.size(); ++i) {
+    if (fit.bounds[i] == BoundState::kInside || !catalogue[i].log_scale) continue;
+    if (fit.bounds[i] == BoundState::kAtLower) widened[i].lower /= kWidening;
+    if (fit.bounds[i] == BoundState::kAtUpper) widened[i].upper *= kWidening;
+    widen = true;
+  }
+  if (!widen) return fit;
+  FitOutcome again = LocalStages(objective, widened, options, UnitOf(widened, fit.values), fit.mse);
+  const std::vector<BoundState> found = fit.bounds;
+  if (again.mse < fit.mse) {
+    again.evaluations += fit.evaluations;
+    again.local_starts += fit.local_starts;
+    fit = std::move(again);
+  } else {
+    fit.evaluations += again.evaluations;
+    fit.local_starts += again.local_starts;
+  }
+  ranges = widened;
+  fit.bounds = BoundsOf(widened, fit.values);
+  for (std::size_t i = 0; i < catalogue.size(); ++i) {
+    if (!catalogue[i].log_scale) {
+      fit.bounds[i] = found[i];  // its range cannot widen: where it was found
+    } else if (fit.bounds[i] == BoundState::kInside &&
+               (fit.values[i] < catalogue[i].lower || fit.values[i] > catalogue[i].upper)) {
+      fit.bounds[i] = BoundState::kBeyond;
+    }
+  }
+  return fit;
+}
+
+// Thrown out of the swarm's evaluator when the race abandons the fit: pagmo's evolve has no other way to stop.
+struct FitAbandoned {
+  std::string why;
+  FitOutcome converged;  // the local stages from the swarm's best point at the race
+};
+
+// The race's question, asked once the swarm has run FitOptions::abandon_after generations. A fit is never abandoned
+// unconverged: when the question says stop, a Levenberg–Marquardt polish first runs from the swarm's best point, and
+// the question is asked again of where it ends. Still a reason, and the polish converged: throws FitAbandoned with
+// that fit. Otherwise the polished point becomes one more start (`rescued`), and the swarm goes on as if never asked.
+void Race(const ReplayObjective& objective, const std::vector<FitParameter>& parameters, const FitOptions& options,
+          const FitWatch& swarm, std::optional<FitOutcome>& rescued) {
+  if (swarm.swarm_batches != options.abandon_after || !options.abandon) return;
+  if (options.abandon(Values(parameters, swarm.best_x.data()), swarm.best_f).empty()) return;
+  FitOutcome local = Polish(objective, parameters, swarm.best_x);
+  if (!(local.mse < swarm.best_f)) {
+    local.values = Values(parameters, swarm.best_x.data());
+    local.mse = swarm.best_f;
+  }
+  const std::string why = options.abandon(local.values, local.mse);
+  if (why.empty() || !local.converged) {  // never abandoned unconverged: the swarm goes on
+    rescued = std::move(local);
+    return;
+  }
+  throw FitAbandoned{"abandoned after " + std::to_string(options.abandon_after) +
+                         " generations, converged from its best point: " + why,
+                     std::move(local)};
+}
+
+// A fit given up in its swarm: the converged local search from the swarm's best point, without confidence
+// intervals.
+FitOutcome Abandoned(const std::vector<FitParameter>& parameters, const FitWatch& swarm, FitAbandoned abandoned) {
+  FitOutcome outcome = std::move(abandoned.converged);
+  outcome.generations = swarm.swarm_batches;
+  outcome.evaluations += static_cast<int>(swarm.evaluated);
+  outcome.abandoned = true;
+  outcome.convergence = abandoned.why + " (" + outcome.convergence + ")";
+  outcome.bounds = BoundsOf(parameters, outcome.values);
+  outcome.ci95.assign(parameters.size(), std::numeric_limits<double>::quiet_NaN());
+  return outcome;
+}
 
 // FitOptions::islands CMA-ES runs from the swarm's last generation, each with its own seed and its own problem
 // (pagmo 2.18's cmaes evaluates one point at a time, so the islands run side by side to keep several replays in
-// flight). Every replay runs to its end: CMA-ES ranks all its points.
-IslandsOutcome RunIslands(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                          const FitOptions& options, const pagmo::population& swarm) {
+// flight). Every replay runs to its end: CMA-ES ranks all its points. Returns each island's best.
+std::vector<Start> RunIslands(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
+                              const FitOptions& options, const pagmo::population& swarm, int& evaluations) {
   FitOptions whole = options;
   whole.stop_replays_early = false;
   std::vector<std::future<std::pair<pagmo::population, std::uint64_t>>> runs;
@@ -351,16 +385,13 @@ IslandsOutcome RunIslands(const ReplayObjective& objective, const std::vector<Fi
       return std::make_pair(std::move(island), watch->evaluated);  // points replayed (a repeated point is cached)
     }));
   }
-  IslandsOutcome outcome;
+  std::vector<Start> bests;
   for (auto& run : runs) {
     const auto [island, replayed] = run.get();
-    outcome.evaluations += static_cast<int>(replayed);
-    if (island.champion_f()[0] < outcome.best_f) {
-      outcome.best_x = island.champion_x();
-      outcome.best_f = island.champion_f()[0];
-    }
+    evaluations += static_cast<int>(replayed);
+    bests.push_back({island.champion_x(), island.champion_f()[0]});
   }
-  return outcome;
+  return bests;
 }
 
 }  // namespace
@@ -374,14 +405,16 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   auto watch = std::make_shared<FitWatch>();
   watch->options = &options;
   watch->parameters = &parameters;
-  pagmo::problem problem = ReplayProblem(objective, watch);
+  std::optional<FitOutcome> rescued;  // the race's converged fit, when the race kept the candidate
+  pagmo::problem problem = ReplayProblem(objective, watch, [&objective, &parameters, &options, &watch, &rescued] {
+    Race(objective, parameters, options, *watch, rescued);
+  });
   const pagmo::bfe batch{pagmo::member_bfe{}};
   pagmo::population population(problem, batch, static_cast<pagmo::population::size_type>(size), options.seed);
   // The search starts from the given point: it replaces the worst of the random initial individuals.
   pagmo::vector_double start;
   for (const FitParameter& p : parameters) start.push_back(ToUnit(p, p.start));
   population.set_x(population.worst_idx(), start);
-  const int look_evaluations = options.abandon ? QuickLook(objective, parameters, *watch) : 0;
 
   // 1. Global: pagmo 2.18's CMA-ES evaluates one point at a time; its generational particle swarm takes a batch
   // evaluator, so a whole generation goes to the broker at once (docs/gap.md, "How a fit works").
@@ -392,26 +425,43 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   watch->swarm_batches = 0;
   try {
     population = pagmo::algorithm{swarm}.evolve(population);
-  } catch (const FitAbandoned& abandoned) {
-    return Abandoned(parameters, *watch, abandoned.why, look_evaluations);
+  } catch (FitAbandoned& abandoned) {
+    return Abandoned(parameters, *watch, std::move(abandoned));
   }
+  const int swarm_generations = watch->swarm_batches;
   watch->swarm_batches = -1;  // the race is over
-  const auto swarm_evaluations = static_cast<int>(population.get_problem().get_fevals());
+  int evaluations = static_cast<int>(watch->evaluated);
 
-  // 2. Local stages from the swarm's best point; 3. from the CMA-ES islands' best, when asked for: the better wins.
-  FitOutcome outcome = LocalStages(objective, parameters, problem, *watch, population.champion_x(),
-                                   population.champion_f()[0], options.seed);
-  int evaluations = swarm_evaluations + outcome.evaluations;
-  if (options.islands > 0) {
-    const IslandsOutcome islands = RunIslands(objective, parameters, options, population);
-    evaluations += islands.evaluations;
-    FitOutcome from_islands = LocalStages(objective, parameters, problem, *watch, islands.best_x, islands.best_f,
-                                          options.seed);
-    evaluations += from_islands.evaluations;
-    if (from_islands.mse < outcome.mse) outcome = std::move(from_islands);
+  // 2. The starts of the local stages, from the swarm's particles (pso_gen leaves each particle's best in the
+  // population), the caller's points (the scan's) and the CMA-ES islands' bests.
+  std::vector<Start> particles;
+  for (std::size_t i = 0; i < population.size(); ++i) {
+    particles.push_back({population.get_x()[i], population.get_f()[i][0]});
   }
-  outcome.evaluations = evaluations + look_evaluations;
-  outcome.generations = options.generations;
+  std::vector<std::vector<Start>> others(1);
+  for (const FitStart& offered : options.starts) others[0].push_back({UnitOf(parameters, offered.values), offered.mse});
+  if (options.islands > 0) others.push_back(RunIslands(objective, parameters, options, population, evaluations));
+  const std::vector<Start> starts = ChooseStarts(particles, others, options.local_starts);
+
+  // 3. A polish from each start at once (the race's polished point is one more), then the compass search and a last
+  // polish from the best of them: its convergence test is the fit's.
+  std::vector<FitOutcome> polished = PolishFrom(objective, parameters, starts);
+  if (rescued) polished.push_back(std::move(*rescued));
+  const FitOutcome best = BestOf(std::move(polished));
+  FitOutcome outcome = LocalStages(objective, parameters, options, UnitOf(parameters, best.values), best.mse);
+  if (!(outcome.mse <= best.mse)) {  // the compass search and polish only move to better points; keep the best seen
+    outcome.values = best.values;
+    outcome.mse = best.mse;
+  }
+  outcome.evaluations += best.evaluations;
+  outcome.local_starts = best.local_starts;
+
+  // 4. A parameter at a bound: re-searched beyond it, or reported. 5. The intervals of the best.
+  std::vector<FitParameter> ranges = parameters;
+  outcome = ReSearchBeyondBounds(objective, ranges, options, std::move(outcome));
+  outcome.ci95 = ConfidenceIntervals(objective, ranges, outcome.values, outcome.evaluations);
+  outcome.evaluations += evaluations;
+  outcome.generations = swarm_generations;
   return outcome;
 }
 

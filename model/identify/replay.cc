@@ -37,6 +37,7 @@ nlohmann::json ValuesObject(const std::vector<ValueAssignment>& model) {
   nlohmann::json values = nlohmann::json::object();
   for (const ValueAssignment& assignment : model) values[assignment.path] = assignment.value;
   values["/AngularMotor/IncludeNoise"] = false;  // the replay is the model's expectation; noise is the data's
+  values["/AccelSensor/Deviation"] = 0;            // the accelerometers' too
   return values;
 }
 
@@ -94,6 +95,38 @@ nlohmann::json RowSchedule(const MeasuredRun& run, const std::vector<double>& va
   return {{"times", times}, {"values", held}};
 }
 
+// Each accelerometer axis's weight in the loss: the angle sensor's noise (/AngularMotor/SensorNoiseDeviation, degrees)
+// over the axis's (the mapping's "noise", else its board's /Sim/<agent>/<board>/AccelSensor/Deviation, m/s²), so
+// that a residual of one σ weighs the same in either.
+std::vector<double> AccelerationWeights(const Rig& rig, const MeasuredRun& run,
+                                        const std::vector<ValueAssignment>& model) {
+  std::vector<std::string> paths = {"/AngularMotor/SensorNoiseDeviation"};
+  for (const std::string& channel : run.accelerometers) {
+    paths.push_back("/Sim/" + run.agent + "/" + channel.substr(0, channel.find('/')) + "/AccelSensor/Deviation");
+  }
+  std::vector<double> values;
+  try {
+    values = ModelValues(rig, model, paths);
+  } catch (const InputError&) {
+    throw InputError(run.source + ": an accelerometer column names a board that agent '" + run.agent + "' of " +
+                     rig.environment_name + " does not have (its boards: ABFR, ABHR, ABSR, ABAR, ABFL, ABHL, ABML, "
+                     "ABAL on the A-Series)");
+  }
+  std::vector<double> weights;
+  for (std::size_t i = 0; i < run.accelerometers.size(); ++i) {
+    const auto given = run.acceleration_noise.find(run.accelerometers[i]);
+    const double noise = given != run.acceleration_noise.end() ? given->second : values[i + 1];
+    if (!(noise > 0.0) || !(values[0] > 0.0)) {
+      throw InputError(run.source + ": column '" + AccelerometerColumn(run.agent, run.accelerometers[i]) +
+                       "': the accelerometer's noise is " + text::FormatDouble(noise) + " m/s² and the angle sensor's " +
+                       text::FormatDouble(values[0]) + "°; both must be positive to weigh the two (set "
+                       "/AccelSensor/Deviation in --model, or \"noise\" in the mapping)");
+    }
+    weights.push_back(values[0] / noise);
+  }
+  return weights;
+}
+
 }  // namespace
 
 Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vector<ValueAssignment>& model) {
@@ -116,7 +149,11 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
   ValueFile::ApplyAssignments(model, simulation.repository());
   const int index = simulation.FindAgent(agent);
   if (index < 0) throw InputError(rig.environment_name + ": no agent " + text::Quote(agent) + " (the runs' agent)");
-  for (const auto& motor : simulation.model().morphology(index).motors) rig.motors.push_back(motor.name);
+  for (const auto& motor : simulation.model().morphology(index).motors) {
+    rig.motors.push_back(motor.name);
+    rig.motor_ranges.push_back({motor.min_degrees, motor.max_degrees});
+  }
+  for (const auto& body : simulation.model().morphology(index).bodies) rig.links.push_back(body.name);
   simulation.Reset();  // the model's values may choose another engine, which takes effect at a reset
   rig.step = simulation.StepDuration();
   return rig;
@@ -162,15 +199,31 @@ ReplayRun MakeReplayRun(const Rig& rig, const MeasuredRun& run, const std::vecto
     angles[motor] = std::vector<double>(measured.begin() + 1, measured.end());  // row k+1 follows step k+1
     replay.samples += measured.size() - 1;
   }
+  nlohmann::json term = {{"type", "measured_error"}, {"angles", angles}};
+  if (!run.accelerometers.empty()) {
+    replay.accelerometers = run.accelerometers;
+    replay.acceleration_weights = AccelerationWeights(rig, run, model);
+    nlohmann::json accelerations = nlohmann::json::object();
+    for (std::size_t i = 0; i < run.accelerometers.size(); ++i) {
+      const std::vector<double>& measured = run.acceleration.at(run.accelerometers[i]);
+      accelerations[run.accelerometers[i]] = {{"values", std::vector<double>(measured.begin() + 1, measured.end())},
+                                              {"weight", replay.acceleration_weights[i]}};
+      replay.samples += measured.size() - 1;
+    }
+    term["accelerations"] = accelerations;
+  }
   nlohmann::json scenario = {
       {"name", "gap:" + replay.name},
       {"agent", rig.agent},
       {"duration", run.time.back()},
       {"controller", {{"type", "keyframes"}, {"record", {{"file", run.source}, {"text", control::FormatKeyframeRecord(record, {})}}}}},
-      {"fitness", {{"terms", nlohmann::json::array({{{"type", "measured_error"}, {"angles", angles}}})}}},
+      {"fitness", {{"terms", nlohmann::json::array({term})}}},
       {"values", ValuesObject(model)},
   };
   AddRunInputs(rig, run, model, scenario["values"]);
+  for (const std::string& channel : run.accelerometers) {  // a board's own noise, should the model set one
+    scenario["values"]["/Sim/" + run.agent + "/" + channel.substr(0, channel.find('/')) + "/AccelSensor/Deviation"] = 0;
+  }
   if (!run.supply_voltage.empty()) scenario["schedules"]["/Servo/SupplyVoltage"] = RowSchedule(run, run.supply_voltage);
   if (rig.start_measured) {
     for (const std::string& motor : replay.channels) scenario["start_angles"][motor] = run.joint_angle.at(motor).front();

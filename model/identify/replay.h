@@ -4,6 +4,7 @@
 // broker runs them (clients/gap/broker_replays.h makes them jobs).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -36,6 +37,8 @@ struct Rig {
   std::string environment_xml;   ///< the ORCS XML; "" = the default A-Series world
   std::string agent;             ///< the agent the runs belong to
   std::vector<std::string> motors;  ///< its motors in input order
+  std::vector<std::array<double, 2>> motor_ranges;  ///< per motor: its hinge stops [min, max], degrees
+  std::vector<std::string> links;  ///< its bodies ("Right/LowerArm"): /Sim/<agent>/<link>/Mass is each one's mass
   /// s per simulation step under the model, one logged row: /Simulation/TimeStepSize × IterationsPerStep (the
   /// firmware and the physics run every iteration, with the row's goal held)
   double step = 0.01;
@@ -64,7 +67,12 @@ struct ReplayRun {
   std::string source;                 ///< the file
   const MeasuredRun* run = nullptr;   ///< the data (owned by the caller)
   std::vector<std::string> channels;  ///< the motors compared (those with a JointAngle column)
-  std::size_t samples = 0;            ///< channels × steps compared
+  /// The accelerometer axes compared ("ABSR/AccelAxis1"), each residual times its weight: the angle sensor's noise
+  /// over the axis's (deg per m/s²), so that both enter the loss in units of their own noise, scaled to degrees
+  /// (docs/gap_measured_data.md, "Accelerometers").
+  std::vector<std::string> accelerometers;
+  std::vector<double> acceleration_weights;  ///< per accelerometer axis, deg per m/s²
+  std::size_t samples = 0;            ///< (channels + accelerometer axes) × steps compared
   nlohmann::json scenario;            ///< the resolved scenario, without "log"
 };
 

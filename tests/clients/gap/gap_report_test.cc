@@ -1,5 +1,5 @@
-// report.md as orcs-gap writes it (clients/gap/gap_report.h), on a diagnosis put together by hand: what the
-// candidate table says about fits the race abandoned.
+// report.md and report.json as orcs-gap writes them (clients/gap/gap_report.h), on a diagnosis put together by hand:
+// what the candidate table says about fits the race abandoned and about values that ended at a bound.
 #include "clients/gap/gap_report.h"
 
 #include <gtest/gtest.h>
@@ -9,14 +9,24 @@
 namespace orcs::gap {
 namespace {
 
-identify::ModelScore Candidate(const std::string& label, bool abandoned, bool unmoved) {
+identify::ModelScore Candidate(const std::string& label, bool abandoned) {
   identify::ModelScore score;
   score.label = label;
   score.score = 1.0;
   score.fit.abandoned = abandoned;
-  score.fit.abandoned_unmoved = unmoved;
+  score.fit.converged = true;
   score.fit.generations = abandoned ? 10 : 40;
   return score;
+}
+
+identify::FittedValue Value(const std::string& path, double value, identify::BoundState bound) {
+  identify::FittedValue fitted;
+  fitted.path = path;
+  fitted.unit = "N·m";
+  fitted.value = value;
+  fitted.identified = true;
+  fitted.bound = bound;
+  return fitted;
 }
 
 std::size_t Count(const std::string& text, const std::string& part) {
@@ -25,27 +35,37 @@ std::size_t Count(const std::string& text, const std::string& part) {
   return count;
 }
 
-TEST(GapReportTest, ACandidateAbandonedBeforeItsSearchMovedIsMarkedAndTheReportSuggestsNoRace) {
+TEST(GapReportTest, AnAbandonedCandidateSaysItConvergedFirst) {
   identify::Diagnosis diagnosis;
-  diagnosis.base = Candidate("refit", false, false);
-  diagnosis.candidates = {Candidate("GearEfficiency", true, true), Candidate("Stribeck", true, false),
-                          Candidate("Backlash", false, false)};
+  diagnosis.base = Candidate("refit", false);
+  diagnosis.candidates = {Candidate("Stribeck", true), Candidate("Backlash", false)};
   identify::Rig rig;
   rig.kind = "pendulum";
   const identify::DiagnosisOptions options;
   const std::string md = ReportMarkdown(diagnosis, rig, options);
-  EXPECT_EQ(Count(md, "| abandoned after 10 generations, before its search moved |"), 1u) << md;
-  EXPECT_EQ(Count(md, "| abandoned after 10 generations |"), 1u) << md;
-  EXPECT_NE(md.find("1 candidate was abandoned before its search moved"), std::string::npos) << md;
-  EXPECT_NE(md.find("`--no-race` fits every candidate to the end"), std::string::npos) << md;
+  EXPECT_EQ(Count(md, "| abandoned after 10 generations, converged yes |"), 1u) << md;
+  EXPECT_EQ(Count(md, "| yes |"), 2u) << md;
+}
 
-  diagnosis.candidates[1].fit.abandoned_unmoved = true;
-  EXPECT_NE(ReportMarkdown(diagnosis, rig, options).find("2 candidates were abandoned before their search moved"),
-            std::string::npos);
-  diagnosis.candidates[0].fit.abandoned_unmoved = false;
-  diagnosis.candidates[1].fit.abandoned_unmoved = false;
-  EXPECT_EQ(ReportMarkdown(diagnosis, rig, options).find("before its search moved"), std::string::npos)
-      << "no hint when every abandoned search had moved";
+TEST(GapReportTest, AValueAtABoundOrBeyondTheCatalogueIsSaidInBothReports) {
+  identify::Diagnosis diagnosis;
+  diagnosis.base = Candidate("refit", false);
+  diagnosis.candidates = {Candidate("Stribeck", false)};
+  diagnosis.candidates[0].values = {Value("/Effects/Stribeck/BreakawayTorque", 0.5, identify::BoundState::kAtUpper),
+                                    Value("/Effects/Stribeck/Velocity", 2.5, identify::BoundState::kBeyond),
+                                    Value("/AngularMotor/FMaxFactor", 1.0, identify::BoundState::kInside)};
+  identify::Rig rig;
+  rig.kind = "pendulum";
+  const identify::DiagnosisOptions options;
+  const std::string md = ReportMarkdown(diagnosis, rig, options);
+  EXPECT_NE(md.find("BreakawayTorque 0.5 N·m (at the top of its range);"), std::string::npos) << md;
+  EXPECT_NE(md.find("Velocity 2.5 N·m (beyond the catalogue's range);"), std::string::npos) << md;
+  EXPECT_NE(md.find("FMaxFactor 1 N·m;"), std::string::npos) << md;
+  const nlohmann::json json = ReportJson(diagnosis, rig, options);
+  const nlohmann::json& values = json.at("candidates").at(0).at("parameters");
+  EXPECT_EQ(values.at(0).at("bound"), "upper");
+  EXPECT_EQ(values.at(1).at("bound"), "beyond");
+  EXPECT_TRUE(values.at(2).at("bound").is_null());
 }
 
 }  // namespace

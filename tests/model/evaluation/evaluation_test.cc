@@ -337,6 +337,52 @@ TEST(EvaluationTest, AMeasuredErrorsMeanAbsoluteNormPoolsTheSameEntriesAsItsRms)
 
 // The logs of a job share one bound over all its sets: the first set's log ends with the truncation line once the
 // bound is reached, the later sets' logs hold only their header and that line; the fitness is the same as unbounded.
+// measured_error's "accelerations" (issue 49): an accelerometer axis is compared beside the angles, its error times
+// its weight. The standing A-Series's ABHR Axis2 reads about −9.81 m/s²: measured as 0 with weight 2 it alone gives
+// the RMS of twice its logged readings after each step; an axis the agent lacks and a weight that is not positive
+// are refused by field.
+TEST(EvaluationTest, AMeasuredErrorComparesAccelerometerAxesTimesTheirWeights) {
+  std::string standing = "0";
+  for (int motor = 0; motor < 21; ++motor) standing += ",0,0.586810005";
+  nlohmann::json scenario = {
+      {"agent", "Humanoid"},
+      {"duration", 0.2},
+      {"controller", {{"type", "keyframes"}, {"record", {{"file", "r.csv"}, {"text", standing + "\n"}}}}},
+      {"fitness",
+       {{"terms",
+         {{{"type", "measured_error"},
+           {"angles", nlohmann::json::object()},
+           {"accelerations", {{"ABHR/AccelAxis2", {{"values", std::vector<double>(20, 0.0)}, {"weight", 2.0}}}}}}}}}},
+      {"values", {{"/AngularMotor/IncludeNoise", false}, {"/AccelSensor/Deviation", 0}}},
+      {"log", {"/Sim/Humanoid/ABHR/AccelAxis2"}},
+  };
+  EvaluationRequest request;
+  request.scenario = scene::ParseScenario(scenario, "replay.json");
+  const EvaluationOutcome outcome = Evaluate(request);
+  ASSERT_EQ(outcome.status, EvaluationStatus::kOk) << outcome.message;
+  std::istringstream log(outcome.sets[0].log_csv);
+  std::string line;
+  std::vector<double> readings;  // the log's rows: t = 0, then after each step
+  while (std::getline(log, line)) {
+    if (!line.empty() && line[0] != '#') readings.push_back(std::stod(line.substr(line.find(',') + 1)));
+  }
+  ASSERT_GE(readings.size(), 21u);
+  double squares = 0.0;
+  for (std::size_t k = 1; k <= 20; ++k) squares += 4.0 * readings[k] * readings[k];
+  EXPECT_NEAR(outcome.fitness, std::sqrt(squares / 20), 1e-9);
+  EXPECT_NEAR(readings[20], -9.81, 0.2);
+
+  nlohmann::json unknown = scenario;
+  unknown["fitness"]["terms"][0]["accelerations"] = {{"ABXX/AccelAxis1", {{"values", {0.0}}, {"weight", 1.0}}}};
+  request.scenario = scene::ParseScenario(unknown, "replay.json");
+  const EvaluationOutcome refused = Evaluate(request);
+  EXPECT_EQ(refused.status, EvaluationStatus::kInvalidInput);
+  EXPECT_THAT(refused.message, HasSubstr("accelerations.ABXX/AccelAxis1"));
+  unknown["fitness"]["terms"][0]["accelerations"] = {{"ABHR/AccelAxis2", {{"values", {0.0}}, {"weight", 0.0}}}};
+  request.scenario = scene::ParseScenario(unknown, "replay.json");
+  EXPECT_THAT(Evaluate(request).message, HasSubstr("a positive weight in degrees per m/s²"));
+}
+
 TEST(EvaluationTest, AJobsLogsStopAtTheirBoundAndTheRunGoesOn) {
   const EvaluationOutcome unbounded = Evaluate(Request("stand_network.json", {0, 0, 0, 0, 0, 0}, 3));
   ASSERT_EQ(unbounded.status, EvaluationStatus::kOk) << unbounded.message;

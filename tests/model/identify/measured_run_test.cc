@@ -106,6 +106,22 @@ TEST(MeasuredRunTest, ParsesARealASeriesLog) {
   EXPECT_THAT(run.lines, ElementsAre(6, 7, 8));
 }
 
+// The accelerometer axes of an orcs log are read beside the motors, in column order, in m/s² (issue 49: they enter
+// the comparison); the /AccelSensor/... values are no readings and stay out.
+TEST(MeasuredRunTest, ReadsTheAccelerometerAxesOfAnOrcsLog) {
+  const MeasuredRun run = ParseMeasuredRun(kLegSwingLog, "leg_swing.csv");
+  ASSERT_EQ(run.accelerometers.size(), 16u);
+  EXPECT_EQ(run.accelerometers.front(), "ABFR/AccelAxis1");
+  EXPECT_EQ(run.accelerometers[3], "ABHR/AccelAxis2");
+  EXPECT_EQ(run.accelerometers.back(), "ABAL/AccelAxis2");
+  EXPECT_THAT(run.acceleration.at("ABHR/AccelAxis2"), ElementsAre(0.0, -9.758184564936364, -9.820106662529899));
+  EXPECT_THAT(run.acceleration_noise, IsEmpty());  // an orcs log's noise is the model's
+  EXPECT_EQ(AccelerometerColumn("Humanoid", "ABSR/AccelAxis1"), "/Sim/Humanoid/ABSR/AccelAxis1");
+  // A column that only looks like one (no board, another quantity) is not an axis.
+  const MeasuredRun humanoid = ParseMeasuredRun(kHumanoidLog, "h.csv");
+  EXPECT_THAT(humanoid.accelerometers, IsEmpty());
+}
+
 TEST(MeasuredRunTest, ParsesASeriesMotorNamesWithSlashAndIgnoresOtherColumns) {
   const MeasuredRun run = ParseMeasuredRun(kHumanoidLog, "h.csv");
   EXPECT_EQ(run.agent, "Humanoid");
@@ -348,7 +364,7 @@ TEST(MeasuredRunTest, MappingErrorsNameTheField) {
   auto error = [](const std::string& json) { return InputErrorOf([&] { Mapping(json); }); };
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_time + ", " + ok_channel + R"(, "agnet": 1})"),
             "m.json: field 'agnet' expected no such field (allowed: agent, time, channels, delimiter, firmware_kp, "
-            "winding_temperature, supply_voltage, command_timing), found 'agnet'");
+            "winding_temperature, supply_voltage, command_timing, accelerometers), found 'agnet'");
   EXPECT_EQ(error("{" + ok_time + ", " + ok_channel + "}"),
             "m.json: field 'agent' expected a value, found nothing (the field is missing)");
   EXPECT_EQ(error(R"({"agent": "P", )" + ok_channel + "}"),
@@ -367,6 +383,40 @@ TEST(MeasuredRunTest, MappingErrorsNameTheField) {
   EXPECT_EQ(error(R"({"agent": "P", "time": {"column": "t"}, "channels": {}})"),
             "m.json: field 'channels' expected an array, found an object");
   EXPECT_EQ(error("[1]"), "m.json: expected a column mapping (a JSON object), found an array of 1");
+}
+
+// A mapped CSV's accelerometer axes: a column each, scaled to m/s², with the noise of the board that recorded them;
+// a mistyped axis, an axis named twice, a noise that is no σ and a reading no accelerometer gives are one line each.
+TEST(MeasuredRunTest, MappedAccelerometersReadTheirColumnsScaleAndNoise) {
+  const std::string csv = "t,cmd,pos,ax_g,ay_g\n0,0,0,0,1\n0.01,1,0.5,0.1,0.9\n0.02,2,1,0.2,0.8\n";
+  const std::string head = R"({"agent": "Humanoid", "time": {"column": "t"}, "channels": [{"motor": "Waist",
+      "desired_angle": {"column": "cmd"}, "desired_torque": {"constant": 1}, "joint_angle": {"column": "pos"}}], )";
+  const ColumnMapping mapping = Mapping(head + R"("accelerometers": [
+      {"channel": "ABSR/AccelAxis1", "column": "ax_g", "scale": 9.81, "noise": 0.03},
+      {"channel": "ABSR/AccelAxis2", "column": "ay_g", "scale": 9.81}]})");
+  const MeasuredRun run = ParseMeasuredRun(csv, "run.csv", &mapping);
+  EXPECT_THAT(run.accelerometers, ElementsAre("ABSR/AccelAxis1", "ABSR/AccelAxis2"));
+  EXPECT_THAT(run.acceleration.at("ABSR/AccelAxis1"), ElementsAre(0.0, 0.1 * 9.81, 0.2 * 9.81));
+  EXPECT_THAT(run.acceleration.at("ABSR/AccelAxis2"), ElementsAre(9.81, 0.9 * 9.81, 0.8 * 9.81));
+  EXPECT_EQ(run.acceleration_noise.at("ABSR/AccelAxis1"), 0.03);
+  EXPECT_EQ(run.acceleration_noise.count("ABSR/AccelAxis2"), 0u);
+
+  auto error = [&](const std::string& axes) { return InputErrorOf([&] { Mapping(head + axes + "}"); }); };
+  EXPECT_EQ(error(R"("accelerometers": [{"channel": "ABSR/AccelAxis3", "column": "ax_g"}])"),
+            "m.json: field 'accelerometers[0].channel' expected a board's axis (e.g. \"ABSR/AccelAxis1\"), found "
+            "'ABSR/AccelAxis3'");
+  EXPECT_EQ(error(R"("accelerometers": [{"channel": "ABSR/AccelAxis1", "column": "ax_g"},
+                                        {"channel": "ABSR/AccelAxis1", "column": "ay_g"}])"),
+            "m.json: field 'accelerometers[1].channel' expected an axis not named before, found 'ABSR/AccelAxis1'");
+  EXPECT_EQ(error(R"("accelerometers": [{"channel": "ABSR/AccelAxis1", "column": "ax_g", "noise": 0}])"),
+            "m.json: field 'accelerometers[0].noise' expected a positive σ in m/s², found 0");
+  EXPECT_EQ(error(R"("accelerometers": [{"channel": "ABSR/AccelAxis1"}])"),
+            "m.json: field 'accelerometers[0]' expected an object with \"column\", found none");
+  const ColumnMapping huge = Mapping(head + R"("accelerometers": [{"channel": "ABSR/AccelAxis1", "column": "ax_g",
+      "scale": 1e4}]})");
+  EXPECT_EQ(InputErrorOf([&] { ParseMeasuredRun(csv, "run.csv", &huge); }),
+            "run.csv:4: column 'ax_g': '0.2' gives 2000 m/s², not an accelerometer's reading "
+            "(expected −1000…1000 m/s²)");
 }
 
 TEST(MeasuredRunTest, MappingRulesBeyondTypes) {
@@ -613,7 +663,7 @@ TEST(MeasuredRunTest, TheSupplyVoltageIsKeptPerRowAndOutsideZeroTo60VoltsIsOneLi
                         "channels": [{"motor": "M", "joint_angle": {"column": "a"}}]})");
             }),
             "m.json: field 'supply_volts' expected no such field (allowed: agent, time, channels, delimiter, "
-            "firmware_kp, winding_temperature, supply_voltage, command_timing), found 'supply_volts'");
+            "firmware_kp, winding_temperature, supply_voltage, command_timing, accelerometers), found 'supply_volts'");
 }
 
 // A log that reads the state and then sends the commands (BAM's, the XL330's) says so with "command_timing":

@@ -1,9 +1,16 @@
-// The fitter on a cheap analytic system instead of simulations: a ReplayEvaluator stand-in answers each replay
-// with an RMS error (degrees) computed from its overrides, so the tests check the optimiser, the unit-box
-// mapping (log-scaled and linear) and the pooling of runs without a broker or a physics engine.
+// The fitter on a cheap analytic system instead of simulations (tests/model/identify/analytic_evaluator.h): the
+// optimiser, the unit-box mapping (log-scaled and linear), the race, the local stages from several starts and the
+// re-search beyond a bound, without a broker or a physics engine.
 #include "model/identify/model_fit.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+
+#include "tests/model/identify/analytic_evaluator.h"
 
 #include <atomic>
 #include <cmath>
@@ -14,57 +21,11 @@
 namespace orcs::identify {
 namespace {
 
-// The hidden truth: /A = 2.0 (searched on a log scale over 0.1…10), /B = 0.3 (linear over −1…1).
-constexpr double kTrueA = 2.0;
-constexpr double kTrueB = 0.3;
-
-// A run's RMS error: 10° per unit of log-distance in A and per unit of distance in B, plus the run's own floor
-// (what no parameter can explain). A replay whose /A is negative "goes unstable".
-class AnalyticEvaluator : public ReplayEvaluator {
- public:
-  std::vector<ReplayOutcome> Replay(const std::vector<ReplayRequest>& requests) override {
-    std::vector<ReplayOutcome> outcomes;
-    for (const ReplayRequest& request : requests) {
-      std::map<std::string, double> values;
-      for (const auto& [path, value] : request.overrides) values[path] = std::stod(value);
-      const double a = values.count("/A") ? values["/A"] : 1.0;
-      const double b = values.count("/B") ? values["/B"] : 0.0;
-      const double floor = request.run->scenario.value("floor_deg", 0.0);
-      ReplayOutcome outcome;
-      outcome.ok = a >= 0;
-      if (outcome.ok) {
-        const double da = 10.0 * std::log(a / kTrueA), db = 10.0 * (b - kTrueB);
-        outcome.error = std::sqrt(da * da + db * db + floor * floor);
-        // A replay past its bound stops with the least lower bound it may give: just above the bound.
-        if (outcome.error > request.stop_above) {
-          outcome.error = std::nextafter(request.stop_above, std::numeric_limits<double>::infinity());
-          outcome.stopped_early = true;
-          ++stopped_;
-        }
-      }
-      outcomes.push_back(outcome);
-    }
-    replays_ += requests.size();
-    return outcomes;
-  }
-  std::uint64_t replays_run() const override { return replays_; }
-  std::uint64_t replays_stopped_early() const override { return stopped_; }
-
- private:
-  std::atomic<std::uint64_t> replays_{0};
-  std::atomic<std::uint64_t> stopped_{0};
-};
-
-ReplayRun AnalyticRun(const std::string& name, std::size_t samples, double floor_deg) {
-  ReplayRun run;
-  run.name = name;
-  run.source = name + ".csv";
-  run.samples = samples;
-  run.scenario = {{"agent", "Analytic"}, {"duration", 1.0}, {"floor_deg", floor_deg}};
-  return run;
-}
-
-const std::vector<FitParameter> kParameters = {{"/A", "", 0.1, 10.0, true, 0.5}, {"/B", "", -1.0, 1.0, false, -0.5}};
+using test::AnalyticEvaluator;
+using test::AnalyticRun;
+using test::kParameters;
+using test::kTrueA;
+using test::kTrueB;
 
 TEST(ModelFitTest, FindsTheAnalyticOptimumFromAFarStartAndSaysItConverged) {
   AnalyticEvaluator evaluator;
@@ -123,6 +84,7 @@ TEST(ModelFitTest, IslandsAddASecondStartThatCanOnlyImproveTheFitAndStayReproduc
   EXPECT_EQ(again.mse, with_islands.mse);
 }
 
+// A race that lets a candidate go on changes nothing: the swarm and the local stages are those of a fit without it.
 TEST(ModelFitTest, AFitTheRaceKeepsSearchesExactlyAsWithoutTheRace) {
   AnalyticEvaluator evaluator;
   const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 1.0)};
@@ -140,72 +102,137 @@ TEST(ModelFitTest, AFitTheRaceKeepsSearchesExactlyAsWithoutTheRace) {
   EXPECT_EQ(kept.values, plain.values);
   EXPECT_EQ(kept.mse, plain.mse);
   EXPECT_EQ(kept.generations, 40);
-  EXPECT_GT(kept.evaluations, plain.evaluations);  // the quick look's replays
+  EXPECT_EQ(kept.evaluations, plain.evaluations);
 }
 
-TEST(ModelFitTest, AFitItsAbandonQuestionRejectsStopsAfterItsFirstGenerationsWithoutLocalStages) {
+// A fit is never abandoned unconverged: when the race's question says stop, the local stages first run from the
+// swarm's best point, and the question is asked again of where they end. Here no point can beat the limit (a floor
+// of 3° is 9 deg²): the fit is abandoned after its swarm's tenth generation with that converged point.
+TEST(ModelFitTest, TheRaceAbandonsAFitOnlyAfterItsBestPointHasConverged) {
   AnalyticEvaluator evaluator;
-  // The floor of 3° is 9 deg² that no parameter removes.
+  const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 3.0)};
+  const ReplayObjective objective(evaluator, runs, {});
+  FitOptions options;
+  std::vector<double> asked_at;  // the objective of each point the question was asked about
+  options.abandon = [&](const std::vector<double>& values, double mse) -> std::string {
+    EXPECT_EQ(values.size(), 2u);
+    asked_at.push_back(mse);
+    return mse > 8.0 ? "above the limit" : "";
+  };
+  const FitOutcome abandoned = Fit(objective, kParameters, options);
+  EXPECT_TRUE(abandoned.abandoned);
+  ASSERT_EQ(asked_at.size(), 2u);
+  EXPECT_LE(asked_at[1], asked_at[0]);
+  EXPECT_NE(abandoned.convergence.find("abandoned after 10 generations, converged from its best point: above the "
+                                       "limit"),
+            std::string::npos)
+      << abandoned.convergence;
+  EXPECT_TRUE(abandoned.converged) << abandoned.convergence;
+  EXPECT_EQ(abandoned.generations, 10);
+  EXPECT_NEAR(abandoned.mse, 9.0, 0.05);
+  EXPECT_EQ(abandoned.mse, asked_at[1]);
+  // The initial 16 particles, the start in place of the worst, ten generations of 16, then the local search.
+  EXPECT_EQ(static_cast<std::uint64_t>(abandoned.evaluations), evaluator.replays_run());
+  EXPECT_GT(abandoned.evaluations, 16 + 1 + 10 * 16);
+  ASSERT_EQ(abandoned.ci95.size(), 2u);
+  EXPECT_TRUE(std::isnan(abandoned.ci95[0]));
+}
+
+// A candidate the race would have dropped on the swarm's best point, but whose converged point passes, stays: the
+// swarm goes on, and the converged point is one more finished start at the end.
+TEST(ModelFitTest, AFitWhoseConvergedPointPassesTheRaceGoesOnAndKeepsThatPoint) {
+  AnalyticEvaluator evaluator;
   const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 3.0)};
   const ReplayObjective objective(evaluator, runs, {});
   FitOptions options;
   int asked = 0;
-  double limit = 8.0;
-  options.abandon = [&](const std::vector<double>& values, double mse) -> std::string {
-    ++asked;
-    EXPECT_EQ(values.size(), 2u);
-    return mse > limit ? "above the limit" : "";
+  options.abandon = [&](const std::vector<double>&, double) -> std::string {
+    return ++asked == 1 ? "judged on the swarm's best" : "";
   };
-  options.abandon_after = 10;
-  const FitOutcome abandoned = Fit(objective, kParameters, options);
-  EXPECT_TRUE(abandoned.abandoned);
-  EXPECT_EQ(asked, 1);
-  EXPECT_NE(abandoned.convergence.find("abandoned after 10 generations: above the limit"), std::string::npos)
-      << abandoned.convergence;
-  EXPECT_FALSE(abandoned.converged);
-  EXPECT_EQ(abandoned.generations, 10);
-  EXPECT_GT(abandoned.mse, 8.0);
-  // The initial 16 particles, the start point put in place of the worst, the quick local look (at least one
-  // point), ten generations of 16, and nothing after them.
-  EXPECT_EQ(static_cast<std::uint64_t>(abandoned.evaluations), evaluator.replays_run());
-  const int look = abandoned.evaluations - (16 + 1 + 10 * 16);
-  EXPECT_GE(look, 1);  // the analytic evaluator logs no columns: the look stops at its first point
-  EXPECT_LE(look, 40);
-  ASSERT_EQ(abandoned.ci95.size(), 2u);
-  EXPECT_TRUE(std::isnan(abandoned.ci95[0]));
-
-  EXPECT_FALSE(abandoned.abandoned_unmoved);
-  EXPECT_EQ(abandoned.convergence.find("not changed since"), std::string::npos)
-      << "its swarm improved on its first generation: " << abandoned.convergence;
-
-  limit = 9.5;  // reachable: the fit goes on to its local stages
   const FitOutcome kept = Fit(objective, kParameters, options);
+  EXPECT_EQ(asked, 2);
   EXPECT_FALSE(kept.abandoned);
+  EXPECT_EQ(kept.generations, 40);
   EXPECT_NEAR(kept.mse, 9.0, 0.05);
-  EXPECT_TRUE(kept.converged) << kept.convergence;
+  const FitOutcome plain = Fit(objective, kParameters, FitOptions{});
+  EXPECT_LE(kept.mse, plain.mse);
+  EXPECT_EQ(kept.local_starts, plain.local_starts + 1);  // the race's converged search
 }
 
-// A swarm whose best has not changed since its first generation may not have started to search; the race's
-// verdict says so, with the option that fits it to the end. Here the start is the optimum: nothing improves on it.
-TEST(ModelFitTest, AnAbandonedFitWhoseSwarmNeverImprovedSaysItsSearchMayNotHaveStarted) {
-  AnalyticEvaluator evaluator;
-  const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 3.0)};
+// Two basins: a wide one around /A = 0.3 that leaves 2°, and a narrow one around /A = 3 that leaves nothing. A fit
+// whose swarm stays in the wide basin ends there; given a start in the narrow one (as the scan offers its points),
+// its local stages from both starts find the better.
+class TwoBasins : public ReplayEvaluator {
+ public:
+  std::vector<ReplayOutcome> Replay(const std::vector<ReplayRequest>& requests) override {
+    std::vector<ReplayOutcome> outcomes;
+    for (const ReplayRequest& request : requests) {
+      std::map<std::string, double> values;
+      for (const auto& [path, value] : request.overrides) values[path] = std::stod(value);
+      const double wide = 10.0 * std::log(values["/A"] / 0.3);  // plus a floor of 2°
+      const double narrow = 100.0 * std::log(values["/A"] / 3.0);
+      const double db = 10.0 * (values["/B"] - kTrueB);
+      const bool in_narrow = narrow * narrow < wide * wide + 4.0;
+      const double da = in_narrow ? narrow : wide;
+      const double floor = in_narrow ? 0.0 : 2.0;
+      ReplayOutcome outcome;
+      outcome.ok = true;
+      outcome.error = std::sqrt(da * da + db * db + floor * floor);
+      if (request.log) {
+        std::vector<double> angles = {0.0};
+        for (std::size_t k = 1; k <= request.run->samples; ++k) {
+          angles.push_back(test::AnalyticResidual(da, db, floor, k, request.run->samples));
+        }
+        outcome.columns.emplace_back("/Sim/Analytic/M/JointAngle", std::move(angles));
+      }
+      outcomes.push_back(outcome);
+    }
+    replays_ += requests.size();
+    return outcomes;
+  }
+  std::uint64_t replays_run() const override { return replays_; }
+
+ private:
+  std::atomic<std::uint64_t> replays_{0};
+};
+
+TEST(ModelFitTest, LocalStagesFromSeveralStartsFindTheBasinTheSwarmMissed) {
+  TwoBasins evaluator;
+  const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 0.0)};
   const ReplayObjective objective(evaluator, runs, {});
-  std::vector<FitParameter> at_optimum = kParameters;
-  at_optimum[0].start = kTrueA;
-  at_optimum[1].start = kTrueB;
+  std::vector<FitParameter> parameters = kParameters;
+  parameters[0].start = 0.25;
   FitOptions options;
-  options.abandon = [](const std::vector<double>&, double mse) -> std::string {
-    return mse > 8.0 ? "above the limit" : "";
-  };
-  const FitOutcome abandoned = Fit(objective, at_optimum, options);
-  ASSERT_TRUE(abandoned.abandoned);
-  EXPECT_TRUE(abandoned.abandoned_unmoved);
-  EXPECT_NEAR(abandoned.mse, 9.0, 1e-9);
-  EXPECT_NE(abandoned.convergence.find("above the limit; its best had not changed since the swarm's first "
-                                       "generation, so its search may not have started (--no-race"),
-            std::string::npos)
-      << abandoned.convergence;
+  options.generations = 2;
+  const FitOutcome swarm_only = Fit(objective, parameters, options);
+  ASSERT_NEAR(swarm_only.values[0], 0.3, 0.03) << "the premise: the swarm stays in the wide basin";
+  EXPECT_NEAR(swarm_only.mse, 4.0, 0.1);
+
+  options.starts = {{{3.1, 0.0}, objective.Losses({{{"/A", "3.1"}, {"/B", "0"}}})[0]}};
+  const FitOutcome both = Fit(objective, parameters, options);
+  EXPECT_NEAR(both.values[0], 3.0, 0.03);
+  EXPECT_NEAR(both.values[1], kTrueB, 0.02);
+  EXPECT_LT(both.mse, 1.0);  // the wide basin leaves 4 deg²; the compass search stops within 0.2 % of the range
+  EXPECT_GE(both.local_starts, 2);
+}
+
+// A parameter that ends at a bound of its range: a log-scaled one is re-searched in a range four times wider on that
+// side and reported beyond the catalogue's range when it moves past it; a linear one cannot widen and is reported at
+// its bound. Here the truth (/A = 2, /B = 0.3) lies above both ranges.
+TEST(ModelFitTest, AParameterAtABoundIsReSearchedBeyondItOrReported) {
+  AnalyticEvaluator evaluator;
+  const std::vector<ReplayRun> runs = {AnalyticRun("one", 100, 0.0)};
+  const ReplayObjective objective(evaluator, runs, {});
+  const std::vector<FitParameter> narrow = {{"/A", "", 0.1, 1.0, true, 0.5}, {"/B", "", -1.0, 0.0, false, -0.5}};
+  const FitOutcome outcome = Fit(objective, narrow, FitOptions{});
+  ASSERT_EQ(outcome.bounds.size(), 2u);
+  EXPECT_EQ(outcome.bounds[0], BoundState::kBeyond);
+  EXPECT_NEAR(outcome.values[0], kTrueA, 0.02 * kTrueA);
+  EXPECT_EQ(outcome.bounds[1], BoundState::kAtUpper);
+  EXPECT_NEAR(outcome.values[1], 0.0, 1e-9);
+  // Inside their ranges, parameters are reported inside.
+  const FitOutcome inside = Fit(objective, kParameters, FitOptions{});
+  EXPECT_EQ(inside.bounds, (std::vector<BoundState>{BoundState::kInside, BoundState::kInside}));
 }
 
 // Replays stopped at their point's bound (the particle's best in the swarm, the current point in the compass search)
@@ -234,50 +261,8 @@ TEST(ModelFitTest, ReplaysStoppedEarlyLeaveTheFitExactlyAsWithoutThem) {
   }
 }
 
-// Each run's bound is the RMS past which it alone puts the pooled error above the point's bound.
-TEST(ModelFitTest, APointsBoundBecomesEachRunsStopAboveAndItsLowerBoundExceedsIt) {
-  AnalyticEvaluator evaluator;
-  const std::vector<ReplayRun> runs = {AnalyticRun("small", 100, 1.0), AnalyticRun("large", 300, 3.0)};
-  const ReplayObjective objective(evaluator, runs, {});
-  // At the optimum the pooled error is 7 deg²: a bound of 8 stops nothing, a bound of 2 stops the large run
-  // (its 3² · 300 / 400 = 6.75 deg² alone exceeds 2).
-  const std::vector<std::vector<Override>> optimum = {{{"/A", "2"}, {"/B", "0.3"}}};
-  EXPECT_DOUBLE_EQ(objective.Losses(optimum, {8.0})[0], 7.0);
-  EXPECT_EQ(evaluator.replays_stopped_early(), 0u);
-  const double lower = objective.Losses(optimum, {2.0})[0];
-  EXPECT_GT(evaluator.replays_stopped_early(), 0u);
-  EXPECT_GT(lower, 2.0);
-  EXPECT_LE(lower, 7.0);
-}
 
-TEST(ModelFitTest, TheObjectivePoolsRunsBySamplesAndScoresAFailedReplayAsFailed) {
-  AnalyticEvaluator evaluator;
-  // At the optimum each run's error is its floor: pooled over samples, (100·1² + 300·3²) / 400 = 7 deg².
-  const std::vector<ReplayRun> runs = {AnalyticRun("small", 100, 1.0), AnalyticRun("large", 300, 3.0)};
-  const ReplayObjective objective(evaluator, runs, {{"/Fixed", "1"}});
-  const std::vector<double> errors =
-      objective.Losses({{{"/A", "2"}, {"/B", "0.3"}}, {{"/A", "-1"}, {"/B", "0.3"}}});
-  ASSERT_EQ(errors.size(), 2u);
-  EXPECT_DOUBLE_EQ(errors[0], 7.0);
-  EXPECT_EQ(errors[1], ReplayObjective::kFailedPoint);
-  EXPECT_EQ(evaluator.replays_run(), 4u);  // two points × two runs, one batch
-}
 
-// The absolute loss pools each run's mean absolute error by its samples, and a point's bound becomes each run's
-// bound in that norm: at the optimum (100·1 + 300·3) / 400 = 2.5°; a bound of 2 stops the large run (3° × 300 / 400
-// = 2.25° alone exceeds it), a bound of 2.6 stops nothing.
-TEST(ModelFitTest, TheAbsoluteLossPoolsMeanAbsoluteErrorsAndBoundsRunsInThatNorm) {
-  AnalyticEvaluator evaluator;
-  const std::vector<ReplayRun> runs = {AnalyticRun("small", 100, 1.0), AnalyticRun("large", 300, 3.0)};
-  const ReplayObjective objective(evaluator, runs, {}, Loss::kAbsolute);
-  const std::vector<std::vector<Override>> optimum = {{{"/A", "2"}, {"/B", "0.3"}}};
-  EXPECT_DOUBLE_EQ(objective.Losses(optimum, {2.6})[0], 2.5);
-  EXPECT_EQ(evaluator.replays_stopped_early(), 0u);
-  const double lower = objective.Losses(optimum, {2.0})[0];
-  EXPECT_EQ(evaluator.replays_stopped_early(), 1u);
-  EXPECT_GT(lower, 2.0);
-  EXPECT_LE(lower, 2.5);
-}
 
 }  // namespace
 }  // namespace orcs::identify
