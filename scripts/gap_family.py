@@ -42,6 +42,7 @@ def synth_command(rig, case, data):
     command += [str(MOTIONS / (m + ".csv")) for m in rig["fit"] + rig["holdout"]]
     if rig.get("duration"):
         command += ["--duration", str(rig["duration"])]
+    command += rig.get("synth_options", [])
     if rig.get("model"):
         command += ["--model", str(REPO / rig["model"])]
     for effect in case.get("effects", []):

@@ -95,7 +95,7 @@ nlohmann::json ScoreJson(const ModelScore& s) {
           {"score", RoundedOrNull(s.score)},
           {"fit", {{"generations", s.fit.generations}, {"evaluations", s.fit.evaluations},
                    {"converged", s.fit.converged}, {"abandoned", s.fit.abandoned}, {"convergence", s.fit.convergence},
-                   {"local_starts", s.fit.local_starts}, {"polish", s.fit.polish}}}};
+                   {"local_starts", s.fit.local_starts}, {"polish", s.fit.polish}, {"race", s.race}}}};
 }
 
 // The motors of the worst channels, worst first, without repeats (for the plots).
@@ -146,8 +146,7 @@ std::string TraceCsv(const ChannelTrace& before, const ChannelTrace& refit, cons
 nlohmann::json RivalsJson(const Diagnosis& d) {
   nlohmann::json rivals = nlohmann::json::array();
   for (const Rival& r : d.rivals) {
-    rivals.push_back({{"effect", r.effect}, {"loss_difference", r.loss_difference},
-                      {"standard_error", r.standard_error}, {"relation", r.relation},
+    rivals.push_back({{"effect", r.effect}, {"holdout_ratio", r.ratio}, {"relation", r.relation},
                       {"kind", r.contains_named ? "contains the named effect, fits no better" : "tie"}});
   }
   return rivals;

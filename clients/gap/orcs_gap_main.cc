@@ -42,7 +42,7 @@ struct GapOptions {
   int workers = 0;
   std::string broker;
   std::string out = "gap-report";
-  int generations = 40;
+  int generations = 0;  // 0 = the rig's default (GenerationsByDefault)
   bool race = true;
   bool early_stop = true;
   bool relax_scan = false;
@@ -149,6 +149,23 @@ std::vector<MeasuredRun> ReadRuns(const std::vector<std::string>& files, const C
   return runs;
 }
 
+// --relax-scan's default (docs/gap.md, "How a fit works"): on where replays are short (the pendulum rig), off for
+// the A-Series, where the relaxations' replays, which always run to their end, would take its example diagnosis
+// past 10 minutes on 2 cores (617 s against 521 s, docs/benchmarks.md).
+bool RelaxScanByDefault(const std::string& rig) { return rig == "pendulum"; }
+
+// --generations' default: 40 where replays are short (the pendulum rig), 20 on the A-Series, whose replays cost
+// some 30 times more (a diagnosis of its example in 3 minutes on 2 cores, docs/benchmarks.md): the local stages from
+// several starts after the swarm (docs/gap.md, "How a fit works") do what its later generations did.
+int GenerationsByDefault(const std::string& rig) { return rig == "pendulum" ? 40 : 20; }
+
+// The race judges a candidate after a quarter of its swarm's generations, at least 5 (10 of the default 40).
+int RaceAfter(int generations) { return std::max(5, generations / 4); }
+
+// --race's default: on, but off with --islands. The race judges a candidate after 10 generations of its swarm,
+// before any island has run, and abandons the very candidates the islands are for (LuGre on the servo model).
+bool RaceByDefault(int islands) { return islands == 0; }
+
 int Diagnose(const GapOptions& o) {
   const std::vector<ValueAssignment> model = ReadModel(o);
   std::optional<ColumnMapping> mapping;
@@ -167,6 +184,7 @@ int Diagnose(const GapOptions& o) {
 
   DiagnosisOptions options;
   options.fit.generations = o.generations;
+  options.fit.abandon_after = RaceAfter(o.generations);
   if (o.race) options.abandon_share = kRaceAbandonShare;
   options.fit.stop_replays_early = o.early_stop;
   options.relax_scan = o.relax_scan;
@@ -224,15 +242,6 @@ int Diagnose(const GapOptions& o) {
 }  // namespace
 }  // namespace orcs::gap
 
-// --relax-scan's default (docs/gap.md, "How a fit works"): on where replays are short (the pendulum rig), off for
-// the A-Series, where the relaxations' replays, which always run to their end, would take its example diagnosis
-// past 10 minutes on 2 cores (617 s against 521 s, docs/benchmarks.md).
-bool RelaxScanByDefault(const std::string& rig) { return rig == "pendulum"; }
-
-// --race's default: on, but off with --islands. The race judges a candidate after 10 generations of its swarm,
-// before any island has run, and abandons the very candidates the islands are for (LuGre on the servo model).
-bool RaceByDefault(int islands) { return islands == 0; }
-
 int main(int argc, char** argv) {
   using namespace orcs::gap;
   GapOptions o;
@@ -248,7 +257,10 @@ int main(int argc, char** argv) {
       ->check(orcs::cli::Endpoint())
       ->excludes(workers);
   app.add_option("--out", o.out, "output folder (default gap-report)");
-  app.add_option("--generations", o.generations, "optimiser generations per fit (default 40)")->check(CLI::Range(1, 10000));
+  app.add_option("--generations", o.generations,
+                 "swarm generations per fit (default 40 on the pendulum rig, 20 on the A-Series); the race judges "
+                 "after a quarter of them (at least 5)")
+      ->check(CLI::Range(1, 10000));
   CLI::Option* race = app.add_flag("--race,!--no-race", o.race,
                "race the candidates (default, but off with --islands): one that after 10 generations scores no better "
                "than the refit on the held-out runs is abandoned; --no-race fits every candidate to the end "
@@ -300,6 +312,7 @@ int main(int argc, char** argv) {
   });
   if (parsed >= 0) return parsed;
   if (relax_scan->count() == 0) o.relax_scan = RelaxScanByDefault(o.rig.kind);
+  if (o.generations == 0) o.generations = GenerationsByDefault(o.rig.kind);
   if (race->count() == 0 && o.race != RaceByDefault(o.islands)) {
     o.race = RaceByDefault(o.islands);
     std::cerr << "orcs-gap: --islands turns the race off (it would judge the candidates before any island runs); "

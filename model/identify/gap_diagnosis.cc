@@ -4,7 +4,10 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <condition_variable>
 #include <future>
+#include <memory>
+#include <mutex>
 #include <sstream>
 
 #include "model/identify/effect_catalogue.h"
@@ -211,13 +214,13 @@ const ModelScore& ScoreOf(const Diagnosis& d, const std::string& label) {
   throw std::logic_error("no candidate " + label);
 }
 
-// A rival's held-out loss against the named model's: "0.4 % above it, ± 1.1 %" (the standard error).
-std::string Difference(const Rival& rival, double named_loss) {
-  if (!(named_loss > 0.0)) return "";
-  const double above = std::round(rival.loss_difference / named_loss * 1000.0) / 10.0;
-  const double error = std::round(rival.standard_error / named_loss * 1000.0) / 10.0;
-  return text::FormatDouble(std::abs(above) == 0.0 ? 0.0 : std::abs(above)) + " % " +
-         (above < 0 ? "below" : "above") + " it, ± " + text::FormatDouble(error) + " %";
+// A rival's held-out gap against the named model's: "0.197° against 0.188°".
+std::string Against(const Rival& rival, const Diagnosis& d, const DiagnosisOptions& options) {
+  const auto gap = [&](const std::string& label) {
+    const ModelScore& score = ScoreOf(d, label);
+    return Degrees(options.loss == Loss::kAbsolute ? score.holdout_loss : score.holdout_rms);
+  };
+  return gap(rival.effect) + " against " + gap(d.effect) + (options.loss == Loss::kAbsolute ? " mean absolute" : " RMS");
 }
 
 std::string TellApartAdvice(const Diagnosis& d, const DiagnosisOptions& options) {
@@ -260,8 +263,8 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
     text << ". The held-out runs cannot tell them apart:";
     for (const Rival& rival : d.rivals) {
       if (rival.contains_named) continue;
-      text << " " << rival.effect << "'s held-out loss is within the noise of " << d.effect << "'s ("
-           << Difference(rival, winner.holdout_loss) << (rival.relation.empty() ? "" : "; " + rival.relation) << ").";
+      text << " " << rival.effect << "'s held-out gap is within the noise of " << d.effect << "'s ("
+           << Against(rival, d, options) << (rival.relation.empty() ? "" : "; " + rival.relation) << ").";
     }
     text << " With " << d.effect << " (" << winner.summary << ") the held-out gap falls from "
          << Degrees(d.before.holdout_rms) << " (model as given) and " << Degrees(d.base.holdout_rms)
@@ -284,58 +287,40 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
   text << ".";
   for (const Rival& rival : d.rivals) {
     if (rival.contains_named) {
-      text << " " << rival.effect << ", which contains it, fits the held-out runs no better (its loss "
-           << Difference(rival, winner.holdout_loss) << "; " << rival.relation << ").";
+      text << " " << rival.effect << ", which contains it, fits the held-out runs no better (" << Against(rival, d, options)
+           << "; " << rival.relation << ").";
     }
   }
   return text.str();
 }
 
-// The held-out loss of every sample (r² or |r|) of each point's replays; empty for a failed replay.
-std::vector<std::vector<double>> SampleLosses(ReplayEvaluator& replays, const std::vector<ReplayRun>& holdout,
-                                              const std::vector<std::vector<Override>>& models, Loss loss) {
-  std::vector<std::vector<double>> losses = ReplayObjective(replays, holdout, {}, Loss::kSquared).Residuals(models);
-  for (std::vector<double>& point : losses) {
-    for (double& r : point) r = loss == Loss::kAbsolute ? std::abs(r) : r * r;
-  }
-  return losses;
-}
-
 // The named effect and the candidates the held-out runs cannot tell from it (docs/gap.md, "When two effects explain
-// the data"): every other candidate that also clears the naming bar is compared with the winner sample by sample; one
-// whose held-out loss is within kTieStandardErrors standard errors of the winner's is tied with it, unless one of
-// the two contains the other exactly (EffectRelation::nested) — then the simpler is named alone.
-void NameEffects(ReplayEvaluator& replays, const std::vector<ReplayRun>& holdout, const DiagnosisOptions& options,
-                 Diagnosis& d) {
+// the data"): every other candidate that also clears the naming bar and whose held-out RMS is within kTieRatio of
+// the winner's is tied with it, unless one of the two contains the other exactly (EffectRelation::nested) — then the
+// simpler is named alone.
+void NameEffects(const DiagnosisOptions& options, Diagnosis& d) {
   d.effect = d.candidates[0].label;
-  std::vector<const ModelScore*> nameable;
+  const auto gap = [&options](const ModelScore& s) {
+    return options.loss == Loss::kAbsolute ? s.holdout_loss : s.holdout_rms;
+  };
+  const double named_gap = gap(d.candidates[0]);
   for (std::size_t i = 1; i < d.candidates.size(); ++i) {
-    if (d.candidates[i].score < options.win_ratio * d.base.score && !d.candidates[i].fit.abandoned) {
-      nameable.push_back(&d.candidates[i]);
-    }
-  }
-  if (!nameable.empty()) {
-    std::vector<std::vector<Override>> models = {ModelOf(d.candidates[0], d.candidates[0].label)};
-    for (const ModelScore* c : nameable) models.push_back(ModelOf(*c, c->label));
-    const std::vector<std::vector<double>> losses = SampleLosses(replays, holdout, models, options.loss);
-    for (std::size_t i = 0; i < nameable.size(); ++i) {
-      if (losses[0].empty() || losses[i + 1].size() != losses[0].size()) continue;
-      const PairedDifference difference = ComparePaired(losses[0], losses[i + 1]);
-      if (difference.mean > kTieStandardErrors * difference.standard_error) continue;
-      const EffectRelation* relation = FindRelation(d.effect, nameable[i]->label);
-      Rival rival{nameable[i]->label, difference.mean, difference.standard_error,
-                  relation != nullptr ? std::string(relation->text) : "", false};
-      if (relation != nullptr && relation->nested) {
-        // Nested and no better: the simpler of the two is named, the other said to add nothing.
-        if (relation->first == d.effect) {
-          rival.effect = d.effect;
-          rival.loss_difference = -rival.loss_difference;
-          d.effect = nameable[i]->label;
-        }
-        rival.contains_named = true;
+    const ModelScore& c = d.candidates[i];
+    if (!(c.score < options.win_ratio * d.base.score) || c.fit.abandoned) continue;
+    const double ratio = named_gap > 0.0 ? gap(c) / named_gap : 1.0;
+    if (!(ratio <= kTieRatio)) continue;
+    const EffectRelation* relation = FindRelation(d.effect, c.label);
+    Rival rival{c.label, ratio, relation != nullptr ? std::string(relation->text) : "", false};
+    if (relation != nullptr && relation->nested) {
+      // Nested and no better: the simpler of the two is named, the other said to add nothing.
+      if (relation->first == d.effect) {
+        rival.effect = d.effect;
+        rival.ratio = 1.0 / ratio;
+        d.effect = c.label;
       }
-      d.rivals.push_back(std::move(rival));
+      rival.contains_named = true;
     }
+    d.rivals.push_back(std::move(rival));
   }
   d.effects = {d.effect};
   for (const Rival& rival : d.rivals) {
@@ -537,6 +522,58 @@ std::vector<FitStart> ScanMainParameter(ReplayEvaluator& replays, const std::vec
   return starts;
 }
 
+// The race's board (docs/gap.md, "How a fit works"): each candidate posts its penalised held-out score after its
+// race polish and waits until every candidate has posted (or ended), so that each is judged against the best of all,
+// whatever order they arrived in: the diagnosis stays the same bit for bit.
+class RaceBoard {
+ public:
+  explicit RaceBoard(std::size_t candidates) : missing_(candidates) {}
+
+  // One candidate's place on the board, used from that candidate's thread. A candidate that ends without having
+  // posted (it threw, or its swarm is shorter than the race) posts +∞ when its entry goes, so that no other waits
+  // for it.
+  class Entry {
+   public:
+    explicit Entry(RaceBoard* board) : board_(board) {}
+    Entry(const Entry&) = delete;
+    Entry& operator=(const Entry&) = delete;
+    ~Entry() {
+      if (board_ != nullptr && !posted_) board_->Post(std::numeric_limits<double>::infinity());
+    }
+    // Posts `score` and returns the best of all posted scores once every candidate has posted.
+    double PostAndWaitForAll(double score) {
+      posted_ = true;
+      return board_->PostAndWait(score);
+    }
+
+   private:
+    RaceBoard* board_;
+    bool posted_ = false;
+  };
+
+ private:
+  void Post(double score) {
+    std::lock_guard lock(mutex_);
+    Record(score);
+  }
+  double PostAndWait(double score) {
+    std::unique_lock lock(mutex_);
+    Record(score);
+    everyone_.wait(lock, [this] { return missing_ == 0; });
+    return best_;
+  }
+  void Record(double score) {
+    best_ = std::min(best_, score);
+    if (missing_ > 0) --missing_;
+    everyone_.notify_all();
+  }
+
+  std::mutex mutex_;
+  std::condition_variable everyone_;
+  std::size_t missing_;                                   // candidates still to post
+  double best_ = std::numeric_limits<double>::infinity();  // the lowest posted score
+};
+
 // LinkMass (a per-link effect): which link. Each link's mass at kLinkFactors of the model's, the base parameters at
 // the refit's values, as one batch; the link of the best point, its mass the parameter (a quarter to four times the
 // model's, started at the best factor). `summary` says which link it is.
@@ -597,7 +634,11 @@ FitParameter ChooseLink(ReplayEvaluator& replays, const Rig& rig, const std::vec
 ModelScore ScoreCandidate(ReplayEvaluator& replays, const Rig& rig, const std::vector<ValueAssignment>& model,
                           const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
                           const std::vector<FitParameter>& refitted, const std::vector<double>& given,
-                          const ModelScore& refit, const EffectDescription& effect, const DiagnosisOptions& options) {
+                          const ModelScore& refit, const EffectDescription& effect, const DiagnosisOptions& options,
+                          RaceBoard* board) {
+  // A candidate that ends without posting to the race's board (it threw, or its swarm is shorter than the race)
+  // posts when it ends, so that no other waits for it.
+  RaceBoard::Entry entry(board);
   std::vector<FitParameter> parameters = refitted;
   std::string summary(effect.summary);
   if (options.on_fit) options.on_fit(std::string(effect.name), nullptr);
@@ -620,19 +661,32 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const Rig& rig, const std::v
   const auto penalised = [&](double holdout_loss) {
     return holdout_loss * (1.0 + options.penalty_per_parameter * added);
   };
-  if (std::isfinite(options.abandon_share)) {
-    // A candidate stays in the race when its best point so far already fits the fit runs clearly better than the
-    // refit, or scores no worse on the held-out runs (the selection criterion itself). Either alone loses effects:
-    // mid-fit, a Stribeck fit is far ahead on the fit runs and still behind on the held-out ones.
+  std::string race;  // what the race saw
+  if (board != nullptr) {
+    // The race (docs/gap.md, "How a fit works"), of the candidate's point polished after 10 generations of its swarm:
+    // it is abandoned when its held-out score is far behind the best any candidate has then (every candidate posts
+    // its score to the board, and each waits for all, so that the verdict does not depend on which came first), or
+    // when it is no better than nothing missing on either count: a candidate stays when it fits the fit runs clearly
+    // better than the refit, or scores no worse on the held-out runs. Either alone loses effects: mid-fit, a
+    // Stribeck fit is far ahead on the fit runs and still behind on the held-out ones.
     fit_options.abandon = [&](const std::vector<double>& values, double mse) -> std::string {
-      if (!(refit.score > 0.0) || !(refit.fit.mse > 0.0)) return "";  // a perfect refit: nothing to race against
-      const double fit_share = mse / refit.fit.mse;
-      if (fit_share <= kRaceFitShare) return "";
       std::vector<Override> candidate = enabled;
       const std::vector<Override> point = OverridesOf(parameters, values);
       candidate.insert(candidate.end(), point.begin(), point.end());
-      const double share = penalised(LossOf(replays, holdout, candidate, options.loss)) / refit.score;
-      if (share <= options.abandon_share) return "";
+      const double held = penalised(LossOf(replays, holdout, candidate, options.loss));
+      const double leader = entry.PostAndWaitForAll(held);
+      race = "penalised held-out score " + text::FormatDouble(held) + ", " +
+             text::FormatDouble(std::round(held / leader * 100.0) / 100.0) + " times the best candidate's, " +
+             Percent(held / refit.score) + " of nothing missing's; fit error " + Percent(mse / refit.fit.mse) +
+             " of the refit's";
+      if (!(refit.score > 0.0) || !(refit.fit.mse > 0.0)) return "";  // a perfect refit: nothing to race against
+      if (held > kRaceLeaderRatio * leader) {
+        return "its penalised held-out score was " + text::FormatDouble(std::round(held / leader * 10.0) / 10.0) +
+               " times the best candidate's at that point (limit " + text::FormatDouble(kRaceLeaderRatio) + ")";
+      }
+      const double fit_share = mse / refit.fit.mse;
+      const double share = held / refit.score;
+      if (fit_share <= kRaceFitShare || share <= options.abandon_share) return "";
       return "its fit error was " + Percent(fit_share) + " of the refit's (limit " + Percent(kRaceFitShare) +
              ") and its penalised held-out score " + Percent(share) + " (limit " + Percent(options.abandon_share) + ")";
     };
@@ -640,6 +694,7 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const Rig& rig, const std::v
   ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, fit_options, options.loss);
   score.label = std::string(effect.name);
   score.summary = summary;
+  score.race = race;
   if (effect.per_link) {
     const double fitted = score.values.back().value;
     const double nominal = ModelValues(rig, model, {score.values.back().path})[0];
@@ -665,10 +720,12 @@ std::vector<ModelScore> ScoreCandidates(ReplayEvaluator& replays, const Rig& rig
     refitted[i].start = refit.fit.values[i];
     given.push_back(base[i].start);
   }
+  std::unique_ptr<RaceBoard> board;
+  if (std::isfinite(options.abandon_share)) board = std::make_unique<RaceBoard>(candidates.size());
   std::vector<std::future<ModelScore>> fits;
   for (const EffectDescription* effect : candidates) {
     fits.push_back(std::async(std::launch::async, [&, effect] {
-      return ScoreCandidate(replays, rig, model, fit, holdout, refitted, given, refit, *effect, options);
+      return ScoreCandidate(replays, rig, model, fit, holdout, refitted, given, refit, *effect, options, board.get());
     }));
   }
   std::vector<ModelScore> scores;
@@ -711,7 +768,7 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   // model it leaves.
   const bool won = !d.candidates.empty() && d.candidates[0].score < options.win_ratio * d.base.score;
   if (won) {
-    NameEffects(replays, holdout, options, d);
+    NameEffects(options, d);
     if (d.effects.size() > 1) d.tell_apart = BestProbe(replays, rig, model, fit, d);
   }
   d.quantity = won ? ScoreOf(d, d.effect).quantity : "speed";

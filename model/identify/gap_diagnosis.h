@@ -19,12 +19,17 @@ namespace orcs::identify {
 
 struct ModelScore;
 
-/// A candidate within this many standard errors of the winner's held-out loss explains the held-out runs as well:
-/// the verdict names both (docs/gap.md, "When two effects explain the data").
-inline constexpr double kTieStandardErrors = 2.0;
+/// A candidate whose held-out RMS is within this factor of the winner's explains the held-out runs as well, within
+/// the noise: since the winner's RMS is at least the noise, the rest is less than half the noise in quadrature
+/// (√(1.118² − 1) = 0.5). The verdict names both (docs/gap.md, "When two effects explain the data"). With the
+/// absolute loss, the factor applies to the mean absolute errors.
+inline constexpr double kTieRatio = 1.118;
 
 inline constexpr double kRaceAbandonShare = 1.0;  ///< abandoned when no better than "nothing missing"...
 inline constexpr double kRaceFitShare = 0.8;      ///< ...and its fit error above this share of the refit's
+/// ...or when its penalised held-out score is more than this many times the best any candidate has at the race: its
+/// held-out RMS twice the leader's, far beyond a tie (kTieRatio)
+inline constexpr double kRaceLeaderRatio = 4.0;
 
 struct DiagnosisOptions {
   FitOptions fit;                        ///< optimiser budget and seed of every fit
@@ -76,14 +81,16 @@ struct ModelScore {
                                       ///< absolute error (deg) with Loss::kAbsolute
   double score = 0.0;                 ///< holdout_loss · (1 + penalty · added_parameters)
   FitOutcome fit;                     ///< budget, convergence
+  /// What the race saw of it after its swarm's first generations (its polished point's penalised held-out score
+  /// against the best candidate's and nothing missing's, its fit error against the refit's); "" without a race
+  std::string race;
 };
 
 /// A candidate beside the winner that the held-out runs cannot tell from it (docs/gap.md, "When two effects
-/// explain the data"): its held-out loss is within kTieStandardErrors standard errors of the winner's.
+/// explain the data"): its held-out RMS is within kTieRatio of the winner's.
 struct Rival {
   std::string effect;            ///< its name
-  double loss_difference = 0.0;  ///< its held-out loss minus the winner's, mean per sample, unpenalised (deg² or deg)
-  double standard_error = 0.0;   ///< of that mean (ComparePaired: AR(1)-widened)
+  double ratio = 1.0;            ///< its held-out RMS (mean absolute error with the absolute loss) over the named one's
   std::string relation;          ///< how the two relate (EffectRelation::text), "" when the catalogue says nothing
   /// It contains the named effect exactly (EffectRelation::nested) and fits no better: the simpler is named alone
   /// and this one is said to add nothing the data need. Otherwise it is named beside the winner: a tie.

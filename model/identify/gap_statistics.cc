@@ -310,22 +310,4 @@ double Lag1Correlation(const std::vector<double>& series) {
   return variance > 0.0 ? std::clamp(covariance / variance, 0.0, 0.99) : 0.0;
 }
 
-PairedDifference ComparePaired(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size() || a.empty()) {
-    throw std::invalid_argument("ComparePaired: series of " + std::to_string(a.size()) + " and " +
-                                std::to_string(b.size()) + " samples");
-  }
-  std::vector<double> difference(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) difference[i] = b[i] - a[i];
-  const double n = static_cast<double>(difference.size());
-  double mean = 0.0;
-  for (double d : difference) mean += d;
-  mean /= n;
-  double variance = 0.0;
-  for (double d : difference) variance += (d - mean) * (d - mean);
-  variance /= std::max(1.0, n - 1.0);
-  const double rho = Lag1Correlation(difference);
-  return {mean, std::sqrt(variance / n * (1.0 + rho) / (1.0 - rho))};
-}
-
 }  // namespace orcs::identify

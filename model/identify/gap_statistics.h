@@ -100,14 +100,5 @@ std::vector<ChannelStatistics> AnalyseChannels(const std::vector<ChannelTrace>& 
 /// fewer than two samples or no variance.
 double Lag1Correlation(const std::vector<double>& series);
 
-/// The mean of b − a, sample by sample, and its standard error, widened for the differences' correlation from one
-/// sample to the next by √((1 + ρ)/(1 − ρ)), ρ their lag-1 correlation (an AR(1) estimate: successive rows of a
-/// replay are not independent). Used to ask whether one model's held-out loss is really above another's.
-struct PairedDifference {
-  double mean = 0.0;            ///< mean of b − a
-  double standard_error = 0.0;  ///< of that mean
-};
-/// Throws std::invalid_argument when a and b differ in length or are empty.
-PairedDifference ComparePaired(const std::vector<double>& a, const std::vector<double>& b);
 
 }  // namespace orcs::identify

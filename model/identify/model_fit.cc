@@ -174,20 +174,30 @@ FitOutcome LocalStages(const ReplayObjective& objective, const std::vector<FitPa
   return outcome;
 }
 
-// A Levenberg–Marquardt polish from one start, on its own (the local stages' first step from every start, and the
-// race's convergence before it may abandon a fit): converged when Ceres met its tolerance.
+// A polish that improves its start by less than this share has stalled where it is: as converged as it gets. A
+// Levenberg–Marquardt polish bounded to the box often ends without meeting Ceres's tolerance where a parameter
+// presses on a bound (an effect fading at the end of its range); a 1 % change could not turn the race's answer.
+constexpr double kStalled = 0.01;
+
+// A Levenberg–Marquardt polish from one start, on its own (the local stages' first step from every start, the race's
+// convergence before it may abandon a fit, the re-search beyond a bound): converged when Ceres met its tolerance or
+// the polish stalled (improved its start by less than kStalled).
 FitOutcome Polish(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
-                  const pagmo::vector_double& start_x) {
+                  const pagmo::vector_double& start_x, double start_f) {
   const PolishOutcome polished =
       PolishLeastSquares(objective, parameters, Values(parameters, start_x.data()), {.intervals = false});
   FitOutcome outcome;
-  outcome.values = polished.values;
-  outcome.mse = polished.mse;
+  outcome.values = Values(parameters, start_x.data());
+  outcome.mse = start_f;
+  if (polished.mse < start_f) std::tie(outcome.values, outcome.mse) = std::tie(polished.values, polished.mse);
   outcome.polish = polished.summary;
   outcome.evaluations = polished.evaluations;
   outcome.local_starts = 1;
-  outcome.converged = polished.converged;
+  // A polish that could not run (its start's replay failed or gave no residuals) has not stalled: it never moved.
+  const bool stalled = polished.evaluations > 1 && !(start_f - outcome.mse > kStalled * start_f);
+  outcome.converged = polished.converged || stalled;
   outcome.convergence = polished.converged ? "converged: Levenberg–Marquardt met its tolerance"
+                        : stalled          ? "converged: a Levenberg–Marquardt polish improved it by less than 1 %"
                                            : "did not converge: " + polished.summary;
   return outcome;
 }
@@ -238,12 +248,7 @@ std::vector<FitOutcome> PolishFrom(const ReplayObjective& objective, const std::
   std::vector<std::future<FitOutcome>> searches;
   for (const Start& start : starts) {
     searches.push_back(std::async(std::launch::async, [&objective, &parameters, &start] {
-      FitOutcome polished = Polish(objective, parameters, start.x);
-      if (!(polished.mse < start.f)) {  // nothing better than the start (a failed replay, a flat spot)
-        polished.values = Values(parameters, start.x.data());
-        polished.mse = start.f;
-      }
-      return polished;
+      return Polish(objective, parameters, start.x, start.f);
     }));
   }
   std::vector<FitOutcome> outcomes;
@@ -281,12 +286,11 @@ std::vector<BoundState> BoundsOf(const std::vector<FitParameter>& parameters, co
 
 // A fit whose best point has a parameter at a bound of its range: such a point is often a local minimum that a
 // wider range would let go on (a Stribeck friction's breakaway torque at the top of its range, its velocity a tenth
-// of the truth). Each log-scaled parameter at a bound has its range widened kWidening times on that side, and the
-// local stages run again from the point; the better fit is kept. What is still at a bound of its (widened) range
+// of the truth). Each log-scaled parameter at a bound has its range widened kWidening times on that side, and a
+// Levenberg–Marquardt polish runs again from the point; the better fit is kept. What is still at a bound of its (widened) range
 // is reported; a parameter that moved past the catalogue's range is reported as beyond it. `ranges` comes in as
 // the fit's parameters and goes out as the ranges the result belongs to.
-FitOutcome ReSearchBeyondBounds(const ReplayObjective& objective, std::vector<FitParameter>& ranges,
-                                const FitOptions& options, FitOutcome fit) {
+FitOutcome ReSearchBeyondBounds(const ReplayObjective& objective, std::vector<FitParameter>& ranges, FitOutcome fit) {
   const std::vector<FitParameter> catalogue = ranges;
   fit.bounds = BoundsOf(catalogue, fit.values);
   std::vector<FitParameter> widened = catalogue;
@@ -298,7 +302,7 @@ FitOutcome ReSearchBeyondBounds(const ReplayObjective& objective, std::vector<Fi
     widen = true;
   }
   if (!widen) return fit;
-  FitOutcome again = LocalStages(objective, widened, options, UnitOf(widened, fit.values), fit.mse);
+  FitOutcome again = Polish(objective, widened, UnitOf(widened, fit.values), fit.mse);
   const std::vector<BoundState> found = fit.bounds;
   if (again.mse < fit.mse) {
     again.evaluations += fit.evaluations;
@@ -327,18 +331,21 @@ struct FitAbandoned {
   FitOutcome converged;  // the local stages from the swarm's best point at the race
 };
 
-// The race's question, asked once the swarm has run FitOptions::abandon_after generations. A fit is never abandoned
-// unconverged: when the question says stop, a Levenberg–Marquardt polish first runs from the swarm's best point, and
-// the question is asked again of where it ends. Still a reason, and the polish converged: throws FitAbandoned with
-// that fit. Otherwise the polished point becomes one more start (`rescued`), and the swarm goes on as if never asked.
+// The race, once the swarm has run FitOptions::abandon_after generations. A fit is never abandoned unconverged: a
+// Levenberg–Marquardt polish first runs from the swarm's best point, and where it does not converge the local stages
+// (a compass search, whose step shrinks until it converges or its budget ends, and a last polish) go on from where
+// it stopped; the question is asked of where they end. A reason, and the polish converged: throws
+// FitAbandoned with that fit. Otherwise the polished point becomes one more start (`rescued`), and the swarm goes on
+// as if never asked.
 void Race(const ReplayObjective& objective, const std::vector<FitParameter>& parameters, const FitOptions& options,
           const FitWatch& swarm, std::optional<FitOutcome>& rescued) {
   if (swarm.swarm_batches != options.abandon_after || !options.abandon) return;
-  if (options.abandon(Values(parameters, swarm.best_x.data()), swarm.best_f).empty()) return;
-  FitOutcome local = Polish(objective, parameters, swarm.best_x);
-  if (!(local.mse < swarm.best_f)) {
-    local.values = Values(parameters, swarm.best_x.data());
-    local.mse = swarm.best_f;
+  FitOutcome local = Polish(objective, parameters, swarm.best_x, swarm.best_f);
+  if (!local.converged) {  // the local stages from where the polish stopped: the compass search converges by its step
+    FitOutcome stages = LocalStages(objective, parameters, options, UnitOf(parameters, local.values), local.mse);
+    if (!(stages.mse <= local.mse)) std::tie(stages.values, stages.mse) = std::tie(local.values, local.mse);
+    stages.evaluations += local.evaluations;
+    local = std::move(stages);
   }
   const std::string why = options.abandon(local.values, local.mse);
   if (why.empty() || !local.converged) {  // never abandoned unconverged: the swarm goes on
@@ -458,7 +465,7 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
 
   // 4. A parameter at a bound: re-searched beyond it, or reported. 5. The intervals of the best.
   std::vector<FitParameter> ranges = parameters;
-  outcome = ReSearchBeyondBounds(objective, ranges, options, std::move(outcome));
+  outcome = ReSearchBeyondBounds(objective, ranges, std::move(outcome));
   outcome.ci95 = ConfidenceIntervals(objective, ranges, outcome.values, outcome.evaluations);
   outcome.evaluations += evaluations;
   outcome.generations = swarm_generations;

@@ -26,12 +26,11 @@ struct FitOptions {
   int generations = 40;   ///< generation budget of the swarm
   int population = 0;     ///< particles per generation; ≤ 0 = max(16, 8 + 6·ln(dimension))
   unsigned seed = 1;      ///< the optimiser's own generator: the same inputs give the same fit
-  /// The race: asked after the swarm's `abandon_after`-th generation with the best point seen so far (each
-  /// parameter's value in its unit) and its objective. A reason (one line) would stop the fit there; but a fit is
-  /// never abandoned before it has converged: the local stages first run from that point, and the question is asked
-  /// again of where they end. Still a reason: the fit stops with that converged point (FitOutcome::abandoned). ""
-  /// either time: the swarm runs on exactly as it would without the question, and the converged point is one more
-  /// finished start for the end. Empty = never asked.
+  /// The race: after the swarm's `abandon_after`-th generation a Levenberg–Marquardt polish runs from the best point
+  /// seen so far (and the compass search after it, unless it converged), and the question is asked once, of the
+  /// polished point (each parameter's value in its unit) and its objective. A reason (one line) stops the fit there with that
+  /// point (FitOutcome::abandoned) — but never an unconverged one: then, as on "", the swarm runs on exactly as it
+  /// would without the question, and the polished point is one more start for the local stages. Empty = never asked.
   std::function<std::string(const std::vector<double>& values, double mse)> abandon;
   int abandon_after = 10;
   /// Stop a search's replays early where their point cannot beat the best it is compared with (the swarm: the

@@ -386,33 +386,24 @@ TEST(GapStatisticsTest, GapMeanAbsolutePoolsTheSizesOfTheErrorsWhateverTheirSign
   EXPECT_THROW(GapMeanAbsolute({Trace("Bad", {1.0}, {})}), std::invalid_argument);
 }
 
-// The paired comparison of two models' held-out losses (the tie test of docs/gap.md): the mean of b − a, and its
-// standard error, widened for a correlated series: white differences keep √(var/n); differences that repeat
-// from one sample to the next (a slow drift) count as fewer independent samples.
-TEST(GapStatisticsTest, ComparePairedGivesTheMeanDifferenceAndAWidenedStandardError) {
+// The lag-1 correlation that widens the confidence intervals (least_squares_polish.h): near 0 for white noise,
+// near the AR(1) coefficient for a drifting series, and clamped to [0, 0.99].
+TEST(GapStatisticsTest, Lag1CorrelationOfWhiteAndOfDriftingSeries) {
   std::mt19937 engine(49);
   std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<double> a(4000), white(4000), drift(4000);
+  std::vector<double> white(4000), drift(4000), alternating(4000);
   double walk = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    a[i] = 2.0 + noise(engine);
-    white[i] = a[i] + 0.5 + noise(engine);
+  for (std::size_t i = 0; i < white.size(); ++i) {
+    white[i] = noise(engine);
     walk = 0.95 * walk + noise(engine);
-    drift[i] = a[i] + 0.5 + walk * std::sqrt(1.0 - 0.95 * 0.95);
+    drift[i] = walk;
+    alternating[i] = i % 2 == 0 ? 1.0 : -1.0;
   }
-  const PairedDifference w = ComparePaired(a, white);
-  EXPECT_NEAR(w.mean, 0.5, 0.05);
-  EXPECT_NEAR(w.standard_error, 1.0 / std::sqrt(4000.0), 0.004);
-  const PairedDifference d = ComparePaired(a, drift);
-  EXPECT_NEAR(d.mean, 0.5, 0.2);
-  // Unit variance at a lag-1 correlation of 0.95: √(39/4000) ≈ 0.099, six times the white series' error.
-  EXPECT_NEAR(d.standard_error, std::sqrt(1.95 / 0.05 / 4000.0), 0.02);
-  std::vector<double> difference(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) difference[i] = drift[i] - a[i];
-  EXPECT_NEAR(Lag1Correlation(difference), 0.95, 0.02);
-  EXPECT_EQ(ComparePaired({1.0, 2.0}, {1.0, 2.0}).standard_error, 0.0);
-  EXPECT_THROW(ComparePaired({1.0}, {1.0, 2.0}), std::invalid_argument);
-  EXPECT_THROW(ComparePaired({}, {}), std::invalid_argument);
+  EXPECT_NEAR(Lag1Correlation(white), 0.0, 0.05);
+  EXPECT_NEAR(Lag1Correlation(drift), 0.95, 0.02);
+  EXPECT_EQ(Lag1Correlation(alternating), 0.0);  // negative correlation counts as none
+  EXPECT_EQ(Lag1Correlation(std::vector<double>(100, 3.0)), 0.0);
+  EXPECT_EQ(Lag1Correlation({1.0}), 0.0);
 }
 
 }  // namespace
