@@ -1,38 +1,42 @@
 #!/usr/bin/env bash
 # Wall time of one full orcs-gap diagnosis of the A-Series example (docs/benchmarks.md, "The A-Series example"), at
-# orcs-gap's default settings: a hidden 40 ms transport delay in two A-Series runs, the first SECONDS of the arm
-# movement (fitted) and of the waist bend (held out), diagnosed among all nine effects with 1 and then 2 local
-# workers. Loopback only.
-# Usage: scripts/bench_gap.sh [SECONDS=2] [GENERATIONS] [HOLDOUT_SECONDS=SECONDS]
-#   (GENERATIONS: orcs-gap's default, 40, unless given; GAP_OPTIONS: more orcs-gap options, e.g. --no-race,
-#   --no-early-stop or --relax-scan; BENCH_WORKERS: the worker counts to time, default "1 2")
+# orcs-gap's default settings: a hidden 30 ms transport delay in the two 3 s A-Series identification motions, made
+# on ODE (the exact engine, playing the measured robot) and diagnosed on MuJoCo among the whole catalogue, with
+# each of BENCH_WORKERS local workers in turn. Prints a table row per worker count: time, replay jobs, the fitted
+# delay with its 95 % interval, the held-out gap before and after, and the verdict's first words. Loopback only.
+# Usage: scripts/bench_gap.sh [DELAY_S=0.03]
+#   (GAP_OPTIONS: more orcs-gap options, e.g. --no-race or --generations 40; BENCH_WORKERS: default "2")
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${1:-2}
-generations=()
-[ -n "${2:-}" ] && generations=(--generations "$2")
-holdout_seconds=${3:-$seconds}
+delay=${1:-0.03}
 gap=build/bin/orcs-gap
 [ -x "$gap" ] || { echo "bench_gap: build first (scripts/build.sh)" >&2; exit 2; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-hidden=(--rig aseries --effect TransportDelay --set /Effects/TransportDelay/Delay=0.04)
-if [ "$holdout_seconds" = "$seconds" ]; then  # one synth: the runs draw noise seeds 1 and 2
-  "$gap" synth "${hidden[@]}" --duration "$seconds" --motion scenarios/motions/arm_movement.csv \
-    scenarios/motions/waist_bend.csv --out "$out/data" >/dev/null
-else
-  "$gap" synth "${hidden[@]}" --duration "$seconds" --motion scenarios/motions/arm_movement.csv --out "$out/data" >/dev/null
-  "$gap" synth "${hidden[@]}" --duration "$holdout_seconds" --motion scenarios/motions/waist_bend.csv \
-    --out "$out/data" >/dev/null
-fi
-echo "| workers | wall time (s) | replay jobs | stopped early | verdict |"
-echo "|---|---|---|---|---|"
-for workers in ${BENCH_WORKERS:-1 2}; do
+"$gap" synth --rig aseries --engine ODE --effect TransportDelay --set "/Effects/TransportDelay/Delay=$delay" \
+  --motion scenarios/motions/aseries_identification_a.csv scenarios/motions/aseries_identification_b.csv \
+  --out "$out/data" >/dev/null
+echo "| workers | wall time (s) | replay jobs | fitted delay (ms, 95 %) | held-out gap (°) | verdict |"
+echo "|---|---|---|---|---|---|"
+for workers in ${BENCH_WORKERS:-2}; do
   start=$(date +%s%N)
-  verdict=$("$gap" --rig aseries --measured "$out/data/arm_movement.csv" --holdout "$out/data/waist_bend.csv" \
-    --workers "$workers" "${generations[@]}" ${GAP_OPTIONS:-} --out "$out/report-$workers" 2>/dev/null | head -1)
+  # shellcheck disable=SC2086  # GAP_OPTIONS is a list of options
+  verdict=$("$gap" --rig aseries --engine MuJoCo --measured "$out/data/aseries_identification_a.csv" \
+    --holdout "$out/data/aseries_identification_b.csv" --workers "$workers" ${GAP_OPTIONS:-} \
+    --out "$out/report-$workers" 2>/dev/null | head -1)
   end=$(date +%s%N)
-  cost=$(/usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['cost']; \
-print(c['jobs'], '|', c['jobs_stopped_early'])" "$out/report-$workers/report.json")
-  printf '| %s | %.1f | %s | %s |\n' "$workers" "$(( (end - start) / 1000000 ))e-3" "$cost" "${verdict:0:90}..."
+  figures=$(/usr/bin/python3 - "$out/report-$workers/report.json" <<'EOF'
+import json, sys
+r = json.load(open(sys.argv[1]))
+delay = "—"
+for c in r["candidates"]:
+    if c["model"] == "TransportDelay":
+        for p in c["parameters"]:
+            if p["path"].endswith("/Delay"):
+                delay = "%.1f ± %.1f" % (1000 * p["value"], 1000 * (p["ci95"] if p["ci95"] is not None else float("nan")))
+v = r["verdict"]
+print("%d | %s | %.3f → %.3f" % (r["cost"]["jobs"], delay, v["holdout_rms_refit"], v["holdout_rms_after"]))
+EOF
+)
+  printf '| %s | %.1f | %s | %s |\n' "$workers" "$(( (end - start) / 1000000 ))e-3" "$figures" "${verdict:0:80}..."
 done

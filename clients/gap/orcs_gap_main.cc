@@ -262,9 +262,10 @@ int main(int argc, char** argv) {
                  "after a quarter of them (at least 5)")
       ->check(CLI::Range(1, 10000));
   CLI::Option* race = app.add_flag("--race,!--no-race", o.race,
-               "race the candidates (default, but off with --islands): one that after 10 generations scores no better "
-               "than the refit on the held-out runs is abandoned; --no-race fits every candidate to the end "
-               "(docs/gap.md)");
+               "race the candidates (default, but off with --islands): after a quarter of its generations each "
+               "candidate's best point is polished and scored on the held-out runs; one far behind the best candidate "
+               "or no better than nothing missing is abandoned, once its fit has converged; --no-race fits every "
+               "candidate to the end (docs/gap.md)");
   app.add_flag("--early-stop,!--no-early-stop", o.early_stop,
                "stop a search's replays once their point cannot beat the best it is compared with (default; the same "
                "fits, sooner); --no-early-stop runs every replay to its end (docs/gap.md)");

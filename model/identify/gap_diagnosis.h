@@ -27,8 +27,8 @@ inline constexpr double kTieRatio = 1.118;
 
 inline constexpr double kRaceAbandonShare = 1.0;  ///< abandoned when no better than "nothing missing"...
 inline constexpr double kRaceFitShare = 0.8;      ///< ...and its fit error above this share of the refit's
-/// ...or when its penalised held-out score is more than this many times the best any candidate has at the race: its
-/// held-out RMS twice the leader's, far beyond a tie (kTieRatio)
+/// ...or when its penalised held-out score is more than this many times the best any candidate has at the race (its
+/// held-out RMS twice the leader's, far beyond a tie: kTieRatio) while it fits the fit runs no better than that leader
 inline constexpr double kRaceLeaderRatio = 4.0;
 
 struct DiagnosisOptions {

@@ -38,7 +38,9 @@ test('an OSP client drives the simulation the page shows; the page watches and c
   const before = await page.evaluate((b) => orcsView.bodies[b].quaternion.slice(), arm);
   assert.equal(await page.evaluate(() => orcsView.frame), 0);
 
-  const client = exampleClient(300);
+  // 1200 steps (about 3 s on an idle machine): with 300 a loaded machine's page sampled too seldom, and the client had
+  // finished and reset the world before the page saw the arm turned.
+  const client = exampleClient(1200);
   // The arm swings to and fro (a period of 150 steps): sampled while the client steps, the page shows the steps
   // advancing and the arm turned by more than 5° at some frame. (A loaded machine samples seldom: the condition
   // collects what it saw rather than asking for both at one sample.)
@@ -57,7 +59,7 @@ test('an OSP client drives the simulation the page shows; the page watches and c
   }
   const { code, out } = await client;
   assert.equal(code, 0, out);
-  assert.match(out, /steps: 300/);
+  assert.match(out, /steps: 1200/);
   await until(() => page.evaluate(() => orcsView.frame === 0 && orcsView.time === 0), 10_000, 'the client\'s reset shown');
 
   const { token } = await fetchJson(`${server.url}api/live/claim`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: '{}' });
