@@ -19,6 +19,10 @@ const Motion kMotions[] = {
     {"waist_bend", "", "scenarios/motions/waist_bend.csv"},
     {"leg_swing", "scenarios/environments/leg_swing.xml", "scenarios/motions/leg_swing.csv"},
     {"arm_movement", "", "scenarios/motions/arm_movement.csv"},
+    // The A-Series example's identification motions (docs/gap.md): diagnosed on MuJoCo, made on ODE.
+    {"aseries_identification_a", "", "scenarios/motions/aseries_identification_a.csv"},
+    {"aseries_identification_b", "", "scenarios/motions/aseries_identification_b.csv"},
+    {"arm_swings", "", "scenarios/motions/arm_swings.csv"},
     {"sit_up", "scenarios/environments/lying_on_back.xml", "scenarios/motions/sit_up.csv"},
     {"stand_up", "scenarios/environments/lying_on_back.xml", "scenarios/motions/stand_up.csv"},
     {"pendulum_steps", "scenarios/environments/pendulum.xml", "scenarios/motions/pendulum_steps.csv", 0, "Pendulum"},
