@@ -37,10 +37,15 @@ def case_name(case):
     return f"{case['rig']}/{effect}-{values}" if values else f"{case['rig']}/{effect}"
 
 
+def motions(rig, case, role):
+    """The fit or held-out motions of a case: its own where it names them, else its rig's."""
+    return case.get(role, rig[role])
+
+
 def synth_command(rig, case, data):
     command = [str(GAP), "synth", *rig["rig"], "--engine", case.get("synth_engine", rig.get("synth_engine", "ODE")),
                "--seed", str(case["seed"]), "--out", str(data), "--motion"]
-    command += [str(MOTIONS / (m + ".csv")) for m in rig["fit"] + rig["holdout"]]
+    command += [str(MOTIONS / (m + ".csv")) for m in motions(rig, case, "fit") + motions(rig, case, "holdout")]
     if rig.get("duration"):
         command += ["--duration", str(rig["duration"])]
     command += rig.get("synth_options", [])
@@ -55,8 +60,8 @@ def synth_command(rig, case, data):
 
 def diagnose_command(rig, case, data, report, workers, extra):
     command = [str(GAP), *rig["rig"], "--engine", case.get("engine", rig.get("engine", "ODE")),
-               "--measured", *[str(data / (m + ".csv")) for m in rig["fit"]],
-               "--holdout", *[str(data / (m + ".csv")) for m in rig["holdout"]],
+               "--measured", *[str(data / (m + ".csv")) for m in motions(rig, case, "fit")],
+               "--holdout", *[str(data / (m + ".csv")) for m in motions(rig, case, "holdout")],
                "--workers", str(workers), "--out", str(report)]
     if rig.get("model"):
         command += ["--model", str(REPO / rig["model"])]
@@ -103,7 +108,7 @@ def run_case(rig, case, out, workers, extra):
         "case": name, "rig": case["rig"], "hidden": case.get("set", {}), "seed": case["seed"],
         "engine": case.get("engine", rig.get("engine", "ODE")), "expected": expected, "named": named,
         "outcome": classify(expected, named), "holdout_before": before, "holdout_refit": verdict["holdout_rms_refit"],
-        "holdout_after": after, "halved": bool(named) and after <= 0.5 * before, "fitted": fitted,
+        "holdout_after": after, "fitted": fitted,
         "verdict": verdict["text"], "seconds": round(seconds, 1), "jobs": result["cost"]["jobs"],
     }
 
@@ -128,6 +133,12 @@ def above_noise(rms):
     return math.sqrt(max(rms * rms - NOISE_DEG * NOISE_DEG, 0.0))
 
 
+def halved(result):
+    """Whether the named effect at least halved the held-out gap as given. The gap is what the noise does not explain:
+    no model removes the sensor's noise, so a gap of 0.35° over a noise of 0.19° is halved at 0.23°, not at 0.175°."""
+    return bool(result["named"]) and above_noise(result["holdout_after"]) <= 0.5 * above_noise(result["holdout_before"])
+
+
 def visible(result):
     """Whether the hidden effect shows in the held-out run at all: its gap as given 10 % above the noise."""
     return result["holdout_before"] > 1.1 * NOISE_DEG
@@ -142,9 +153,9 @@ def table(results):
             lines.append(f"| {r['case']} | | | | | **failed**: {r['error']} | | | |")
             continue
         gap = f"{r['holdout_before']:.3f} → {r['holdout_after']:.3f}"
-        if r["named"] and not r["halved"]:
-            gap += (f" (not halved; above the noise {above_noise(r['holdout_before']):.3f} → "
-                    f"{above_noise(r['holdout_after']):.3f})")
+        if r["named"] and r["holdout_after"] > 0.5 * r["holdout_before"]:
+            gap += (f" (above the noise {above_noise(r['holdout_before']):.3f} → "
+                    f"{above_noise(r['holdout_after']):.3f}{'' if halved(r) else ': not halved'})")
         if r["expected"] and not visible(r):
             gap += " (the held-out run does not show it: its gap is the noise)"
         outcome = r["outcome"] if r["outcome"] in ("right", "tie") else f"**{r['outcome']}**"
@@ -160,13 +171,13 @@ def table(results):
     for key, rs in groups.items():
         count = {k: sum(1 for r in rs if r["outcome"] == k) for k in ("right", "tie", "wrong", "none", "failed")}
         named = [r for r in rs if r.get("named") and r["outcome"] in ("right", "tie")]
-        halved = sum(1 for r in named if r["halved"])
+        halved_count = sum(1 for r in named if halved(r))
         lines.append(f"| {key} | {len(rs)} | {count['right']} | {count['tie']} | {count['wrong']} | "
-                     f"{count['none'] + count['failed']} | {halved}/{len(named)} |")
+                     f"{count['none'] + count['failed']} | {halved_count}/{len(named)} |")
         totals["cases"] += len(rs)
         for k in count:
             totals[k] += count[k]
-        totals["halved"] += halved
+        totals["halved"] += halved_count
         totals["named"] += len(named)
     n = max(totals["cases"], 1)
     lines.append(f"| **all** | {totals['cases']} | {totals['right']} | {totals['tie']} | {totals['wrong']} | "
