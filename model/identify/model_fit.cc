@@ -277,21 +277,29 @@ std::vector<FitOutcome> LocalStagesFrom(const ReplayObjective& objective, const 
   return outcomes;
 }
 
-// The best of several finished fits (the first of equals), with every fit's replays counted.
-FitOutcome BestOf(std::vector<FitOutcome> fits) {
-  assert(!fits.empty());
+// One of several finished fits, with every fit's replays and local searches counted.
+FitOutcome Chosen(std::vector<FitOutcome> fits, std::size_t chosen) {
+  assert(chosen < fits.size());
   int evaluations = 0;
   int local_starts = 0;
-  std::size_t best = 0;
-  for (std::size_t i = 0; i < fits.size(); ++i) {
-    evaluations += fits[i].evaluations;
-    local_starts += fits[i].local_starts;
-    if (fits[i].mse < fits[best].mse) best = i;
+  for (const FitOutcome& fit : fits) {
+    evaluations += fit.evaluations;
+    local_starts += fit.local_starts;
   }
-  FitOutcome outcome = std::move(fits[best]);
+  FitOutcome outcome = std::move(fits[chosen]);
   outcome.evaluations = evaluations;
   outcome.local_starts = local_starts;
   return outcome;
+}
+
+// The best of several finished fits (the first of equals).
+FitOutcome BestOf(std::vector<FitOutcome> fits) {
+  assert(!fits.empty());
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    if (fits[i].mse < fits[best].mse) best = i;
+  }
+  return Chosen(std::move(fits), best);
 }
 
 // The polished fits to go on from: the best, or among those within kNearTie of the best the one that moved least
@@ -316,9 +324,8 @@ FitOutcome LeastChangeOfTheBest(std::vector<FitOutcome> fits, const std::vector<
     if (!(fits[i].mse <= best_mse * (1.0 + kNearTie))) continue;
     if (chosen == fits.size() || change(fits[i]) < change(fits[chosen])) chosen = i;
   }
-  std::swap(fits[0], fits[chosen]);
-  for (std::size_t i = 1; i < fits.size(); ++i) fits[i].mse = std::numeric_limits<double>::infinity();
-  return BestOf(std::move(fits));
+  if (chosen == fits.size()) return BestOf(std::move(fits));  // no finite objective: the first of equals
+  return Chosen(std::move(fits), chosen);
 }
 
 // Where each value sits against its parameter's range.
