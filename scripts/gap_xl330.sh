@@ -9,7 +9,7 @@
 # DATA_DIR defaults to ../shared/data/xl330-pendulum, OUT_DIR to build/gap-xl330, WORKERS to the number of cores.
 # GAP_OPTIONS passes more orcs-gap options (e.g. GAP_OPTIONS=--no-race).
 # Writes OUT_DIR/kp100_to_kp400/ and OUT_DIR/kp400_to_kp100/ (orcs-gap reports, with scripts/plot_gap.py's
-# plots), OUT_DIR/servo_gains.png and OUT_DIR/servo_gains.md. About 2 minutes on 2 cores.
+# plots), OUT_DIR/servo_gains.png and OUT_DIR/servo_gains.md. About 10 minutes per direction on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 data=${1:-../shared/data/xl330-pendulum}
