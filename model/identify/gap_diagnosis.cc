@@ -766,7 +766,9 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   // 2. Its own parameters refitted.
   const std::vector<FitParameter> base = BaseParameters(rig, model);
   if (options.on_fit) options.on_fit("refit", nullptr);
-  d.base = ScoreFit(replays, fit, holdout, base, {}, options.fit, options.loss);
+  FitOptions refit_options = options.fit;
+  refit_options.least_change = true;  // its starts are the model's values: of minima that fit alike, the nearer
+  d.base = ScoreFit(replays, fit, holdout, base, {}, refit_options, options.loss);
   d.base.label = "refit";
   // "Nothing missing" is the refit or the model as given, whichever scores better held out: a refit can take up
   // a missing effect's signature in the wrong way and generalise worse than the model it started from.

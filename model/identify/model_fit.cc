@@ -302,8 +302,8 @@ FitOutcome BestOf(std::vector<FitOutcome> fits) {
   return Chosen(std::move(fits), best);
 }
 
-// The polished fits to go on from: the best, or among those within kNearTie of the best the one that moved least
-// from where the fit started (the model's values, for the refit). Such minima fit the runs alike to well within
+// With FitOptions::least_change: of the finished local searches within kNearTie of the best, the one that moved
+// least from where the fit started (the model's values, for orcs-gap's refit). Such minima fit the runs alike to well within
 // what the runs can tell (a mean error known to a few per cent), and the data then ask for the smaller change: the
 // XL330 fitted on its kp400 runs has two minima 0.6 % apart, one keeping a Coulomb friction of 0.005 N·m near the
 // model's, the other dropping it to its bound, and only the first carries over to kp100 (24.9 against 27.1 mrad).
@@ -524,7 +524,8 @@ FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>
   // one more finished search. Of those that fit alike, the one that moved least; its convergence test is the fit's.
   std::vector<FitOutcome> searched = LocalStagesFrom(objective, parameters, options, starts);
   if (rescued) searched.push_back(std::move(*rescued));
-  FitOutcome outcome = LeastChangeOfTheBest(std::move(searched), parameters);
+  FitOutcome outcome =
+      options.least_change ? LeastChangeOfTheBest(std::move(searched), parameters) : BestOf(std::move(searched));
 
   // 4. A parameter at a bound: re-searched beyond it, or reported. 5. The intervals of the best.
   std::vector<FitParameter> ranges = parameters;

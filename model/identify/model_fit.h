@@ -43,6 +43,12 @@ struct FitOptions {
   /// `starts` (docs/gap.md, "How a fit works"), at once; the best finished fit is the result. A single local
   /// search from the swarm's best stopped in local minima (a 1.5° backlash fitted as 1.19°).
   int local_starts = 3;
+  /// Of the local stages' results within 1 % of the best, keep the one that moved least from the parameters'
+  /// starts (docs/gap.md, "How a fit works"): for a fit whose starts are a model's own values (orcs-gap's refit),
+  /// where minima that fit alike are told apart by the smaller change. An effect's fit starts where its scan
+  /// pointed, which means nothing: there the best is kept (a LuGre friction's soft-bristle minimum fits as well
+  /// as its true one and holds out far worse).
+  bool least_change = false;
   /// CMA-ES islands after the swarm (docs/gap.md, "How a fit works"; orcs-gap --islands): this many independent
   /// CMA-ES runs (pagmo's cmaes, `island_generations` generations each, different seeds) start from the swarm's
   /// last generation, concurrently; the best island's point is one more start for the local stages. CMA-ES adapts
