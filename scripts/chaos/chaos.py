@@ -942,6 +942,12 @@ class BatchUser:
             self.finish(b)
             return
         stderr = self.stderr_of(proc)
+        if code == 2 and "the batch is complete already" in stderr and \
+                os.path.exists(os.path.join(b["dir"], "results.jsonl")):
+            # a resume of a batch that had finished as the fault reached its client: nothing was lost
+            self.soak.log("%s: batch %d was complete when resumed: %s" % (self.name, self.index, stderr.strip()[-200:]))
+            self.finish(b)
+            return
         cut_off = self.ns is not None and (any(n[0] == self.ns for n in self.soak.links_down) or
                                            now() - self.soak.link_changed.get(self.ns, -1e9) < 8.0)
         if code == 2 and ("no broker answering" in stderr or "lost the broker" in stderr) and \
