@@ -46,7 +46,7 @@ Json MeanTerms(const v1::Result& result) {
 v1::Result::Status StatusFromName(const std::string& name, const std::string& field) {
   for (v1::Result::Status status : {v1::Result::OK, v1::Result::INVALID_INPUT, v1::Result::UNSTABLE_PHYSICS,
                                     v1::Result::TIMEOUT, v1::Result::WORKER_LOST, v1::Result::CRASHED,
-                                    v1::Result::INTERNAL_ERROR}) {
+                                    v1::Result::INTERNAL_ERROR, v1::Result::SCRIPT_ERROR, v1::Result::SCRIPT_LIMIT}) {
     if (StatusName(status) == name) return status;
   }
   throw std::invalid_argument(field + ": unknown status '" + name + "'");
@@ -87,6 +87,8 @@ std::string_view StatusName(v1::Result::Status status) {
     case v1::Result::TIMEOUT: return "timeout";
     case v1::Result::WORKER_LOST: return "worker_lost";
     case v1::Result::CRASHED: return "crashed";
+    case v1::Result::SCRIPT_ERROR: return "script_error";
+    case v1::Result::SCRIPT_LIMIT: return "script_limit";
     default: return "internal_error";
   }
 }

@@ -24,6 +24,7 @@ packages=(
   zlib1g-dev            # recordings (*.orcsrec): one zlib stream of frames (docs/recording.md)
   libcpp-httplib-dev    # orcs-view's HTTP server (viewer/)
   libre2-dev            # linear-time regular expressions for user-supplied patterns (the viewer's search)
+  liblua5.4-dev         # Lua 5.4: scripted fitness terms and controllers that travel in jobs (model/script/)
   libceres-dev          # Ceres Solver: orcs-gap's Levenberg–Marquardt polish and the Jacobian of its confidence intervals
   chromium              # orcs-view --render (headless, WebGL through SwiftShader) and tests/browser/
   ffmpeg                # orcs-view --render: PNG frames into a GIF or MP4 clip

@@ -2,6 +2,7 @@
 
 #include "model/control/keyframe_player.h"
 #include "model/control/neural_network.h"
+#include "model/control/script_controller.h"
 #include "model/control/sine_oscillator.h"
 #include "model/core/error.h"
 #include "model/core/json_node.h"
@@ -12,12 +13,25 @@ namespace {
 
 using Json = nlohmann::json;
 
+constexpr const char* kControllerTypes = "\"network\", \"oscillator\", \"keyframes\" or \"script\"";
+
 std::string TypeOf(const JsonNode& node) {
-  const std::string type = node.At("type").String("\"network\", \"oscillator\" or \"keyframes\"");
-  if (type != "network" && type != "oscillator" && type != "keyframes") {
-    node.At("type").Fail("\"network\", \"oscillator\" or \"keyframes\"");
+  const std::string type = node.At("type").String(kControllerTypes);
+  if (type != "network" && type != "oscillator" && type != "keyframes" && type != "script") {
+    node.At("type").Fail(kControllerTypes);
   }
   return type;
+}
+
+// A script controller's spec (syntax checked) and its genome length.
+std::pair<script::ScriptSpec, int> ScriptOf(const JsonNode& node) {
+  node.ExpectOnly({"type", "script", "genome_length", "params", "limits"});
+  int length = 0;
+  if (node.Has("genome_length")) {
+    length = node.At("genome_length").Integer("a number of genes, 0 to 100000");
+    if (length < 0 || length > 100000) node.At("genome_length").Fail("a number of genes, 0 to 100000");
+  }
+  return {script::ParseScriptSpec(node), length};
 }
 
 std::vector<std::string> OscillatorJoints(const JsonNode& node, const ControlTarget& target) {
@@ -59,6 +73,7 @@ int CheckController(const Json& controller, const ControlTarget& target, const s
   const std::string type = TypeOf(node);
   if (type == "network") return ParseNetwork(node, target.agent, true).genome_length();
   if (type == "oscillator") return SineOscillator::kGenesPerJoint * static_cast<int>(OscillatorJoints(node, target).size());
+  if (type == "script") return ScriptOf(node).second;
   RecordOf(node, target);
   return 0;
 }
@@ -102,7 +117,16 @@ std::unique_ptr<Controller> MakeController(const Json& controller, const Json& g
     if (node.Has("torque")) torque = node.At("torque").Number("");
     return std::make_unique<SineOscillator>(std::move(joints), target.agent, torque, values, source);
   }
+  if (type == "script") node.Fail("a controller of a simulation (a script controller is made with one)");
   return std::make_unique<KeyframePlayer>(RecordOf(node, target), target.agent, target.motors, values);
+}
+
+std::unique_ptr<Controller> MakeController(const Json& controller, const Json& genome, const ControlTarget& target,
+                                           scene::Simulation& simulation, int agent_index, const std::string& source) {
+  const JsonNode node(controller, "controller", source);
+  if (TypeOf(node) != "script") return MakeController(controller, genome, target, simulation.repository(), source);
+  CheckGenome(controller, genome, target, source);
+  return std::make_unique<ScriptController>(ScriptOf(node).first, FlatGenome(genome, source), simulation, agent_index);
 }
 
 }  // namespace orcs::control

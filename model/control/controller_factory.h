@@ -5,6 +5,8 @@
 //                                 a SineOscillator; genome = 4 numbers per joint
 //   {"type": "keyframes", "record": {"file", "text"}}
 //                                 a KeyframePlayer; genome = [] (nothing to evolve)
+//   {"type": "script", "script": {"file", "text"}, "genome_length": N, "params": {...}}
+//                                 a ScriptController (docs/extending.md); genome = N numbers
 #pragma once
 
 #include <memory>
@@ -14,6 +16,7 @@
 
 #include "model/control/controller.h"
 #include "model/core/variable_repository.h"
+#include "model/scene/simulation.h"
 
 namespace orcs::control {
 
@@ -36,5 +39,11 @@ void CheckGenome(const nlohmann::json& controller, const nlohmann::json& genome,
 std::unique_ptr<Controller> MakeController(const nlohmann::json& controller, const nlohmann::json& genome,
                                            const ControlTarget& target, VariableRepository& values,
                                            const std::string& source);
+
+/// The same for agent `agent_index` of `simulation`, which every controller type can be made for (a script
+/// controller reads the simulation). Throws InputError as above, ScriptFailure when a script's top level fails.
+std::unique_ptr<Controller> MakeController(const nlohmann::json& controller, const nlohmann::json& genome,
+                                           const ControlTarget& target, scene::Simulation& simulation,
+                                           int agent_index, const std::string& source);
 
 }  // namespace orcs::control

@@ -20,6 +20,7 @@
 #include "model/scene/environment_reader.h"
 #include "model/scene/parameter_sets.h"
 #include "model/scene/simulation.h"
+#include "model/script/script_sandbox.h"
 
 namespace orcs::evaluation {
 namespace {
@@ -147,8 +148,8 @@ void Configure(const EvaluationRequest& request, std::shared_ptr<const scene::Wo
   }
   run.agent = FindScenarioAgent(simulation, scenario);
   const control::ControlTarget target{scenario.agent, simulation.agent(run.agent).motor_names()};
-  run.controller = control::MakeController(scenario.controller, request.genome, target, simulation.repository(),
-                                           scenario.source);
+  run.controller =
+      control::MakeController(scenario.controller, request.genome, target, simulation, run.agent, scenario.source);
   run.fitness = std::make_unique<fitness::FitnessFunction>(scenario.fitness, simulation, run.agent, scenario.source);
   if (!scenario.log.empty()) run.logger = std::make_unique<ValueLogger>(simulation.repository(), scenario.log);
   CheckSchedules(scenario, simulation.repository());
@@ -287,6 +288,16 @@ void Simulate(const EvaluationRequest& request, int k, const scene::ParameterSet
   if (recorder) outcome.recording = recorder->Finish();
 }
 
+// A script of set k failed (its error, or a limit): the set ends with the script's status and one line.
+void ScriptFailed(const script::ScriptFailure& failure, int k, const SetRun& run, SetOutcome& outcome) {
+  outcome.status = failure.kind() == script::ScriptFailure::Kind::kLimit ? EvaluationStatus::kScriptLimit
+                                                                         : EvaluationStatus::kScriptError;
+  outcome.message = "parameter set " + std::to_string(k) + ": " + failure.what();
+  outcome.simulated_seconds = run.simulation.built() ? run.simulation.time() : 0.0;
+  outcome.terms.clear();
+  outcome.fitness = 0.0;
+}
+
 // The job's world, compiled once, and its parameter sets, drawn against the nominal world (scenario values and
 // overrides applied).
 struct JobWorld {
@@ -315,6 +326,8 @@ std::string_view EvaluationStatusName(EvaluationStatus status) {
     case EvaluationStatus::kUnstablePhysics: return "unstable physics";
     case EvaluationStatus::kTimeout: return "timeout";
     case EvaluationStatus::kInternalError: return "internal error";
+    case EvaluationStatus::kScriptError: return "script error";
+    case EvaluationStatus::kScriptLimit: return "script limit";
   }
   return "?";
 }
@@ -323,7 +336,11 @@ void CheckRequest(const EvaluationRequest& request) {
   const JobWorld job = PrepareJob(request);
   SetRun run;
   SetOutcome outcome;
-  Configure(request, job.model, job.sets.empty() ? nullptr : &job.sets.front(), run, outcome);
+  try {
+    Configure(request, job.model, job.sets.empty() ? nullptr : &job.sets.front(), run, outcome);
+  } catch (const script::ScriptFailure& failure) {  // a script's top level failed: the job cannot run as given
+    throw InputError(failure.what());
+  }
 }
 
 control::ControlTarget ControlTargetOf(const scene::Scenario& scenario) {
@@ -353,8 +370,12 @@ EvaluationOutcome Evaluate(const EvaluationRequest& request) {
       SetOutcome set_outcome;
       set_outcome.index = k;
       SetRun run;
-      Configure(request, job.model, &job.sets[k], run, set_outcome);
-      Simulate(request, k, &job.sets[k], run, set_outcome, deadline, log_bytes);
+      try {
+        Configure(request, job.model, &job.sets[k], run, set_outcome);
+        Simulate(request, k, &job.sets[k], run, set_outcome, deadline, log_bytes);
+      } catch (const script::ScriptFailure& failure) {
+        ScriptFailed(failure, k, run, set_outcome);
+      }
       outcome.engine = run.simulation.engine();  // after its reset: the engine the job's values chose
       log_bytes -= std::min(log_bytes, set_outcome.log_csv.size());
       outcome.sets.push_back(std::move(set_outcome));

@@ -49,7 +49,10 @@ struct EvaluationRequest {
   std::size_t max_log_bytes = kMaxJobLogBytes;
 };
 
-enum class EvaluationStatus { kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError };
+/// How a job (or a parameter set) ended. kScriptError: a script of the job raised or made an error while it ran;
+/// kScriptLimit: a script reached its instruction budget or memory cap (docs/extending.md). A script that does not
+/// compile, or fails in its top level, makes the job kInvalidInput: that is found before any simulation.
+enum class EvaluationStatus { kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError, kScriptError, kScriptLimit };
 std::string_view EvaluationStatusName(EvaluationStatus status);
 
 /// One parameter set's run.

@@ -4,6 +4,7 @@
 
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/script/script_spec.h"
 
 namespace orcs::fitness {
 namespace {
@@ -21,6 +22,10 @@ std::vector<std::pair<std::string, double>> NamesAndWeights(const JsonNode& fitn
       term.Fail("a name unique among the terms (set \"name\")", text::Quote(name) + " again");
     }
     out.emplace_back(name, term.NumberOr("weight", 1.0, "a number"));
+    if (type == "script") {  // its keys, and its syntax, before any world is built
+      term.ExpectOnly({"type", "name", "weight", "script", "params", "limits"});
+      script::ParseScriptSpec(term);
+    }
   }
   return out;
 }

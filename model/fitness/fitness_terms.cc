@@ -6,6 +6,7 @@
 #include "model/control/keyframe_record.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/fitness/script_term.h"
 
 namespace orcs::fitness {
 namespace {
@@ -307,6 +308,10 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
   if (type == "measured_error") {
     entry.ExpectOnly({"type", "name", "weight", "angles", "accelerations", "norm", "stop_above"});
     return MakeMeasuredError(entry, simulation, agent_index);
+  }
+  if (type == "script") {
+    entry.ExpectOnly({"type", "name", "weight", "script", "params", "limits"});
+    return std::make_unique<ScriptTerm>(script::ParseScriptSpec(entry), simulation, agent_index);
   }
   if (type == "falls") {
     entry.ExpectOnly({"type", "name", "weight", "body", "min_height"});

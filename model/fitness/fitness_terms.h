@@ -18,6 +18,8 @@
 //                   can no longer end at or below it — when the norm so far, counted over *every* listed entry,
 //                   exceeds it. The value is then that norm: a lower bound of the whole run's, above stop_above. A
 //                   fit's search uses it for points that cannot beat its best.
+//   script          {"script": "x.lua", "params": {...}, "limits": {...}}   the script's finish(), in its own unit; its
+//                   stop() may end the run early (model/fitness/script_term.h, docs/extending.md)
 #pragma once
 
 #include <memory>
@@ -49,7 +51,7 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
 
 /// The type names MakeFitnessTerm knows.
 inline constexpr const char* kFitnessTermTypes =
-    "\"distance\", \"path_length\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\", \"falls\" or "
-    "\"measured_error\"";
+    "\"distance\", \"path_length\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\", \"falls\", "
+    "\"measured_error\" or \"script\"";
 
 }  // namespace orcs::fitness

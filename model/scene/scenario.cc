@@ -58,12 +58,13 @@ Json ResolveValueFiles(const fs::path& folder, const JsonNode& list) {
   return out;
 }
 
-// Every "record": "file" member below `node` (controller and fitness sections) becomes {"file", "text"}.
+// Every "record": "file" and "script": "file" member below `node` (controller and fitness sections) becomes
+// {"file", "text"}: a keyframe record, a Lua script (docs/extending.md).
 void ResolveRecords(const fs::path& folder, Json& value, const JsonNode& node) {
   if (value.is_object()) {
     for (auto it = value.begin(); it != value.end(); ++it) {
       const JsonNode child = node.At(it.key());
-      if (it.key() == "record" && it.value().is_string()) {
+      if ((it.key() == "record" || it.key() == "script") && it.value().is_string()) {
         it.value() = {{"file", it.value().get<std::string>()}, {"text", ReadReferenced(folder, child)}};
       } else {
         ResolveRecords(folder, it.value(), child);

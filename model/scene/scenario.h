@@ -139,8 +139,8 @@ std::vector<ValueAssignment> ParseInlineValues(const JsonNode& node);
 
 /// Reads a scenario file and inlines every file it references (relative to the file's folder):
 /// "environment": "x.xml" → {"file": "x.xml", "xml": text}; "value_files" and
-/// "randomisation.parameter_files.files" → {"file", "assignments"}; any member named "record" holding a file
-/// name in the controller or fitness sections → {"file", "text"}. Throws InputError naming the scenario field
+/// "randomisation.parameter_files.files" → {"file", "assignments"}; any member named "record" or "script" holding a
+/// file name in the controller or fitness sections → {"file", "text"}. Throws InputError naming the scenario field
 /// and the file that cannot be read.
 nlohmann::json ResolveScenarioFile(const std::string& path);
 

@@ -108,6 +108,8 @@ class Simulation {
   int FindAgent(std::string_view name) const;
 
   double time() const { return time_; }          ///< simulated seconds since the last reset
+  /// The seed of the last Reset (/Simulation/Seed): what the run's own random streams derive from.
+  std::uint64_t seed() const;
   std::int64_t steps() const { return steps_; }  ///< simulation steps since the last reset
   SimulationStatus status() const { return status_; }
   const std::string& message() const { return message_; }  ///< why the status is not kOk
@@ -126,7 +128,6 @@ class Simulation {
   void PublishBodiesStage();
   void CollisionEventsStage();
   void TurnHinge(const PosingJoint& hinge, double angle_rad);
-  std::uint64_t seed() const;
 
   VariableRepository repository_;
   EventManager events_;

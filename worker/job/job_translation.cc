@@ -21,6 +21,8 @@ v1::Result::Status StatusOf(evaluation::EvaluationStatus status) {
     case evaluation::EvaluationStatus::kUnstablePhysics: return v1::Result::UNSTABLE_PHYSICS;
     case evaluation::EvaluationStatus::kTimeout: return v1::Result::TIMEOUT;
     case evaluation::EvaluationStatus::kInternalError: return v1::Result::INTERNAL_ERROR;
+    case evaluation::EvaluationStatus::kScriptError: return v1::Result::SCRIPT_ERROR;
+    case evaluation::EvaluationStatus::kScriptLimit: return v1::Result::SCRIPT_LIMIT;
   }
   return v1::Result::INTERNAL_ERROR;
 }
