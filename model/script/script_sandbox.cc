@@ -463,12 +463,12 @@ ScriptFailure ScriptSandbox::FailureOf(int status, const char* function) {
   if (over_budget_) {
     return {ScriptFailure::Kind::kLimit, where + " line " + std::to_string(limit_line_) + ": instruction budget of " +
                                              std::to_string(limits_.instructions) + " per parameter set exceeded in " +
-                                             function + " (scenario \"limits\": {\"instructions\": N})"};
+                                             function + " (raise it with \"limits\": {\"instructions\": N} beside the script)"};
   }
   if (out_of_memory_) {
     return {ScriptFailure::Kind::kLimit, where + " line " + std::to_string(memory_line_) + ": memory cap of " +
                                              Bytes(limits_.memory_bytes) + " exceeded in " + function +
-                                             " (scenario \"limits\": {\"memory_mib\": N})"};
+                                             " (raise it with \"limits\": {\"memory_mib\": N} beside the script)"};
   }
   // Lua's runtime errors begin "name:line:", which names the script and the line already.
   const std::string message = line;
