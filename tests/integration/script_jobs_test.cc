@@ -102,6 +102,34 @@ TEST(ScriptJobsTest, HostileScriptsFailTheirOwnJobsAndTheWorkerServesTheNext) {
   EXPECT_EQ(workers.size(), 1u);
 }
 
+// The shipped CPG example (a script controller with foot-contact feedback), shortened, evolves through orcs-batch
+// evolve's embedded broker on two local workers; the winner replays with orcs-sim to the champion's bits.
+TEST(ScriptJobsTest, TheCpgExampleEvolvesAndItsWinnerReplaysToTheSameBits) {
+  TempDir dir;
+  const std::string examples = ORCS_SOURCE_DIR "/scenarios/examples/";
+  nlohmann::json scenario = nlohmann::json::parse(dir.Read(examples + "cpg_walk.json"));
+  scenario["controller"]["script"] = examples + "scripts/cpg_feedback.lua";
+  scenario["duration"] = 0.5;
+  scenario["randomisation"]["sets"] = 2;
+  scenario["evolution"]["population"] = 5;
+  scenario["evolution"]["generations"] = 2;
+  scenario["evolution"]["validate"] = 2;
+  const std::string path = dir.Write("cpg.json", scenario.dump(1));
+  const std::string out = dir.PathOf("evolve");
+  const ProcessResult run =
+      RunProcess({kBin + "orcs-batch", "evolve", path, "--workers", "2", "--no-plot", "--out", out});
+  ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
+  EXPECT_THAT(run.out, HasSubstr("(the same bits)"));
+  EXPECT_THAT(run.err, HasSubstr("generation 2/2"));
+  const nlohmann::json champion = nlohmann::json::parse(dir.Read(out + "/checkpoint.json"))["champion"];
+  ASSERT_EQ(champion["genome"].size(), 6u);
+  EXPECT_NE(champion["genome"], scenario["genome"]);  // the search moved
+  const ProcessResult sim =
+      RunProcess({kBin + "orcs-sim", "--scenario", path, "--genome", "@" + out + "/best_genome.json", "--seed", "1"});
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_EQ(nlohmann::json::parse(sim.out)["fitness"].get<double>(), champion["fitness"].get<double>());
+}
+
 // A script that does not compile stops orcs-batch before anything is submitted, naming the script and line.
 TEST(ScriptJobsTest, ASyntaxErrorStopsTheBatchBeforeItRuns) {
   TempDir dir;
