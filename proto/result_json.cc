@@ -46,7 +46,8 @@ Json MeanTerms(const v1::Result& result) {
 v1::Result::Status StatusFromName(const std::string& name, const std::string& field) {
   for (v1::Result::Status status : {v1::Result::OK, v1::Result::INVALID_INPUT, v1::Result::UNSTABLE_PHYSICS,
                                     v1::Result::TIMEOUT, v1::Result::WORKER_LOST, v1::Result::CRASHED,
-                                    v1::Result::INTERNAL_ERROR, v1::Result::SCRIPT_ERROR, v1::Result::SCRIPT_LIMIT}) {
+                                    v1::Result::INTERNAL_ERROR, v1::Result::SCRIPT_ERROR, v1::Result::SCRIPT_LIMIT,
+                                    v1::Result::PLUGIN_MISSING}) {
     if (StatusName(status) == name) return status;
   }
   throw std::invalid_argument(field + ": unknown status '" + name + "'");
@@ -89,6 +90,7 @@ std::string_view StatusName(v1::Result::Status status) {
     case v1::Result::CRASHED: return "crashed";
     case v1::Result::SCRIPT_ERROR: return "script_error";
     case v1::Result::SCRIPT_LIMIT: return "script_limit";
+    case v1::Result::PLUGIN_MISSING: return "plugin_missing";
     default: return "internal_error";
   }
 }

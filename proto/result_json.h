@@ -11,7 +11,8 @@
 namespace orcs::proto {
 
 /// The status as written in results.jsonl: "ok", "invalid_input", "unstable_physics", "timeout", "worker_lost",
-/// "internal_error", "crashed", "script_error", "script_limit" ("internal_error" also for an unset status).
+/// "internal_error", "crashed", "script_error", "script_limit", "plugin_missing"
+/// ("internal_error" also for an unset status).
 std::string_view StatusName(v1::Result::Status status);
 
 /// The result as {"id", "status", "fitness", "terms", "sets", "worker", "attempts", "timings", "message"}:

@@ -2,6 +2,7 @@
 
 #include "model/control/keyframe_player.h"
 #include "model/control/neural_network.h"
+#include "model/control/plugin_controller.h"
 #include "model/control/script_controller.h"
 #include "model/control/sine_oscillator.h"
 #include "model/core/error.h"
@@ -13,25 +14,36 @@ namespace {
 
 using Json = nlohmann::json;
 
-constexpr const char* kControllerTypes = "\"network\", \"oscillator\", \"keyframes\" or \"script\"";
+constexpr const char* kControllerTypes = "\"network\", \"oscillator\", \"keyframes\", \"script\" or \"plugin\"";
 
 std::string TypeOf(const JsonNode& node) {
   const std::string type = node.At("type").String(kControllerTypes);
-  if (type != "network" && type != "oscillator" && type != "keyframes" && type != "script") {
+  if (type != "network" && type != "oscillator" && type != "keyframes" && type != "script" && type != "plugin") {
     node.At("type").Fail(kControllerTypes);
   }
   return type;
 }
 
+// "genome_length" of a script or plug-in controller: 0 to 100000 genes, 0 when absent.
+int GenomeLengthOf(const JsonNode& node) {
+  if (!node.Has("genome_length")) return 0;
+  const int length = node.At("genome_length").Integer("a number of genes, 0 to 100000");
+  if (length < 0 || length > 100000) node.At("genome_length").Fail("a number of genes, 0 to 100000");
+  return length;
+}
+
 // A script controller's spec (syntax checked) and its genome length.
 std::pair<script::ScriptSpec, int> ScriptOf(const JsonNode& node) {
   node.ExpectOnly({"type", "script", "genome_length", "params", "limits"});
-  int length = 0;
-  if (node.Has("genome_length")) {
-    length = node.At("genome_length").Integer("a number of genes, 0 to 100000");
-    if (length < 0 || length > 100000) node.At("genome_length").Fail("a number of genes, 0 to 100000");
-  }
-  return {script::ParseScriptSpec(node), length};
+  return {script::ParseScriptSpec(node), GenomeLengthOf(node)};
+}
+
+// A plug-in controller's form (whether this process has it is not checked here) and its genome length.
+int PluginGenomeLength(const JsonNode& node) {
+  node.ExpectOnly({"type", "plugin", "genome_length", "params"});
+  script::PluginNameOf(node);
+  script::PluginParamsOf(node);
+  return GenomeLengthOf(node);
 }
 
 std::vector<std::string> OscillatorJoints(const JsonNode& node, const ControlTarget& target) {
@@ -74,6 +86,7 @@ int CheckController(const Json& controller, const ControlTarget& target, const s
   if (type == "network") return ParseNetwork(node, target.agent, true).genome_length();
   if (type == "oscillator") return SineOscillator::kGenesPerJoint * static_cast<int>(OscillatorJoints(node, target).size());
   if (type == "script") return ScriptOf(node).second;
+  if (type == "plugin") return PluginGenomeLength(node);
   RecordOf(node, target);
   return 0;
 }
@@ -117,15 +130,22 @@ std::unique_ptr<Controller> MakeController(const Json& controller, const Json& g
     if (node.Has("torque")) torque = node.At("torque").Number("");
     return std::make_unique<SineOscillator>(std::move(joints), target.agent, torque, values, source);
   }
-  if (type == "script") node.Fail("a controller of a simulation (a script controller is made with one)");
+  if (type == "script" || type == "plugin") node.Fail("a controller of a simulation (made with one)");
   return std::make_unique<KeyframePlayer>(RecordOf(node, target), target.agent, target.motors, values);
 }
 
 std::unique_ptr<Controller> MakeController(const Json& controller, const Json& genome, const ControlTarget& target,
-                                           scene::Simulation& simulation, int agent_index, const std::string& source) {
+                                           scene::Simulation& simulation, int agent_index, const std::string& source,
+                                           const script::PluginRegistry* plugins) {
   const JsonNode node(controller, "controller", source);
-  if (TypeOf(node) != "script") return MakeController(controller, genome, target, simulation.repository(), source);
+  const std::string type = TypeOf(node);
+  if (type != "script" && type != "plugin") {
+    return MakeController(controller, genome, target, simulation.repository(), source);
+  }
   CheckGenome(controller, genome, target, source);
+  if (type == "plugin") {
+    return std::make_unique<PluginController>(node, FlatGenome(genome, source), simulation, agent_index, plugins);
+  }
   return std::make_unique<ScriptController>(ScriptOf(node).first, FlatGenome(genome, source), simulation, agent_index);
 }
 

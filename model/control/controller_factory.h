@@ -7,6 +7,8 @@
 //                                 a KeyframePlayer; genome = [] (nothing to evolve)
 //   {"type": "script", "script": {"file", "text"}, "genome_length": N, "params": {...}}
 //                                 a ScriptController (docs/extending.md); genome = N numbers
+//   {"type": "plugin", "plugin": "example/hold_pose", "genome_length": N, "params": {...}}
+//                                 a PluginController (a worker's compiled plug-in); genome = N numbers
 #pragma once
 
 #include <memory>
@@ -17,6 +19,7 @@
 #include "model/control/controller.h"
 #include "model/core/variable_repository.h"
 #include "model/scene/simulation.h"
+#include "model/script/plugin_registry.h"
 
 namespace orcs::control {
 
@@ -40,10 +43,12 @@ std::unique_ptr<Controller> MakeController(const nlohmann::json& controller, con
                                            const ControlTarget& target, VariableRepository& values,
                                            const std::string& source);
 
-/// The same for agent `agent_index` of `simulation`, which every controller type can be made for (a script
-/// controller reads the simulation). Throws InputError as above, ScriptFailure when a script's top level fails.
+/// The same for agent `agent_index` of `simulation`, which every controller type can be made for (a script or
+/// plug-in controller reads the simulation). Throws InputError as above, ScriptFailure when a script's top level
+/// fails, PluginMissing when `plugins` (null: none) lacks the plug-in named.
 std::unique_ptr<Controller> MakeController(const nlohmann::json& controller, const nlohmann::json& genome,
                                            const ControlTarget& target, scene::Simulation& simulation,
-                                           int agent_index, const std::string& source);
+                                           int agent_index, const std::string& source,
+                                           const script::PluginRegistry* plugins = nullptr);
 
 }  // namespace orcs::control

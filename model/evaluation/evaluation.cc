@@ -148,9 +148,10 @@ void Configure(const EvaluationRequest& request, std::shared_ptr<const scene::Wo
   }
   run.agent = FindScenarioAgent(simulation, scenario);
   const control::ControlTarget target{scenario.agent, simulation.agent(run.agent).motor_names()};
-  run.controller =
-      control::MakeController(scenario.controller, request.genome, target, simulation, run.agent, scenario.source);
-  run.fitness = std::make_unique<fitness::FitnessFunction>(scenario.fitness, simulation, run.agent, scenario.source);
+  run.controller = control::MakeController(scenario.controller, request.genome, target, simulation, run.agent,
+                                           scenario.source, request.plugins);
+  run.fitness = std::make_unique<fitness::FitnessFunction>(scenario.fitness, simulation, run.agent, scenario.source,
+                                                           request.plugins);
   if (!scenario.log.empty()) run.logger = std::make_unique<ValueLogger>(simulation.repository(), scenario.log);
   CheckSchedules(scenario, simulation.repository());
 }
@@ -328,6 +329,7 @@ std::string_view EvaluationStatusName(EvaluationStatus status) {
     case EvaluationStatus::kInternalError: return "internal error";
     case EvaluationStatus::kScriptError: return "script error";
     case EvaluationStatus::kScriptLimit: return "script limit";
+    case EvaluationStatus::kPluginMissing: return "plugin missing";
   }
   return "?";
 }
@@ -340,6 +342,8 @@ void CheckRequest(const EvaluationRequest& request) {
     Configure(request, job.model, job.sets.empty() ? nullptr : &job.sets.front(), run, outcome);
   } catch (const script::ScriptFailure& failure) {  // a script's top level failed: the job cannot run as given
     throw InputError(failure.what());
+  } catch (const script::PluginMissing&) {  // whether a worker has the plug-in, only the worker knows
+    if (request.plugins != nullptr) throw;
   }
 }
 
@@ -388,6 +392,9 @@ EvaluationOutcome Evaluate(const EvaluationRequest& request) {
   } catch (const InputError& error) {
     outcome.status = EvaluationStatus::kInvalidInput;
     outcome.message = error.what();
+  } catch (const script::PluginMissing& missing) {
+    outcome.status = EvaluationStatus::kPluginMissing;
+    outcome.message = missing.what();
   } catch (const std::bad_alloc&) {
     throw;  // the process's trouble, not the job's: its caller says which memory ran out
   } catch (const std::exception& error) {

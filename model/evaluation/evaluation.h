@@ -20,6 +20,7 @@
 #include "model/control/controller_factory.h"
 #include "model/core/value_file.h"
 #include "model/scene/scenario.h"
+#include "model/script/plugin_registry.h"
 
 namespace orcs::evaluation {
 
@@ -47,12 +48,18 @@ struct EvaluationRequest {
   std::string program = "orcs";  ///< who runs the job, written into recordings
   /// Bound on the job's logs, bytes of CSV over all parameter sets (see kMaxJobLogBytes, the default).
   std::size_t max_log_bytes = kMaxJobLogBytes;
+  /// The plug-in components this process loaded (orcs-worker --plugins DIR), for "plugin" controllers and terms;
+  /// null = none. CheckRequest accepts a job naming plug-ins without one: only the worker knows what it has.
+  const script::PluginRegistry* plugins = nullptr;
 };
 
 /// How a job (or a parameter set) ended. kScriptError: a script of the job raised or made an error while it ran;
 /// kScriptLimit: a script reached its instruction budget or memory cap (docs/extending.md). A script that does not
 /// compile, or fails in its top level, makes the job kInvalidInput: that is found before any simulation.
-enum class EvaluationStatus { kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError, kScriptError, kScriptLimit };
+/// kPluginMissing: the job names a plug-in component this process has not loaded (docs/extending.md, "Plug-ins").
+enum class EvaluationStatus {
+  kOk, kInvalidInput, kUnstablePhysics, kTimeout, kInternalError, kScriptError, kScriptLimit, kPluginMissing
+};
 std::string_view EvaluationStatusName(EvaluationStatus status);
 
 /// One parameter set's run.

@@ -4,6 +4,7 @@
 
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/fitness/plugin_term.h"
 #include "model/script/script_spec.h"
 
 namespace orcs::fitness {
@@ -26,6 +27,11 @@ std::vector<std::pair<std::string, double>> NamesAndWeights(const JsonNode& fitn
       term.ExpectOnly({"type", "name", "weight", "script", "params", "limits"});
       script::ParseScriptSpec(term);
     }
+    if (type == "plugin") {  // its form; whether a worker has it, only the worker knows
+      term.ExpectOnly({"type", "name", "weight", "plugin", "params"});
+      script::PluginNameOf(term);
+      script::PluginParamsOf(term);
+    }
   }
   return out;
 }
@@ -33,12 +39,12 @@ std::vector<std::pair<std::string, double>> NamesAndWeights(const JsonNode& fitn
 }  // namespace
 
 FitnessFunction::FitnessFunction(const nlohmann::json& fitness, const scene::Simulation& simulation, int agent_index,
-                                 const std::string& source) {
+                                 const std::string& source, const script::PluginRegistry* plugins) {
   const JsonNode node(fitness, "fitness", source);
   const std::vector<std::pair<std::string, double>> names = NamesAndWeights(node);
   const std::vector<JsonNode> terms = node.At("terms").Elements();
   for (std::size_t i = 0; i < terms.size(); ++i) {
-    entries_.push_back({names[i].first, names[i].second, MakeFitnessTerm(terms[i], simulation, agent_index)});
+    entries_.push_back({names[i].first, names[i].second, MakeFitnessTerm(terms[i], simulation, agent_index, plugins)});
   }
 }
 

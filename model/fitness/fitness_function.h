@@ -17,8 +17,9 @@ namespace orcs::fitness {
 class FitnessFunction {
  public:
   /// Builds the terms for agent `agent_index` of the built `simulation`. Throws InputError naming the field.
+  /// `plugins`: the process's plug-in components for "plugin" terms (null: none).
   FitnessFunction(const nlohmann::json& fitness, const scene::Simulation& simulation, int agent_index,
-                  const std::string& source);
+                  const std::string& source, const script::PluginRegistry* plugins = nullptr);
 
   void Start(const scene::Simulation& simulation);
   void Sample(const scene::Simulation& simulation, double dt);

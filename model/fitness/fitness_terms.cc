@@ -6,6 +6,7 @@
 #include "model/control/keyframe_record.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/fitness/plugin_term.h"
 #include "model/fitness/script_term.h"
 
 namespace orcs::fitness {
@@ -279,7 +280,7 @@ std::unique_ptr<FitnessTerm> MakeMeasuredError(const JsonNode& entry, const scen
 }  // namespace
 
 std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene::Simulation& simulation,
-                                             int agent_index) {
+                                             int agent_index, const script::PluginRegistry* plugins) {
   const std::string type = entry.At("type").String(kFitnessTermTypes);
   if (type == "distance") {
     entry.ExpectOnly({"type", "name", "weight", "body", "axis"});
@@ -312,6 +313,10 @@ std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene:
   if (type == "script") {
     entry.ExpectOnly({"type", "name", "weight", "script", "params", "limits"});
     return std::make_unique<ScriptTerm>(script::ParseScriptSpec(entry), simulation, agent_index);
+  }
+  if (type == "plugin") {
+    entry.ExpectOnly({"type", "name", "weight", "plugin", "params"});
+    return std::make_unique<PluginTerm>(entry, simulation, agent_index, plugins);
   }
   if (type == "falls") {
     entry.ExpectOnly({"type", "name", "weight", "body", "min_height"});

@@ -20,6 +20,8 @@
 //                   fit's search uses it for points that cannot beat its best.
 //   script          {"script": "x.lua", "params": {...}, "limits": {...}}   the script's finish(), in its own unit; its
 //                   stop() may end the run early (model/fitness/script_term.h, docs/extending.md)
+//   plugin          {"plugin": "example/mean_height", "params": {...}}   a compiled plug-in's term, loaded by the
+//                   worker (model/fitness/plugin_term.h)
 #pragma once
 
 #include <memory>
@@ -27,6 +29,10 @@
 
 #include "model/core/json_node.h"
 #include "model/scene/simulation.h"
+
+namespace orcs::script {
+class PluginRegistry;
+}  // namespace orcs::script
 
 namespace orcs::fitness {
 
@@ -46,12 +52,14 @@ class FitnessTerm {
 
 /// The term a fitness entry describes, for agent `agent_index` of `simulation` (built). Throws InputError naming
 /// the field for an unknown type, key, body or axis.
+/// `plugins`: the plug-in components of this process, for "type": "plugin" (null: none; such a term then throws
+/// script::PluginMissing).
 std::unique_ptr<FitnessTerm> MakeFitnessTerm(const JsonNode& entry, const scene::Simulation& simulation,
-                                             int agent_index);
+                                             int agent_index, const script::PluginRegistry* plugins = nullptr);
 
 /// The type names MakeFitnessTerm knows.
 inline constexpr const char* kFitnessTermTypes =
     "\"distance\", \"path_length\", \"upright_time\", \"final_height\", \"energy\", \"tracking_error\", \"falls\", "
-    "\"measured_error\" or \"script\"";
+    "\"measured_error\", \"script\" or \"plugin\"";
 
 }  // namespace orcs::fitness

@@ -23,6 +23,7 @@ v1::Result::Status StatusOf(evaluation::EvaluationStatus status) {
     case evaluation::EvaluationStatus::kInternalError: return v1::Result::INTERNAL_ERROR;
     case evaluation::EvaluationStatus::kScriptError: return v1::Result::SCRIPT_ERROR;
     case evaluation::EvaluationStatus::kScriptLimit: return v1::Result::SCRIPT_LIMIT;
+    case evaluation::EvaluationStatus::kPluginMissing: return v1::Result::PLUGIN_MISSING;
   }
   return v1::Result::INTERNAL_ERROR;
 }
@@ -39,7 +40,8 @@ std::string OutOfMemoryMessage() {
 
 }  // namespace
 
-evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults) {
+evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults,
+                                        const script::PluginRegistry* plugins) {
   const std::string source = "job " + job.job_id();
   evaluation::EvaluationRequest request;
   request.scenario = scene::ParseScenario(ParseJson(job.scenario_json(), source + " scenario"), source + " scenario");
@@ -66,6 +68,7 @@ evaluation::EvaluationRequest RequestOf(const v1::Job& job, bool inject_faults) 
     request.record_set = static_cast<int>(job.record_set());
   }
   request.program = "orcs-worker";
+  request.plugins = plugins;
   return request;
 }
 
@@ -108,10 +111,10 @@ v1::Result ToResult(const v1::Job& job, const evaluation::EvaluationOutcome& out
   return result;
 }
 
-v1::Result RunJob(const v1::Job& job, bool inject_faults) {
+v1::Result RunJob(const v1::Job& job, bool inject_faults, const script::PluginRegistry* plugins) {
   const auto start = std::chrono::steady_clock::now();
   try {
-    return ToResult(job, evaluation::Evaluate(RequestOf(job, inject_faults)));
+    return ToResult(job, evaluation::Evaluate(RequestOf(job, inject_faults, plugins)));
   } catch (const InputError& error) {
     evaluation::EvaluationOutcome outcome;
     outcome.status = evaluation::EvaluationStatus::kInvalidInput;

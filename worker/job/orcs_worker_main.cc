@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -24,6 +25,7 @@
 #include "worker/broker_connection.h"
 #include "net/cli_style.h"
 #include "worker/job/job_translation.h"
+#include "worker/job/plugin_loader.h"
 #include "worker/job/sandbox_child.h"
 #include "worker/job/simulation_sandbox.h"
 
@@ -40,15 +42,33 @@ constexpr std::uint64_t kDefaultMemoryLimitMib = 2048;
 // How long NextJob waits before looking at the stop flag again.
 constexpr std::chrono::milliseconds kPollInterval{200};
 
-// /proc/self/exe: this very binary, even if a rebuild has replaced the file since the worker started.
-std::vector<std::string> SandboxArguments() { return {"/proc/self/exe", "--sandbox-child"}; }
+// /proc/self/exe: this very binary, even if a rebuild has replaced the file since the worker started. The simulation
+// process loads the worker's plug-ins again (a process of its own, a registry of its own).
+std::vector<std::string> SandboxArguments(const std::string& plugins) {
+  std::vector<std::string> arguments = {"/proc/self/exe", "--sandbox-child"};
+  if (!plugins.empty()) arguments.insert(arguments.end(), {"--plugins", plugins});
+  return arguments;
+}
+
+// The simulation process: `--sandbox-child [--plugins DIR]`.
+int SandboxChildMain(int argc, char** argv) {
+  orcs::script::PluginRegistry registry;
+  if (argc == 4 && std::string_view(argv[2]) == "--plugins") {
+    try {
+      orcs::worker::LoadPlugins(argv[3], registry);
+    } catch (const std::exception& error) {
+      std::cerr << "orcs-worker (simulation process): " << error.what() << "\n";
+      return orcs::cli::kExitBadInput;
+    }
+    return orcs::worker::RunSandboxChild(orcs::worker::kSandboxChannelFd, &registry);
+  }
+  return orcs::worker::RunSandboxChild(orcs::worker::kSandboxChannelFd);
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc == 2 && std::string_view(argv[1]) == "--sandbox-child") {
-    return orcs::worker::RunSandboxChild(orcs::worker::kSandboxChannelFd);
-  }
+  if (argc >= 2 && std::string_view(argv[1]) == "--sandbox-child") return SandboxChildMain(argc, argv);
   orcs::worker::WorkerConnectionOptions options;
   CLI::App app{"orcs-worker: runs simulation jobs from a broker", "orcs-worker"};
   app.add_option("--connect", options.endpoint, "the broker's worker endpoint, e.g. tcp://127.0.0.1:5556")
@@ -71,6 +91,10 @@ int main(int argc, char** argv) {
                  "MiB of address space each simulation process may use; a job past it is CRASHED (default " +
                      std::to_string(kDefaultMemoryLimitMib) + "; 0 = no limit)")
       ->check(CLI::Range(std::uint64_t{0}, std::uint64_t{1} << 30));
+  std::string plugins;
+  app.add_option("--plugins", plugins,
+                 "folder of plug-in libraries (lib*.so, docs/extending.md \"Plug-ins\"): compiled controllers and "
+                 "fitness terms that jobs may name");
   bool no_sandbox = false;
   app.add_flag("--no-sandbox", no_sandbox, "run jobs in this process: a crash in the physics ends the worker");
   if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"connect"}); exit_code >= 0) {
@@ -87,10 +111,18 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<orcs::worker::SimulationSandbox> sandbox;
   std::unique_ptr<orcs::worker::WorkerConnection> connection;
+  orcs::script::PluginRegistry registry;  // loaded here too: a bad plug-in stops the worker before its first job
   try {
+    if (!plugins.empty()) {
+      plugins = std::filesystem::absolute(plugins).string();
+      orcs::worker::LoadPlugins(plugins, registry);
+      std::string names;
+      for (const std::string& component : registry.components()) names += " " + component;
+      options.log("plug-ins from " + plugins + ":" + (names.empty() ? " none" : names));
+    }
     if (!no_sandbox) {
       sandbox = std::make_unique<orcs::worker::SimulationSandbox>(
-          SandboxArguments(), orcs::worker::SandboxLimits{.memory_bytes = memory_limit_mib << 20});
+          SandboxArguments(plugins), orcs::worker::SandboxLimits{.memory_bytes = memory_limit_mib << 20});
     }
     connection = std::make_unique<orcs::worker::WorkerConnection>(options);
   } catch (const std::exception& error) {
@@ -102,7 +134,7 @@ int main(int argc, char** argv) {
     if (!job) continue;
     // A revoked job (its batch ended) stops at once in the sandbox; its result is then dropped by SendResult.
     const orcs::worker::RunStop revoked{connection->revoked_fd(), [&] { return connection->Revoked(*job); }};
-    orcs::v1::Result result = sandbox ? sandbox->Run(*job, revoked) : orcs::worker::RunJob(*job);
+    orcs::v1::Result result = sandbox ? sandbox->Run(*job, revoked) : orcs::worker::RunJob(*job, false, &registry);
     if (result.status() == orcs::v1::Result::CRASHED) {
       options.log("job " + job->job_id() + ": " + result.message() + "; the next job gets a new one");
     }

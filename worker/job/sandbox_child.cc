@@ -41,7 +41,7 @@ void LimitCpuTime(const v1::Job& job) {
 
 }  // namespace
 
-int RunSandboxChild(int fd) {
+int RunSandboxChild(int fd, const script::PluginRegistry* plugins) {
   struct stat descriptor = {};
   if (::fstat(fd, &descriptor) != 0 || !S_ISSOCK(descriptor.st_mode)) {  // typed by hand: no worker at the other end
     std::cerr << "orcs-worker: --sandbox-child is started by orcs-worker itself, with its job channel on descriptor "
@@ -66,7 +66,7 @@ int RunSandboxChild(int fd) {
       return 3;
     }
     LimitCpuTime(job);
-    const v1::Result result = RunJob(job, /*inject_faults=*/true);
+    const v1::Result result = RunJob(job, /*inject_faults=*/true, plugins);
     out.clear();
     result.SerializeToString(&out);
     if (!channel.Write(out)) return 0;  // the worker is gone

@@ -4,6 +4,8 @@
 // worker closes the channel. If the physics crashes, only this process dies.
 #pragma once
 
+#include "model/script/plugin_registry.h"
+
 namespace orcs::worker {
 
 /// The descriptor on which the simulation process finds its channel to the worker.
@@ -13,6 +15,7 @@ inline constexpr int kSandboxChannelFd = 3;
 /// worker closed the channel, 3 when `fd` is not a socket or a message was not a job (after one line on stderr). The
 /// process dies with SIGKILL when the thread that started it ends, and ignores SIGINT and SIGTERM: the worker decides
 /// when it stops.
-int RunSandboxChild(int fd);
+/// `plugins`: the worker's plug-in components, loaded again in this process (null: none).
+int RunSandboxChild(int fd, const script::PluginRegistry* plugins = nullptr);
 
 }  // namespace orcs::worker

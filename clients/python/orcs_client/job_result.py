@@ -2,7 +2,8 @@
 
 # Result.Status numbers (proto/orcs/v1/result.proto) → the names results.jsonl uses (proto/result_json.cc).
 STATUS_NAMES = {1: "ok", 2: "invalid_input", 3: "unstable_physics", 4: "timeout", 5: "worker_lost",
-                6: "internal_error", 7: "crashed", 8: "script_error", 9: "script_limit"}
+                6: "internal_error", 7: "crashed", 8: "script_error", 9: "script_limit",
+                10: "plugin_missing"}
 
 
 def status_name(status):
