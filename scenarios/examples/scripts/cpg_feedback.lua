@@ -1,7 +1,8 @@
 -- A central pattern generator with foot-contact feedback, as a script controller (docs/extending.md, "A CPG
 -- controller"). One phase oscillator drives the legs: the hips and ankles rock the weight from foot to foot
--- (HipPitch, AnklePitch: the frontal plane), the hips and ankles swing the legs forward and back (HipYaw,
--- AnkleYaw) with a phase lead, and the knee of the swinging leg bends. When a foot lands, the phase is pulled
+-- (HipPitch, AnklePitch: the frontal plane), the hips swing the legs forward and back in opposite directions
+-- (HipYaw) with a phase lead, and the knee of the leg that carries no weight bends. (Swinging the ankles with the
+-- hips tips the robot backwards at every amplitude tried; the feet stay flat instead.) When a foot lands, the phase is pulled
 -- towards the phase at which that foot should land (phase resetting): the rhythm entrains to the body's own sway.
 --
 -- genome[1] frequency, Hz          genome[2] rock amplitude, deg     genome[3] swing amplitude, deg
@@ -34,7 +35,6 @@ function control(t)
     orcs.set_angle(side .. "/HipPitch", rock * sway)
     orcs.set_angle(side .. "/AnklePitch", -rock * sway)
     orcs.set_angle(side .. "/HipYaw", scissor * swing * step)
-    orcs.set_angle(side .. "/AnkleYaw", -scissor * swing * step)
   end
   -- the leg that carries no weight bends its knee
   orcs.set_angle("Right/Knee", knee * math.max(0, -sway))
