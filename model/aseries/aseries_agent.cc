@@ -171,6 +171,7 @@ void ASeriesAgent::Reset(const physics::PhysicsWorld& world, std::uint64_t seed)
     motor.joint_angle->Set(RadiansToDegrees(world.joint_angle(motor.joint)));
     motor.current_velocity->Set(0.0);
     motor.gravity_load.emplace(world.model(), motor.joint, motor.load_bodies);
+    if (motor.plugin) motor.plugin->Reset(world.joint_angle(motor.joint));
   }
   for (Board& board : boards_) {
     const physics::BodyState host = world.body_state(board.host_body);
@@ -185,12 +186,39 @@ void ASeriesAgent::MotorStage(physics::PhysicsWorld& world, double dt) {
   for (Motor& motor : motors_) MoveMotor(world, motor, dt);
 }
 
+void ASeriesAgent::SetPluginMotors(std::vector<std::unique_ptr<plugin::MotorModel>> models) {
+  if (!models.empty() && models.size() != motors_.size()) {
+    throw std::logic_error("SetPluginMotors: " + std::to_string(models.size()) + " models for " +
+                           std::to_string(motors_.size()) + " motors");
+  }
+  for (std::size_t m = 0; m < motors_.size(); ++m) motors_[m].plugin = models.empty() ? nullptr : std::move(models[m]);
+}
+
+namespace {
+
+// A plug-in's command, held to what the physics accepts: a non-finite or negative number is the plug-in's bug.
+DynamixelCommand PluginCommand(plugin::MotorModel& model, const plugin::MotorInput& input, const std::string& motor) {
+  const plugin::MotorOutput out = model.Update(input);
+  if (!std::isfinite(out.velocity) || !(out.max_torque >= 0.0) || !std::isfinite(out.max_torque) ||
+      !(out.friction_torque >= 0.0) || !std::isfinite(out.friction_torque)) {
+    throw std::runtime_error("plug-in motor model of " + motor + ": a command needs a finite velocity and finite "
+                             "torques ≥ 0");
+  }
+  return {out.velocity, out.max_torque, out.friction_torque};
+}
+
+}  // namespace
+
 void ASeriesAgent::MoveMotor(physics::PhysicsWorld& world, Motor& motor, double dt) {
   const double angle = world.joint_angle(motor.joint);
   const double desired_angle = motor.desired_angle->as_double();
   const double desired_torque = motor.desired_torque->as_double();
   DynamixelCommand command;
-  if (effects_.any() || servo_enabled_) {  // the original's bits stay untouched while every effect is off
+  if (motor.plugin) {
+    const plugin::MotorInput input{angle, world.joint_rate(motor.joint), world.joint_motor_torque(motor.joint),
+                                   desired_angle, desired_torque, dt};
+    command = PluginCommand(*motor.plugin, input, motor.parameter_prefix);
+  } else if (effects_.any() || servo_enabled_) {  // the original's bits stay untouched while every effect is off
     // Gravity's torque on the load only where an effect reads it: it costs a pass over the load's bodies.
     const double gravity_torque =
         effects_.gravity_load_friction

@@ -18,6 +18,7 @@
 #include <optional>
 #include <vector>
 
+#include "model/script/plugin_api.h"
 #include "model/aseries/accelerometer.h"
 #include "model/aseries/angle_sensor.h"
 #include "model/aseries/aseries_builder.h"
@@ -62,6 +63,10 @@ class ASeriesAgent {
   /// joints and boards are the same ones (values change numbers only), so every index stays valid.
   void UpdateGeometry(const ASeriesMorphology& morphology, const ASeriesLayout& layout);
 
+  /// Puts a plug-in's motor model in place of the Dynamixel model, one per motor in motor order (scenario
+  /// "motor_model", docs/extending.md); empty = the Dynamixel model again. In force from the next Reset.
+  void SetPluginMotors(std::vector<std::unique_ptr<plugin::MotorModel>> models);
+
   /// Motor stage: every motor's controller reads its joint angle and desired values and sets the joint's motor
   /// velocity, torque limit and friction (spec §6b), in motor order.
   void MotorStage(physics::PhysicsWorld& world, double dt);
@@ -87,6 +92,7 @@ class ASeriesAgent {
     Eigen::Vector3d axis_in_body = Eigen::Vector3d::UnitX();  // the hinge axis in that body's frame
     std::vector<int> load_bodies;  // physics bodies on the far side from the root: the load the motor holds
     std::optional<physics::GravityLoad> gravity_load;  // their gravity torque about the hinge (set at Reset)
+    std::unique_ptr<plugin::MotorModel> plugin;  // a plug-in's model in place of the Dynamixel one; null = none
   };
   struct Board {
     int host_body = -1;  // physics body index

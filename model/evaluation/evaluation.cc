@@ -132,6 +132,26 @@ struct SetRun {
   std::unique_ptr<ValueLogger> logger;
 };
 
+// The scenario's "motor_model": the plug-in's model for every motor of the agent, in place of the Dynamixel model.
+void SetPluginMotors(const scene::Scenario& scenario, const script::PluginRegistry* plugins, SetRun& run) {
+  const std::string name = scenario.motor_model.at("plugin").get<std::string>();
+  if (plugins == nullptr) throw script::PluginMissing("plug-in motor model '" + name + "': this process loads no plug-ins");
+  const plugin::MotorModelFactory& factory = plugins->MotorModel(name);
+  const std::string params = scenario.motor_model.value("params", nlohmann::json::object()).dump();
+  aseries::ASeriesAgent& agent = run.simulation.agent(run.agent);
+  std::vector<std::unique_ptr<plugin::MotorModel>> models;
+  for (const std::string& motor : agent.motor_names()) {
+    try {
+      models.push_back(factory(params, motor));
+    } catch (const std::invalid_argument& error) {
+      throw InputError(scenario.source, 0, "field 'motor_model.params' expected params plug-in '" + name +
+                                               "' accepts, found: " + error.what());
+    }
+    if (models.back() == nullptr) throw InputError(scenario.source, 0, "motor_model: plug-in '" + name + "' made nothing");
+  }
+  agent.SetPluginMotors(std::move(models));
+}
+
 void Configure(const EvaluationRequest& request, std::shared_ptr<const scene::WorldModel> model,
                const scene::ParameterSet* set, SetRun& run, SetOutcome& outcome) {
   const scene::Scenario& scenario = request.scenario;
@@ -152,6 +172,7 @@ void Configure(const EvaluationRequest& request, std::shared_ptr<const scene::Wo
                                            scenario.source, request.plugins);
   run.fitness = std::make_unique<fitness::FitnessFunction>(scenario.fitness, simulation, run.agent, scenario.source,
                                                            request.plugins);
+  if (!scenario.motor_model.is_null()) SetPluginMotors(scenario, request.plugins, run);
   if (!scenario.log.empty()) run.logger = std::make_unique<ValueLogger>(simulation.repository(), scenario.log);
   CheckSchedules(scenario, simulation.repository());
 }

@@ -328,7 +328,8 @@ std::vector<ValueSchedule> ReadSchedules(const JsonNode& node) {
 Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode root(resolved, "", source);
   root.ExpectOnly({"name", "environment", "value_files", "values", "duration", "agent", "controller", "fitness",
-                   "randomisation", "start_angles", "schedules", "log", "genome", "fault", "evolution", "record"});
+                   "randomisation", "start_angles", "schedules", "log", "genome", "fault", "evolution", "record",
+                   "motor_model"});
   Scenario scenario;
   scenario.source = source;
   ReadName(root, scenario);
@@ -352,6 +353,18 @@ Scenario ParseScenario(const Json& resolved, const std::string& source) {
   const JsonNode fitness = root.At("fitness");
   scenario.fitness = fitness.value();
   ReadFitnessAggregate(fitness, scenario);
+  if (root.Has("motor_model")) {  // its form; whether a worker has the plug-in, only the worker knows
+    const JsonNode model = root.At("motor_model");
+    model.ExpectOnly({"plugin", "params"});
+    const std::string name = model.At("plugin").String("\"<plug-in>/<component>\", e.g. \"example/pd\"");
+    if (name.find('/') == std::string::npos || name.front() == '/' || name.back() == '/') {
+      model.At("plugin").Fail("\"<plug-in>/<component>\", e.g. \"example/pd\"");
+    }
+    if (model.Has("params") && !model.At("params").value().is_object()) {
+      model.At("params").Fail("an object of the plug-in's parameters");
+    }
+    scenario.motor_model = model.value();
+  }
   if (root.Has("randomisation")) scenario.randomisation = ReadRandomisation(root.At("randomisation"));
   if (root.Has("start_angles")) {
     const JsonNode angles = root.At("start_angles");

@@ -100,6 +100,9 @@ struct Scenario {
   std::string agent = "Humanoid";  ///< the agent the controller drives and the fitness terms measure
   nlohmann::json controller;     ///< controller section (model/control/controller_factory.h)
   nlohmann::json fitness;        ///< fitness section (model/fitness/fitness_function.h)
+  /// "motor_model": {"plugin": "<plug-in>/<component>", "params": {...}}: a worker's plug-in motor model in place of
+  /// the Dynamixel model for every motor of the agent (docs/extending.md, "Plug-ins"); null = the built-in model.
+  nlohmann::json motor_model;
   Aggregate aggregate = Aggregate::kMean;  ///< over the parameter sets
   double quantile = 0.5;         ///< for Aggregate::kQuantile, 0…1
   Randomisation randomisation;

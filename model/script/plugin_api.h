@@ -75,6 +75,33 @@ class Controller {
   virtual void Update(const SimulationView& view, MotorCommands& commands, double time) = 0;
 };
 
+/// What a motor model reads for its motor before each simulation step.
+struct MotorInput {
+  double angle = 0.0;           ///< joint angle, rad
+  double rate = 0.0;            ///< joint rate, rad/s
+  double torque = 0.0;          ///< torque the motor applied in the last step, N·m
+  double desired_angle = 0.0;   ///< DesiredAngle, degrees (what the controller asks)
+  double desired_torque = 0.0;  ///< DesiredTorque, raw −1…1
+  double dt = 0.0;              ///< the step, s
+};
+
+/// What a motor model commands the joint for the coming step: the physics' angular motor drives the joint towards
+/// `velocity` with at most `max_torque`, and a friction brake holds it with up to `friction_torque`.
+struct MotorOutput {
+  double velocity = 0.0;         ///< target joint rate, rad/s (finite)
+  double max_torque = 0.0;       ///< N·m the motor may apply, ≥ 0
+  double friction_torque = 0.0;  ///< N·m of joint friction, ≥ 0
+};
+
+/// A motor model, one per motor of the agent, in place of orcs's Dynamixel model (scenario "motor_model").
+class MotorModel {
+ public:
+  virtual ~MotorModel() = default;
+  /// After the set's reset; `angle` is the joint angle then, rad.
+  virtual void Reset(double angle) = 0;
+  virtual MotorOutput Update(const MotorInput& input) = 0;
+};
+
 /// Makes a term from the entry's "params" as JSON text; throws std::invalid_argument for bad params (the job is then
 /// invalid input, with the message).
 using FitnessTermFactory = std::function<std::unique_ptr<FitnessTerm>(const std::string& params_json)>;
@@ -82,11 +109,16 @@ using FitnessTermFactory = std::function<std::unique_ptr<FitnessTerm>(const std:
 using ControllerFactory =
     std::function<std::unique_ptr<Controller>(const std::string& params_json, const std::vector<double>& genome)>;
 
+/// Makes motor `motor` ("Right/Knee")'s model from the scenario's "motor_model.params" as JSON text.
+using MotorModelFactory =
+    std::function<std::unique_ptr<MotorModel>(const std::string& params_json, const std::string& motor)>;
+
 /// What orcs-worker hands a plug-in's orcs_plugin_register.
 class Registrar {
  public:
   virtual void AddFitnessTerm(const std::string& component, FitnessTermFactory factory) = 0;
   virtual void AddController(const std::string& component, ControllerFactory factory) = 0;
+  virtual void AddMotorModel(const std::string& component, MotorModelFactory factory) = 0;
 
  protected:
   ~Registrar() = default;

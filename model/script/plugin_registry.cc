@@ -14,6 +14,16 @@ void PluginRegistry::AddController(const std::string& component, plugin::Control
   controllers_[plugin_ + "/" + component] = std::move(factory);
 }
 
+void PluginRegistry::AddMotorModel(const std::string& component, plugin::MotorModelFactory factory) {
+  motor_models_[plugin_ + "/" + component] = std::move(factory);
+}
+
+const plugin::MotorModelFactory& PluginRegistry::MotorModel(const std::string& name) const {
+  const auto found = motor_models_.find(name);
+  if (found == motor_models_.end()) Missing(name, "motor model");
+  return found->second;
+}
+
 const plugin::FitnessTermFactory& PluginRegistry::FitnessTerm(const std::string& name) const {
   const auto found = terms_.find(name);
   if (found == terms_.end()) Missing(name, "fitness term");
@@ -30,6 +40,7 @@ std::vector<std::string> PluginRegistry::components() const {
   std::vector<std::string> names;
   for (const auto& [name, factory] : terms_) names.push_back(name);
   for (const auto& [name, factory] : controllers_) names.push_back(name);
+  for (const auto& [name, factory] : motor_models_) names.push_back(name);
   std::sort(names.begin(), names.end());
   return names;
 }

@@ -27,10 +27,12 @@ class PluginRegistry : public plugin::Registrar {
 
   void AddFitnessTerm(const std::string& component, plugin::FitnessTermFactory factory) override;
   void AddController(const std::string& component, plugin::ControllerFactory factory) override;
+  void AddMotorModel(const std::string& component, plugin::MotorModelFactory factory) override;
 
   /// The factory of "<plug-in>/<component>"; throws PluginMissing naming it and what this process has.
   const plugin::FitnessTermFactory& FitnessTerm(const std::string& name) const;
   const plugin::ControllerFactory& Controller(const std::string& name) const;
+  const plugin::MotorModelFactory& MotorModel(const std::string& name) const;
 
   /// Every component, "<plug-in>/<component>", sorted.
   std::vector<std::string> components() const;
@@ -40,6 +42,7 @@ class PluginRegistry : public plugin::Registrar {
   std::string plugin_;
   std::map<std::string, plugin::FitnessTermFactory> terms_;
   std::map<std::string, plugin::ControllerFactory> controllers_;
+  std::map<std::string, plugin::MotorModelFactory> motor_models_;
 };
 
 /// The plug-in component a scenario entry names ("plugin": "<plug-in>/<component>"), checked for its form.

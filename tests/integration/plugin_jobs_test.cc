@@ -48,11 +48,11 @@ class PluginJobsTest : public ::testing::Test {
     clients_ = match[1];
     workers_ = match[2];
   }
-  // orcs-batch submit of `jobs` jobs of the scenario; the results, one JSON object each.
-  std::vector<nlohmann::json> Submit(const std::string& name, int jobs) {
+  // orcs-batch submit of `jobs` jobs of `scenario`; the results, one JSON object each.
+  std::vector<nlohmann::json> Submit(const std::string& name, int jobs, const std::string& scenario = kScenario) {
     const std::string out = dir_.PathOf(name);
     const ProcessResult result = RunProcess({kBin + "orcs-batch", "submit", "--broker", clients_, "--heartbeat", "0.1",
-                                             dir_.Write("plugged.json", kScenario), "--genome", "[10, 1]", "--jobs",
+                                             dir_.Write(name + ".json", scenario), "--genome", "[10, 1]", "--jobs",
                                              std::to_string(jobs), "--out", out, "--quiet"});
     EXPECT_NE(result.exit_code, 2) << result.err;  // not refused as bad input: the client cannot know the workers
     std::vector<nlohmann::json> lines;
@@ -79,7 +79,7 @@ TEST_F(PluginJobsTest, AWorkerWithThePluginRunsItsJobsAndOneWithoutRefusesThem) 
       EXPECT_GT(head, 0.3);  // the head of a standing A-Series, rocking a little: about 0.4 m up
       EXPECT_LT(head, 0.45);
     }
-    EXPECT_THAT(worker.err(), HasSubstr("plug-ins from " + kPlugins + ": example/mean_height example/sine"));
+    EXPECT_THAT(worker.err(), HasSubstr("plug-ins from " + kPlugins + ": example/mean_height example/pd example/sine"));
   }
   BackgroundProcess bare({kBin + "orcs-worker", "--connect", workers_, "--heartbeat", "0.1", "--id", "bare"});
   const std::vector<nlohmann::json> results = Submit("without", 1);
@@ -88,6 +88,27 @@ TEST_F(PluginJobsTest, AWorkerWithThePluginRunsItsJobsAndOneWithoutRefusesThem) 
   EXPECT_EQ(results[0]["worker"], "bare");
   EXPECT_THAT(results[0]["message"].get<std::string>(),
               AllOf(HasSubstr("plug-in controller 'example/sine'"), HasSubstr("no plug-ins")));
+}
+
+// The example's motor model in place of the Dynamixel model: with its gain at 0 the hips ask for 10° and do not move;
+// with a gain they follow. A scripted term measures the hip's largest angle (scripts and plug-ins in one job).
+TEST_F(PluginJobsTest, APluginMotorModelDrivesTheJoints) {
+  StartBroker();
+  BackgroundProcess worker({kBin + "orcs-worker", "--connect", workers_, "--heartbeat", "0.1", "--id", "plugged",
+                            "--plugins", kPlugins});
+  const auto largest_hip_angle = [&](double gain) {
+    nlohmann::json scenario = nlohmann::json::parse(kScenario);
+    scenario["motor_model"] = {{"plugin", "example/pd"}, {"params", {{"gain", gain}}}};
+    scenario["fitness"]["terms"] = {{{"type", "script"}, {"name", "hip"},
+                                     {"script", {{"text", "local m = 0\nfunction step() m = math.max(m, math.abs("
+                                                          "orcs.angle('Right/HipPitch'))) end\nfunction finish() "
+                                                          "return m end"}}}}};
+    const std::vector<nlohmann::json> results = Submit("pd-" + std::to_string(static_cast<int>(gain)), 1, scenario.dump());
+    EXPECT_EQ(results.at(0)["status"], "ok") << results.at(0).dump();
+    return results.at(0)["fitness"].get<double>();
+  };
+  EXPECT_LT(largest_hip_angle(0), 0.5);  // degrees: held where it stood
+  EXPECT_GT(largest_hip_angle(20), 5);   // the sine of 10° at 1 Hz, followed
 }
 
 TEST_F(PluginJobsTest, ABadPluginFolderStopsTheWorkerAtItsStart) {

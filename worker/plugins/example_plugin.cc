@@ -6,6 +6,10 @@
 //   example/mean_height   fitness term: the mean height of a body over the run, m (params: {"body": "Middle/Head"})
 //   example/sine          controller: every listed motor at amplitude · sin(2π · frequency · t) degrees
 //                         (params: {"motors": ["Right/HipPitch", ...]}; genome: amplitude (deg), frequency (Hz))
+//   example/pd            motor model: a proportional servo — target rate gain · (desired − angle), at most
+//                         max_velocity, with at most max_torque (params: {"gain": 1/s, "max_velocity": rad/s,
+//                         "max_torque": N·m}; defaults 20, 5.8, 1.5)
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -72,6 +76,20 @@ class Sine : public orcs::plugin::Controller {
   double amplitude_, frequency_;
 };
 
+class Pd : public orcs::plugin::MotorModel {
+ public:
+  Pd(double gain, double max_velocity, double max_torque)
+      : gain_(gain), max_velocity_(max_velocity), max_torque_(max_torque) {}
+  void Reset(double) override {}
+  orcs::plugin::MotorOutput Update(const orcs::plugin::MotorInput& input) override {
+    const double error = input.desired_angle * std::numbers::pi / 180.0 - input.angle;
+    return {std::clamp(gain_ * error, -max_velocity_, max_velocity_), max_torque_, 0.0};
+  }
+
+ private:
+  double gain_, max_velocity_, max_torque_;
+};
+
 }  // namespace
 
 extern "C" int orcs_plugin_api_version() { return orcs::plugin::kApiVersion; }
@@ -87,5 +105,14 @@ extern "C" void orcs_plugin_register(orcs::plugin::Registrar& registrar) {
       throw std::invalid_argument("example/sine: params.motors, a list of motor names");
     }
     return std::make_unique<Sine>(parsed["motors"].get<std::vector<std::string>>(), genome[0], genome[1]);
+  });
+  registrar.AddMotorModel("pd", [](const std::string& params, const std::string&) {
+    const nlohmann::json parsed = Params(params);
+    const double gain = parsed.value("gain", 20.0), velocity = parsed.value("max_velocity", 5.8),
+                 torque = parsed.value("max_torque", 1.5);
+    if (!(gain >= 0 && velocity >= 0 && torque >= 0)) {
+      throw std::invalid_argument("example/pd: gain, max_velocity and max_torque at least 0");
+    }
+    return std::make_unique<Pd>(gain, velocity, torque);
   });
 }
