@@ -21,8 +21,17 @@ std::string_view NameArgument(lua_State* state, int index) {
   return {text, length};
 }
 
+// A motor given as a handle (orcs.motor: its index in orcs.motors(), from 1) or by name.
 const SimulationApi::Motor& MotorArgument(lua_State* state, const char* function) {
   const SimulationApi& api = Api(state);
+  if (lua_type(state, 1) == LUA_TNUMBER) {
+    const SimulationApi::Motor* motor = api.MotorOfHandle(static_cast<long long>(luaL_checkinteger(state, 1)));
+    if (motor == nullptr) {
+      luaL_error(state, "orcs.%s: %d is not a motor handle (orcs.motor(name) gives one)", function,
+                 static_cast<int>(lua_tointeger(state, 1)));
+    }
+    return *motor;
+  }
   const SimulationApi::Motor* motor = api.FindMotor(NameArgument(state, 1));
   if (motor == nullptr) {
     luaL_error(state, "orcs.%s: agent '%s' has no motor '%s' (orcs.motors() lists them)", function,
@@ -93,6 +102,19 @@ int Motors(lua_State* state) {
     lua_rawseti(state, -2, static_cast<lua_Integer>(m + 1));
   }
   return 1;
+}
+
+int MotorHandle(lua_State* state) {
+  const SimulationApi& api = Api(state);
+  const std::string_view name = NameArgument(state, 1);
+  for (std::size_t m = 0; m < api.motor_names().size(); ++m) {
+    if (api.motor_names()[m] == name) {
+      lua_pushinteger(state, static_cast<lua_Integer>(m + 1));
+      return 1;
+    }
+  }
+  return luaL_error(state, "orcs.motor: agent '%s' has no motor '%s' (orcs.motors() lists them)",
+                    api.agent_name().c_str(), lua_tostring(state, 1));
 }
 
 int Angle(lua_State* state) {
@@ -214,6 +236,7 @@ SimulationApi::SimulationApi(const scene::Simulation& simulation, int agent, Var
     motor_names_.push_back(name);
     motors_.emplace(name, motor);
   }
+  for (const std::string& name : motor_names_) motor_order_.push_back(&motors_.at(name));
   for (std::size_t b = 0; b < morphology.bodies.size(); ++b) {
     body_handles_.emplace(morphology.bodies[b].name, static_cast<int>(b));
     handle_bodies_.push_back(layout.bodies[b]);
@@ -228,6 +251,10 @@ SimulationApi::SimulationApi(const scene::Simulation& simulation, int agent, Var
 const SimulationApi::Motor* SimulationApi::FindMotor(std::string_view name) const {
   const auto found = motors_.find(name);
   return found == motors_.end() ? nullptr : &found->second;
+}
+
+const SimulationApi::Motor* SimulationApi::MotorOfHandle(long long handle) const {
+  return handle >= 1 && handle <= static_cast<long long>(motor_order_.size()) ? motor_order_[handle - 1] : nullptr;
 }
 
 int SimulationApi::HandleOf(std::string_view name) const {
@@ -260,6 +287,7 @@ void SimulationApi::Open(ScriptSandbox& sandbox) {
   add("time", Time);
   add("value", ValueOf);
   add("motors", Motors);
+  add("motor", MotorHandle);
   add("angle", Angle);
   add("joint_rate", JointRate);
   add("motor_torque", MotorTorque);

@@ -7,7 +7,8 @@
 //   orcs.value(path)                 any repository value: a number, boolean or string; a vector as x, y, z;
 //                                    a quaternion as w, x, y, z; a colour as r, g, b, a
 //   orcs.motors()                    the agent's motor names, in motor order (a table)
-//   orcs.angle(motor)                the motor's JointAngle, degrees
+//   orcs.motor(name)                 a handle of the motor (its index in orcs.motors()): faster than a name in a loop
+//   orcs.angle(motor)                the motor's JointAngle, degrees (a motor: a handle or a name)
 //   orcs.joint_rate(motor)           the hinge's rate, rad/s (the physics' own: what the energy term uses)
 //   orcs.motor_torque(motor)         the torque the motor applied in the last step, N·m
 //   orcs.body(name)                  a handle of the agent's body "Middle/Head" (faster than a name in a loop)
@@ -56,6 +57,8 @@ class SimulationApi {
   bool writable() const { return inputs_ != nullptr; }
   const std::vector<std::string>& motor_names() const { return motor_names_; }
   const Motor* FindMotor(std::string_view name) const;
+  /// Motor `handle` (orcs.motor's result: its index in motor order, from 1), nullptr when out of range.
+  const Motor* MotorOfHandle(long long handle) const;
   /// Physics body index of the agent's body `name`, −1 when it has none.
   int FindBody(std::string_view name) const;
   /// Physics body index of handle `handle` (orcs.body's result), −1 when out of range.
@@ -78,6 +81,7 @@ class SimulationApi {
   std::string agent_name_;
   std::vector<std::string> motor_names_;
   ByName<Motor> motors_;
+  std::vector<const Motor*> motor_order_;  ///< motors_ in motor order: handle − 1 → motor
   ByName<int> body_handles_;      ///< morphology body name → handle (its morphology index)
   std::vector<int> handle_bodies_;  ///< handle → physics body index
   ByName<std::pair<const Value*, const Value*>> boards_;
