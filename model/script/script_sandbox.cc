@@ -291,12 +291,17 @@ void ScriptSandbox::CountHook(lua_State* state, lua_Debug* where) {
 // pcall and xpcall that let no limit be caught: after one, the error goes on up to orcs.
 int ScriptSandbox::ProtectedCall(lua_State* state) {
   luaL_checkany(state, 1);
-  const int status = lua_pcall(state, lua_gettop(state) - 1, LUA_MULTRET, 0);
+  lua_pushnil(state);  // the slot pcall's first result takes
+  lua_insert(state, 1);
+  return PcallResults(state, lua_pcall(state, lua_gettop(state) - 2, LUA_MULTRET, 0));
+}
+
+int ScriptSandbox::PcallResults(lua_State* state, int status) {
   ScriptSandbox& sandbox = Of(state);
   if (status == LUA_ERRMEM) sandbox.out_of_memory_ = true;
   if (status != LUA_OK && (sandbox.over_budget_ || sandbox.out_of_memory_)) return lua_error(state);
   lua_pushboolean(state, status == LUA_OK);
-  lua_insert(state, 1);
+  lua_replace(state, 1);
   return lua_gettop(state);
 }
 
@@ -308,13 +313,7 @@ int ScriptSandbox::ProtectedCallWithHandler(lua_State* state) {
   lua_pushvalue(state, 2);  // [..., f, handler]
   lua_replace(state, 1);    // [handler, handler, args..., f]
   lua_replace(state, 2);    // [handler, f, args...]
-  const int status = lua_pcall(state, arguments, LUA_MULTRET, 1);
-  ScriptSandbox& sandbox = Of(state);
-  if (status == LUA_ERRMEM) sandbox.out_of_memory_ = true;
-  if (status != LUA_OK && (sandbox.over_budget_ || sandbox.out_of_memory_)) return lua_error(state);
-  lua_pushboolean(state, status == LUA_OK);
-  lua_replace(state, 1);
-  return lua_gettop(state);
+  return PcallResults(state, lua_pcall(state, arguments, LUA_MULTRET, 1));
 }
 
 void ScriptSandbox::OpenLibraries() {

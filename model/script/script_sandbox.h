@@ -88,6 +88,9 @@ class ScriptSandbox {
   static void CountHook(lua_State* state, lua_Debug* where);
   static int ProtectedCall(lua_State* state);
   static int ProtectedCallWithHandler(lua_State* state);
+  // pcall's results with the call's values from index 2 on: a limit raised again (no script may catch one), else
+  // the status as a boolean at index 1 and everything above it.
+  static int PcallResults(lua_State* state, int status);
   void OpenLibraries();
   void Compile(const std::string& text);  // leaves the compiled chunk on the stack
   // The message of a failed call (status, error value on top of the stack), one line, bounded; pops the value.

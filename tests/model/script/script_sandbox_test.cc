@@ -52,6 +52,12 @@ TEST(ScriptSandboxTest, OrdinaryLuaRuns) {
   EXPECT_EQ(GlobalAfter("local t = {} for i = 1, 10 do t[#t + 1] = i * i end result = table.concat(t, ',')"),
             "1,4,9,16,25,36,49,64,81,100");
   EXPECT_EQ(GlobalAfter("result = string.format('%.3f %s', math.sqrt(2), 'x')"), "1.414 x");
+  // pcall and xpcall as in Lua, for everything but a limit
+  EXPECT_EQ(GlobalAfter("local ok, a, b = pcall(function(x) return x, 8 end, 7)\n"
+                        "local bad, e = pcall(error, 'oops', 0)\n"
+                        "local h, m = xpcall(function() error('deep', 0) end, function(m) return 'handled ' .. m end)\n"
+                        "result = table.concat({tostring(ok), a, b, tostring(bad), e, tostring(h), m}, ' ')"),
+            "true 7 8 false oops false handled deep");
 }
 
 TEST(ScriptSandboxTest, ProcessesFilesAndModulesAreRefusedByName) {
