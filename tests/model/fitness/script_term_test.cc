@@ -167,5 +167,33 @@ TEST(ScriptTermTest, TheOrcsTableReadsTheRunningSimulation) {
   EXPECT_THAT(bad.message, HasSubstr("orcs.position: agent 'Pendulum' has no body 'Ghost'"));
 }
 
+// The shipped script examples run as jobs (shortened): each term reports a value in its range.
+TEST(ScriptTermTest, TheShippedScriptExamplesRun) {
+  const auto run = [](const std::string& example) {
+    const std::string path = std::string(ORCS_SOURCE_DIR) + "/scenarios/examples/" + example;
+    nlohmann::json resolved = scene::ResolveScenarioFile(path);
+    resolved["duration"] = 1.0;
+    resolved["randomisation"]["sets"] = 2;
+    EvaluationRequest request;
+    request.scenario = scene::ParseScenario(resolved, path);
+    request.genome = resolved["genome"];
+    request.seed = 1;
+    const EvaluationOutcome outcome = evaluation::Evaluate(request);
+    EXPECT_EQ(outcome.status, EvaluationStatus::kOk) << outcome.message;
+    return outcome;
+  };
+  const EvaluationOutcome level = run("head_level.json");
+  ASSERT_FALSE(level.sets.empty());
+  const double tilt = level.sets[0].terms.at(0).second;  // head_tilt, degrees: the head of a robot rocking 6°
+  EXPECT_GT(tilt, 0.0);
+  EXPECT_LT(tilt, 10.0);
+  const EvaluationOutcome target = run("target_walk.json");
+  ASSERT_FALSE(target.sets.empty());
+  const double to_target = target.sets[0].terms.at(0).second;  // −(distance to a point 0.3 m ahead) − speed
+  EXPECT_LT(to_target, -0.25);
+  EXPECT_GT(to_target, -0.5);
+  EXPECT_EQ(run("cpg_walk.json").sets.size(), 2u);
+}
+
 }  // namespace
 }  // namespace orcs::fitness
