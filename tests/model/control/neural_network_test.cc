@@ -82,7 +82,8 @@ TEST_F(ControllerTest, BadGenomesAndNetworksAreNamed) {
   EXPECT_EQ(InputErrorOf([&] { MakeController(bad_value, {1, 2, 3}, target_, values_, "s.json"); }),
             "s.json: controller: unknown repository value '/Sim/R/C/DesiredAngle'");
   EXPECT_THAT(InputErrorOf([&] { CheckController({{"type", "fuzzy"}}, target_, "s.json"); }),
-              HasSubstr("field 'controller.type' expected \"network\", \"oscillator\" or \"keyframes\""));
+              HasSubstr("field 'controller.type' expected \"network\", \"oscillator\", \"keyframes\", \"script\" or "
+                        "\"plugin\""));
 }
 
 TEST_F(ControllerTest, OscillatorFollowsItsSine) {

@@ -70,7 +70,13 @@ TEST(ScenarioTest, BadInputNamesFileAndField) {
   };
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("duratoin", 3), "s.json"); }),
             "s.json: field 'duratoin' expected no such field (allowed: name, environment, value_files, values, "
-            "duration, agent, controller, fitness, randomisation, start_angles, schedules, log, genome, fault, evolution, record), found 'duratoin'");
+            "duration, agent, controller, fitness, randomisation, start_angles, schedules, log, genome, fault, evolution, record, "
+            "motor_model), found 'duratoin'");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("motor_model", {{"plugin", "pd"}}), "s.json"); }),
+            "s.json: field 'motor_model.plugin' expected \"<plug-in>/<component>\", e.g. \"example/pd\", found the "
+            "string \"pd\"");
+  EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("motor_model", {{"plugin", "example/pd"}, {"params", 3}}), "s.json"); }),
+            "s.json: field 'motor_model.params' expected an object of the plug-in's parameters, found the number 3");
   EXPECT_EQ(InputErrorOf([&] { ParseScenario(with("record", "yes"), "s.json"); }),
             "s.json: field 'record' expected true or false, found the string \"yes\"");
   EXPECT_TRUE(ParseScenario(with("record", true), "s.json").record);
