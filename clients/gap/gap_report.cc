@@ -79,6 +79,24 @@ std::string BoundNote(BoundState bound) {
   return "";
 }
 
+nlohmann::json TellApartJson(const TellApart& t) {
+  if (t.probe.empty()) return nullptr;
+  return {{"probe", t.probe}, {"motor", t.motor}, {"description", t.description}, {"shows", t.shows},
+          {"difference_deg", t.difference}, {"noise_deg", t.noise}};
+}
+
+// The open parameters a candidate's probes tried (open_parameter_probe.h); losses in the loss's unit.
+nlohmann::json OpenJson(const std::vector<OpenParameter>& open) {
+  nlohmann::json probes = nlohmann::json::array();
+  for (const OpenParameter& o : open) {
+    probes.push_back({{"path", o.path}, {"unit", o.unit}, {"fitted", o.fitted}, {"ci95", RoundedOrNull(o.ci95)},
+                      {"low", o.low}, {"high", o.high}, {"probed", o.probed}, {"equivalent", o.equivalent},
+                      {"chosen", o.chosen}, {"fit_loss", o.fit_loss}, {"holdout_loss_fitted", o.holdout_loss_fitted},
+                      {"holdout_loss", o.holdout_loss}, {"pin_down", TellApartJson(o.pin_down)}});
+  }
+  return probes;
+}
+
 nlohmann::json ScoreJson(const ModelScore& s) {
   nlohmann::json values = nlohmann::json::array();
   for (const FittedValue& v : s.values) {
@@ -90,6 +108,7 @@ nlohmann::json ScoreJson(const ModelScore& s) {
           {"quantity", s.quantity},
           {"added_parameters", s.added_parameters},
           {"parameters", values},
+          {"open_parameters", OpenJson(s.open)},
           {"fit_rms", RoundedOrNull(s.fit_rms)},
           {"holdout_rms", RoundedOrNull(s.holdout_rms)},
           {"score", RoundedOrNull(s.score)},
@@ -110,10 +129,16 @@ std::vector<std::string> WorstChannels(const GapSnapshot& snapshot, std::size_t 
 }
 
 // `digits` significant digits, for fitted values and their uncertainties.
-std::string Digits(double value, int digits) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
-  return buffer;
+std::string Digits(double value, int digits) { return text::FormatSignificant(value, digits); }
+
+// For an open parameter the held-out runs moved: where the fit had it and what was probed.
+std::string ChosenNote(const ModelScore& s, const FittedValue& v) {
+  for (const OpenParameter& o : s.open) {
+    if (o.path != v.path || o.chosen == o.fitted) continue;
+    return " (chosen by the held-out runs among " + std::to_string(o.equivalent) + " values from " + Digits(o.low, 4) +
+           " to " + Digits(o.high, 4) + " that fit as well; fitted " + Digits(o.fitted, 4) + ")";
+  }
+  return "";
 }
 
 std::string Number(double value) { return std::isfinite(value) ? text::FormatDouble(value) : ""; }
@@ -150,12 +175,6 @@ nlohmann::json RivalsJson(const Diagnosis& d) {
                       {"kind", r.contains_named ? "contains the named effect, fits no better" : "tie"}});
   }
   return rivals;
-}
-
-nlohmann::json TellApartJson(const TellApart& t) {
-  if (t.probe.empty()) return nullptr;
-  return {{"probe", t.probe}, {"motor", t.motor}, {"description", t.description}, {"shows", t.shows},
-          {"difference_deg", t.difference}, {"noise_deg", t.noise}};
 }
 
 }  // namespace
@@ -294,7 +313,8 @@ std::string ReportMarkdown(const Diagnosis& d, const Rig& rig, const DiagnosisOp
     for (const FittedValue& v : s.values) {
       md << " " << v.path.substr(v.path.rfind('/') + 1) << " " << Digits(v.value, 4)
          << (std::isfinite(v.ci95) ? " ± " + Digits(v.ci95, 3) : "") << " " << v.unit
-         << (v.identified || s.fit.abandoned ? "" : " (not identified)") << BoundNote(v.bound) << ";";
+         << (v.identified || s.fit.abandoned ? "" : " (not identified)") << ChosenNote(s, v) << BoundNote(v.bound)
+         << ";";
     }
     md << " |\n";
   };

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <cstdint>
 #include <system_error>
@@ -60,6 +61,12 @@ std::string FormatDouble(double value) {
   char buffer[32];
   const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
   return error == std::errc() ? std::string(buffer, end) : std::string("nan");
+}
+
+std::string FormatSignificant(double value, int digits) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
+  return buffer;
 }
 
 std::optional<std::vector<double>> ParseNumberTuple(std::string_view text) {

@@ -27,6 +27,9 @@ std::optional<long long> ParseInt(std::string_view text);
 /// Shortest decimal form that parses back to exactly `value` ("0.1", "1e-05", "inf").
 std::string FormatDouble(double value);
 
+/// `value` to `digits` significant digits, for reports ("144.8", "0.0007", "2.6e+04").
+std::string FormatSignificant(double value, int digits);
+
 /// A tuple of numbers "(a, b, c)", "a,b,c" or "a b c" (parentheses optional, commas or spaces between);
 /// nullopt when an element is not a number. An empty text gives an empty vector.
 std::optional<std::vector<double>> ParseNumberTuple(std::string_view text);

@@ -12,7 +12,6 @@
 
 #include "model/identify/effect_catalogue.h"
 #include "model/identify/least_squares_polish.h"
-#include "model/identify/probe_motion.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 
@@ -223,23 +222,54 @@ std::string Against(const Rival& rival, const Diagnosis& d, const DiagnosisOptio
   return gap(rival.effect) + " against " + gap(d.effect) + (options.loss == Loss::kAbsolute ? " mean absolute" : " RMS");
 }
 
-std::string TellApartAdvice(const Diagnosis& d, const DiagnosisOptions& options) {
-  const TellApart& t = d.tell_apart;
+// The advice of a probe comparison: `goal` is what the motion would do ("tell them apart"; `goal_s` as "a probe
+// tells them apart"), `models` what it compares ("their fitted models").
+std::string ProbeAdvice(const TellApart& t, const DiagnosisOptions& options, const std::string& goal,
+                        const std::string& goal_s, const std::string& models) {
   if (t.probe.empty()) return "";
   std::ostringstream text;
   const double times = t.noise > 0.0 ? t.difference / t.noise : 0.0;
   if (times < 1.0) {
-    text << " None of orcs's probe motions tells them apart: their fitted models differ by at most "
+    text << " None of orcs's probe motions " << goal_s << ": " << models << " differ by at most "
          << Degrees(t.difference) << " RMS (" << t.probe << ", on " << t.motor << "), within the noise.";
     return text.str();
   }
   const std::string synth = options.synth_command.empty() ? "orcs-gap synth" : options.synth_command;
-  text << " To tell them apart, record " << t.description << " on " << t.motor << " (it shows " << t.shows
-       << "): their fitted models differ there by " << Degrees(t.difference) << " RMS, "
+  text << " To " << goal << ", record " << t.description << " on " << t.motor << " (it shows " << t.shows
+       << "): " << models << " differ there by " << Degrees(t.difference) << " RMS, "
        << text::FormatDouble(std::round(times * 10.0) / 10.0) << " times the noise. `" << synth << " --probe "
        << t.probe << " --probe-motor " << t.motor
        << " --out DIR` writes it as a keyframe record to play on the robot (DIR/motions/" << t.probe
        << ".csv); diagnose again with its measured run among the held-out runs.";
+  return text.str();
+}
+
+std::string TellApartAdvice(const Diagnosis& d, const DiagnosisOptions& options) {
+  return ProbeAdvice(d.tell_apart, options, "tell them apart", "tells them apart", "their fitted models");
+}
+
+// A loss as the verdict says it: the RMS (the squared loss's root) or the mean absolute error, in degrees.
+std::string LossDegrees(double loss, const DiagnosisOptions& options) {
+  return options.loss == Loss::kAbsolute ? Degrees(loss) + " mean absolute" : Degrees(std::sqrt(loss)) + " RMS";
+}
+
+// For each named effect, the open parameters whose value the held-out runs chose (open_parameter_probe.h).
+std::string OpenParameterNotes(const Diagnosis& d, const DiagnosisOptions& options) {
+  std::ostringstream text;
+  for (const std::string& effect : d.effects) {
+    for (const OpenParameter& open : ScoreOf(d, effect).open) {
+      if (open.chosen == open.fitted) continue;
+      const std::string name = open.path.substr(open.path.rfind('/') + 1);
+      const auto number = [](double value) { return text::FormatSignificant(value, 4); };
+      text << " " << effect << "'s " << name << " is not identified by the fit runs (" << number(open.fitted)
+           << (std::isfinite(open.ci95) ? " ± " + number(open.ci95) : "") << " " << open.unit << "): "
+           << open.equivalent << " of " << open.probed << " other values from " << number(open.low) << " to "
+           << number(open.high) << " fit them as well, and the held-out runs choose " << number(open.chosen) << " ("
+           << LossDegrees(open.holdout_loss, options) << " held out, against "
+           << LossDegrees(open.holdout_loss_fitted, options) << " at the fit's value)."
+           << ProbeAdvice(open.pin_down, options, "pin it down", "pins it down", "the models at the two values");
+    }
+  }
   return text.str();
 }
 
@@ -272,7 +302,7 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
     for (std::size_t i = 1; i < d.effects.size(); ++i) {
       text << ", with " << d.effects[i] << " to " << Degrees(ScoreOf(d, d.effects[i]).holdout_rms);
     }
-    text << "." << TellApartAdvice(d, options);
+    text << "." << TellApartAdvice(d, options) << OpenParameterNotes(d, options);
     return text.str();
   }
   text << "Missing effect: " << d.effect << " (" << winner.summary << "). With it the held-out gap falls from "
@@ -291,6 +321,7 @@ std::string Verdict(const Diagnosis& d, const DiagnosisOptions& options) {
            << "; " << rival.relation << ").";
     }
   }
+  text << OpenParameterNotes(d, options);
   return text.str();
 }
 
@@ -328,51 +359,35 @@ void NameEffects(const DiagnosisOptions& options, Diagnosis& d) {
   }
 }
 
-// For a tie: every probe motion of the worst channel's motor, replayed under the two first named models (noise off,
-// as replays are); the one where their angles differ most.
+// The motor whose motion a probe moves: the worst channel's of the model as given.
+std::string WorstMotor(const Rig& rig, const Diagnosis& d) {
+  const std::string& worst = d.before.channels.empty() ? rig.motors.front() : d.before.channels.front().name;
+  return worst.substr(worst.find(':') + 1);
+}
+
+// For a tie: the probe motion on which the two first named models differ most.
 TellApart BestProbe(ReplayEvaluator& replays, const Rig& rig, const std::vector<ValueAssignment>& model,
                     const std::vector<ReplayRun>& fit, const Diagnosis& d) {
-  TellApart best;
-  const std::string& worst = d.before.channels.empty() ? rig.motors.front() : d.before.channels.front().name;
-  best.motor = worst.substr(worst.find(':') + 1);
-  best.noise = ScoreOf(d, d.effects[0]).holdout_rms;
-  const std::vector<ProbeMotion> probes = ProbeMotions(rig, best.motor);
-  std::vector<MeasuredRun> runs;
-  for (const ProbeMotion& probe : probes) runs.push_back(ProbeRun(rig, probe, fit.empty() ? nullptr : fit[0].run));
-  std::vector<ReplayRun> probe_replays;
-  for (const MeasuredRun& run : runs) probe_replays.push_back(MakeReplayRun(rig, run, model));
-  const std::vector<Override> first = ModelOf(ScoreOf(d, d.effects[0]), d.effects[0]);
-  const std::vector<Override> second = ModelOf(ScoreOf(d, d.effects[1]), d.effects[1]);
-  std::vector<ReplayRequest> requests;
-  for (const ReplayRun& run : probe_replays) {
-    requests.push_back({&run, first, /*log=*/true});
-    requests.push_back({&run, second, /*log=*/true});
-  }
-  const std::vector<ReplayOutcome> outcomes = replays.Replay(requests);
-  const std::string path = MotorColumn(rig.agent, best.motor, "JointAngle");
-  const auto column = [&path](const ReplayOutcome& outcome) -> const std::vector<double>* {
-    for (const auto& [name, values] : outcome.columns) {
-      if (name == path) return &values;
-    }
-    return nullptr;
-  };
-  best.difference = -1.0;
-  for (std::size_t k = 0; k < probes.size(); ++k) {
-    const std::vector<double>* a = column(outcomes[2 * k]);
-    const std::vector<double>* b = column(outcomes[2 * k + 1]);
-    if (a == nullptr || b == nullptr || a->size() != b->size() || a->empty()) continue;
-    double sum = 0.0;
-    for (std::size_t row = 0; row < a->size(); ++row) sum += ((*a)[row] - (*b)[row]) * ((*a)[row] - (*b)[row]);
-    const double rms = std::sqrt(sum / static_cast<double>(a->size()));
-    if (std::isfinite(rms) && rms > best.difference) {
-      best.difference = rms;
-      best.probe = probes[k].name;
-      best.description = probes[k].description;
-      best.shows = probes[k].shows;
+  return CompareOnProbes(replays, rig, model, fit, WorstMotor(rig, d), ModelOf(ScoreOf(d, d.effects[0]), d.effects[0]),
+                         ModelOf(ScoreOf(d, d.effects[1]), d.effects[1]), ScoreOf(d, d.effects[0]).holdout_rms);
+}
+
+// For each named effect whose open parameter the held-out runs moved: the probe motion on which the model at the
+// fit's value and at the chosen one differ most, the measurement that would identify it.
+void PinDownOpenParameters(ReplayEvaluator& replays, const Rig& rig, const std::vector<ValueAssignment>& model,
+                           const std::vector<ReplayRun>& fit, Diagnosis& d) {
+  for (ModelScore& score : d.candidates) {
+    if (std::find(d.effects.begin(), d.effects.end(), score.label) == d.effects.end()) continue;
+    for (OpenParameter& open : score.open) {
+      if (open.chosen == open.fitted) continue;
+      const std::vector<Override> chosen = ModelOf(score, score.label);
+      std::vector<Override> fitted = chosen;
+      for (auto& [path, value] : fitted) {
+        if (path == open.path) value = text::FormatDouble(open.fitted);
+      }
+      open.pin_down = CompareOnProbes(replays, rig, model, fit, WorstMotor(rig, d), chosen, fitted, score.holdout_rms);
     }
   }
-  if (best.difference < 0.0) best.difference = 0.0;
-  return best;
 }
 
 }  // namespace
@@ -638,6 +653,38 @@ FitParameter ChooseLink(ReplayEvaluator& replays, const Rig& rig, const std::vec
   return {paths[chosen.link], "kg", masses[chosen.link] / 4.0, masses[chosen.link] * 4.0, true, mass};
 }
 
+// The effect's own parameters (from `first_added` on) that the fit runs leave open, probed across their intervals
+// (open_parameter_probe.h): the score moves to the point the held-out runs choose among those that fit the fit runs
+// within the tie's ratio. The base parameters are the refit's business, not the candidate's.
+void ProbeOpen(ReplayEvaluator& replays, const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
+               const std::vector<FitParameter>& parameters, const std::vector<Override>& enabled,
+               std::size_t first_added, Loss loss, ModelScore& score) {
+  std::vector<double> values, ci95;
+  std::vector<bool> identified;
+  for (const FittedValue& value : score.values) {
+    values.push_back(value.value);
+    ci95.push_back(value.ci95);
+    identified.push_back(value.identified);
+  }
+  const OpenProbeResult probed = ProbeOpenParameters(replays, fit, holdout, parameters, enabled, first_added, values,
+                                                     ci95, identified, score.fit.mse, score.holdout_loss,
+                                                     {loss, kTieRatio});
+  score.open = probed.open;
+  if (probed.values == values) return;
+  for (std::size_t i = 0; i < values.size(); ++i) score.values[i].value = probed.values[i];
+  score.holdout_loss = probed.holdout_loss;
+  if (loss == Loss::kSquared) {
+    score.fit_rms = Rms(probed.fit_loss);
+    score.holdout_rms = Rms(probed.holdout_loss);
+    return;
+  }
+  std::vector<Override> model = enabled;
+  const std::vector<Override> point = OverridesOf(parameters, probed.values);
+  model.insert(model.end(), point.begin(), point.end());
+  score.fit_rms = Rms(MeanSquaredError(replays, fit, model));
+  score.holdout_rms = Rms(MeanSquaredError(replays, holdout, model));
+}
+
 // One candidate effect fitted together with the (refitted) base parameters, scored with its penalty.
 ModelScore ScoreCandidate(ReplayEvaluator& replays, const Rig& rig, const std::vector<ValueAssignment>& model,
                           const std::vector<ReplayRun>& fit, const std::vector<ReplayRun>& holdout,
@@ -704,6 +751,7 @@ ModelScore ScoreCandidate(ReplayEvaluator& replays, const Rig& rig, const std::v
     };
   }
   ModelScore score = ScoreFit(replays, fit, holdout, parameters, enabled, fit_options, options.loss);
+  if (!score.fit.abandoned) ProbeOpen(replays, fit, holdout, parameters, enabled, refitted.size(), options.loss, score);
   score.label = std::string(effect.name);
   score.summary = summary;
   score.race = race;
@@ -784,6 +832,7 @@ Diagnosis Diagnose(ReplayEvaluator& replays, const Rig& rig, const std::vector<R
   if (won) {
     NameEffects(options, d);
     if (d.effects.size() > 1) d.tell_apart = BestProbe(replays, rig, model, fit, d);
+    PinDownOpenParameters(replays, rig, model, fit, d);
   }
   d.quantity = won ? ScoreOf(d, d.effect).quantity : "speed";
   d.model_values = won ? ModelOf(ScoreOf(d, d.effect), d.effect) : ModelOf(d.base, "");

@@ -12,6 +12,8 @@
 
 #include "model/identify/gap_statistics.h"
 #include "model/identify/model_fit.h"
+#include "model/identify/open_parameter_probe.h"
+#include "model/identify/probe_comparison.h"
 #include "model/identify/replay.h"
 #include "model/identify/replay_evaluator.h"
 
@@ -84,6 +86,9 @@ struct ModelScore {
   /// What the race saw of it after its swarm's first generations (its polished point's penalised held-out score
   /// against the best candidate's and nothing missing's, its fit error against the refit's); "" without a race
   std::string race;
+  /// The effect's own parameters the fit runs leave open, as probed (open_parameter_probe.h); `values`, the losses
+  /// and the score are those of the point the probes kept
+  std::vector<OpenParameter> open;
 };
 
 /// A candidate beside the winner that the held-out runs cannot tell from it (docs/gap.md, "When two effects
@@ -95,16 +100,6 @@ struct Rival {
   /// It contains the named effect exactly (EffectRelation::nested) and fits no better: the simpler is named alone
   /// and this one is said to add nothing the data need. Otherwise it is named beside the winner: a tie.
   bool contains_named = false;
-};
-
-/// For a tie: the probe motion (probe_motion.h) on which the two fitted models differ most.
-struct TellApart {
-  std::string probe;        ///< ProbeMotion::name; "" = none was tried (no tie)
-  std::string motor;        ///< the motor it moves: the worst channel of the model as given
-  std::string description;  ///< what it does
-  std::string shows;        ///< what it shows
-  double difference = 0.0;  ///< RMS difference of the two fitted models' angles of `motor` on it, degrees
-  double noise = 0.0;       ///< the named model's held-out RMS, degrees: the noise as the best model leaves it
 };
 
 /// One run's gap under one model version.
@@ -139,7 +134,7 @@ struct Diagnosis {
   std::string effect;                     ///< the winner, "" = no missing effect found
   std::vector<std::string> effects;       ///< every effect named: the winner, then those tied with it
   std::vector<Rival> rivals;              ///< candidates the held-out runs cannot tell from the winner
-  TellApart tell_apart;                   ///< for a tie: the motion that tells the first two apart
+  TellApart tell_apart;                   ///< for a tie: the motion that tells the first two apart (probe "" = none)
   std::string verdict;                    ///< one paragraph
   std::string quantity;                   ///< the quantity its residual is plotted against ("speed" when none)
   std::vector<Override> model_values;     ///< the fitted model: refit base values, winner's switch and values
