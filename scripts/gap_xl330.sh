@@ -7,7 +7,8 @@
 #   scripts/gap_xl330.sh [DATA_DIR] [OUT_DIR] [WORKERS]
 #
 # DATA_DIR defaults to ../shared/data/xl330-pendulum, OUT_DIR to build/gap-xl330, WORKERS to the number of cores.
-# GAP_OPTIONS passes more orcs-gap options (e.g. GAP_OPTIONS=--no-race).
+# GAP_OPTIONS passes more orcs-gap options (e.g. GAP_OPTIONS=--no-race). LOG_EXT=json reads BAM's JSON logs instead of
+# the CSVs (scripts/xl330_to_bam.py makes them; docs/gap_measured_data.md, "BAM's JSON logs").
 # Writes OUT_DIR/kp100_to_kp400/ and OUT_DIR/kp400_to_kp100/ (orcs-gap reports, with scripts/plot_gap.py's
 # plots), OUT_DIR/servo_gains.png and OUT_DIR/servo_gains.md. About 10 minutes per direction on 2 cores.
 set -euo pipefail
@@ -15,14 +16,15 @@ cd "$(dirname "$0")/.."
 data=${1:-../shared/data/xl330-pendulum}
 out=${2:-build/gap-xl330}
 workers=${3:-$(nproc 2>/dev/null || echo 2)}
+ext=${LOG_EXT:-csv}
 gap=build/bin/orcs-gap
 [[ -x $gap ]] || { echo "gap_xl330.sh: $gap is missing; run scripts/build.sh first" >&2; exit 2; }
 for gain in 100 400; do
   for trajectory in sin_sin lift_and_drop up_and_down sin_time_square; do
-    [[ -r $data/${trajectory}_kp$gain.csv ]] || { echo "gap_xl330.sh: $data/${trajectory}_kp$gain.csv: cannot read" >&2; exit 2; }
+    [[ -r $data/${trajectory}_kp$gain.$ext ]] || { echo "gap_xl330.sh: $data/${trajectory}_kp$gain.$ext: cannot read" >&2; exit 2; }
   done
 done
-runs() { for t in sin_sin lift_and_drop up_and_down sin_time_square; do echo "$data/${t}_kp$1.csv"; done; }
+runs() { for t in sin_sin lift_and_drop up_and_down sin_time_square; do echo "$data/${t}_kp$1.$ext"; done; }
 
 # The rig: a pole of the load's gravity torque (0.49 kg × 9.81 × 0.10 m) and inertia (0.49 kg × 0.10² m²): a uniform
 # pole of mass M and length L has M·L/2 = 0.049 kg·m and M·L²/3 = 0.0049 kg·m², so L = 0.15 m and M = 0.6533 kg.

@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
   CLI::App app{"orcs-gap: finds where simulation and measured runs disagree and which effect the model lacks",
                "orcs-gap"};
   AddRigOptions(app, o);
-  app.add_option("--measured", o.measured, "measured runs (orcs-sim logs, or any CSV with --mapping)");
+  app.add_option("--measured", o.measured, "measured runs (orcs-sim logs, BAM's JSON logs, or any CSV with --mapping)");
   app.add_option("--holdout", o.holdout, "held-out runs, scored but never fitted (default: the last measured run)");
   app.add_option("--mapping", o.mapping, "column mapping JSON for CSVs that are not orcs logs (docs/gap.md)");
   CLI::Option* workers = app.add_option("--workers", o.workers, "local worker processes (default: one per core)")

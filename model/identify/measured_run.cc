@@ -12,6 +12,7 @@
 #include "model/core/json_node.h"
 #include "model/core/text.h"
 #include "model/core/text_file.h"
+#include "model/identify/bam_log.h"
 
 namespace orcs::identify {
 namespace {
@@ -790,6 +791,11 @@ ColumnMapping ReadColumnMapping(const std::string& path) {
 }
 
 MeasuredRun ParseMeasuredRun(std::string_view text, const std::string& source, const ColumnMapping* mapping) {
+  if (IsBamLog(text)) {  // BAM's JSON log: read as the table of its CSV conversion (model/identify/bam_log.h)
+    const std::string bam_table = BamLogAsTable(text, source);
+    const ColumnMapping bam_mapping = mapping ? *mapping : BamLogMapping(bam_table, source);
+    return ParseMeasuredRun(bam_table, source, &bam_mapping);
+  }
   const Table table = ReadTable(text, source, mapping);
   MeasuredRun run;
   run.source = source;
