@@ -16,7 +16,8 @@ set(_ORCS_LAYER_USES_broker  "net;proto")
 set(_ORCS_LAYER_USES_worker  "model;net;proto")
 set(_ORCS_LAYER_USES_viewer  "model;net;proto;worker")  # worker/osp: the OSP-driven live mode (orcs-osp -gui)
 set(_ORCS_LAYER_USES_clients "model;net;proto;broker")
-set(_ORCS_LAYER_FOLDERS proto model net broker worker viewer clients)
+set(_ORCS_LAYER_USES_hardware "model")  # the servo bus: pure codecs and drivers, no wire
+set(_ORCS_LAYER_FOLDERS proto model net broker worker viewer clients hardware)
 
 # folder → outside libraries it may not use: a regex over link items, one over included headers.
 set(_ORCS_LAYER_PHYSICS_LINKS "^(PkgConfig::ODE|ODE::.*|.*libode.*|.*mujoco.*)$")
@@ -27,8 +28,10 @@ foreach(folder proto net broker)
   set(_ORCS_LAYER_FORBIDDEN_LINKS_${folder} "${_ORCS_LAYER_PHYSICS_LINKS}")
   set(_ORCS_LAYER_FORBIDDEN_HEADERS_${folder} "${_ORCS_LAYER_PHYSICS_HEADERS}")
 endforeach()
-set(_ORCS_LAYER_FORBIDDEN_LINKS_model "${_ORCS_LAYER_WIRE_LINKS}")
-set(_ORCS_LAYER_FORBIDDEN_HEADERS_model "${_ORCS_LAYER_WIRE_HEADERS}")
+foreach(folder model hardware)
+  set(_ORCS_LAYER_FORBIDDEN_LINKS_${folder} "${_ORCS_LAYER_WIRE_LINKS}")
+  set(_ORCS_LAYER_FORBIDDEN_HEADERS_${folder} "${_ORCS_LAYER_WIRE_HEADERS}")
+endforeach()
 
 # The top folder (proto, model, ...) a path inside the project lies in; "" for the project's root or outside it.
 function(_orcs_top_folder path out_var)
