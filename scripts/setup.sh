@@ -25,6 +25,7 @@ packages=(
   libcpp-httplib-dev    # orcs-view's HTTP server (viewer/)
   libre2-dev            # linear-time regular expressions for user-supplied patterns (the viewer's search)
   liblua5.4-dev         # Lua 5.4: scripted fitness terms and controllers that travel in jobs (model/script/)
+  libserialport-dev     # the Dynamixel bus on a real serial port (hardware/serial/, docs/hardware.md)
   libceres-dev          # Ceres Solver: orcs-gap's Levenberg–Marquardt polish and the Jacobian of its confidence intervals
   chromium              # orcs-view --render (headless, WebGL through SwiftShader) and tests/browser/
   ffmpeg                # orcs-view --render: PNG frames into a GIF or MP4 clip
