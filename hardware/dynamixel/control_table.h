@@ -36,6 +36,8 @@ struct ControlTable {
   std::int32_t max_tick = 0;             ///< the highest position tick (the lowest is 0)
   double speed_unit = 0.0;               ///< degrees per second per unit of the speed register
   std::uint16_t table_size = 0;          ///< bytes of the whole table (the emulator's memory)
+  std::uint16_t torque_limit = 0;        ///< address of the torque limit (AX-12: Torque Limit; XL330: PWM Limit), 2 bytes
+  std::uint16_t torque_limit_full = 0;   ///< its value for 100 % (AX-12: 1023; XL330: 885)
 };
 
 /// The AX-12+: 0…1023 over 300°, 512 = 0°; speed in 0.111 rpm with bit 10 the direction.
@@ -45,7 +47,8 @@ inline constexpr ControlTable kAx12{.name = "AX-12+", .protocol = Protocol::kV1,
                                      .present_temperature = 43, .position_size = 2, .speed_size = 2,
                                      .load_size = 2, .voltage_size = 1, .voltage_unit = 0.1,
                                      .degrees_per_tick = 300.0 / 1024.0, .center_tick = 512, .max_tick = 1023,
-                                     .speed_unit = 0.111 * 6.0, .table_size = 50};
+                                     .speed_unit = 0.111 * 6.0, .table_size = 50, .torque_limit = 34,
+                                     .torque_limit_full = 1023};
 
 /// The XL330-M288: 0…4095 per turn, 2048 = 0°; velocity in 0.229 rpm, signed; Present PWM as the load.
 inline constexpr ControlTable kXl330{.name = "XL330-M288", .protocol = Protocol::kV2, .model_number = 1200,
@@ -54,6 +57,7 @@ inline constexpr ControlTable kXl330{.name = "XL330-M288", .protocol = Protocol:
                                       .present_temperature = 146, .position_size = 4, .speed_size = 4,
                                       .load_size = 2, .voltage_size = 2, .voltage_unit = 0.1,
                                       .degrees_per_tick = 360.0 / 4096.0, .center_tick = 2048, .max_tick = 4095,
-                                      .speed_unit = 0.229 * 6.0, .table_size = 148};
+                                      .speed_unit = 0.229 * 6.0, .table_size = 148, .torque_limit = 36,
+                                      .torque_limit_full = 885};
 
 }  // namespace orcs::dynamixel

@@ -213,6 +213,15 @@ void ServoBusEmulator::ApplyWrite(Servo& servo, std::uint16_t address, std::vect
   if (address + bytes.size() > servo.table.size()) return;
   std::copy(bytes.begin(), bytes.end(), servo.table.begin() + address);
   writes_.push_back({servo.id, address, std::move(bytes)});
+  written_.notify_all();
+}
+
+bool ServoBusEmulator::AwaitAllTorqueOff(std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(mutex_);
+  return written_.wait_for(lock, timeout, [&] {
+    return std::all_of(servos_.begin(), servos_.end(),
+                       [&](const auto& entry) { return entry.second->table[options_.table.torque_enable] == 0; });
+  });
 }
 
 std::vector<std::uint8_t> ServoBusEmulator::ReadTable(Servo& servo, std::uint16_t address, std::uint16_t length,

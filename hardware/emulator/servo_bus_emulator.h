@@ -10,6 +10,8 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -61,6 +63,9 @@ class ServoBusEmulator {
   /// Servo `id`'s shaft angle, degrees, and whether its torque is on.
   double Angle(std::uint8_t id) const;
   bool TorqueOn(std::uint8_t id) const;
+  /// Waits up to `timeout` until every servo's torque is off (the last packets of a program that has ended may
+  /// still be in the terminal's buffer); whether it is.
+  bool AwaitAllTorqueOff(std::chrono::milliseconds timeout) const;
   /// Instruction packets received intact, and those with a wrong checksum (CRC).
   std::size_t instructions() const { return instructions_; }
   std::size_t checksum_errors() const { return checksum_errors_; }
@@ -79,6 +84,7 @@ class ServoBusEmulator {
   int master_ = -1;                   // the emulator's side
   int slave_ = -1;                    // held open so that the master never reads EIO between the driver's opens
   mutable std::mutex mutex_;          // guards the servos and the log
+  mutable std::condition_variable written_;  // notified after every applied write
   std::map<std::uint8_t, std::unique_ptr<Servo>> servos_;  // by id
   std::vector<AppliedWrite> writes_;
   std::atomic<std::size_t> instructions_{0};

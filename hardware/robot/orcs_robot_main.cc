@@ -1,0 +1,168 @@
+// orcs-robot: plays a controller on the physical robot through its Dynamixel bus, safety first, and logs the run
+// as a measured run for orcs-gap (docs/hardware.md).
+//
+//   orcs-robot --map scenarios/robots/aseries.joints.json --port /dev/ttyUSB0 --play scenarios/motions/waist_bend.csv
+//              --out run.csv [--rate 50] [--yes] [--dry-run]
+#include <CLI/CLI.hpp>
+
+#include <csignal>
+#include <iostream>
+
+#include "hardware/emulator/servo_bus_emulator.h"
+#include "hardware/robot/robot_session.h"
+#include "model/core/atomic_file.h"
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+namespace orcs::hardware {
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitRunFailed = 1;   // the bus or a servo stopped the run (torque off)
+constexpr int kExitBadInput = 2;    // a bad map, record or option: one line names it
+constexpr int kExitInterrupted = 130;  // Ctrl-C (torque off)
+
+std::atomic<bool> g_interrupted{false};  // set by SIGINT/SIGTERM, read by the control loop every period
+
+extern "C" void OnInterrupt(int) { g_interrupted = true; }
+
+void InstallInterruptHandler() {
+  struct sigaction action = {};
+  action.sa_handler = OnInterrupt;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+struct Options {
+  std::string map;          // joint map file
+  std::string port;         // serial port of the bus
+  std::string play;         // keyframe record to play
+  std::string out;          // the run's log (a measured run)
+  double rate_hz = 50.0;    // control rate
+  int deadline_streak = 5;  // overruns in a row that stop the run
+  bool dry_run = false;     // print what would be sent, send nothing
+  bool yes = false;         // skip the first pose's confirmation
+  bool emulate = false;     // play on the servo-bus emulator instead of a port
+};
+
+// Shows where the robot is and where the first pose takes it; true when the user agrees (or passed --yes).
+bool ConfirmFirstPose(RobotSession& session, const control::KeyframeRecord& record, bool yes) {
+  const std::vector<double> now = session.ReadAngles();
+  const std::vector<double> pose = session.FirstPose(record);
+  double largest = 0.0;
+  std::size_t which = 0;
+  for (std::size_t j = 0; j < pose.size(); ++j) {
+    if (std::abs(pose[j] - now[j]) > largest) largest = std::abs(pose[j] - now[j]), which = j;
+  }
+  std::cerr << "orcs-robot: the first pose moves " << session.map().joints.size() << " joints, the most "
+            << session.map().joints[which].joint << " by " << text::FormatDouble(std::round(largest * 10) / 10)
+            << "° (from " << text::FormatDouble(std::round(now[which] * 10) / 10) << "° to "
+            << text::FormatDouble(std::round(pose[which] * 10) / 10) << "°)\n";
+  if (yes) return true;
+  std::cerr << "orcs-robot: torque on and move there? Keep a hand near the power switch. [y/N] " << std::flush;
+  std::string answer;
+  if (!std::getline(std::cin, answer)) return false;
+  return answer == "y" || answer == "Y" || answer == "yes";
+}
+
+int Run(const Options& o) {
+  JointMap map = ReadJointMap(o.map);
+  const control::KeyframeRecord record =
+      control::ReadKeyframeRecord(o.play, static_cast<int>(map.joints.size()));
+  std::unique_ptr<ServoBusEmulator> emulator;  // --emulate: the map's servos on a pseudo-terminal of our own
+  std::string port = o.port;
+  if (o.emulate) {
+    EmulatorOptions emulated;
+    emulated.table = map.servo;
+    for (const JointMapping& joint : map.joints) emulated.ids.push_back(joint.id);
+    emulator = std::make_unique<ServoBusEmulator>(emulated);
+    port = emulator->port();
+  }
+  std::unique_ptr<dynamixel::DynamixelBus> bus;
+  if (!o.dry_run) {
+    dynamixel::BusOptions bus_options;
+    bus_options.protocol = map.servo.protocol;
+    bus = std::make_unique<dynamixel::DynamixelBus>(OpenSerialLink(port, map.baud), bus_options);
+  }
+  SessionOptions session_options;
+  session_options.rate_hz = o.rate_hz;
+  session_options.deadline_streak = o.deadline_streak;
+  session_options.dry_run = o.dry_run ? &std::cout : nullptr;
+  RobotSession session(std::move(map), std::move(bus), session_options);
+  session.CheckServos();
+  if (!o.dry_run && !ConfirmFirstPose(session, record, o.yes)) {
+    std::cerr << "orcs-robot: not confirmed: nothing was sent (pass --yes to skip the question)\n";
+    return kExitBadInput;
+  }
+  std::cerr << "orcs-robot: playing " << o.play << " on " << session.map().joints.size() << " "
+            << session.map().servo.name << (o.dry_run ? " (dry run: nothing is sent)" : "") << " at "
+            << text::FormatDouble(o.rate_hz) << " Hz; Ctrl-C turns the torque off\n";
+  const RobotRun run = session.Play(record, g_interrupted);
+  if (!o.out.empty()) {
+    AtomicFile file(o.out);
+    file.stream() << FormatRobotLog(session.map(), run,
+                                    {"map: " + o.map, "record: " + o.play, "port: " + (o.dry_run ? "dry run" : o.emulate ? "emulated" : o.port),
+                                     "rate_hz: " + text::FormatDouble(o.rate_hz),
+                                     "stop: " + StopReasonName(run.reason)});
+    file.Commit();
+  }
+  std::cerr << "orcs-robot: " << (run.reason == StopReason::kFinished ? "finished" : "stopped: " + run.message)
+            << "; torque off; " << run.rows.size() << " periods, " << run.clamped << " commands clamped to the limits, "
+            << run.missed_deadlines << " deadlines missed";
+  if (const auto* b = session.bus()) {
+    std::cerr << "; bus: " << b->counts().instructions << " instructions, " << b->counts().timeouts << " timeouts, "
+              << b->counts().checksum_errors << " checksum errors, " << b->counts().retries << " retries";
+  }
+  std::cerr << (o.out.empty() ? "" : "; log " + o.out) << "\n";
+  switch (run.reason) {
+    case StopReason::kFinished: return kExitOk;
+    case StopReason::kInterrupted: return kExitInterrupted;
+    default: return kExitRunFailed;
+  }
+}
+
+}  // namespace
+}  // namespace orcs::hardware
+
+int main(int argc, char** argv) {
+  using orcs::hardware::Options;
+  Options o;
+  CLI::App app{"orcs-robot: plays a keyframe record on the physical robot through its Dynamixel bus, joint limits\n"
+               "enforced, torque off on Ctrl-C, a bus error, a servo alarm or missed deadlines; logs the run as a\n"
+               "measured run for orcs-gap (docs/hardware.md)"};
+  app.add_option("--map", o.map, "joint map (JSON): joint ↔ servo id, direction, offset, limits (scenarios/robots/)")
+      ->required();
+  app.add_option("--port", o.port, "the bus's serial port (/dev/ttyUSB0); not with --dry-run");
+  app.add_option("--play", o.play, "keyframe record to play (raw layout, the map's joints in order)")->required();
+  app.add_option("--out", o.out, "write the run's log here (a measured run orcs-gap reads)");
+  app.add_option("--rate", o.rate_hz, "control rate, Hz (default 50)")->check(CLI::Range(1.0, 1000.0));
+  app.add_option("--deadline-streak", o.deadline_streak, "overrun periods in a row that stop the run (default 5)")
+      ->check(CLI::Range(1, 1000));
+  app.add_flag("--dry-run", o.dry_run, "print every packet that would be sent; open no port");
+  app.add_flag("--yes", o.yes, "do not ask before moving to the first pose");
+  app.add_flag("--emulate", o.emulate, "play on emulated servos (the servo-bus emulator on a pseudo-terminal): try a "
+               "record, measure the loop, with no robot");
+  try {
+    app.parse(argc, argv);
+    if (o.port.empty() && !o.dry_run && !o.emulate) throw CLI::RequiredError("--port (or --emulate, --dry-run)");
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "orcs-robot: " << e.what() << " (see orcs-robot --help)\n";
+    return orcs::hardware::kExitBadInput;
+  }
+  orcs::hardware::InstallInterruptHandler();
+  try {
+    return orcs::hardware::Run(o);
+  } catch (const orcs::InputError& error) {
+    std::cerr << "orcs-robot: " << error.what() << "\n";
+    return orcs::hardware::kExitBadInput;
+  } catch (const orcs::dynamixel::BusError& error) {  // before the run: the torque was never turned on
+    std::cerr << "orcs-robot: stopped before the run: " << error.what() << "; the torque was not turned on\n";
+    return orcs::hardware::kExitRunFailed;
+  } catch (const std::exception& error) {
+    std::cerr << "orcs-robot: internal error: " << error.what() << "\n";
+    return orcs::hardware::kExitRunFailed;
+  }
+}

@@ -1,0 +1,295 @@
+#include "hardware/robot/robot_session.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ostream>
+#include <sstream>
+#include <thread>
+
+#include "model/core/error.h"
+#include "model/core/text.h"
+
+namespace orcs::hardware {
+
+using dynamixel::ControlTable;
+using dynamixel::FromLittleEndian;
+using dynamixel::LittleEndian;
+using dynamixel::SyncWriteEntry;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// The row of `record` in effect at `time` s: the latest whose time is not after it (the player's rule).
+const control::Keyframe& FrameAt(const control::KeyframeRecord& record, double time) {
+  const control::Keyframe* frame = &record.frames.front();
+  for (const control::Keyframe& candidate : record.frames) {
+    if (candidate.time_ms > time * 1000.0 + 1e-9) break;
+    frame = &candidate;
+  }
+  return *frame;
+}
+
+// A signed register: AX-12 speed and load keep the sign in bit 10 (CCW below 1024, CW above); 2.0 is two's
+// complement.
+double SignedRegister(std::int64_t raw, std::size_t size, const ControlTable& table) {
+  if (table.protocol == dynamixel::Protocol::kV1) return (raw & 0x400) ? -static_cast<double>(raw & 0x3FF) : static_cast<double>(raw & 0x3FF);
+  const std::int64_t sign_bit = std::int64_t{1} << (8 * size - 1);
+  return static_cast<double>((raw & sign_bit) ? raw - 2 * sign_bit : raw);
+}
+
+// The bytes from the first to the last state register the log reads.
+struct StateWindow {
+  std::uint16_t first = 0;   // address of the first byte read
+  std::uint16_t length = 0;  // bytes read
+};
+StateWindow WindowOf(const ControlTable& t) {
+  const std::uint16_t first = std::min({t.present_position, t.present_speed, t.present_load, t.present_voltage,
+                                        t.present_temperature});
+  const int last = std::max({t.present_position + t.position_size, t.present_speed + t.speed_size,
+                             t.present_load + t.load_size, t.present_voltage + t.voltage_size,
+                             t.present_temperature + 1});
+  return {first, static_cast<std::uint16_t>(last - first)};
+}
+
+}  // namespace
+
+std::string StopReasonName(StopReason reason) {
+  switch (reason) {
+    case StopReason::kFinished: return "finished";
+    case StopReason::kInterrupted: return "interrupted";
+    case StopReason::kBusError: return "bus error";
+    case StopReason::kServoAlarm: return "servo alarm";
+    case StopReason::kDeadlineStreak: return "missed deadlines";
+  }
+  return "unknown";
+}
+
+RobotSession::RobotSession(JointMap map, std::unique_ptr<dynamixel::DynamixelBus> bus, SessionOptions options)
+    : map_(std::move(map)), bus_(std::move(bus)), options_(options) {
+  if (!bus_ && !options_.dry_run) throw std::invalid_argument("RobotSession: no bus and no dry-run output");
+}
+
+RobotSession::~RobotSession() {
+  if (torque_on_) TorqueOff();
+}
+
+void RobotSession::Print(const std::string& line) {
+  if (options_.dry_run) *options_.dry_run << line << "\n";
+}
+
+void RobotSession::CheckServos() {
+  if (!bus_) return;
+  std::vector<std::string> missing;
+  for (const JointMapping& joint : map_.joints) {
+    if (!bus_->Ping(joint.id)) missing.push_back(std::to_string(joint.id) + " (" + joint.joint + ")");
+  }
+  if (missing.empty()) return;
+  std::string list;
+  for (const std::string& m : missing) list += (list.empty() ? "" : ", ") + m;
+  throw InputError(map_.source, 0,
+                   "servo" + std::string(missing.size() > 1 ? "s " : " ") + list + " did not answer on " +
+                       bus_->port() + " at " + std::to_string(map_.baud) +
+                       " baud (check the ids with a scan, the baud rate, the power and the cable)");
+}
+
+std::vector<double> RobotSession::FirstPose(const control::KeyframeRecord& record) const {
+  std::vector<double> pose;
+  for (std::size_t j = 0; j < map_.joints.size(); ++j) {
+    pose.push_back(ClampToLimits(map_.joints[j], record.frames.front().inputs[2 * j]));
+  }
+  return pose;
+}
+
+std::vector<double> RobotSession::ReadAngles() {
+  RobotRow row;
+  row.goal.assign(map_.joints.size(), 0.0);
+  ReadState(row);
+  return row.angle;
+}
+
+void RobotSession::TorqueOn() {
+  const ControlTable& t = map_.servo;
+  std::vector<SyncWriteEntry> limits, enable;
+  std::ostringstream line;
+  line << "SYNC_WRITE torque limit:";
+  for (const JointMapping& joint : map_.joints) {
+    const auto limit = static_cast<std::int64_t>(std::lround(joint.max_torque * t.torque_limit_full));
+    limits.push_back({joint.id, LittleEndian(limit, 2)});
+    enable.push_back({joint.id, {1}});
+    line << " " << joint.joint << "(" << int{joint.id} << ")=" << limit;
+  }
+  torque_on_ = true;  // from here on every way out turns it off
+  if (!bus_) {
+    Print(line.str());
+    Print("SYNC_WRITE torque enable: every joint = 1");
+    return;
+  }
+  bus_->SyncWrite(t.torque_limit, 2, limits);
+  bus_->SyncWrite(t.torque_enable, 1, enable);
+}
+
+void RobotSession::TorqueOff() noexcept {
+  torque_on_ = false;
+  try {
+    std::vector<SyncWriteEntry> off;
+    for (const JointMapping& joint : map_.joints) off.push_back({joint.id, {0}});
+    if (!bus_) {
+      Print("SYNC_WRITE torque enable: every joint = 0");
+      return;
+    }
+    bus_->SyncWrite(map_.servo.torque_enable, 1, off);
+  } catch (...) {
+    // Nothing more can be done from here: the caller reports the run's own reason; the servos' own
+    // protection (torque limit, alarm shutdown) remains.
+  }
+}
+
+void RobotSession::SendGoals(const std::vector<double>& goal, RobotRun& run) {
+  std::vector<SyncWriteEntry> entries;
+  std::ostringstream line;
+  line << "SYNC_WRITE goal position:";
+  for (std::size_t j = 0; j < map_.joints.size(); ++j) {
+    const JointMapping& joint = map_.joints[j];
+    // A limit may sit on the servo's last tick + 1 (the AX-12's +150° is tick 1024 of 0…1023): the register's range
+    // is the last word.
+    const std::int64_t ticks = std::clamp<std::int64_t>(ToTicks(joint, goal[j]), 0, map_.servo.max_tick);
+    entries.push_back({joint.id, LittleEndian(ticks, map_.servo.position_size)});
+    line << " " << joint.joint << "(" << int{joint.id} << ")=" << ticks;
+  }
+  (void)run;
+  if (!bus_) {
+    Print(line.str());
+    return;
+  }
+  bus_->SyncWrite(map_.servo.goal_position, map_.servo.position_size, entries);
+}
+
+void RobotSession::ReadState(RobotRow& row) {
+  const std::size_t n = map_.joints.size();
+  row.angle.assign(n, 0.0);
+  row.speed.assign(n, 0.0);
+  row.load.assign(n, 0.0);
+  row.voltage.assign(n, 0.0);
+  row.temperature.assign(n, 0.0);
+  if (!bus_) {
+    row.angle = row.goal;  // a dry run has no robot: it "reaches" its commands
+    return;
+  }
+  const ControlTable& t = map_.servo;
+  const StateWindow window = WindowOf(t);
+  std::vector<std::uint8_t> ids;
+  for (const JointMapping& joint : map_.joints) ids.push_back(joint.id);
+  const auto states = bus_->SyncRead(ids, window.first, window.length);
+  for (std::size_t j = 0; j < n; ++j) {
+    const JointMapping& joint = map_.joints[j];
+    const auto field = [&](std::uint16_t address, std::size_t size) {
+      return FromLittleEndian(std::span(states[j]).subspan(address - window.first, size));
+    };
+    row.angle[j] = ToDegrees(joint, field(t.present_position, t.position_size));
+    row.speed[j] = joint.direction * SignedRegister(field(t.present_speed, t.speed_size), t.speed_size, t) * t.speed_unit;
+    row.load[j] = SignedRegister(field(t.present_load, t.load_size), t.load_size, t);
+    row.voltage[j] = static_cast<double>(field(t.present_voltage, t.voltage_size)) * t.voltage_unit;
+    row.temperature[j] = static_cast<double>(field(t.present_temperature, 1));
+  }
+}
+
+RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::atomic<bool>& interrupted) {
+  const std::size_t n = map_.joints.size();
+  if (record.motor_count != static_cast<int>(n)) {
+    throw InputError(record.source, 0,
+                     "the record drives " + control::Motors(record.motor_count) + ", the joint map " +
+                         map_.source + " has " + control::Motors(static_cast<int>(n)));
+  }
+  RobotRun run;
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options_.rate_hz));
+  const double duration = record.frames.back().time_ms / 1000.0;
+  std::vector<double> command = FirstPose(record);  // what acts from the row on
+  std::vector<double> torque(n, 1.0);
+  int streak = 0;
+  try {
+    TorqueOn();
+    const Clock::time_point start = Clock::now();
+    for (std::size_t k = 0;; ++k) {
+      const Clock::time_point due = start + period * static_cast<long>(k);
+      std::this_thread::sleep_until(due);
+      if (interrupted) {
+        run.reason = StopReason::kInterrupted;
+        run.message = "interrupted (Ctrl-C)";
+        break;
+      }
+      const Clock::time_point began = Clock::now();
+      RobotRow row;
+      row.time = static_cast<double>(k) / options_.rate_hz;
+      row.goal = command;
+      row.torque = torque;
+      ReadState(row);
+      if (row.time > duration + 1e-9) {  // the motion has ended: its last state is logged
+        row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
+        run.rows.push_back(std::move(row));
+        break;
+      }
+      const control::Keyframe& frame = FrameAt(record, row.time);
+      for (std::size_t j = 0; j < n; ++j) {
+        const double wanted = frame.inputs[2 * j];
+        command[j] = ClampToLimits(map_.joints[j], wanted);
+        if (command[j] != wanted) ++run.clamped;
+        torque[j] = std::clamp(std::abs(frame.inputs[2 * j + 1]), 0.0, map_.joints[j].max_torque);
+      }
+      row.command_delay = std::chrono::duration<double>(Clock::now() - due).count();
+      SendGoals(command, run);
+      row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
+      run.rows.push_back(std::move(row));
+      if (Clock::now() > due + period) {
+        ++run.missed_deadlines;
+        if (++streak >= options_.deadline_streak) {
+          run.reason = StopReason::kDeadlineStreak;
+          run.message = std::to_string(streak) + " control periods in a row overran their " +
+                        text::FormatDouble(1000.0 / options_.rate_hz) +
+                        " ms (lower --rate, or raise the baud rate)";
+          break;
+        }
+      } else {
+        streak = 0;
+      }
+    }
+  } catch (const dynamixel::ServoAlarm& alarm) {
+    run.reason = StopReason::kServoAlarm;
+    run.message = alarm.what();
+  } catch (const dynamixel::BusError& error) {
+    run.reason = StopReason::kBusError;
+    run.message = error.what();
+  }
+  TorqueOff();
+  return run;
+}
+
+std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::vector<std::string>& comments) {
+  std::ostringstream out;
+  out << "# orcs-robot log\n";
+  for (const std::string& comment : comments) out << "# " << comment << "\n";
+  out << "# columns: time";
+  const std::string sim = "/Sim/" + map.agent + "/";
+  for (const JointMapping& joint : map.joints) {
+    out << "," << sim << joint.joint << "/DesiredAngle," << sim << joint.joint << "/DesiredTorque," << sim
+        << joint.joint << "/JointAngle";
+  }
+  for (const JointMapping& joint : map.joints) {
+    for (const char* q : {"Speed", "Load", "Voltage", "Temperature"}) out << ",/Robot/" << joint.joint << "/" << q;
+  }
+  out << ",/Robot/CommandDelay,/Robot/Cycle\n";
+  for (const RobotRow& row : run.rows) {
+    out << text::FormatDouble(row.time);
+    for (std::size_t j = 0; j < map.joints.size(); ++j) {
+      out << "," << text::FormatDouble(row.goal[j]) << "," << text::FormatDouble(row.torque[j]) << ","
+          << text::FormatDouble(row.angle[j]);
+    }
+    for (std::size_t j = 0; j < map.joints.size(); ++j) {
+      out << "," << text::FormatDouble(row.speed[j]) << "," << text::FormatDouble(row.load[j]) << ","
+          << text::FormatDouble(row.voltage[j]) << "," << text::FormatDouble(row.temperature[j]);
+    }
+    out << "," << text::FormatDouble(row.command_delay) << "," << text::FormatDouble(row.cycle) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace orcs::hardware

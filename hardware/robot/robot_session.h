@@ -1,0 +1,104 @@
+// One run of a controller on the physical robot, safety first (docs/hardware.md, "Safety"): every command is
+// clamped to the joint map's limits before anything is sent; the run stops with the torque off on Ctrl-C (the
+// caller's flag, checked every control period), a bus error, a servo alarm or a streak of missed deadlines, and
+// says why. Each control period reads the servos' state and logs it beside the command that acted until then,
+// so the log is a measured run orcs-gap reads as it stands (docs/gap_measured_data.md).
+//
+// Without a bus (a dry run) nothing is sent: each packet that would be is printed instead, and the log's angles
+// are the commands.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hardware/dynamixel/dynamixel_bus.h"
+#include "hardware/robot/joint_map.h"
+#include "model/control/keyframe_record.h"
+
+namespace orcs::hardware {
+
+/// How a run is paced and when it gives up.
+struct SessionOptions {
+  double rate_hz = 50.0;         ///< control rate, Hz: one command and one state read per period
+  int deadline_streak = 5;       ///< consecutive periods that overrun their deadline before the run stops
+  std::ostream* dry_run = nullptr;  ///< where a dry run prints what would be sent (no bus)
+};
+
+/// Why a run ended.
+enum class StopReason {
+  kFinished,        ///< the controller's motion ended
+  kInterrupted,     ///< Ctrl-C (SIGINT/SIGTERM)
+  kBusError,        ///< a servo did not answer intact, or the port failed
+  kServoAlarm,      ///< a servo reported overload, overheating, voltage, angle limit, ...
+  kDeadlineStreak,  ///< too many control periods in a row overran
+};
+std::string StopReasonName(StopReason reason);
+
+/// One control period's row of the log.
+struct RobotRow {
+  double time = 0.0;                   ///< s, nominal: period · row
+  std::vector<double> goal;            ///< per joint: the command that acted until this row, degrees (clamped)
+  std::vector<double> torque;          ///< per joint: its torque, 0…1 (0 = limp)
+  std::vector<double> angle;           ///< per joint: the measured angle, degrees
+  std::vector<double> speed;           ///< per joint: the servo's speed, °/s
+  std::vector<double> load;            ///< per joint: the servo's load register, raw
+  std::vector<double> voltage;         ///< per joint: supply voltage, V
+  std::vector<double> temperature;     ///< per joint: °C
+  double command_delay = 0.0;          ///< s: how late after the row's nominal time the command went out
+  double cycle = 0.0;                  ///< s: the bus time of this period (command + reads)
+};
+
+/// What a run did.
+struct RobotRun {
+  StopReason reason = StopReason::kFinished;  ///< why it ended
+  std::string message;                        ///< the reason in words (the alarm's text, the bus error)
+  std::vector<RobotRow> rows;                 ///< the log, one row per control period
+  std::size_t clamped = 0;                    ///< commands clamped to a joint's limits
+  std::size_t missed_deadlines = 0;           ///< periods that overran
+};
+
+class RobotSession {
+ public:
+  /// `bus` may be null: a dry run, printing to options.dry_run.
+  RobotSession(JointMap map, std::unique_ptr<dynamixel::DynamixelBus> bus, SessionOptions options);
+  /// Turns the torque off if it is on.
+  ~RobotSession();
+
+  /// Pings every servo of the map; throws InputError listing the ids that do not answer.
+  void CheckServos();
+  /// The joints' present angles, degrees (a dry run: 0 each).
+  std::vector<double> ReadAngles();
+  /// The record's first pose, clamped to the limits: where the robot goes when torque comes on.
+  std::vector<double> FirstPose(const control::KeyframeRecord& record) const;
+  /// Plays `record` (raw layout, the map's joints in order) until it ends or something stops it: torque on,
+  /// one period per 1/rate_hz, torque off at the end whatever the reason. `interrupted` is checked every period.
+  RobotRun Play(const control::KeyframeRecord& record, const std::atomic<bool>& interrupted);
+  /// Every joint limp; never throws (it is what happens on every error).
+  void TorqueOff() noexcept;
+
+  const JointMap& map() const { return map_; }
+  const dynamixel::DynamixelBus* bus() const { return bus_.get(); }
+
+ private:
+  void TorqueOn();
+  void SendGoals(const std::vector<double>& goal, RobotRun& run);
+  void ReadState(RobotRow& row);
+  void Print(const std::string& line);
+
+  JointMap map_;                                    // joints, ids, limits
+  std::unique_ptr<dynamixel::DynamixelBus> bus_;    // null in a dry run
+  SessionOptions options_;                          // rate, deadline streak, dry-run output
+  bool torque_on_ = false;                          // whether TorqueOn ran without TorqueOff since
+};
+
+/// The run as a measured run CSV (orcs's native log, docs/gap_measured_data.md): time, then per joint
+/// /Sim/<agent>/<joint>/DesiredAngle, DesiredTorque, JointAngle, then the servo's other readings
+/// (/Robot/<joint>/Speed, Load, Voltage, Temperature) and the bus's timing (/Robot/CommandDelay, /Robot/Cycle).
+std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::vector<std::string>& comments);
+
+}  // namespace orcs::hardware

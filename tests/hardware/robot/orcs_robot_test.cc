@@ -1,0 +1,202 @@
+// orcs-robot, the real binary, on 21 emulated AX-12+ servos behind a real pseudo-terminal: a record played and
+// logged as a measured run; and the safety rules — limits clamp before anything is sent, a servo alarm and Ctrl-C
+// stop the run with the torque off, nothing moves without confirmation, a dry run sends nothing.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <chrono>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hardware/dynamixel/dynamixel_bus.h"
+#include "hardware/emulator/servo_bus_emulator.h"
+#include "hardware/robot/joint_map.h"
+#include "model/identify/measured_run.h"
+#include "tests/support/background_process.h"
+#include "tests/support/process.h"
+#include "tests/support/temp_dir.h"
+
+namespace orcs::hardware {
+namespace {
+
+using test_support::BackgroundProcess;
+using test_support::ProcessResult;
+using test_support::RunProcess;
+using test_support::TempDir;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+const std::string kRobot = ORCS_BINARY_DIR "/bin/orcs-robot";
+const std::string kMap = ORCS_SOURCE_DIR "/scenarios/robots/aseries.joints.json";
+constexpr int kJoints = 21;
+
+std::vector<std::uint8_t> AllIds() {
+  std::vector<std::uint8_t> ids;
+  for (int id = 1; id <= kJoints; ++id) ids.push_back(static_cast<std::uint8_t>(id));
+  return ids;
+}
+
+// A raw keyframe record for the 21 joints: every joint at 0° except the waist (joint 0) and the right elbow
+// (joint 5), at the given angles per row, full torque; rows `step_ms` apart.
+std::string Record(const std::vector<std::pair<double, double>>& waist_and_elbow, int step_ms) {
+  std::string text = "# layout: raw\n";
+  for (std::size_t row = 0; row < waist_and_elbow.size(); ++row) {
+    text += std::to_string(static_cast<int>(row) * step_ms);
+    for (int j = 0; j < kJoints; ++j) {
+      const double angle = j == 0 ? waist_and_elbow[row].first : j == 5 ? waist_and_elbow[row].second : 0.0;
+      text += "," + std::to_string(angle) + ",1";
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+std::string Write(const TempDir& dir, const std::string& name, const std::string& text) {
+  const std::string path = (dir.path() / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+// Waits, bounded, until the process's stderr holds `text`; false when it ends or the time is up first.
+bool AwaitErr(BackgroundProcess& process, const std::string& text) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (process.err().find(text) != std::string::npos) return true;
+    if (process.Wait(std::chrono::milliseconds(10))) return process.err().find(text) != std::string::npos;
+  }
+  return false;
+}
+
+// The goal-position writes the emulator applied to servo `id`, in ticks.
+std::vector<std::int64_t> GoalWrites(const std::vector<AppliedWrite>& writes, std::uint8_t id) {
+  std::vector<std::int64_t> goals;
+  for (const AppliedWrite& w : writes) {
+    if (w.id == id && w.address == dynamixel::kAx12.goal_position) goals.push_back(dynamixel::FromLittleEndian(w.bytes));
+  }
+  return goals;
+}
+
+// The program has ended; its last packets (torque off) may still be in the terminal's buffer: awaited, bounded.
+bool AllTorqueOff(const ServoBusEmulator& emulator) {
+  return emulator.AwaitAllTorqueOff(std::chrono::seconds(10));
+}
+
+TEST(OrcsRobotTest, PlaysARecordOnTwentyOneServosAndLogsAMeasuredRunOrcsGapReads) {
+  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  TempDir dir;
+  const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, -30}, {40, -60}, {40, -60}}, 200));
+  const std::string log = (dir.path() / "run.csv").string();
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--out", log,
+                                      "--rate", "50", "--yes"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("finished; torque off"));
+  EXPECT_TRUE(AllTorqueOff(emulator));
+  const identify::MeasuredRun run = identify::ReadMeasuredRun(log);
+  EXPECT_EQ(run.agent, "Humanoid");
+  EXPECT_EQ(run.motors.size(), 21u);
+  EXPECT_EQ(run.commanded.size(), 21u);
+  EXPECT_NEAR(run.step, 0.02, 1e-12);
+  EXPECT_GE(run.time.back(), 0.6) << "the record lasts 0.6 s";
+  // The emulated shafts followed: the waist reached 40°, the elbow −60°, each within a tick.
+  EXPECT_NEAR(run.joint_angle.at("Waist").back(), 40.0, 0.3);
+  EXPECT_NEAR(run.joint_angle.at("Right/Elbow").back(), -60.0, 0.3);
+  EXPECT_NEAR(emulator.Angle(1), 40.0, 0.3);
+}
+
+TEST(OrcsRobotTest, ACommandBeyondAJointsLimitIsClampedAndNothingPastItIsSent) {
+  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  TempDir dir;
+  // The waist may bend 0…150° (spec/aseries.md §4c): 170° and −20° are beyond its two limits.
+  const std::string record = Write(dir, "beyond.csv", Record({{0, 0}, {170, 0}, {-20, 0}}, 100));
+  const ProcessResult r =
+      RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--rate", "50", "--yes"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, Not(HasSubstr(" 0 commands clamped")));
+  const JointMap map = ReadJointMap(kMap);
+  const std::int64_t upper = std::min<std::int64_t>(ToTicks(*map.Find("Waist"), 150.0), dynamixel::kAx12.max_tick);
+  const std::int64_t lower = ToTicks(*map.Find("Waist"), 0.0);
+  const std::vector<std::int64_t> goals = GoalWrites(emulator.writes(), 1);
+  ASSERT_FALSE(goals.empty());
+  EXPECT_EQ(*std::max_element(goals.begin(), goals.end()), std::max(upper, lower)) << "held at the limit (150° is "
+                                                                                      "tick 1024, past the AX-12's "
+                                                                                      "last tick 1023)";
+  EXPECT_EQ(*std::min_element(goals.begin(), goals.end()), std::min(upper, lower)) << "held at the other";
+}
+
+TEST(OrcsRobotTest, AServoAlarmStopsTheRunWithTheTorqueOffAndSaysWhy) {
+  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  TempDir dir;
+  const std::string record = Write(dir, "long.csv", Record({{0, 0}, {30, 0}, {60, 0}}, 5000));
+  BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"});
+  ASSERT_TRUE(AwaitErr(robot, "playing")) << robot.err();
+  ASSERT_TRUE(emulator.TorqueOn(14));
+  emulator.RaiseAlarm(14, dynamixel::protocol1::kOverloadError);
+  const std::optional<ProcessResult> r = robot.Wait(std::chrono::seconds(20));
+  ASSERT_TRUE(r.has_value()) << "the run must stop";
+  EXPECT_EQ(r->exit_code, 1);
+  EXPECT_THAT(r->err, HasSubstr("stopped: servo 14 reports overload"));
+  EXPECT_THAT(r->err, HasSubstr("torque off"));
+  EXPECT_TRUE(AllTorqueOff(emulator));
+}
+
+TEST(OrcsRobotTest, CtrlCTurnsTheTorqueOffWithinOneControlPeriod) {
+  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  TempDir dir;
+  const std::string record = Write(dir, "long.csv", Record({{0, 0}, {30, 0}, {60, 0}}, 5000));
+  BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"}, true);
+  ASSERT_TRUE(AwaitErr(robot, "playing")) << robot.err();
+  ASSERT_FALSE(GoalWrites(emulator.writes(), 1).empty()) << "it has been sending goals";
+  const std::size_t goals_before = GoalWrites(emulator.writes(), 1).size();
+  robot.SignalGroup(SIGINT);
+  const std::optional<ProcessResult> r = robot.Wait(std::chrono::seconds(20));
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->exit_code, 130) << r->err;
+  EXPECT_THAT(r->err, HasSubstr("stopped: interrupted"));
+  EXPECT_TRUE(AllTorqueOff(emulator));
+  // Within one control period: at most the goal already on its way when the signal came, then torque off.
+  EXPECT_LE(GoalWrites(emulator.writes(), 1).size(), goals_before + 1);
+  EXPECT_EQ(emulator.writes().back().address, dynamixel::kAx12.torque_enable);
+}
+
+TEST(OrcsRobotTest, NothingMovesUntilTheFirstPoseIsConfirmed) {
+  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  TempDir dir;
+  const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
+  // stdin is /dev/null: no answer, so no.
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("the first pose moves 21 joints"));
+  EXPECT_THAT(r.err, HasSubstr("not confirmed: nothing was sent (pass --yes"));
+  EXPECT_TRUE(emulator.writes().empty()) << "not a byte of the control tables written";
+}
+
+TEST(OrcsRobotTest, ADryRunPrintsThePacketsAndOpensNoPort) {
+  TempDir dir;
+  const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {170, 0}}, 100));
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--play", record, "--dry-run", "--rate", "20"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("SYNC_WRITE torque enable: every joint = 1"));
+  EXPECT_THAT(r.out, HasSubstr("SYNC_WRITE goal position: Waist(1)="));
+  EXPECT_THAT(r.out, HasSubstr("SYNC_WRITE torque enable: every joint = 0"));
+  EXPECT_THAT(r.err, HasSubstr("dry run: nothing is sent"));
+}
+
+TEST(OrcsRobotTest, AMissingServoIsNamedBeforeAnythingIsSent) {
+  std::vector<std::uint8_t> ids = AllIds();
+  ids.erase(ids.begin() + 6);  // servo 7 (Left/Elbow) unplugged
+  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = ids, .speed_deg_s = 684.0});
+  TempDir dir;
+  const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("servo 7 (Left/Elbow) did not answer"));
+  EXPECT_THAT(r.err, HasSubstr("baud rate"));
+  EXPECT_TRUE(emulator.writes().empty());
+}
+
+}  // namespace
+}  // namespace orcs::hardware
