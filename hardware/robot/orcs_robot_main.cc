@@ -44,6 +44,8 @@ struct Options {
   bool dry_run = false;     // print what would be sent, send nothing
   bool yes = false;         // skip the first pose's confirmation
   bool emulate = false;     // play on the servo-bus emulator instead of a port
+  std::string twin_out;     // the simulated twin's log (runs the twin)
+  std::string twin_env;     // the twin's environment ("" = the default world)
 };
 
 // Shows where the robot is and where the first pose takes it; true when the user agrees (or passed --yes).
@@ -85,7 +87,10 @@ int Run(const Options& o) {
     bus_options.protocol = map.servo.protocol;
     bus = std::make_unique<dynamixel::DynamixelBus>(OpenSerialLink(port, map.baud), bus_options);
   }
+  std::unique_ptr<SimulatedTwin> twin;
+  if (!o.twin_out.empty()) twin = std::make_unique<SimulatedTwin>(o.twin_env, map);
   SessionOptions session_options;
+  session_options.twin = twin.get();
   session_options.rate_hz = o.rate_hz;
   session_options.deadline_streak = o.deadline_streak;
   session_options.dry_run = o.dry_run ? &std::cout : nullptr;
@@ -107,6 +112,17 @@ int Run(const Options& o) {
                                      "stop: " + StopReasonName(run.reason)});
     file.Commit();
   }
+  if (twin) {
+    AtomicFile file(o.twin_out);
+    file.stream() << FormatRobotLog(session.map(), run,
+                                    {"map: " + o.map, "record: " + o.play,
+                                     "environment: " + (o.twin_env.empty() ? "the default world" : o.twin_env),
+                                     "rate_hz: " + text::FormatDouble(o.rate_hz),
+                                     "twin: " + (run.twin_status.empty() ? "ran to the end" : run.twin_status)},
+                                    LogSide::kTwin);
+    file.Commit();
+    if (!run.twin_status.empty()) std::cerr << "orcs-robot: " << run.twin_status << "\n";
+  }
   std::cerr << "orcs-robot: " << (run.reason == StopReason::kFinished ? "finished" : "stopped: " + run.message)
             << "; torque off; " << run.rows.size() << " periods, " << run.clamped << " commands clamped to the limits, "
             << run.missed_deadlines << " deadlines missed";
@@ -114,7 +130,7 @@ int Run(const Options& o) {
     std::cerr << "; bus: " << b->counts().instructions << " instructions, " << b->counts().timeouts << " timeouts, "
               << b->counts().checksum_errors << " checksum errors, " << b->counts().retries << " retries";
   }
-  std::cerr << (o.out.empty() ? "" : "; log " + o.out) << "\n";
+  std::cerr << (o.out.empty() ? "" : "; log " + o.out) << (o.twin_out.empty() ? "" : "; twin " + o.twin_out) << "\n";
   switch (run.reason) {
     case StopReason::kFinished: return kExitOk;
     case StopReason::kInterrupted: return kExitInterrupted;
@@ -139,6 +155,10 @@ int main(int argc, char** argv) {
   app.add_option("--rate", o.rate_hz, "control rate, Hz (default 50)")->check(CLI::Range(1.0, 1000.0));
   app.add_option("--deadline-streak", o.deadline_streak, "overrun periods in a row that stop the run (default 5)")
       ->check(CLI::Range(1, 1000));
+  app.add_option("--twin-out", o.twin_out, "run the simulated twin on the same commands, period by period, and write "
+                 "its log here (the robot's rows, the twin's angles)");
+  app.add_option("--twin-env", o.twin_env, "the twin's environment (XML; default: the A-Series on the floor)")
+      ->check(CLI::ExistingFile);
   app.add_flag("--dry-run", o.dry_run, "print every packet that would be sent; open no port");
   app.add_flag("--yes", o.yes, "do not ask before moving to the first pose");
   app.add_flag("--emulate", o.emulate, "play on emulated servos (the servo-bus emulator on a pseudo-terminal): try a "

@@ -223,6 +223,10 @@ RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::at
       row.goal = command;
       row.torque = torque;
       ReadState(row);
+      if (options_.twin) {
+        if (k == 0) options_.twin->StartAt(row.angle);  // the twin starts where the robot is
+        row.twin_angle = options_.twin->Angles();
+      }
       if (row.time > duration + 1e-9) {  // the motion has ended: its last state is logged
         row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
         run.rows.push_back(std::move(row));
@@ -238,6 +242,8 @@ RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::at
       row.command_delay = std::chrono::duration<double>(Clock::now() - due).count();
       SendGoals(command, run);
       row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
+      // The twin gets the same command for the same period, after the robot (it must never delay it).
+      if (options_.twin) options_.twin->Advance(command, torque, 1.0 / options_.rate_hz);
       run.rows.push_back(std::move(row));
       if (Clock::now() > due + period) {
         ++run.missed_deadlines;
@@ -260,12 +266,15 @@ RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::at
     run.message = error.what();
   }
   TorqueOff();
+  if (options_.twin) run.twin_status = options_.twin->status();
   return run;
 }
 
-std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::vector<std::string>& comments) {
+std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::vector<std::string>& comments,
+                           LogSide side) {
+  const bool twin = side == LogSide::kTwin;
   std::ostringstream out;
-  out << "# orcs-robot log\n";
+  out << (twin ? "# orcs-robot log: the simulated twin\n" : "# orcs-robot log\n");
   for (const std::string& comment : comments) out << "# " << comment << "\n";
   out << "# columns: time";
   const std::string sim = "/Sim/" + map.agent + "/";
@@ -273,15 +282,22 @@ std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::
     out << "," << sim << joint.joint << "/DesiredAngle," << sim << joint.joint << "/DesiredTorque," << sim
         << joint.joint << "/JointAngle";
   }
-  for (const JointMapping& joint : map.joints) {
-    for (const char* q : {"Speed", "Load", "Voltage", "Temperature"}) out << ",/Robot/" << joint.joint << "/" << q;
+  if (!twin) {
+    for (const JointMapping& joint : map.joints) {
+      for (const char* q : {"Speed", "Load", "Voltage", "Temperature"}) out << ",/Robot/" << joint.joint << "/" << q;
+    }
+    out << ",/Robot/CommandDelay,/Robot/Cycle";
   }
-  out << ",/Robot/CommandDelay,/Robot/Cycle\n";
+  out << "\n";
   for (const RobotRow& row : run.rows) {
     out << text::FormatDouble(row.time);
     for (std::size_t j = 0; j < map.joints.size(); ++j) {
       out << "," << text::FormatDouble(row.goal[j]) << "," << text::FormatDouble(row.torque[j]) << ","
-          << text::FormatDouble(row.angle[j]);
+          << text::FormatDouble(twin ? row.twin_angle[j] : row.angle[j]);
+    }
+    if (twin) {
+      out << "\n";
+      continue;
     }
     for (std::size_t j = 0; j < map.joints.size(); ++j) {
       out << "," << text::FormatDouble(row.speed[j]) << "," << text::FormatDouble(row.load[j]) << ","

@@ -18,6 +18,7 @@
 
 #include "hardware/dynamixel/dynamixel_bus.h"
 #include "hardware/robot/joint_map.h"
+#include "hardware/robot/simulated_twin.h"
 #include "model/control/keyframe_record.h"
 
 namespace orcs::hardware {
@@ -27,6 +28,7 @@ struct SessionOptions {
   double rate_hz = 50.0;         ///< control rate, Hz: one command and one state read per period
   int deadline_streak = 5;       ///< consecutive periods that overrun their deadline before the run stops
   std::ostream* dry_run = nullptr;  ///< where a dry run prints what would be sent (no bus)
+  SimulatedTwin* twin = nullptr;    ///< the simulated twin fed the same commands each period, or none
 };
 
 /// Why a run ended.
@@ -45,6 +47,7 @@ struct RobotRow {
   std::vector<double> goal;            ///< per joint: the command that acted until this row, degrees (clamped)
   std::vector<double> torque;          ///< per joint: its torque, 0…1 (0 = limp)
   std::vector<double> angle;           ///< per joint: the measured angle, degrees
+  std::vector<double> twin_angle;      ///< per joint: the twin's angle, degrees (empty without a twin)
   std::vector<double> speed;           ///< per joint: the servo's speed, °/s
   std::vector<double> load;            ///< per joint: the servo's load register, raw
   std::vector<double> voltage;         ///< per joint: supply voltage, V
@@ -60,6 +63,7 @@ struct RobotRun {
   std::vector<RobotRow> rows;                 ///< the log, one row per control period
   std::size_t clamped = 0;                    ///< commands clamped to a joint's limits
   std::size_t missed_deadlines = 0;           ///< periods that overran
+  std::string twin_status;                    ///< why the twin stopped early, "" when it ran to the end
 };
 
 class RobotSession {
@@ -96,9 +100,14 @@ class RobotSession {
   bool torque_on_ = false;                          // whether TorqueOn ran without TorqueOff since
 };
 
+/// Which side of a run a log shows: the robot's measured angles, or its twin's simulated ones.
+enum class LogSide { kRobot, kTwin };
+
 /// The run as a measured run CSV (orcs's native log, docs/gap_measured_data.md): time, then per joint
 /// /Sim/<agent>/<joint>/DesiredAngle, DesiredTorque, JointAngle, then the servo's other readings
 /// (/Robot/<joint>/Speed, Load, Voltage, Temperature) and the bus's timing (/Robot/CommandDelay, /Robot/Cycle).
-std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::vector<std::string>& comments);
+/// The twin's log (LogSide::kTwin) has the same rows and commands with the twin's angles, and no /Robot/ columns.
+std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::vector<std::string>& comments,
+                           LogSide side = LogSide::kRobot);
 
 }  // namespace orcs::hardware

@@ -90,8 +90,9 @@ TEST(OrcsRobotTest, PlaysARecordOnTwentyOneServosAndLogsAMeasuredRunOrcsGapReads
   TempDir dir;
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, -30}, {40, -60}, {40, -60}}, 200));
   const std::string log = (dir.path() / "run.csv").string();
+  const std::string twin_log = (dir.path() / "twin.csv").string();
   const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--out", log,
-                                      "--rate", "50", "--yes"});
+                                      "--twin-out", twin_log, "--rate", "50", "--yes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("finished; torque off"));
   EXPECT_TRUE(AllTorqueOff(emulator));
@@ -105,6 +106,15 @@ TEST(OrcsRobotTest, PlaysARecordOnTwentyOneServosAndLogsAMeasuredRunOrcsGapReads
   EXPECT_NEAR(run.joint_angle.at("Waist").back(), 40.0, 0.3);
   EXPECT_NEAR(run.joint_angle.at("Right/Elbow").back(), -60.0, 0.3);
   EXPECT_NEAR(emulator.Angle(1), 40.0, 0.3);
+  // The simulated twin got the same commands, period by period: same rows, same inputs, its own angles, and its
+  // simulated A-Series follows them too (within its servo model's lag).
+  const identify::MeasuredRun twin = identify::ReadMeasuredRun(twin_log);
+  EXPECT_EQ(twin.time, run.time);
+  EXPECT_EQ(twin.desired_angle, run.desired_angle);
+  EXPECT_EQ(twin.desired_torque, run.desired_torque);
+  EXPECT_NE(twin.joint_angle.at("Waist"), run.joint_angle.at("Waist")) << "the twin's angles are its own";
+  EXPECT_NEAR(twin.joint_angle.at("Waist").back(), 40.0, 3.0);
+  EXPECT_NEAR(twin.joint_angle.at("Right/Elbow").back(), -60.0, 3.0);
 }
 
 TEST(OrcsRobotTest, ACommandBeyondAJointsLimitIsClampedAndNothingPastItIsSent) {
@@ -196,6 +206,24 @@ TEST(OrcsRobotTest, AMissingServoIsNamedBeforeAnythingIsSent) {
   EXPECT_THAT(r.err, HasSubstr("servo 7 (Left/Elbow) did not answer"));
   EXPECT_THAT(r.err, HasSubstr("baud rate"));
   EXPECT_TRUE(emulator.writes().empty());
+}
+
+TEST(OrcsRobotTest, TheXl330PendulumPlaysInProtocol2OnEmulatedServosWithItsTwin) {
+  TempDir dir;
+  const std::string record = Write(dir, "swing.csv", "# layout: raw\n0,0,1\n200,30,1\n400,-30,1\n1500,-30,1\n");
+  const std::string log = (dir.path() / "run.csv").string();
+  const std::string twin_log = (dir.path() / "twin.csv").string();
+  const ProcessResult r = RunProcess({kRobot, "--map", ORCS_SOURCE_DIR "/scenarios/robots/pendulum_xl330.joints.json",
+                                      "--play", record, "--emulate", "--yes", "--rate", "100", "--out", log,
+                                      "--twin-out", twin_log, "--twin-env",
+                                      ORCS_SOURCE_DIR "/scenarios/environments/pendulum.xml"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("on 1 XL330-M288"));
+  const identify::MeasuredRun run = identify::ReadMeasuredRun(log);
+  const identify::MeasuredRun twin = identify::ReadMeasuredRun(twin_log);
+  EXPECT_EQ(run.agent, "Pendulum");
+  EXPECT_NEAR(run.joint_angle.at("Motor").back(), -30.0, 0.1) << "4096 ticks per turn: a tick is 0.088°";
+  EXPECT_NEAR(twin.joint_angle.at("Motor").back(), -30.0, 3.0);
 }
 
 }  // namespace

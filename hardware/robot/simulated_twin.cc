@@ -1,0 +1,72 @@
+#include "hardware/robot/simulated_twin.h"
+
+#include <cmath>
+
+#include "model/core/error.h"
+#include "model/scene/simulation.h"
+#include "model/scene/world_setup.h"
+
+namespace orcs::hardware {
+
+SimulatedTwin::SimulatedTwin(const std::string& environment_file, const JointMap& map)
+    : simulation_(std::make_unique<scene::Simulation>()) {
+  scene::SetUpWorld(*simulation_, environment_file, {}, {});
+  simulation_->Reset(0);
+  const std::string where = environment_file.empty() ? "the default world" : environment_file;
+  agent_ = simulation_->FindAgent(map.agent);
+  if (agent_ < 0) {
+    throw InputError(map.source, 0, "the twin's environment (" + where + ") has no agent '" + map.agent +
+                                        "' (give one with --twin-env, e.g. scenarios/environments/pendulum.xml)");
+  }
+  for (const JointMapping& joint : map.joints) {
+    const std::string path = "/Sim/" + map.agent + "/" + joint.joint + "/";
+    if (!simulation_->repository().Find(path + "DesiredAngle")) {
+      throw InputError(map.source, 0, "joint '" + joint.joint + "' is not a motor of agent '" + map.agent + "' in " +
+                                          where);
+    }
+    joint_paths_.push_back(path);
+    joints_.push_back(joint.joint);
+  }
+}
+
+SimulatedTwin::~SimulatedTwin() = default;
+
+void SimulatedTwin::StartAt(const std::vector<double>& angles) {
+  // Hinge angles are relative to the initial pose, as the robot's are to the map's zero; joints the map leaves
+  // out stay at 0.
+  const std::vector<std::string>& motors = simulation_->agent(agent_).motor_names();
+  std::vector<double> all(motors.size(), 0.0);
+  for (std::size_t j = 0; j < joints_.size(); ++j) {
+    for (std::size_t m = 0; m < motors.size(); ++m) {
+      if (motors[m] == joints_[j]) all[m] = angles[j];
+    }
+  }
+  simulation_->SetAgentJointAngles(agent_, all);
+}
+
+void SimulatedTwin::Advance(const std::vector<double>& goal, const std::vector<double>& torque, double seconds) {
+  if (!status_.empty()) return;
+  VariableRepository& values = simulation_->repository();
+  for (std::size_t j = 0; j < joint_paths_.size(); ++j) {
+    values.Get(joint_paths_[j] + "DesiredAngle").Set(goal[j]);
+    values.Get(joint_paths_[j] + "DesiredTorque").Set(torque[j]);
+  }
+  const double end = simulation_->time() + seconds;
+  while (simulation_->time() + simulation_->StepDuration() / 2 < end) {
+    if (simulation_->Step() != scene::SimulationStatus::kOk) {
+      status_ = "the twin's simulation stopped at " + std::to_string(simulation_->time()) + " s: " +
+                simulation_->message();
+      return;
+    }
+  }
+}
+
+std::vector<double> SimulatedTwin::Angles() const {
+  std::vector<double> angles;
+  for (const std::string& path : joint_paths_) {
+    angles.push_back(simulation_->repository().Get(path + "JointAngle").as_double());
+  }
+  return angles;
+}
+
+}  // namespace orcs::hardware
