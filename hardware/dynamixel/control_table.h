@@ -36,7 +36,7 @@ struct ControlTable {
   std::int32_t max_tick = 0;             ///< the highest position tick (the lowest is 0)
   double speed_unit = 0.0;               ///< degrees per second per unit of the speed register
   std::uint16_t table_size = 0;          ///< bytes of the whole table (the emulator's memory)
-  std::uint16_t torque_limit = 0;        ///< address of the torque limit (AX-12: Torque Limit; XL330: PWM Limit), 2 bytes
+  std::uint16_t torque_limit = 0;        ///< address of the torque limit in RAM, 2 bytes (AX-12: Torque Limit; XL330: Goal PWM)
   std::uint16_t torque_limit_full = 0;   ///< its value for 100 % (AX-12: 1023; XL330: 885)
 };
 
@@ -57,7 +57,7 @@ inline constexpr ControlTable kXl330{.name = "XL330-M288", .protocol = Protocol:
                                       .present_temperature = 146, .position_size = 4, .speed_size = 4,
                                       .load_size = 2, .voltage_size = 2, .voltage_unit = 0.1,
                                       .degrees_per_tick = 360.0 / 4096.0, .center_tick = 2048, .max_tick = 4095,
-                                      .speed_unit = 0.229 * 6.0, .table_size = 148, .torque_limit = 36,
+                                      .speed_unit = 0.229 * 6.0, .table_size = 148, .torque_limit = 100,
                                       .torque_limit_full = 885};
 
 }  // namespace orcs::dynamixel

@@ -36,6 +36,15 @@ constexpr std::uint8_t kAccessError2 = 7;          // Protocol 2.0's access erro
 constexpr std::uint8_t kInstructionError2 = 2;     // and its instruction error
 }  // namespace
 
+EmulatorOptions KinematicBus(const dynamixel::ControlTable& table, std::vector<std::uint8_t> ids,
+                             double speed_deg_s) {
+  EmulatorOptions options;
+  options.table = table;
+  options.ids = std::move(ids);
+  options.speed_deg_s = speed_deg_s;
+  return options;
+}
+
 struct ServoBusEmulator::Servo {
   std::uint8_t id = 0;                  // bus id
   std::vector<std::uint8_t> table;      // the control table's bytes
@@ -66,6 +75,8 @@ ServoBusEmulator::ServoBusEmulator(EmulatorOptions options) : options_(std::move
     servo->table[t.protocol == Protocol::kV1 ? 3 : 7] = id;
     const auto goal = LittleEndian(t.center_tick, t.position_size);
     std::copy(goal.begin(), goal.end(), servo->table.begin() + t.goal_position);
+    const auto limit = LittleEndian(t.torque_limit_full, 2);  // factory default: all the torque there is
+    std::copy(limit.begin(), limit.end(), servo->table.begin() + t.torque_limit);
     servos_[id] = std::move(servo);
   }
   thread_ = std::thread([this] { Serve(); });
@@ -157,6 +168,7 @@ void ServoBusEmulator::Serve() {
         case Instruction::kWrite:
           if (!servo || p.params.size() <= address_size) break;
           ApplyWrite(*servo, address_at(0), std::vector<std::uint8_t>(p.params.begin() + address_size, p.params.end()));
+          if (address_at(0) == options_.table.goal_position) AdvanceModel();
           Reply(*servo, {});
           break;
         case Instruction::kSyncWrite: {
@@ -169,6 +181,7 @@ void ServoBusEmulator::Serve() {
             ApplyWrite(*it->second, address,
                        std::vector<std::uint8_t>(p.params.begin() + i + 1, p.params.begin() + i + 1 + length));
           }
+          if (address == options_.table.goal_position) AdvanceModel();
           break;
         }
         case Instruction::kSyncRead: {
@@ -232,31 +245,60 @@ std::vector<std::uint8_t> ServoBusEmulator::ReadTable(Servo& servo, std::uint16_
 }
 
 // Each shaft moves towards its goal at the no-load speed while its torque is on; the present registers follow.
+// With a ShaftModel the shafts move only when it advances (AdvanceModel); here only the registers are refreshed.
 void ServoBusEmulator::MoveShafts() {
   const dynamixel::ControlTable& t = options_.table;
   const auto now = std::chrono::steady_clock::now();
+  std::size_t index = 0;
   for (auto& [id, servo] : servos_) {
     const double dt = std::chrono::duration<double>(now - servo->moved).count();
     servo->moved = now;
-    const auto goal_ticks = FromLittleEndian(std::span(servo->table).subspan(t.goal_position, t.position_size));
-    const double goal = static_cast<double>(goal_ticks - t.center_tick) * t.degrees_per_tick;
     double speed = 0.0;
-    if (servo->table[t.torque_enable] != 0) {
+    if (options_.shafts) {
+      servo->angle = options_.shafts->Angle(index);
+      speed = options_.shafts->Speed(index);
+    } else if (servo->table[t.torque_enable] != 0) {
+      const auto goal_ticks = FromLittleEndian(std::span(servo->table).subspan(t.goal_position, t.position_size));
+      const double goal = static_cast<double>(goal_ticks - t.center_tick) * t.degrees_per_tick;
       const double step = std::clamp(goal - servo->angle, -options_.speed_deg_s * dt, options_.speed_deg_s * dt);
       servo->angle += step;
       speed = dt > 0 ? step / dt : 0.0;
     }
-    const auto put = [&](std::uint16_t address, std::int64_t value, std::size_t size) {
-      const auto bytes = LittleEndian(value, size);
-      std::copy(bytes.begin(), bytes.end(), servo->table.begin() + address);
-    };
-    put(t.present_position, std::lround(servo->angle / t.degrees_per_tick) + t.center_tick, t.position_size);
-    const long speed_units = std::lround(std::abs(speed) / t.speed_unit);
-    put(t.present_speed, t.protocol == Protocol::kV1 ? (speed_units | (speed < 0 ? 0x400 : 0)) : std::lround(speed / t.speed_unit),
-        t.speed_size);
-    put(t.present_voltage, std::lround(kVoltage / t.voltage_unit), t.voltage_size);
-    servo->table[t.present_temperature] = kTemperature;
+    WriteShaftState(*servo, speed);
+    ++index;
   }
+}
+
+// One control period under the goals just written: the model takes them, then moves on.
+void ServoBusEmulator::AdvanceModel() {
+  if (!options_.shafts) return;
+  const dynamixel::ControlTable& t = options_.table;
+  std::size_t index = 0;
+  for (auto& [id, servo] : servos_) {
+    const auto goal_ticks = FromLittleEndian(std::span(servo->table).subspan(t.goal_position, t.position_size));
+    const auto limit = FromLittleEndian(std::span(servo->table).subspan(t.torque_limit, 2));
+    const double torque = servo->table[t.torque_enable] != 0
+                              ? std::clamp(static_cast<double>(limit) / t.torque_limit_full, 0.0, 1.0)
+                              : 0.0;
+    options_.shafts->Command(index++, static_cast<double>(goal_ticks - t.center_tick) * t.degrees_per_tick, torque);
+  }
+  options_.shafts->Advance(options_.period_s);
+  MoveShafts();
+}
+
+void ServoBusEmulator::WriteShaftState(Servo& servo, double speed) {
+  const dynamixel::ControlTable& t = options_.table;
+  const auto put = [&](std::uint16_t address, std::int64_t value, std::size_t size) {
+    const auto bytes = LittleEndian(value, size);
+    std::copy(bytes.begin(), bytes.end(), servo.table.begin() + address);
+  };
+  put(t.present_position, std::lround(servo.angle / t.degrees_per_tick) + t.center_tick, t.position_size);
+  const long speed_units = std::lround(std::abs(speed) / t.speed_unit);
+  put(t.present_speed,
+      t.protocol == Protocol::kV1 ? (speed_units | (speed < 0 ? 0x400 : 0)) : std::lround(speed / t.speed_unit),
+      t.speed_size);
+  put(t.present_voltage, std::lround(kVoltage / t.voltage_unit), t.voltage_size);
+  servo.table[t.present_temperature] = kTemperature;
 }
 
 }  // namespace orcs::hardware

@@ -5,8 +5,8 @@
 // It answers PING, READ, WRITE, SYNC_WRITE and (2.0) SYNC_READ as N servos of one model (the AX-12+'s or the
 // XL330's control table) and keeps a log of every write it applied. Faults are switched on from the test: replies
 // with a wrong checksum, a silent servo, an alarm in the error byte. Each shaft moves towards its goal at the
-// servo's no-load speed while its torque is on — a kinematic shaft; orcs's servo model behind it (and hidden
-// effects) is the next step of issue 51.
+// servo's no-load speed while its torque is on — a kinematic shaft — unless a ShaftModel (orcs's simulation of
+// the robot, with hidden effects) turns them (shaft_model.h).
 #pragma once
 
 #include <atomic>
@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "hardware/dynamixel/control_table.h"
+#include "hardware/emulator/shaft_model.h"
 
 namespace orcs::hardware {
 
@@ -36,7 +37,15 @@ struct EmulatorOptions {
   dynamixel::ControlTable table = dynamixel::kAx12;  ///< the servo model (and so the protocol)
   std::vector<std::uint8_t> ids;                      ///< the servos on the bus
   double speed_deg_s = 684.0;                         ///< shaft speed towards the goal, °/s (AX-12 no-load: 114 rpm)
+  /// The shafts' physics instead of the kinematic ones (null: kinematic, by the wall clock). It advances by
+  /// `period_s` after each instruction that writes goal positions (a SYNC_WRITE of the goals: one control period).
+  std::shared_ptr<ShaftModel> shafts;
+  double period_s = 0.01;                             ///< s, the control period `shafts` advances per goal write
 };
+
+/// A bus of `ids` with kinematic shafts moving at `speed_deg_s`.
+EmulatorOptions KinematicBus(const dynamixel::ControlTable& table, std::vector<std::uint8_t> ids,
+                             double speed_deg_s = 684.0);
 
 class ServoBusEmulator {
  public:
@@ -77,6 +86,8 @@ class ServoBusEmulator {
   void ApplyWrite(Servo& servo, std::uint16_t address, std::vector<std::uint8_t> bytes);
   std::vector<std::uint8_t> ReadTable(Servo& servo, std::uint16_t address, std::uint16_t length, bool& ok);
   void MoveShafts();
+  void WriteShaftState(Servo& servo, double speed);
+  void AdvanceModel();
   Servo* Find(std::uint8_t id);
 
   EmulatorOptions options_;

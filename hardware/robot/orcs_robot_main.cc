@@ -10,6 +10,7 @@
 
 #include "hardware/emulator/servo_bus_emulator.h"
 #include "hardware/robot/robot_session.h"
+#include "hardware/robot/simulated_shafts.h"
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -44,6 +45,9 @@ struct Options {
   bool dry_run = false;     // print what would be sent, send nothing
   bool yes = false;         // skip the first pose's confirmation
   bool emulate = false;     // play on the servo-bus emulator instead of a port
+  std::string emulate_env;  // --emulate: orcs's simulation in this environment turns the shafts
+  std::vector<std::string> emulate_values;  // value files of that simulation (hidden effects)
+  bool unpaced = false;     // --emulate with a simulation: no waiting between periods
   std::string twin_out;     // the simulated twin's log (runs the twin)
   std::string twin_env;     // the twin's environment ("" = the default world)
 };
@@ -78,6 +82,10 @@ int Run(const Options& o) {
     EmulatorOptions emulated;
     emulated.table = map.servo;
     for (const JointMapping& joint : map.joints) emulated.ids.push_back(joint.id);
+    if (!o.emulate_env.empty() || !o.emulate_values.empty()) {
+      emulated.shafts = std::make_shared<SimulatedShafts>(o.emulate_env, map, o.emulate_values);
+      emulated.period_s = 1.0 / o.rate_hz;
+    }
     emulator = std::make_unique<ServoBusEmulator>(emulated);
     port = emulator->port();
   }
@@ -91,6 +99,7 @@ int Run(const Options& o) {
   if (!o.twin_out.empty()) twin = std::make_unique<SimulatedTwin>(o.twin_env, map);
   SessionOptions session_options;
   session_options.twin = twin.get();
+  session_options.paced = !o.unpaced;
   session_options.rate_hz = o.rate_hz;
   session_options.deadline_streak = o.deadline_streak;
   session_options.dry_run = o.dry_run ? &std::cout : nullptr;
@@ -155,6 +164,14 @@ int main(int argc, char** argv) {
   app.add_option("--rate", o.rate_hz, "control rate, Hz (default 50)")->check(CLI::Range(1.0, 1000.0));
   app.add_option("--deadline-streak", o.deadline_streak, "overrun periods in a row that stop the run (default 5)")
       ->check(CLI::Range(1, 1000));
+  app.add_option("--emulate-env", o.emulate_env, "with --emulate: orcs's simulation of this environment turns the "
+                 "emulated shafts, one control period per goal write (default: kinematic shafts)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--emulate-val", o.emulate_values, "with --emulate: value files of that simulation (the servo "
+                 "model, hidden effects such as /Effects/TransportDelay/...); repeatable")
+      ->check(CLI::ExistingFile);
+  app.add_flag("--unpaced", o.unpaced, "with --emulate-env/--emulate-val: run the periods back to back (the emulated "
+               "world advances per command, so only the wall time changes)");
   app.add_option("--twin-out", o.twin_out, "run the simulated twin on the same commands, period by period, and write "
                  "its log here (the robot's rows, the twin's angles)");
   app.add_option("--twin-env", o.twin_env, "the twin's environment (XML; default: the A-Series on the floor)")
@@ -166,6 +183,12 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     if (o.port.empty() && !o.dry_run && !o.emulate) throw CLI::RequiredError("--port (or --emulate, --dry-run)");
+    const bool simulated = !o.emulate_env.empty() || !o.emulate_values.empty();
+    if (simulated && !o.emulate) throw CLI::ValidationError("--emulate-env/--emulate-val", "need --emulate");
+    if (o.unpaced && !simulated) {
+      throw CLI::ValidationError("--unpaced", "only with --emulate-env or --emulate-val: a real robot and the "
+                                              "kinematic emulator keep the wall clock");
+    }
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {

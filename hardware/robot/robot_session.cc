@@ -110,11 +110,13 @@ std::vector<double> RobotSession::ReadAngles() {
 void RobotSession::TorqueOn() {
   const ControlTable& t = map_.servo;
   std::vector<SyncWriteEntry> limits, enable;
+  sent_limits_.clear();
   std::ostringstream line;
   line << "SYNC_WRITE torque limit:";
   for (const JointMapping& joint : map_.joints) {
     const auto limit = static_cast<std::int64_t>(std::lround(joint.max_torque * t.torque_limit_full));
     limits.push_back({joint.id, LittleEndian(limit, 2)});
+    sent_limits_.push_back(limit);
     enable.push_back({joint.id, {1}});
     line << " " << joint.joint << "(" << int{joint.id} << ")=" << limit;
   }
@@ -144,24 +146,35 @@ void RobotSession::TorqueOff() noexcept {
   }
 }
 
-void RobotSession::SendGoals(const std::vector<double>& goal, RobotRun& run) {
-  std::vector<SyncWriteEntry> entries;
-  std::ostringstream line;
-  line << "SYNC_WRITE goal position:";
+// The torque limits where the record changed them (before the goals, so that a servo has both when it moves),
+// then every goal in one SYNC_WRITE.
+void RobotSession::SendGoals(const std::vector<double>& goal, const std::vector<double>& torque) {
+  const ControlTable& t = map_.servo;
+  std::vector<SyncWriteEntry> limits, goals;
+  std::ostringstream limit_line, goal_line;
+  limit_line << "SYNC_WRITE torque limit:";
+  goal_line << "SYNC_WRITE goal position:";
   for (std::size_t j = 0; j < map_.joints.size(); ++j) {
     const JointMapping& joint = map_.joints[j];
+    const auto limit = static_cast<std::int64_t>(std::lround(torque[j] * t.torque_limit_full));
+    if (limit != sent_limits_[j]) {
+      limits.push_back({joint.id, LittleEndian(limit, 2)});
+      limit_line << " " << joint.joint << "(" << int{joint.id} << ")=" << limit;
+      sent_limits_[j] = limit;
+    }
     // A limit may sit on the servo's last tick + 1 (the AX-12's +150° is tick 1024 of 0…1023): the register's range
     // is the last word.
-    const std::int64_t ticks = std::clamp<std::int64_t>(ToTicks(joint, goal[j]), 0, map_.servo.max_tick);
-    entries.push_back({joint.id, LittleEndian(ticks, map_.servo.position_size)});
-    line << " " << joint.joint << "(" << int{joint.id} << ")=" << ticks;
+    const std::int64_t ticks = std::clamp<std::int64_t>(ToTicks(joint, goal[j]), 0, t.max_tick);
+    goals.push_back({joint.id, LittleEndian(ticks, t.position_size)});
+    goal_line << " " << joint.joint << "(" << int{joint.id} << ")=" << ticks;
   }
-  (void)run;
   if (!bus_) {
-    Print(line.str());
+    if (!limits.empty()) Print(limit_line.str());
+    Print(goal_line.str());
     return;
   }
-  bus_->SyncWrite(map_.servo.goal_position, map_.servo.position_size, entries);
+  if (!limits.empty()) bus_->SyncWrite(t.torque_limit, 2, limits);
+  bus_->SyncWrite(t.goal_position, t.position_size, goals);
 }
 
 void RobotSession::ReadState(RobotRow& row) {
@@ -204,14 +217,15 @@ RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::at
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options_.rate_hz));
   const double duration = record.frames.back().time_ms / 1000.0;
   std::vector<double> command = FirstPose(record);  // what acts from the row on
-  std::vector<double> torque(n, 1.0);
+  std::vector<double> torque;  // what the servos' torque limits say: the map's limit until the record says more
+  for (const JointMapping& joint : map_.joints) torque.push_back(joint.max_torque);
   int streak = 0;
   try {
     TorqueOn();
     const Clock::time_point start = Clock::now();
     for (std::size_t k = 0;; ++k) {
       const Clock::time_point due = start + period * static_cast<long>(k);
-      std::this_thread::sleep_until(due);
+      if (options_.paced) std::this_thread::sleep_until(due);
       if (interrupted) {
         run.reason = StopReason::kInterrupted;
         run.message = "interrupted (Ctrl-C)";
@@ -240,12 +254,12 @@ RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::at
         torque[j] = std::clamp(std::abs(frame.inputs[2 * j + 1]), 0.0, map_.joints[j].max_torque);
       }
       row.command_delay = std::chrono::duration<double>(Clock::now() - due).count();
-      SendGoals(command, run);
+      SendGoals(command, torque);
       row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
       // The twin gets the same command for the same period, after the robot (it must never delay it).
       if (options_.twin) options_.twin->Advance(command, torque, 1.0 / options_.rate_hz);
       run.rows.push_back(std::move(row));
-      if (Clock::now() > due + period) {
+      if (options_.paced && Clock::now() > due + period) {
         ++run.missed_deadlines;
         if (++streak >= options_.deadline_streak) {
           run.reason = StopReason::kDeadlineStreak;

@@ -29,6 +29,7 @@ struct SessionOptions {
   int deadline_streak = 5;       ///< consecutive periods that overrun their deadline before the run stops
   std::ostream* dry_run = nullptr;  ///< where a dry run prints what would be sent (no bus)
   SimulatedTwin* twin = nullptr;    ///< the simulated twin fed the same commands each period, or none
+  bool paced = true;                ///< false: no waiting between periods (an emulated world advancing per command)
 };
 
 /// Why a run ended.
@@ -90,7 +91,7 @@ class RobotSession {
 
  private:
   void TorqueOn();
-  void SendGoals(const std::vector<double>& goal, RobotRun& run);
+  void SendGoals(const std::vector<double>& goal, const std::vector<double>& torque);
   void ReadState(RobotRow& row);
   void Print(const std::string& line);
 
@@ -98,6 +99,7 @@ class RobotSession {
   std::unique_ptr<dynamixel::DynamixelBus> bus_;    // null in a dry run
   SessionOptions options_;                          // rate, deadline streak, dry-run output
   bool torque_on_ = false;                          // whether TorqueOn ran without TorqueOff since
+  std::vector<std::int64_t> sent_limits_;           // the torque limit registers as last written, per joint
 };
 
 /// Which side of a run a log shows: the robot's measured angles, or its twin's simulated ones.

@@ -8,9 +8,10 @@
 
 namespace orcs::hardware {
 
-SimulatedTwin::SimulatedTwin(const std::string& environment_file, const JointMap& map)
+SimulatedTwin::SimulatedTwin(const std::string& environment_file, const JointMap& map,
+                             const std::vector<std::string>& value_files)
     : simulation_(std::make_unique<scene::Simulation>()) {
-  scene::SetUpWorld(*simulation_, environment_file, {}, {});
+  scene::SetUpWorld(*simulation_, environment_file, {}, value_files, UnknownPaths::kRefuse);
   simulation_->Reset(0);
   const std::string where = environment_file.empty() ? "the default world" : environment_file;
   agent_ = simulation_->FindAgent(map.agent);

@@ -18,9 +18,11 @@ namespace orcs::hardware {
 
 class SimulatedTwin {
  public:
-  /// Builds the environment (its file; "" = the default world, the A-Series on the floor) and finds the map's
-  /// agent and joints in it. Throws InputError naming the environment when the agent or a joint is missing.
-  SimulatedTwin(const std::string& environment_file, const JointMap& map);
+  /// Builds the environment (its file; "" = the default world, the A-Series on the floor) with `value_files`
+  /// applied (a fitted model, hidden effects) and finds the map's agent and joints in it. Throws InputError naming
+  /// the environment when the agent or a joint is missing.
+  SimulatedTwin(const std::string& environment_file, const JointMap& map,
+                const std::vector<std::string>& value_files = {});
   ~SimulatedTwin();
   SimulatedTwin(const SimulatedTwin&) = delete;
   SimulatedTwin& operator=(const SimulatedTwin&) = delete;

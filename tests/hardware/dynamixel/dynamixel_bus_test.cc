@@ -28,13 +28,13 @@ DynamixelBus BusOn(const ServoBusEmulator& emulator, Protocol protocol, int retr
 }
 
 TEST(DynamixelBusTest, TheEmulatorsPortIsAPseudoTerminal) {
-  ServoBusEmulator emulator({.table = kAx12, .ids = {1}, .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(hardware::KinematicBus(kAx12, {1}, 684.0));
   EXPECT_TRUE(hardware::IsPseudoTerminal(emulator.port()));
   EXPECT_FALSE(hardware::IsPseudoTerminal("/dev/null"));
 }
 
 TEST(DynamixelBusTest, DiscoveryFindsExactlyTheServosOnTheBus) {
-  ServoBusEmulator emulator({.table = kAx12, .ids = {1, 4, 7}, .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(hardware::KinematicBus(kAx12, {1, 4, 7}, 684.0));
   DynamixelBus bus = BusOn(emulator, Protocol::kV1);
   EXPECT_THAT(bus.Discover(0, 8), ElementsAre(1, 4, 7));
   EXPECT_TRUE(bus.Ping(4));
@@ -43,7 +43,7 @@ TEST(DynamixelBusTest, DiscoveryFindsExactlyTheServosOnTheBus) {
 }
 
 TEST(DynamixelBusTest, AWrittenGoalMovesTheShaftAndReadsBackAsThePresentPosition) {
-  ServoBusEmulator emulator({.table = kAx12, .ids = {3}, .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(hardware::KinematicBus(kAx12, {3}, 684.0));
   DynamixelBus bus = BusOn(emulator, Protocol::kV1);
   EXPECT_THAT(bus.Read(3, 0, 2), ElementsAre(12, 0)) << "the AX-12's model number";
   bus.Write(3, kAx12.torque_enable, std::vector<std::uint8_t>{1});
@@ -59,7 +59,7 @@ TEST(DynamixelBusTest, AWrittenGoalMovesTheShaftAndReadsBackAsThePresentPosition
 }
 
 TEST(DynamixelBusTest, SyncWriteReachesEveryServoInOnePacket) {
-  ServoBusEmulator emulator({.table = kAx12, .ids = {1, 2, 3}, .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(hardware::KinematicBus(kAx12, {1, 2, 3}, 684.0));
   DynamixelBus bus = BusOn(emulator, Protocol::kV1);
   const std::vector<SyncWriteEntry> goals{{1, LittleEndian(500, 2)}, {2, LittleEndian(510, 2)}, {3, LittleEndian(520, 2)}};
   bus.SyncWrite(kAx12.goal_position, 2, goals);
@@ -72,7 +72,7 @@ TEST(DynamixelBusTest, SyncWriteReachesEveryServoInOnePacket) {
 }
 
 TEST(DynamixelBusTest, Protocol2SyncReadAnswersEveryServoFromOneInstruction) {
-  ServoBusEmulator emulator({.table = kXl330, .ids = {1, 2}, .speed_deg_s = 600.0});
+  ServoBusEmulator emulator(hardware::KinematicBus(kXl330, {1, 2}, 600.0));
   DynamixelBus bus = BusOn(emulator, Protocol::kV2);
   EXPECT_THAT(bus.Discover(0, 3), ElementsAre(1, 2));
   const std::vector<SyncWriteEntry> goals{{1, LittleEndian(2100, 4)}, {2, LittleEndian(1900, 4)}};
@@ -87,7 +87,7 @@ TEST(DynamixelBusTest, Protocol2SyncReadAnswersEveryServoFromOneInstruction) {
 
 TEST(DynamixelBusTest, AGarbledAnswerIsCountedAndAskedAgain) {
   for (const auto& table : {kAx12, kXl330}) {
-    ServoBusEmulator emulator({.table = table, .ids = {7}, .speed_deg_s = 600.0});
+    ServoBusEmulator emulator(hardware::KinematicBus(table, {7}, 600.0));
     DynamixelBus bus = BusOn(emulator, table.protocol);
     emulator.CorruptAnswers(7, 2);
     EXPECT_EQ(FromLittleEndian(bus.Read(7, 0, 2)), table.model_number) << table.name;
@@ -100,7 +100,7 @@ TEST(DynamixelBusTest, AGarbledAnswerIsCountedAndAskedAgain) {
 }
 
 TEST(DynamixelBusTest, ASilentServoTimesOutAfterItsRetriesWithAMessageThatSuggestsTheFix) {
-  ServoBusEmulator emulator({.table = kAx12, .ids = {9}, .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(hardware::KinematicBus(kAx12, {9}, 684.0));
   DynamixelBus bus = BusOn(emulator, Protocol::kV1, 1);
   emulator.Silence(9, true);
   try {
@@ -117,7 +117,7 @@ TEST(DynamixelBusTest, ASilentServoTimesOutAfterItsRetriesWithAMessageThatSugges
 }
 
 TEST(DynamixelBusTest, AServoAlarmIsRaisedByName) {
-  ServoBusEmulator emulator({.table = kAx12, .ids = {2}, .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(hardware::KinematicBus(kAx12, {2}, 684.0));
   DynamixelBus bus = BusOn(emulator, Protocol::kV1);
   emulator.RaiseAlarm(2, protocol1::kOverloadError | protocol1::kOverheatingError);
   try {

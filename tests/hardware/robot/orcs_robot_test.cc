@@ -86,7 +86,7 @@ bool AllTorqueOff(const ServoBusEmulator& emulator) {
 }
 
 TEST(OrcsRobotTest, PlaysARecordOnTwentyOneServosAndLogsAMeasuredRunOrcsGapReads) {
-  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, -30}, {40, -60}, {40, -60}}, 200));
   const std::string log = (dir.path() / "run.csv").string();
@@ -118,7 +118,7 @@ TEST(OrcsRobotTest, PlaysARecordOnTwentyOneServosAndLogsAMeasuredRunOrcsGapReads
 }
 
 TEST(OrcsRobotTest, ACommandBeyondAJointsLimitIsClampedAndNothingPastItIsSent) {
-  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   // The waist may bend 0…150° (spec/aseries.md §4c): 170° and −20° are beyond its two limits.
   const std::string record = Write(dir, "beyond.csv", Record({{0, 0}, {170, 0}, {-20, 0}}, 100));
@@ -138,7 +138,7 @@ TEST(OrcsRobotTest, ACommandBeyondAJointsLimitIsClampedAndNothingPastItIsSent) {
 }
 
 TEST(OrcsRobotTest, AServoAlarmStopsTheRunWithTheTorqueOffAndSaysWhy) {
-  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   const std::string record = Write(dir, "long.csv", Record({{0, 0}, {30, 0}, {60, 0}}, 5000));
   BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"});
@@ -154,7 +154,7 @@ TEST(OrcsRobotTest, AServoAlarmStopsTheRunWithTheTorqueOffAndSaysWhy) {
 }
 
 TEST(OrcsRobotTest, CtrlCTurnsTheTorqueOffWithinOneControlPeriod) {
-  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   const std::string record = Write(dir, "long.csv", Record({{0, 0}, {30, 0}, {60, 0}}, 5000));
   BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"}, true);
@@ -173,7 +173,7 @@ TEST(OrcsRobotTest, CtrlCTurnsTheTorqueOffWithinOneControlPeriod) {
 }
 
 TEST(OrcsRobotTest, NothingMovesUntilTheFirstPoseIsConfirmed) {
-  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = AllIds(), .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
   // stdin is /dev/null: no answer, so no.
@@ -198,7 +198,7 @@ TEST(OrcsRobotTest, ADryRunPrintsThePacketsAndOpensNoPort) {
 TEST(OrcsRobotTest, AMissingServoIsNamedBeforeAnythingIsSent) {
   std::vector<std::uint8_t> ids = AllIds();
   ids.erase(ids.begin() + 6);  // servo 7 (Left/Elbow) unplugged
-  ServoBusEmulator emulator({.table = dynamixel::kAx12, .ids = ids, .speed_deg_s = 684.0});
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, ids, 684.0));
   TempDir dir;
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
   const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"});
