@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include <csignal>
+#include <filesystem>
 #include <iostream>
 
 #include "hardware/emulator/servo_bus_emulator.h"
@@ -48,6 +49,8 @@ struct Options {
   std::string emulate_env;  // --emulate: orcs's simulation in this environment turns the shafts
   std::vector<std::string> emulate_values;  // value files of that simulation (hidden effects)
   bool unpaced = false;     // --emulate with a simulation: no waiting between periods
+  std::string bam_out;      // the run in BAM's JSON log format (one-joint maps)
+  BamRig bam;               // what that log says of the rig
   std::string twin_out;     // the simulated twin's log (runs the twin)
   std::string twin_env;     // the twin's environment ("" = the default world)
 };
@@ -74,6 +77,10 @@ bool ConfirmFirstPose(RobotSession& session, const control::KeyframeRecord& reco
 
 int Run(const Options& o) {
   JointMap map = ReadJointMap(o.map);
+  if (!o.bam_out.empty() && map.joints.size() != 1) {  // said before anything moves, not after the run
+    throw InputError(o.map, 0, "--bam-out: BAM's log format holds one servo; this map has " +
+                                   std::to_string(map.joints.size()) + " joints (use --out for the robot's log)");
+  }
   const control::KeyframeRecord record =
       control::ReadKeyframeRecord(o.play, static_cast<int>(map.joints.size()));
   std::unique_ptr<ServoBusEmulator> emulator;  // --emulate: the map's servos on a pseudo-terminal of our own
@@ -119,6 +126,13 @@ int Run(const Options& o) {
                                     {"map: " + o.map, "record: " + o.play, "port: " + (o.dry_run ? "dry run" : o.emulate ? "emulated" : o.port),
                                      "rate_hz: " + text::FormatDouble(o.rate_hz),
                                      "stop: " + StopReasonName(run.reason)});
+    file.Commit();
+  }
+  if (!o.bam_out.empty()) {
+    BamRig rig = o.bam;
+    if (rig.trajectory.empty()) rig.trajectory = std::filesystem::path(o.play).stem().string();
+    AtomicFile file(o.bam_out);
+    file.stream() << FormatBamLog(session.map(), run, rig);
     file.Commit();
   }
   if (twin) {
@@ -172,6 +186,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_flag("--unpaced", o.unpaced, "with --emulate-env/--emulate-val: run the periods back to back (the emulated "
                "world advances per command, so only the wall time changes)");
+  app.add_option("--bam-out", o.bam_out, "also write the run as BAM's JSON log (one-joint maps; docs/hardware.md)");
+  app.add_option("--bam-mass", o.bam.mass, "BAM log: the load's mass, kg");
+  app.add_option("--bam-length", o.bam.length, "BAM log: the load's distance from the axis, m");
+  app.add_option("--bam-kp", o.bam.kp, "BAM log: the servo's firmware P gain during the run");
   app.add_option("--twin-out", o.twin_out, "run the simulated twin on the same commands, period by period, and write "
                  "its log here (the robot's rows, the twin's angles)");
   app.add_option("--twin-env", o.twin_env, "the twin's environment (XML; default: the A-Series on the floor)")

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <ostream>
 #include <sstream>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -320,6 +323,40 @@ std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::
     out << "," << text::FormatDouble(row.command_delay) << "," << text::FormatDouble(row.cycle) << "\n";
   }
   return out.str();
+}
+
+std::string FormatBamLog(const JointMap& map, const RobotRun& run, const BamRig& rig) {
+  if (map.joints.size() != 1) {
+    throw InputError(map.source, 0, "BAM's log format holds one servo; this map has " +
+                                        std::to_string(map.joints.size()) + " joints (use --out for the robot's log)");
+  }
+  constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
+  nlohmann::json log;
+  log["motor"] = std::string(map.servo.name);
+  if (rig.mass) log["mass"] = *rig.mass;
+  if (rig.length) log["length"] = *rig.length;
+  if (rig.kp) log["kp"] = *rig.kp;
+  if (!rig.trajectory.empty()) log["trajectory"] = rig.trajectory;
+  if (run.rows.size() > 1) log["dt"] = run.rows[1].time - run.rows[0].time;
+  double volts = 0.0;
+  nlohmann::json entries = nlohmann::json::array();
+  for (std::size_t k = 0; k < run.rows.size(); ++k) {
+    const RobotRow& row = run.rows[k];
+    // BAM's recorder reads the state, then sends the goal: the entry's goal is the one that acts after its row.
+    const RobotRow& sent = run.rows[std::min(k + 1, run.rows.size() - 1)];
+    entries.push_back({{"timestamp", row.time},
+                       {"position", row.angle[0] * kRadiansPerDegree},
+                       {"speed", row.speed[0] * kRadiansPerDegree},
+                       {"load", row.load[0]},
+                       {"input_volts", row.voltage[0]},
+                       {"temp", row.temperature[0]},
+                       {"goal_position", sent.goal[0] * kRadiansPerDegree},
+                       {"torque_enable", sent.torque[0] > 0.0}});
+    volts += row.voltage[0];
+  }
+  if (!run.rows.empty()) log["vin"] = volts / static_cast<double>(run.rows.size());
+  log["entries"] = std::move(entries);
+  return log.dump() + "\n";
 }
 
 }  // namespace orcs::hardware

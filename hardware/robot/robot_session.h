@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -111,5 +112,20 @@ enum class LogSide { kRobot, kTwin };
 /// The twin's log (LogSide::kTwin) has the same rows and commands with the twin's angles, and no /Robot/ columns.
 std::string FormatRobotLog(const JointMap& map, const RobotRun& run, const std::vector<std::string>& comments,
                            LogSide side = LogSide::kRobot);
+
+/// What BAM's log says of the rig besides the run (model/identify/bam_log.h): written where given.
+struct BamRig {
+  std::optional<double> mass;    ///< kg, the load
+  std::optional<double> length;  ///< m, the load's distance from the axis
+  std::optional<double> kp;      ///< the servo's firmware P gain during the run
+  std::string trajectory;        ///< the motion's name
+};
+
+/// A one-joint run in BAM's JSON log format (Rhoban's recorder): the rig (`motor` the servo's name, `dt` the period,
+/// `vin` the mean supply voltage, and `mass`, `length`, `kp`, `trajectory` where `rig` has them) and one entry per
+/// row — timestamp s, position rad, speed rad/s, load, input_volts V, temp °C, goal_position rad, torque_enable —
+/// with BAM's timing: an entry's goal is the one sent after its state was read. Throws InputError for a map of more
+/// than one joint (a BAM log is one servo's).
+std::string FormatBamLog(const JointMap& map, const RobotRun& run, const BamRig& rig);
 
 }  // namespace orcs::hardware

@@ -213,10 +213,12 @@ TEST(OrcsRobotTest, TheXl330PendulumPlaysInProtocol2OnEmulatedServosWithItsTwin)
   const std::string record = Write(dir, "swing.csv", "# layout: raw\n0,0,1\n200,30,1\n400,-30,1\n1500,-30,1\n");
   const std::string log = (dir.path() / "run.csv").string();
   const std::string twin_log = (dir.path() / "twin.csv").string();
+  const std::string bam_log = (dir.path() / "run.json").string();
   const ProcessResult r = RunProcess({kRobot, "--map", ORCS_SOURCE_DIR "/scenarios/robots/pendulum_xl330.joints.json",
                                       "--play", record, "--emulate", "--yes", "--rate", "100", "--out", log,
                                       "--twin-out", twin_log, "--twin-env",
-                                      ORCS_SOURCE_DIR "/scenarios/environments/pendulum.xml"});
+                                      ORCS_SOURCE_DIR "/scenarios/environments/pendulum.xml", "--bam-out", bam_log,
+                                      "--bam-kp", "32"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("on 1 XL330-M288"));
   const identify::MeasuredRun run = identify::ReadMeasuredRun(log);
@@ -224,6 +226,28 @@ TEST(OrcsRobotTest, TheXl330PendulumPlaysInProtocol2OnEmulatedServosWithItsTwin)
   EXPECT_EQ(run.agent, "Pendulum");
   EXPECT_NEAR(run.joint_angle.at("Motor").back(), -30.0, 0.1) << "4096 ticks per turn: a tick is 0.088°";
   EXPECT_NEAR(twin.joint_angle.at("Motor").back(), -30.0, 3.0);
+  // The same run in BAM's format reads back (BAM's timing, radians) as the orcs log does.
+  const identify::MeasuredRun bam = identify::ReadMeasuredRun(bam_log);
+  EXPECT_EQ(bam.time, run.time);
+  EXPECT_EQ(identify::FirmwareGain(bam), 32.0);
+  ASSERT_EQ(bam.joint_angle.at("Motor").size(), run.joint_angle.at("Motor").size());
+  for (std::size_t k = 0; k < run.time.size(); ++k) {
+    EXPECT_NEAR(bam.joint_angle.at("Motor")[k], run.joint_angle.at("Motor")[k], 1e-9) << "row " << k;
+    if (k > 0) {  // row 0's inputs are never applied; BAM's timing leaves it its own goal
+      EXPECT_NEAR(bam.desired_angle.at("Motor")[k], run.desired_angle.at("Motor")[k], 1e-9) << "row " << k;
+    }
+  }
+}
+
+TEST(OrcsRobotTest, BamsFormatIsRefusedForAManyJointMapBeforeAnythingMoves) {
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
+  TempDir dir;
+  const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes",
+                                      "--bam-out", (dir.path() / "run.json").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("BAM's log format holds one servo; this map has 21 joints"));
+  EXPECT_TRUE(emulator.writes().empty());
 }
 
 }  // namespace
