@@ -11,6 +11,8 @@
 
 #include "hardware/emulator/servo_bus_emulator.h"
 #include "hardware/robot/robot_session.h"
+#include "model/core/json_node.h"
+#include "model/core/text_file.h"
 #include "hardware/robot/simulated_shafts.h"
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
@@ -40,6 +42,10 @@ struct Options {
   std::string map;          // joint map file
   std::string port;         // serial port of the bus
   std::string play;         // keyframe record to play
+  std::string scenario;     // or a scenario's controller to run
+  std::string genome;       // its genome (JSON; default: the scenario's)
+  double duration = 0.0;    // s of a controller's run (0: the scenario's)
+  int timeout_ms = 0;       // wait for a servo's answer (0: 20 ms on a port, 250 ms on the emulator)
   std::string out;          // the run's log (a measured run)
   double rate_hz = 50.0;    // control rate
   int deadline_streak = 5;  // overruns in a row that stop the run
@@ -56,9 +62,9 @@ struct Options {
 };
 
 // Shows where the robot is and where the first pose takes it; true when the user agrees (or passed --yes).
-bool ConfirmFirstPose(RobotSession& session, const control::KeyframeRecord& record, bool yes) {
+bool ConfirmFirstPose(RobotSession& session, CommandSource& source, bool yes) {
   const std::vector<double> now = session.ReadAngles();
-  const std::vector<double> pose = session.FirstPose(record);
+  const std::vector<double> pose = session.FirstPose(source, now);
   double largest = 0.0;
   std::size_t which = 0;
   for (std::size_t j = 0; j < pose.size(); ++j) {
@@ -81,8 +87,10 @@ int Run(const Options& o) {
     throw InputError(o.map, 0, "--bam-out: BAM's log format holds one servo; this map has " +
                                    std::to_string(map.joints.size()) + " joints (use --out for the robot's log)");
   }
-  const control::KeyframeRecord record =
-      control::ReadKeyframeRecord(o.play, static_cast<int>(map.joints.size()));
+  std::unique_ptr<RecordSource> record;
+  if (!o.play.empty()) {
+    record = std::make_unique<RecordSource>(control::ReadKeyframeRecord(o.play, static_cast<int>(map.joints.size())));
+  }
   std::unique_ptr<ServoBusEmulator> emulator;  // --emulate: the map's servos on a pseudo-terminal of our own
   std::string port = o.port;
   if (o.emulate) {
@@ -100,10 +108,21 @@ int Run(const Options& o) {
   if (!o.dry_run) {
     dynamixel::BusOptions bus_options;
     bus_options.protocol = map.servo.protocol;
+    // The emulator shares this machine's cores with everything else on it, so it may answer late.
+    bus_options.timeout = std::chrono::milliseconds(o.timeout_ms > 0 ? o.timeout_ms : o.emulate ? 250 : 20);
     bus = std::make_unique<dynamixel::DynamixelBus>(OpenSerialLink(port, map.baud), bus_options);
   }
+  // The twin runs for --twin-out, and for a controller, whose values it holds.
   std::unique_ptr<SimulatedTwin> twin;
-  if (!o.twin_out.empty()) twin = std::make_unique<SimulatedTwin>(o.twin_env, map);
+  if (!o.twin_out.empty() || !o.scenario.empty()) twin = std::make_unique<SimulatedTwin>(o.twin_env, map);
+  std::unique_ptr<ControllerSource> controller;
+  if (!o.scenario.empty()) {
+    std::optional<nlohmann::json> genome;
+    if (!o.genome.empty()) genome = ParseJson(ReadTextFile(o.genome), o.genome);
+    controller = std::make_unique<ControllerSource>(o.scenario, genome ? &*genome : nullptr, o.duration, *twin, map);
+  }
+  CommandSource& source = record ? static_cast<CommandSource&>(*record) : *controller;
+  const std::string played = record ? o.play : o.scenario + (o.genome.empty() ? "" : " with " + o.genome);
   SessionOptions session_options;
   session_options.twin = twin.get();
   session_options.paced = !o.unpaced;
@@ -112,25 +131,25 @@ int Run(const Options& o) {
   session_options.dry_run = o.dry_run ? &std::cout : nullptr;
   RobotSession session(std::move(map), std::move(bus), session_options);
   session.CheckServos();
-  if (!o.dry_run && !ConfirmFirstPose(session, record, o.yes)) {
+  if (!o.dry_run && !ConfirmFirstPose(session, source, o.yes)) {
     std::cerr << "orcs-robot: not confirmed: nothing was sent (pass --yes to skip the question)\n";
     return kExitBadInput;
   }
-  std::cerr << "orcs-robot: playing " << o.play << " on " << session.map().joints.size() << " "
+  std::cerr << "orcs-robot: playing " << played << " on " << session.map().joints.size() << " "
             << session.map().servo.name << (o.dry_run ? " (dry run: nothing is sent)" : "") << " at "
             << text::FormatDouble(o.rate_hz) << " Hz; Ctrl-C turns the torque off\n";
-  const RobotRun run = session.Play(record, g_interrupted);
+  const RobotRun run = session.Play(source, g_interrupted);
   if (!o.out.empty()) {
     AtomicFile file(o.out);
     file.stream() << FormatRobotLog(session.map(), run,
-                                    {"map: " + o.map, "record: " + o.play, "port: " + (o.dry_run ? "dry run" : o.emulate ? "emulated" : o.port),
+                                    {"map: " + o.map, "played: " + played, "port: " + (o.dry_run ? "dry run" : o.emulate ? "emulated" : o.port),
                                      "rate_hz: " + text::FormatDouble(o.rate_hz),
                                      "stop: " + StopReasonName(run.reason)});
     file.Commit();
   }
   if (!o.bam_out.empty()) {
     BamRig rig = o.bam;
-    if (rig.trajectory.empty()) rig.trajectory = std::filesystem::path(o.play).stem().string();
+    if (rig.trajectory.empty()) rig.trajectory = std::filesystem::path(record ? o.play : o.scenario).stem().string();
     AtomicFile file(o.bam_out);
     file.stream() << FormatBamLog(session.map(), run, rig);
     file.Commit();
@@ -138,7 +157,7 @@ int Run(const Options& o) {
   if (twin) {
     AtomicFile file(o.twin_out);
     file.stream() << FormatRobotLog(session.map(), run,
-                                    {"map: " + o.map, "record: " + o.play,
+                                    {"map: " + o.map, "played: " + played,
                                      "environment: " + (o.twin_env.empty() ? "the default world" : o.twin_env),
                                      "rate_hz: " + text::FormatDouble(o.rate_hz),
                                      "twin: " + (run.twin_status.empty() ? "ran to the end" : run.twin_status)},
@@ -173,7 +192,15 @@ int main(int argc, char** argv) {
   app.add_option("--map", o.map, "joint map (JSON): joint ↔ servo id, direction, offset, limits (scenarios/robots/)")
       ->required();
   app.add_option("--port", o.port, "the bus's serial port (/dev/ttyUSB0); not with --dry-run");
-  app.add_option("--play", o.play, "keyframe record to play (raw layout, the map's joints in order)")->required();
+  auto* play = app.add_option("--play", o.play, "keyframe record to play (raw layout, the map's joints in order)");
+  auto* scenario = app.add_option("--scenario", o.scenario, "or run this scenario's controller (a network genome from "
+                                  "evolve, an oscillator, a script) on the robot; its values are the twin's, its joint "
+                                  "sensors the robot's");
+  play->excludes(scenario);
+  app.add_option("--genome", o.genome, "with --scenario: the genome (JSON, e.g. evolve's best_genome.json)")
+      ->needs(scenario);
+  app.add_option("--duration", o.duration, "with --scenario: seconds to run (default: the scenario's)")
+      ->needs(scenario)->check(CLI::PositiveNumber);
   app.add_option("--out", o.out, "write the run's log here (a measured run orcs-gap reads)");
   app.add_option("--rate", o.rate_hz, "control rate, Hz (default 50)")->check(CLI::Range(1.0, 1000.0));
   app.add_option("--deadline-streak", o.deadline_streak, "overrun periods in a row that stop the run (default 5)")
@@ -194,6 +221,8 @@ int main(int argc, char** argv) {
                  "its log here (the robot's rows, the twin's angles)");
   app.add_option("--twin-env", o.twin_env, "the twin's environment (XML; default: the A-Series on the floor)")
       ->check(CLI::ExistingFile);
+  app.add_option("--timeout-ms", o.timeout_ms, "wait this long for a servo's answer before asking again (default 20 "
+                 "on a port, 250 with --emulate)")->check(CLI::Range(1, 10000));
   app.add_flag("--dry-run", o.dry_run, "print every packet that would be sent; open no port");
   app.add_flag("--yes", o.yes, "do not ask before moving to the first pose");
   app.add_flag("--emulate", o.emulate, "play on emulated servos (the servo-bus emulator on a pseudo-terminal): try a "
@@ -201,6 +230,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     if (o.port.empty() && !o.dry_run && !o.emulate) throw CLI::RequiredError("--port (or --emulate, --dry-run)");
+    if (o.play.empty() && o.scenario.empty()) throw CLI::RequiredError("--play or --scenario");
     const bool simulated = !o.emulate_env.empty() || !o.emulate_values.empty();
     if (simulated && !o.emulate) throw CLI::ValidationError("--emulate-env/--emulate-val", "need --emulate");
     if (o.unpaced && !simulated) {

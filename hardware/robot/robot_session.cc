@@ -22,16 +22,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The row of `record` in effect at `time` s: the latest whose time is not after it (the player's rule).
-const control::Keyframe& FrameAt(const control::KeyframeRecord& record, double time) {
-  const control::Keyframe* frame = &record.frames.front();
-  for (const control::Keyframe& candidate : record.frames) {
-    if (candidate.time_ms > time * 1000.0 + 1e-9) break;
-    frame = &candidate;
-  }
-  return *frame;
-}
-
 // A signed register: AX-12 speed and load keep the sign in bit 10 (CCW below 1024, CW above); 2.0 is two's
 // complement.
 double SignedRegister(std::int64_t raw, std::size_t size, const ControlTable& table) {
@@ -95,12 +85,11 @@ void RobotSession::CheckServos() {
                        " baud (check the ids with a scan, the baud rate, the power and the cable)");
 }
 
-std::vector<double> RobotSession::FirstPose(const control::KeyframeRecord& record) const {
-  std::vector<double> pose;
-  for (std::size_t j = 0; j < map_.joints.size(); ++j) {
-    pose.push_back(ClampToLimits(map_.joints[j], record.frames.front().inputs[2 * j]));
-  }
-  return pose;
+std::vector<double> RobotSession::FirstPose(CommandSource& source, const std::vector<double>& measured) const {
+  std::vector<double> goal(map_.joints.size(), 0.0), torque(map_.joints.size(), 0.0);
+  source.Commands(0.0, measured, goal, torque);
+  for (std::size_t j = 0; j < goal.size(); ++j) goal[j] = ClampToLimits(map_.joints[j], goal[j]);
+  return goal;
 }
 
 std::vector<double> RobotSession::ReadAngles() {
@@ -209,17 +198,13 @@ void RobotSession::ReadState(RobotRow& row) {
   }
 }
 
-RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::atomic<bool>& interrupted) {
+RobotRun RobotSession::Play(CommandSource& source, const std::atomic<bool>& interrupted) {
   const std::size_t n = map_.joints.size();
-  if (record.motor_count != static_cast<int>(n)) {
-    throw InputError(record.source, 0,
-                     "the record drives " + control::Motors(record.motor_count) + ", the joint map " +
-                         map_.source + " has " + control::Motors(static_cast<int>(n)));
-  }
   RobotRun run;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options_.rate_hz));
-  const double duration = record.frames.back().time_ms / 1000.0;
-  std::vector<double> command = FirstPose(record);  // what acts from the row on
+  const double duration = source.duration();
+  std::vector<double> command;  // what acts from the row on (row 0's is never applied: the robot's own angles)
+  std::vector<double> wanted_goal(n, 0.0), wanted_torque(n, 0.0);  // the source's, before the limits
   std::vector<double> torque;  // what the servos' torque limits say: the map's limit until the record says more
   for (const JointMapping& joint : map_.joints) torque.push_back(joint.max_torque);
   int streak = 0;
@@ -237,9 +222,10 @@ RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::at
       const Clock::time_point began = Clock::now();
       RobotRow row;
       row.time = static_cast<double>(k) / options_.rate_hz;
-      row.goal = command;
+      row.goal = k == 0 ? std::vector<double>(n, 0.0) : command;  // a dry run's robot "reaches" its command
       row.torque = torque;
       ReadState(row);
+      if (k == 0) row.goal = command = row.angle;  // row 0's inputs never act: the robot's own angles stand in
       if (options_.twin) {
         if (k == 0) options_.twin->StartAt(row.angle);  // the twin starts where the robot is
         row.twin_angle = options_.twin->Angles();
@@ -249,12 +235,11 @@ RobotRun RobotSession::Play(const control::KeyframeRecord& record, const std::at
         run.rows.push_back(std::move(row));
         break;
       }
-      const control::Keyframe& frame = FrameAt(record, row.time);
+      source.Commands(row.time, row.angle, wanted_goal, wanted_torque);
       for (std::size_t j = 0; j < n; ++j) {
-        const double wanted = frame.inputs[2 * j];
-        command[j] = ClampToLimits(map_.joints[j], wanted);
-        if (command[j] != wanted) ++run.clamped;
-        torque[j] = std::clamp(std::abs(frame.inputs[2 * j + 1]), 0.0, map_.joints[j].max_torque);
+        command[j] = ClampToLimits(map_.joints[j], wanted_goal[j]);
+        if (command[j] != wanted_goal[j]) ++run.clamped;
+        torque[j] = std::clamp(wanted_torque[j], 0.0, map_.joints[j].max_torque);
       }
       row.command_delay = std::chrono::duration<double>(Clock::now() - due).count();
       SendGoals(command, torque);

@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "hardware/dynamixel/dynamixel_bus.h"
+#include "hardware/robot/command_source.h"
 #include "hardware/robot/joint_map.h"
 #include "hardware/robot/simulated_twin.h"
-#include "model/control/keyframe_record.h"
 
 namespace orcs::hardware {
 
@@ -79,11 +79,12 @@ class RobotSession {
   void CheckServos();
   /// The joints' present angles, degrees (a dry run: 0 each).
   std::vector<double> ReadAngles();
-  /// The record's first pose, clamped to the limits: where the robot goes when torque comes on.
-  std::vector<double> FirstPose(const control::KeyframeRecord& record) const;
-  /// Plays `record` (raw layout, the map's joints in order) until it ends or something stops it: torque on,
-  /// one period per 1/rate_hz, torque off at the end whatever the reason. `interrupted` is checked every period.
-  RobotRun Play(const control::KeyframeRecord& record, const std::atomic<bool>& interrupted);
+  /// The source's first commands for the robot at `measured` (degrees), clamped to the limits: where the robot
+  /// goes when torque comes on.
+  std::vector<double> FirstPose(CommandSource& source, const std::vector<double>& measured) const;
+  /// Plays `source` until its duration ends or something stops it: torque on, one period per 1/rate_hz, torque off
+  /// at the end whatever the reason. `interrupted` is checked every period.
+  RobotRun Play(CommandSource& source, const std::atomic<bool>& interrupted);
   /// Every joint limp; never throws (it is what happens on every error).
   void TorqueOff() noexcept;
 

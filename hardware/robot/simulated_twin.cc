@@ -62,6 +62,19 @@ void SimulatedTwin::Advance(const std::vector<double>& goal, const std::vector<d
   }
 }
 
+void SimulatedTwin::SetJointSensors(const std::vector<double>& angles) {
+  for (std::size_t j = 0; j < joint_paths_.size(); ++j) {
+    simulation_->repository().Get(joint_paths_[j] + "JointAngle").Set(angles[j]);
+  }
+}
+
+void SimulatedTwin::Inputs(std::vector<double>& goal, std::vector<double>& torque) const {
+  for (std::size_t j = 0; j < joint_paths_.size(); ++j) {
+    goal[j] = simulation_->repository().Get(joint_paths_[j] + "DesiredAngle").as_double();
+    torque[j] = simulation_->repository().Get(joint_paths_[j] + "DesiredTorque").as_double();
+  }
+}
+
 std::vector<double> SimulatedTwin::Angles() const {
   std::vector<double> angles;
   for (const std::string& path : joint_paths_) {

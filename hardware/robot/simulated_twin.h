@@ -34,6 +34,13 @@ class SimulatedTwin {
   void Advance(const std::vector<double>& goal, const std::vector<double>& torque, double seconds);
   /// The joints' simulated angles, degrees, in the map's order.
   std::vector<double> Angles() const;
+  /// Writes the robot's measured angles (degrees, the map's order) into the twin's joint sensors, for a
+  /// controller that reads them (hardware/robot/command_source.h).
+  void SetJointSensors(const std::vector<double>& angles);
+  /// The joints' inputs as a controller wrote them: DesiredAngle (degrees) and DesiredTorque, the map's order.
+  void Inputs(std::vector<double>& goal, std::vector<double>& torque) const;
+  scene::Simulation& simulation() { return *simulation_; }
+  int agent_index() const { return agent_; }
   /// "" while the simulation runs; why it stopped otherwise.
   const std::string& status() const { return status_; }
 

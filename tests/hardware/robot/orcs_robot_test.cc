@@ -7,7 +7,9 @@
 #include <signal.h>
 
 #include <chrono>
+#include <algorithm>
 #include <fstream>
+#include <utility>
 #include <optional>
 #include <string>
 #include <vector>
@@ -91,7 +93,7 @@ TEST(OrcsRobotTest, PlaysARecordOnTwentyOneServosAndLogsAMeasuredRunOrcsGapReads
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, -30}, {40, -60}, {40, -60}}, 200));
   const std::string log = (dir.path() / "run.csv").string();
   const std::string twin_log = (dir.path() / "twin.csv").string();
-  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--out", log,
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record, "--out", log,
                                       "--twin-out", twin_log, "--rate", "50", "--yes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, HasSubstr("finished; torque off"));
@@ -123,7 +125,7 @@ TEST(OrcsRobotTest, ACommandBeyondAJointsLimitIsClampedAndNothingPastItIsSent) {
   // The waist may bend 0…150° (spec/aseries.md §4c): 170° and −20° are beyond its two limits.
   const std::string record = Write(dir, "beyond.csv", Record({{0, 0}, {170, 0}, {-20, 0}}, 100));
   const ProcessResult r =
-      RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--rate", "50", "--yes"});
+      RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record, "--rate", "50", "--yes"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.err, Not(HasSubstr(" 0 commands clamped")));
   const JointMap map = ReadJointMap(kMap);
@@ -141,7 +143,7 @@ TEST(OrcsRobotTest, AServoAlarmStopsTheRunWithTheTorqueOffAndSaysWhy) {
   ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   const std::string record = Write(dir, "long.csv", Record({{0, 0}, {30, 0}, {60, 0}}, 5000));
-  BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"});
+  BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record, "--yes"});
   ASSERT_TRUE(AwaitErr(robot, "playing")) << robot.err();
   ASSERT_TRUE(emulator.TorqueOn(14));
   emulator.RaiseAlarm(14, dynamixel::protocol1::kOverloadError);
@@ -157,7 +159,7 @@ TEST(OrcsRobotTest, CtrlCTurnsTheTorqueOffWithinOneControlPeriod) {
   ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   const std::string record = Write(dir, "long.csv", Record({{0, 0}, {30, 0}, {60, 0}}, 5000));
-  BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"}, true);
+  BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record, "--yes"}, true);
   ASSERT_TRUE(AwaitErr(robot, "playing")) << robot.err();
   ASSERT_FALSE(GoalWrites(emulator.writes(), 1).empty()) << "it has been sending goals";
   const std::size_t goals_before = GoalWrites(emulator.writes(), 1).size();
@@ -177,7 +179,7 @@ TEST(OrcsRobotTest, NothingMovesUntilTheFirstPoseIsConfirmed) {
   TempDir dir;
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
   // stdin is /dev/null: no answer, so no.
-  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record});
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("the first pose moves 21 joints"));
   EXPECT_THAT(r.err, HasSubstr("not confirmed: nothing was sent (pass --yes"));
@@ -201,7 +203,7 @@ TEST(OrcsRobotTest, AMissingServoIsNamedBeforeAnythingIsSent) {
   ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, ids, 684.0));
   TempDir dir;
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
-  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes"});
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record, "--yes"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("servo 7 (Left/Elbow) did not answer"));
   EXPECT_THAT(r.err, HasSubstr("baud rate"));
@@ -239,11 +241,47 @@ TEST(OrcsRobotTest, TheXl330PendulumPlaysInProtocol2OnEmulatedServosWithItsTwin)
   }
 }
 
+// Runs a scenario's controller on 21 emulated AX-12+ and its twin; returns the robot's and the twin's logs.
+std::pair<identify::MeasuredRun, identify::MeasuredRun> RunController(const std::vector<std::string>& controller) {
+  TempDir dir;
+  const std::string log = (dir.path() / "run.csv").string();
+  const std::string twin_log = (dir.path() / "twin.csv").string();
+  std::vector<std::string> argv{kRobot, "--map", kMap, "--emulate", "--yes", "--out", log, "--twin-out", twin_log};
+  argv.insert(argv.end(), controller.begin(), controller.end());
+  const ProcessResult r = RunProcess(argv);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return {identify::ReadMeasuredRun(log), identify::ReadMeasuredRun(twin_log)};
+}
+
+TEST(OrcsRobotTest, AnOscillatorDrivesTheRobotAndItsTwinWithTheSameCommands) {
+  const auto [robot, twin] = RunController(
+      {"--scenario", ORCS_SOURCE_DIR "/scenarios/examples/swing_oscillator.json", "--duration", "1.2"});
+  const std::vector<double>& goal = robot.desired_angle.at("Right/HipYaw");
+  EXPECT_GT(*std::max_element(goal.begin(), goal.end()), 8.0) << "the oscillator's amplitude is 10°";
+  EXPECT_LT(*std::min_element(goal.begin(), goal.end()), -8.0);
+  EXPECT_EQ(twin.desired_angle, robot.desired_angle);
+  EXPECT_NEAR(robot.joint_angle.at("Right/HipYaw")[40], goal[40], 1.0) << "the emulated servo follows";
+}
+
+TEST(OrcsRobotTest, AnEvolvedGenomeRunsOnTheRobotAndItsTwinWithTheSameCommands) {
+  const auto [robot, twin] = RunController(
+      {"--scenario", ORCS_SOURCE_DIR "/scenarios/evolution/rock_oscillator.json", "--genome",
+       ORCS_SOURCE_DIR "/scenarios/evolution/rock_oscillator.winner.json", "--duration", "1"});
+  EXPECT_EQ(robot.time.size(), 52u) << "1 s at 50 Hz and the last state";
+  EXPECT_EQ(twin.desired_angle, robot.desired_angle);
+  // The network's outputs move: some joint's command changes over the run.
+  bool moved = false;
+  for (const auto& [joint, goal] : robot.desired_angle) {
+    moved = moved || *std::max_element(goal.begin() + 1, goal.end()) - *std::min_element(goal.begin() + 1, goal.end()) > 1.0;
+  }
+  EXPECT_TRUE(moved);
+}
+
 TEST(OrcsRobotTest, BamsFormatIsRefusedForAManyJointMapBeforeAnythingMoves) {
   ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
   TempDir dir;
   const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, 0}}, 100));
-  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--play", record, "--yes",
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record, "--yes",
                                       "--bam-out", (dir.path() / "run.json").string()});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("BAM's log format holds one servo; this map has 21 joints"));
