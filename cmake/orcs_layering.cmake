@@ -16,7 +16,8 @@ set(_ORCS_LAYER_USES_broker  "net;proto")
 set(_ORCS_LAYER_USES_worker  "model;net;proto")
 set(_ORCS_LAYER_USES_viewer  "model;net;proto;worker")  # worker/osp: the OSP-driven live mode (orcs-osp -gui)
 set(_ORCS_LAYER_USES_clients "model;net;proto;broker")
-set(_ORCS_LAYER_USES_hardware "model")  # the servo bus: pure codecs and drivers, no wire
+# the servo bus: codecs and drivers, no wire; worker/osp's ODCP server fronts the robot for motion editors
+set(_ORCS_LAYER_USES_hardware "model;worker")
 set(_ORCS_LAYER_FOLDERS proto model net broker worker viewer clients hardware)
 
 # folder → outside libraries it may not use: a regex over link items, one over included headers.

@@ -21,6 +21,9 @@ class CommandSource {
   virtual ~CommandSource() = default;
   /// Seconds of motion: the run ends at the first period after it.
   virtual double duration() const = 0;
+  /// Whether the source has ended before its duration (a motion editor disconnected): the run ends at the next
+  /// period, its state logged.
+  virtual bool finished() const { return false; }
   /// The commands (degrees and torque 0…1 per joint, in the map's order, not yet clamped) for the period that
   /// starts at `time` s, given the joints' measured angles (degrees).
   virtual void Commands(double time, const std::vector<double>& measured, std::vector<double>& goal,

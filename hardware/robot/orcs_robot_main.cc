@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "hardware/emulator/servo_bus_emulator.h"
+#include "hardware/robot/odcp_source.h"
 #include "hardware/robot/robot_session.h"
 #include "model/core/json_node.h"
 #include "model/core/text_file.h"
@@ -25,6 +26,7 @@ constexpr int kExitOk = 0;
 constexpr int kExitRunFailed = 1;   // the bus or a servo stopped the run (torque off)
 constexpr int kExitBadInput = 2;    // a bad map, record or option: one line names it
 constexpr int kExitInterrupted = 130;  // Ctrl-C (torque off)
+constexpr double kOdcpSessionSeconds = 600.0;  // an ODCP session's bound without --duration (its log is in memory)
 
 std::atomic<bool> g_interrupted{false};  // set by SIGINT/SIGTERM, read by the control loop every period
 
@@ -44,7 +46,9 @@ struct Options {
   std::string play;         // keyframe record to play
   std::string scenario;     // or a scenario's controller to run
   std::string genome;       // its genome (JSON; default: the scenario's)
-  double duration = 0.0;    // s of a controller's run (0: the scenario's)
+  int odcp_port = -1;       // serve ODCP 1.0 here for a motion editor (0 = any; -1 = no)
+  std::string odcp_bind = "127.0.0.1";  // the ODCP socket's interface
+  double duration = 0.0;    // s of a controller's run (0: the scenario's) or of an ODCP session (0: 600)
   int timeout_ms = 0;       // wait for a servo's answer (0: 20 ms on a port, 250 ms on the emulator)
   std::string out;          // the run's log (a measured run)
   double rate_hz = 50.0;    // control rate
@@ -121,8 +125,20 @@ int Run(const Options& o) {
     if (!o.genome.empty()) genome = ParseJson(ReadTextFile(o.genome), o.genome);
     controller = std::make_unique<ControllerSource>(o.scenario, genome ? &*genome : nullptr, o.duration, *twin, map);
   }
-  CommandSource& source = record ? static_cast<CommandSource&>(*record) : *controller;
-  const std::string played = record ? o.play : o.scenario + (o.genome.empty() ? "" : " with " + o.genome);
+  std::unique_ptr<OdcpSource> editor;
+  if (o.odcp_port >= 0) {
+    osp::OdcpServerOptions server;
+    server.bind_address = o.odcp_bind;
+    server.port = static_cast<std::uint16_t>(o.odcp_port);
+    server.name = "orcs-robot odcp";
+    editor = std::make_unique<OdcpSource>(map, server, o.duration > 0 ? o.duration : kOdcpSessionSeconds);
+  }
+  CommandSource& source = record       ? static_cast<CommandSource&>(*record)
+                          : editor     ? static_cast<CommandSource&>(*editor)
+                                       : static_cast<CommandSource&>(*controller);
+  const std::string played = record   ? o.play
+                             : editor ? "the ODCP editor's commands"
+                                      : o.scenario + (o.genome.empty() ? "" : " with " + o.genome);
   SessionOptions session_options;
   session_options.twin = twin.get();
   session_options.paced = !o.unpaced;
@@ -138,6 +154,9 @@ int Run(const Options& o) {
   std::cerr << "orcs-robot: playing " << played << " on " << session.map().joints.size() << " "
             << session.map().servo.name << (o.dry_run ? " (dry run: nothing is sent)" : "") << " at "
             << text::FormatDouble(o.rate_hz) << " Hz; Ctrl-C turns the torque off\n";
+  if (editor) {  // said once torque is about to come on: an editor's commands act from here on
+    std::cout << "orcs-robot odcp=" << editor->endpoint().ToString() << std::endl;
+  }
   const RobotRun run = session.Play(source, g_interrupted);
   if (!o.out.empty()) {
     AtomicFile file(o.out);
@@ -149,7 +168,7 @@ int Run(const Options& o) {
   }
   if (!o.bam_out.empty()) {
     BamRig rig = o.bam;
-    if (rig.trajectory.empty()) rig.trajectory = std::filesystem::path(record ? o.play : o.scenario).stem().string();
+    if (rig.trajectory.empty()) rig.trajectory = editor ? "odcp" : std::filesystem::path(record ? o.play : o.scenario).stem().string();
     AtomicFile file(o.bam_out);
     file.stream() << FormatBamLog(session.map(), run, rig);
     file.Commit();
@@ -165,7 +184,8 @@ int Run(const Options& o) {
     file.Commit();
     if (!run.twin_status.empty()) std::cerr << "orcs-robot: " << run.twin_status << "\n";
   }
-  std::cerr << "orcs-robot: " << (run.reason == StopReason::kFinished ? "finished" : "stopped: " + run.message)
+  const std::string ended = editor && editor->finished() ? "the editor disconnected" : "finished";
+  std::cerr << "orcs-robot: " << (run.reason == StopReason::kFinished ? ended : "stopped: " + run.message)
             << "; torque off; " << run.rows.size() << " periods, " << run.clamped << " commands clamped to the limits, "
             << run.missed_deadlines << " deadlines missed";
   if (const auto* b = session.bus()) {
@@ -186,9 +206,9 @@ int Run(const Options& o) {
 int main(int argc, char** argv) {
   using orcs::hardware::Options;
   Options o;
-  CLI::App app{"orcs-robot: plays a keyframe record on the physical robot through its Dynamixel bus, joint limits\n"
-               "enforced, torque off on Ctrl-C, a bus error, a servo alarm or missed deadlines; logs the run as a\n"
-               "measured run for orcs-gap (docs/hardware.md)"};
+  CLI::App app{"orcs-robot: plays a keyframe record, a controller or a motion editor's ODCP commands on the physical\n"
+               "robot through its Dynamixel bus, joint limits enforced, torque off on Ctrl-C, a bus error, a servo alarm or\n"
+               "missed deadlines; logs the run as a measured run for orcs-gap (docs/hardware.md)"};
   app.add_option("--map", o.map, "joint map (JSON): joint ↔ servo id, direction, offset, limits (scenarios/robots/)")
       ->required();
   app.add_option("--port", o.port, "the bus's serial port (/dev/ttyUSB0); not with --dry-run");
@@ -196,11 +216,18 @@ int main(int argc, char** argv) {
   auto* scenario = app.add_option("--scenario", o.scenario, "or run this scenario's controller (a network genome from "
                                   "evolve, an oscillator, a script) on the robot; its values are the twin's, its joint "
                                   "sensors the robot's");
+  auto* odcp = app.add_option("--odcp", o.odcp_port, "or serve ODCP 1.0 on this UDP port (0 = any) and play what a "
+                               "motion editor sends (MotionEditor, a slider tool) until it disconnects")
+                   ->check(CLI::Range(0, 65535));
   play->excludes(scenario);
+  odcp->excludes(play)->excludes(scenario);
+  app.add_option("--odcp-bind", o.odcp_bind, "with --odcp: the interface to listen on (default 127.0.0.1)")
+      ->needs(odcp);
   app.add_option("--genome", o.genome, "with --scenario: the genome (JSON, e.g. evolve's best_genome.json)")
       ->needs(scenario);
-  app.add_option("--duration", o.duration, "with --scenario: seconds to run (default: the scenario's)")
-      ->needs(scenario)->check(CLI::PositiveNumber);
+  app.add_option("--duration", o.duration, "with --scenario: seconds to run (default: the scenario's); with --odcp: "
+                 "the session's longest (default 600)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--out", o.out, "write the run's log here (a measured run orcs-gap reads)");
   app.add_option("--rate", o.rate_hz, "control rate, Hz (default 50)")->check(CLI::Range(1.0, 1000.0));
   app.add_option("--deadline-streak", o.deadline_streak, "overrun periods in a row that stop the run (default 5)")
@@ -230,7 +257,12 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     if (o.port.empty() && !o.dry_run && !o.emulate) throw CLI::RequiredError("--port (or --emulate, --dry-run)");
-    if (o.play.empty() && o.scenario.empty()) throw CLI::RequiredError("--play or --scenario");
+    if (o.play.empty() && o.scenario.empty() && o.odcp_port < 0) {
+      throw CLI::RequiredError("--play, --scenario or --odcp");
+    }
+    if (o.duration > 0 && o.scenario.empty() && o.odcp_port < 0) {
+      throw CLI::ValidationError("--duration", "only with --scenario or --odcp: a record lasts as long as its rows");
+    }
     const bool simulated = !o.emulate_env.empty() || !o.emulate_values.empty();
     if (simulated && !o.emulate) throw CLI::ValidationError("--emulate-env/--emulate-val", "need --emulate");
     if (o.unpaced && !simulated) {

@@ -202,7 +202,9 @@ RobotRun RobotSession::Play(CommandSource& source, const std::atomic<bool>& inte
   const std::size_t n = map_.joints.size();
   RobotRun run;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options_.rate_hz));
-  const double duration = source.duration();
+  // The last period is the first at or after the source's duration, so that a record's last row (at any time, an
+  // editor's receipt time) is sent; the period after it logs where that left the robot.
+  const double last_period = std::ceil(source.duration() * options_.rate_hz - 1e-9) / options_.rate_hz;
   std::vector<double> command;  // what acts from the row on (row 0's is never applied: the robot's own angles)
   std::vector<double> wanted_goal(n, 0.0), wanted_torque(n, 0.0);  // the source's, before the limits
   std::vector<double> torque;  // what the servos' torque limits say: the map's limit until the record says more
@@ -230,7 +232,7 @@ RobotRun RobotSession::Play(CommandSource& source, const std::atomic<bool>& inte
         if (k == 0) options_.twin->StartAt(row.angle);  // the twin starts where the robot is
         row.twin_angle = options_.twin->Angles();
       }
-      if (row.time > duration + 1e-9) {  // the motion has ended: its last state is logged
+      if (row.time > last_period + 1e-9 || source.finished()) {  // the motion has ended: its last state is logged
         row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
         run.rows.push_back(std::move(row));
         break;

@@ -11,7 +11,9 @@
 #include <fstream>
 #include <utility>
 #include <optional>
+#include <regex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "hardware/dynamixel/dynamixel_bus.h"
@@ -21,6 +23,7 @@
 #include "tests/support/background_process.h"
 #include "tests/support/process.h"
 #include "tests/support/temp_dir.h"
+#include "tests/support/udp_peer.h"
 
 namespace orcs::hardware {
 namespace {
@@ -286,6 +289,144 @@ TEST(OrcsRobotTest, BamsFormatIsRefusedForAManyJointMapBeforeAnythingMoves) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.err, HasSubstr("BAM's log format holds one servo; this map has 21 joints"));
   EXPECT_TRUE(emulator.writes().empty());
+}
+
+
+// ---- A motion editor's ODCP 1.0 (../shared/spec/osp.md), spoken from the spec alone: int32 little-endian words,
+// w ↔ n = −1 + 2w/1023, angle 150·n degrees, torque w/1023. ----
+using Bytes = std::vector<std::uint8_t>;
+
+std::int32_t AngleWord(double degrees) { return static_cast<std::int32_t>(std::lround((degrees / 150.0 + 1.0) * 511.5)); }
+double AngleOfWord(std::int32_t word) { return 150.0 * (-1.0 + 2.0 * word / 1023.0); }
+
+Bytes Message(std::uint8_t code, const std::vector<std::int32_t>& ints = {}) {
+  Bytes bytes{code};
+  for (std::int32_t v : ints) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<std::uint8_t>(static_cast<std::uint32_t>(v) >> (8 * i)));
+  }
+  return bytes;
+}
+
+class Editor {
+ public:
+  explicit Editor(std::uint16_t port) : port_(port) {}
+  bool Connect() { return Ask(Message(5)) == Message(6, {15, 1}); }
+  bool Disconnect() { return Ask(Message(7)) == Message(8); }
+  // Every joint at 0° except those given, full torque.
+  void Set(const std::vector<std::pair<int, double>>& angles) {
+    std::vector<std::int32_t> words(kJoints, AngleWord(0.0));
+    for (const auto& [joint, degrees] : angles) words[static_cast<std::size_t>(joint)] = AngleWord(degrees);
+    words.resize(2 * kJoints, 1023);
+    peer_.SendTo(port_, Message(100, words));
+  }
+  // The angles get-motors reports, degrees; empty when no intact answer came.
+  std::vector<double> Angles() {
+    const std::optional<Bytes> reply = Ask(Message(150));
+    std::vector<double> angles;
+    if (!reply || reply->size() != 1 + 8 * kJoints || reply->front() != 151) return angles;
+    for (int j = 0; j < kJoints; ++j) {
+      std::uint32_t word = 0;
+      for (int i = 3; i >= 0; --i) word = (word << 8) | (*reply)[1 + 4 * static_cast<std::size_t>(j) + static_cast<std::size_t>(i)];
+      angles.push_back(AngleOfWord(static_cast<std::int32_t>(word)));
+    }
+    return angles;
+  }
+
+ private:
+  std::optional<Bytes> Ask(const Bytes& bytes) {
+    peer_.SendTo(port_, bytes);
+    return peer_.Receive(std::chrono::milliseconds(5000));
+  }
+  std::uint16_t port_;
+  test_support::UdpPeer peer_;
+};
+
+// The port of a "PROGRAM odcp=127.0.0.1:PORT" line; 0 when the line is not one.
+std::uint16_t OdcpPort(const std::optional<std::string>& line, const std::string& program) {
+  std::smatch match;
+  if (!line || !std::regex_match(*line, match, std::regex(program + " odcp=127\\.0\\.0\\.1:(\\d+)"))) return 0;
+  return static_cast<std::uint16_t>(std::stoi(match[1]));
+}
+
+constexpr int kWaist = 0;       // joint 0 of the map, servo 1
+constexpr int kRightKnee = 13;  // joint 13, servo 14
+
+TEST(OrcsRobotTest, AMotionEditorDrivesTheRobotOverOdcpWithinItsLimits) {
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
+  TempDir dir;
+  const std::string log = (dir.path() / "edited.csv").string();
+  BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--odcp", "0",
+                           "--yes", "--out", log});
+  Editor editor(OdcpPort(robot.ReadLine(std::chrono::seconds(20)), "orcs-robot"));
+  ASSERT_TRUE(editor.Connect()) << robot.err();
+  // Get-motors answers the robot's measured angles: the emulated servos stand at their centre (0°).
+  const std::vector<double> found = editor.Angles();
+  ASSERT_EQ(found.size(), static_cast<std::size_t>(kJoints)) << robot.err();
+  for (double angle : found) EXPECT_NEAR(angle, 0.0, 0.3);
+  // The knee to 30°; the waist to 170°, beyond its 150° limit.
+  editor.Set({{kRightKnee, 30.0}, {kWaist, 170.0}});
+  std::vector<double> now;
+  for (int ask = 0; ask < 500; ++ask) {  // one answer per control period (20 ms): 10 s at most
+    now = editor.Angles();
+    if (now.size() == found.size() && std::abs(now[kRightKnee] - 30.0) < 0.5 && now[kWaist] > 149.0) break;
+  }
+  ASSERT_EQ(now.size(), found.size());
+  EXPECT_NEAR(now[kRightKnee], 30.0, 0.5) << "the measured knee reached the editor's goal";
+  EXPECT_NEAR(now[kWaist], 150.0, 0.5) << "the waist stopped at its limit";
+  EXPECT_NEAR(emulator.Angle(14), 30.0, 0.5);
+  ASSERT_TRUE(editor.Disconnect());
+  const std::optional<ProcessResult> r = robot.Wait(std::chrono::seconds(20));
+  ASSERT_TRUE(r.has_value()) << "the editor's disconnect ends the session";
+  EXPECT_EQ(r->exit_code, 0) << r->err;
+  EXPECT_THAT(r->err, HasSubstr("the editor disconnected; torque off"));
+  EXPECT_TRUE(AllTorqueOff(emulator));
+  const std::vector<std::int64_t> waist_goals = GoalWrites(emulator.writes(), 1);
+  ASSERT_FALSE(waist_goals.empty());
+  EXPECT_LE(*std::max_element(waist_goals.begin(), waist_goals.end()), dynamixel::kAx12.max_tick)
+      << "nothing past the limit was sent";
+  // The session is a measured run: the editor's commands, clamped, beside the measured angles.
+  const identify::MeasuredRun run = identify::ReadMeasuredRun(log);
+  EXPECT_NEAR(run.desired_angle.at("Right/Knee").back(), AngleOfWord(AngleWord(30.0)), 1e-6);
+  EXPECT_NEAR(run.desired_angle.at("Waist").back(), 150.0, 1e-9);
+  EXPECT_NEAR(run.joint_angle.at("Right/Knee").back(), 30.0, 0.5);
+}
+
+TEST(OrcsRobotTest, AnOrcsSnifferRecordReplaysOnTheRobot) {
+  TempDir dir;
+  const std::string sniffed = (dir.path() / "sniffed.csv").string();
+  {
+    BackgroundProcess sniffer({ORCS_BINARY_DIR "/bin/orcs-sniffer", sniffed, "--port", "0"});
+    Editor editor(OdcpPort(sniffer.ReadLine(std::chrono::seconds(20)), "orcs-sniffer"));
+    ASSERT_TRUE(editor.Connect()) << sniffer.err();
+    // The waist to 20°, then 40°, and the right knee to 30° with it, at the editor's own pace of 150 ms.
+    const auto start = std::chrono::steady_clock::now();
+    editor.Set({{kWaist, 0.0}});
+    std::this_thread::sleep_until(start + std::chrono::milliseconds(150));
+    editor.Set({{kWaist, 20.0}});
+    std::this_thread::sleep_until(start + std::chrono::milliseconds(300));
+    editor.Set({{kWaist, 40.0}, {kRightKnee, 30.0}});
+    ASSERT_TRUE(editor.Disconnect());
+    const std::optional<ProcessResult> recorded = sniffer.Wait(std::chrono::seconds(20));
+    ASSERT_TRUE(recorded.has_value());
+    ASSERT_EQ(recorded->exit_code, 0) << recorded->err;
+  }
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
+  const std::string log = (dir.path() / "replayed.csv").string();
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250",
+                                      "--play", sniffed, "--out", log, "--yes"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(AllTorqueOff(emulator));
+  // The servos got the editor's last pose, as goal ticks.
+  const JointMap map = ReadJointMap(kMap);
+  ASSERT_FALSE(GoalWrites(emulator.writes(), 1).empty());
+  EXPECT_EQ(GoalWrites(emulator.writes(), 1).back(), ToTicks(*map.Find("Waist"), AngleOfWord(AngleWord(40.0))));
+  EXPECT_EQ(GoalWrites(emulator.writes(), 14).back(), ToTicks(*map.Find("Right/Knee"), AngleOfWord(AngleWord(30.0))));
+  const identify::MeasuredRun run = identify::ReadMeasuredRun(log);
+  const std::vector<double>& waist = run.desired_angle.at("Waist");
+  EXPECT_NE(std::find_if(waist.begin(), waist.end(), [](double a) { return std::abs(a - AngleOfWord(AngleWord(20.0))) < 1e-6; }),
+            waist.end())
+      << "the middle command was played too";
+  EXPECT_NEAR(waist.back(), AngleOfWord(AngleWord(40.0)), 1e-6);
 }
 
 }  // namespace
