@@ -1,5 +1,7 @@
 #include "model/evaluation/recorder.h"
 
+#include <utility>
+
 #include <bit>
 #include <cassert>
 
@@ -61,6 +63,12 @@ void Recorder::SampleAt(double time) {
   }
   Deflate(frame_.data(), frame_.size(), Z_NO_FLUSH);
   ++frames_;
+}
+
+std::string Recorder::TakeFlushed() {
+  assert(!finished_ && "TakeFlushed() after Finish()");
+  Deflate(nullptr, 0, Z_SYNC_FLUSH);
+  return std::exchange(out_, std::string());
 }
 
 std::string Recorder::Finish() {

@@ -35,7 +35,12 @@ class Recorder {
   /// The same with another time stamp, s: a kinematic replay that poses the robot after a Reset() per sample
   /// (orcs-gap's measured runs) stamps each frame with the sample's time.
   void SampleAt(double time);
-  /// Ends the stream and returns the whole file's bytes. The recorder is spent afterwards.
+  /// Flushes the frames so far (a zlib sync flush) and hands over the bytes made since the last call, the prefix and
+  /// the header first: appended to a file in order, they make a recording that a reader with
+  /// RecordingLimits::allow_unfinished opens whole up to the last frame (a run still going on, watched live).
+  std::string TakeFlushed();
+  /// Ends the stream and returns the file's bytes not yet taken (all of them without TakeFlushed()). The recorder is
+  /// spent afterwards.
   std::string Finish();
 
   int channel_count() const { return layout_.channel_count(); }

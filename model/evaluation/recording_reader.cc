@@ -25,8 +25,10 @@ std::uint32_t ReadU32(std::string_view bytes, std::size_t offset) {
   return value;
 }
 
-// Inflates the frame stream into `out`, refusing more than `limit` bytes and a stream that does not end.
-std::string Inflate(std::string_view compressed, const std::string& name, std::uint64_t limit) {
+// Inflates the frame stream, refusing more than `limit` bytes, and a stream that does not end unless
+// `allow_unfinished`; `finished` says whether it ended.
+std::string Inflate(std::string_view compressed, const std::string& name, std::uint64_t limit, bool allow_unfinished,
+                    bool& finished) {
   z_stream stream{};
   if (inflateInit(&stream) != Z_OK) throw InputError(name, 0, "cannot start decompressing (zlib)");
   stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(compressed.data()));
@@ -41,6 +43,10 @@ std::string Inflate(std::string_view compressed, const std::string& name, std::u
     if (status != Z_OK && status != Z_STREAM_END) {
       inflateEnd(&stream);
       const bool ended = status == Z_BUF_ERROR;  // no more input before the end of the stream
+      if (ended && allow_unfinished) {
+        finished = false;
+        return out;
+      }
       throw InputError(name, 0, ended ? "truncated: the frame stream ends early"
                                       : "corrupt frame stream (zlib: " + std::string(stream.msg ? stream.msg : "?") + ")");
     }
@@ -51,6 +57,7 @@ std::string Inflate(std::string_view compressed, const std::string& name, std::u
     }
   }
   inflateEnd(&stream);
+  finished = true;
   return out;
 }
 
@@ -79,8 +86,9 @@ nlohmann::json ParseHeader(std::string_view bytes, const std::string& name) {
   return header;
 }
 
-// Walks the frames: time, contact count, XOR-ed values, contacts.
-void ReadFrames(std::string_view frames, const std::string& name, Recording& recording) {
+// Walks the frames: time, contact count, XOR-ed values, contacts. A frame cut short is an error, or — in a stream
+// still being written (`complete` false) — where the frames so far end.
+void ReadFrames(std::string_view frames, const std::string& name, bool complete, Recording& recording) {
   const std::size_t channels = recording.channels.size();
   std::vector<std::uint32_t> bits(channels, 0);
   std::size_t at = 0;
@@ -88,20 +96,26 @@ void ReadFrames(std::string_view frames, const std::string& name, Recording& rec
   while (at < frames.size()) {
     const int frame = recording.frame_count();
     const auto truncated = [&] { return InputError(name, 0, "truncated inside frame " + std::to_string(frame)); };
-    if (frames.size() - at < 12 + channels * 4) throw truncated();
+    if (frames.size() - at < 12 + channels * 4) {
+      if (!complete) break;
+      throw truncated();
+    }
     double time = 0;
     std::memcpy(&time, frames.data() + at, sizeof time);
     const std::uint32_t contacts = ReadU32(frames, at + 8);
-    at += 12;
     if (contacts > kMaxContactsPerFrame) {
       throw InputError(name, 0, "frame " + std::to_string(frame) + " claims " + std::to_string(contacts) + " contacts");
     }
+    if (frames.size() - at - 12 - channels * 4 < contacts * kContactBytes) {
+      if (!complete) break;
+      throw truncated();
+    }
+    at += 12;
     for (std::size_t c = 0; c < channels; ++c) {
       bits[c] ^= ReadU32(frames, at + 4 * c);
       recording.values.push_back(std::bit_cast<float>(bits[c]));
     }
     at += 4 * channels;
-    if (frames.size() - at < contacts * kContactBytes) throw truncated();
     for (std::uint32_t k = 0; k < contacts; ++k) {
       RecordedContact contact;
       std::memcpy(&contact.body1, frames.data() + at, 4);
@@ -130,8 +144,9 @@ Recording ParseRecording(std::string_view bytes, const std::string& name, const 
   recording.header = ParseHeader(bytes, name);
   for (const nlohmann::json& channel : recording.header["channels"]) recording.channels.push_back(channel);
   const std::size_t frames_at = kPrefixBytes + ReadU32(bytes, 12);
-  const std::string frames = Inflate(bytes.substr(frames_at), name, limits.max_decompressed_bytes);
-  ReadFrames(frames, name, recording);
+  const std::string frames =
+      Inflate(bytes.substr(frames_at), name, limits.max_decompressed_bytes, limits.allow_unfinished, recording.finished);
+  ReadFrames(frames, name, recording.finished, recording);
   return recording;
 }
 

@@ -23,6 +23,7 @@ struct Recording {
   std::vector<float> values;          ///< frame-major: frame f, channel c at f · channel_count + c
   std::vector<std::uint32_t> contact_offsets;  ///< frame f's contacts: [offsets[f], offsets[f+1])
   std::vector<RecordedContact> contacts;
+  bool finished = true;  ///< false: the frame stream was cut (a run still being written; allow_unfinished)
 
   int frame_count() const { return static_cast<int>(times.size()); }
   int channel_count() const { return static_cast<int>(channels.size()); }
@@ -35,6 +36,9 @@ struct Recording {
 struct RecordingLimits {
   std::uint64_t max_file_bytes = std::uint64_t{1} << 30;          ///< the file, 1 GiB
   std::uint64_t max_decompressed_bytes = std::uint64_t{4} << 30;  ///< the frames inflated, 4 GiB
+  /// Accept a frame stream that stops early — a recording still being written (Recorder::TakeFlushed) — and read the
+  /// frames complete so far (Recording::finished false); otherwise that is an error, "truncated".
+  bool allow_unfinished = false;
 };
 
 /// Parses a recording's bytes; `name` (a file name) prefixes every error.

@@ -52,6 +52,51 @@ TEST(RecordingReaderTest, RefusesATruncatedFileWhereverItIsCut) {
   }
 }
 
+// A run watched while it is written (orcs-robot --view): the recorder hands over its frames in flushed pieces, and
+// a reader that allows an unfinished stream reads every frame flushed so far, wherever the file is cut.
+TEST(RecordingReaderTest, ReadsARecordingStillBeingWrittenUpToItsLastCompleteFrame) {
+  scene::Simulation simulation;
+  scene::SetUpWorld(simulation, "", {}, {});
+  simulation.Reset(0);
+  Recorder recorder(simulation, RecordingSource{});
+  std::string file;
+  RecordingLimits live;
+  live.allow_unfinished = true;
+  for (int piece = 1; piece <= 3; ++piece) {
+    for (int i = 0; i < 10; ++i) {
+      simulation.Step();
+      recorder.Sample();
+    }
+    file += recorder.TakeFlushed();
+    const Recording so_far = ParseRecording(file, "live.orcsrec", live);
+    EXPECT_FALSE(so_far.finished);
+    EXPECT_EQ(so_far.frame_count(), 1 + 10 * piece) << "frame 0 and every frame flushed";
+    EXPECT_THAT(InputErrorOf([&] { ParseRecording(file, "live.orcsrec"); }), HasSubstr("truncated"))
+        << "a reader that does not allow it still refuses an unfinished stream";
+  }
+  // Cut anywhere after the header (a reader catching the file mid-write): never more frames than were flushed, the
+  // values of those it reads as written.
+  const Recording flushed = ParseRecording(file, "live.orcsrec", live);
+  std::uint32_t header_length = 0;
+  std::memcpy(&header_length, file.data() + 12, 4);
+  for (std::size_t keep = 16 + header_length; keep < file.size(); keep += 7) {
+    try {
+      const Recording cut = ParseRecording(std::string_view(file).substr(0, keep), "cut.orcsrec", live);
+      ASSERT_LE(cut.frame_count(), flushed.frame_count());
+      EXPECT_EQ(std::vector<float>(flushed.values.begin(), flushed.values.begin() + static_cast<long>(cut.values.size())),
+                cut.values) << keep;
+    } catch (const InputError& error) {
+      EXPECT_THAT(error.what(), HasSubstr("holds no frame")) << keep;  // cut before frame 0's bytes
+    }
+  }
+  file += recorder.Finish();
+  const Recording whole = ParseRecording(file, "live.orcsrec");
+  EXPECT_TRUE(whole.finished);
+  EXPECT_EQ(whole.frame_count(), 31);
+  EXPECT_EQ(std::vector<float>(whole.values.begin(), whole.values.begin() + static_cast<long>(flushed.values.size())),
+            flushed.values);
+}
+
 TEST(RecordingReaderTest, RefusesAHeaderThatIsNotTheFormats) {
   std::string bytes = SmallRecording(1);
   std::uint32_t length = 0;
