@@ -208,6 +208,7 @@ class OdeWorld final : public PhysicsWorld {
 
   std::shared_ptr<const PhysicsModel> model_;
   dWorldID world_ = nullptr;
+  dThreadingImplementationID threading_ = nullptr;  // the world's own step threading (Build explains why)
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
   std::vector<dBodyID> bodies_;   // per model body; nullptr for static bodies
@@ -265,6 +266,12 @@ void OdeWorld::BuildGuarded() {
 
 void OdeWorld::Build() {
   world_ = dWorldCreate();
+  // A threading implementation of the world's own: ODE's default one is shared by every world of the process and
+  // guarded by no lock, so two threads stepping two worlds at once (orcs-robot's twin beside the servo-bus
+  // emulator's simulated shafts) corrupted its job list, and a step never returned. Self-threaded: the same jobs
+  // in the same order, on the calling thread.
+  threading_ = dThreadingAllocateSelfThreadedImplementation();
+  dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
   // Joint stops and motors take the world's ERP/CFM at creation. Use the original's values (0.2 / 1e-5), not
   // ODE's double-precision default CFM (1e-10).
   const PhysicsParameters defaults;
@@ -291,6 +298,8 @@ void OdeWorld::Destroy() {
   if (contact_group_ != nullptr) dJointGroupDestroy(contact_group_);
   if (space_ != nullptr) dSpaceDestroy(space_);
   if (world_ != nullptr) dWorldDestroy(world_);
+  if (threading_ != nullptr) dThreadingFreeImplementation(threading_);  // after the world that used it
+  threading_ = nullptr;
   contact_group_ = nullptr;
   space_ = nullptr;
   world_ = nullptr;

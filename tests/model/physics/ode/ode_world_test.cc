@@ -11,6 +11,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "model/physics/physics_model.h"
@@ -33,6 +34,37 @@ TEST(OdeWorldTest, ShallowContactPointsAreDropped) {
   EXPECT_LT(world->body_state(1).position.y(), 0.05 - 0.004);
   EXPECT_GT(world->body_state(1).position.y(), 0.05 - 0.008);
   for (const Contact& c : world->contacts()) EXPECT_GE(c.depth, 0.005);
+}
+
+// ODE's default step threading is one per process and takes no lock: two threads stepping two worlds at once
+// corrupted its job list and a step never returned (orcs-robot's twin beside the servo-bus emulator's simulated
+// shafts). Each world has its own now; both threads get the bits one thread gets.
+TEST(OdeWorldTest, WorldsSteppedOnTwoThreadsAtOnceGiveTheBitsOfOne) {
+  PhysicsDescription d;
+  d.bodies = {Floor()};
+  for (int i = 0; i < 8; ++i) {  // eight islands: many jobs per step
+    d.bodies.push_back(Sphere("Ball" + std::to_string(i), 0.05, 0.1, "ABS", {0.3 * i, 0.1 + 0.02 * i, 0}));
+  }
+  const auto model = Compile(d);
+  const PhysicsParameters p;
+  const auto heights = [](const PhysicsWorld& world) {
+    std::vector<double> y;
+    for (int b = 1; b < 9; ++b) y.push_back(world.body_state(b).position.y());
+    return y;
+  };
+  auto alone = MakeOdeWorld(model);
+  RunFor(*alone, 30.0, p);
+  const std::vector<double> expected = heights(*alone);
+  for (int round = 0; round < 4; ++round) {
+    auto first = MakeOdeWorld(model);
+    auto second = MakeOdeWorld(model);
+    std::thread a([&] { RunFor(*first, 30.0, p); });
+    std::thread b([&] { RunFor(*second, 30.0, p); });
+    a.join();
+    b.join();
+    EXPECT_EQ(heights(*first), expected) << "round " << round;
+    EXPECT_EQ(heights(*second), expected) << "round " << round;
+  }
 }
 
 TEST(OdeWorldTest, RestitutionFollowsTheMaterialTable) {
