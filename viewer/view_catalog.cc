@@ -83,6 +83,7 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
 std::string FolderKind(const fs::path& root) {
   if (IsFile(root / "fitness.csv")) return "evolve";
   if (IsFile(root / "report.json")) return "gap";
+  if (IsFile(root / "robot_run.json")) return "robot";
   if (IsFile(root / "results.jsonl") || IsFile(root / "results.jsonl.partial")) return "batch";
   const nlohmann::json progress = ProgressOf(root);
   const std::string command = progress.is_object() ? progress.value("command", "") : "";
@@ -111,8 +112,9 @@ void ViewCatalog::AddInput(const std::string& input) {
     std::lock_guard lock(items_mutex_);
     id = AddRecording(input, "", fs::path(input).filename().string());
   }
+  std::error_code ignored;
   std::lock_guard lock(mutex_);
-  cache_.emplace(id, std::move(recording));
+  cache_.emplace(id, Cached{std::move(recording), fs::file_size(input, ignored), fs::last_write_time(input, ignored)});
 }
 
 void ViewCatalog::AddFolder(const std::string& folder) {
@@ -129,7 +131,8 @@ void ViewCatalog::AddFolder(const std::string& folder) {
   if (items_.size() == before) {
     throw InputError(folder, 0,
                      "nothing viewable: expected recordings (*.orcsrec), a batch (results.jsonl), an evolve run "
-                     "(fitness.csv), a gap report (report.json) or a run in progress (progress.json)");
+                     "(fitness.csv), a gap report (report.json), a robot run (robot_run.json) or a run in progress "
+                     "(progress.json)");
   }
 }
 
@@ -153,6 +156,8 @@ void ViewCatalog::AddChildren(const ViewItem& item) {
     add_new(root / "replays", item.id);
   } else if (item.kind == "batch") {
     add_new(root / "recordings", item.id);
+  } else if (item.kind == "robot") {
+    add_new(root, item.id);  // robot.orcsrec, twin.orcsrec: they appear at the run's first flush
   }
 }
 
@@ -165,7 +170,7 @@ const ViewItem* ViewCatalog::Refreshed(std::string_view id, std::string_view kin
 }
 
 std::string ViewCatalog::AddItem(std::string kind, std::string label, std::string path, std::string parent) {
-  const char prefix = kind == "recording" ? 'r' : kind[0];
+  const char prefix = kind == "recording" ? 'r' : kind == "robot" ? 'p' : kind[0];
   std::string id = prefix + std::to_string(counters_[std::string(1, prefix)]++);
   items_.push_back({id, std::move(kind), std::move(label), std::move(path), std::move(parent)});
   return id;
@@ -222,13 +227,26 @@ nlohmann::json ViewCatalog::ItemsJson() const {
 std::shared_ptr<const evaluation::Recording> ViewCatalog::Recording(std::string_view id) {
   const ViewItem* item = Find(id);
   if (item == nullptr || item->kind != "recording") return nullptr;
+  // A robot run's recordings are written while the robot moves (orcs-robot --view): read what is there.
+  const ViewItem* parent = item->parent.empty() ? nullptr : Find(item->parent);
+  evaluation::RecordingLimits limits;
+  limits.allow_unfinished = parent != nullptr && parent->kind == "robot";
+  std::error_code error;
+  const std::uintmax_t bytes = fs::file_size(item->path, error);
+  const fs::file_time_type modified = fs::last_write_time(item->path, error);
   std::lock_guard lock(mutex_);
   const auto cached = cache_.find(id);
-  if (cached != cache_.end()) return cached->second;
+  if (cached != cache_.end() && (error || (cached->second.bytes == bytes && cached->second.modified == modified))) {
+    return cached->second.recording;
+  }
   constexpr std::size_t kKept = 16;  // parsed recordings kept in memory
-  if (cache_.size() >= kKept) cache_.erase(cache_.begin());
-  auto recording = std::make_shared<const evaluation::Recording>(evaluation::ReadRecording(item->path));
-  cache_.emplace(std::string(id), recording);
+  if (cached != cache_.end()) {
+    cache_.erase(cached);
+  } else if (cache_.size() >= kKept) {
+    cache_.erase(cache_.begin());
+  }
+  auto recording = std::make_shared<const evaluation::Recording>(evaluation::ReadRecording(item->path, limits));
+  cache_.insert_or_assign(std::string(id), Cached{recording, bytes, modified});
   return recording;
 }
 
@@ -325,6 +343,24 @@ std::optional<nlohmann::json> ViewCatalog::GapJson(std::string_view id) {
   nlohmann::json list = nlohmann::json::array();
   for (auto& [name, run] : runs) list.push_back(std::move(run));
   return nlohmann::json{{"name", item->label}, {"missing_effect", effect}, {"runs", list}, {"progress", ProgressOf(folder)}};
+}
+
+std::optional<nlohmann::json> ViewCatalog::RobotJson(std::string_view id) {
+  const ViewItem* item = Refreshed(id, "robot");
+  if (item == nullptr) return std::nullopt;
+  const fs::path folder(item->path);
+  const std::string about_text = ReadTable(folder / "robot_run.json");
+  const nlohmann::json about =
+      about_text.empty() ? nlohmann::json(nullptr) : ParseJson(about_text, (folder / "robot_run.json").string());
+  nlohmann::json answer = {{"name", item->label}, {"run", about}, {"robot", nullptr}, {"twin", nullptr},
+                           {"bytes", nlohmann::json::object()}, {"progress", ProgressOf(folder)}};
+  for (const ViewItem& child : ChildrenOf(item->id)) {
+    if (child.label != "robot" && child.label != "twin") continue;
+    answer[child.label] = child.id;
+    std::error_code error;
+    answer["bytes"][child.label] = fs::file_size(child.path, error);
+  }
+  return answer;
 }
 
 nlohmann::json ViewCatalog::ReplaysJson() {

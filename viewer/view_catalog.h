@@ -6,6 +6,7 @@
 #pragma once
 
 #include <deque>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -20,8 +21,8 @@
 namespace orcs::viewer {
 
 struct ViewItem {
-  std::string id;      ///< "r0", "b0", "e0", "g0"
-  std::string kind;    ///< "recording", "batch", "evolve" or "gap"
+  std::string id;      ///< "r0", "b0", "e0", "g0", "p0" (a robot run)
+  std::string kind;    ///< "recording", "batch", "evolve", "gap" or "robot"
   std::string label;   ///< what the page shows
   std::string path;    ///< the file or folder
   std::string parent;  ///< the batch, evolve or gap item a recording belongs to, "" = given directly
@@ -41,13 +42,19 @@ class ViewCatalog {
 
   /// {"items": [...]} for /api/session.
   nlohmann::json ItemsJson() const;
-  /// The recording of a recording item, read on first use and kept. Throws InputError when the file is bad.
+  /// The recording of a recording item, read on first use and kept, and read again when its file has changed (a
+  /// robot run's grows while the robot moves: read up to its last complete frame). Throws InputError when the file is
+  /// bad.
   std::shared_ptr<const evaluation::Recording> Recording(std::string_view id);
   /// /api/batch, /api/evolve, /api/gap answers; nullopt for an id of another kind. Each first adds the
   /// recordings that have appeared in the folder since, and carries "progress": its progress.json, or null.
   std::optional<nlohmann::json> BatchJson(std::string_view id);
   std::optional<nlohmann::json> EvolveJson(std::string_view id);
   std::optional<nlohmann::json> GapJson(std::string_view id);
+  /// /api/robot: an orcs-robot --view folder — {"name", "run": its robot_run.json, "robot": the recording of the
+  /// measured robot, "twin": the twin's (ids or null), "bytes": {"robot", "twin"} (each file's size, which grows
+  /// while the robot moves), "progress"}.
+  std::optional<nlohmann::json> RobotJson(std::string_view id);
   /// The recorded jobs of the batch folders whose progress.json names their broker batch, for the dashboard's
   /// links from a finished job to its replay: [{"batch": broker batch id, "job": job id, "recording": "r3"}].
   nlohmann::json ReplaysJson();
@@ -72,7 +79,12 @@ class ViewCatalog {
   std::map<std::string, int, std::less<>> counters_;
   std::map<std::string, std::string> recording_ids_;  ///< recording path → its id
   mutable std::mutex mutex_;  // guards cache_
-  std::map<std::string, std::shared_ptr<const evaluation::Recording>, std::less<>> cache_;
+  struct Cached {
+    std::shared_ptr<const evaluation::Recording> recording;
+    std::uintmax_t bytes = 0;                  // the file's size when read
+    std::filesystem::file_time_type modified;  // and its modification time
+  };
+  std::map<std::string, Cached, std::less<>> cache_;
 };
 
 }  // namespace orcs::viewer

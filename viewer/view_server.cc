@@ -425,17 +425,28 @@ void ViewServer::AddFilesRoutes() {
     if (!recording) return;
     const auto ids = ParseIds(request.get_param_value("ids"), recording->channel_count());
     if (!ids) return SendError(response, 400, "ids: expected channel indices such as 3,4,5 (at most 4096)");
+    // frames=F: the first F frames only — a page that read the times of a recording still being written (orcs-robot
+    // --view) asks for as many values as it has times, however far the file has grown since.
+    std::size_t frames = static_cast<std::size_t>(recording->frame_count());
+    if (request.has_param("frames")) {
+      const std::string text = request.get_param_value("frames");
+      std::size_t asked = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), asked);
+      if (error != std::errc() || end != text.data() + text.size() || asked == 0 || asked > frames) {
+        return SendError(response, 400, "frames: expected 1 to " + std::to_string(frames) + " (the frames read)");
+      }
+      frames = asked;
+    }
     // Each id costs a column of every frame: bound the answer, not only the list (ids may repeat).
-    const std::size_t frames = static_cast<std::size_t>(recording->frame_count());
     if (ids->size() * frames > kMaxChannelValues) {
       return SendError(response, 400, "ids: at most " + std::to_string(kMaxChannelValues / std::max<std::size_t>(frames, 1)) +
                                           " channels of this recording (" + std::to_string(frames) +
                                           " frames) per request");
     }
     std::vector<float> columns;
-    columns.reserve(ids->size() * recording->frame_count());
+    columns.reserve(ids->size() * frames);
     for (int id : *ids) {
-      for (int f = 0; f < recording->frame_count(); ++f) columns.push_back(recording->value(f, id));
+      for (std::size_t f = 0; f < frames; ++f) columns.push_back(recording->value(static_cast<int>(f), id));
     }
     SendArray(response, columns);
   });
@@ -457,6 +468,7 @@ void ViewServer::AddFilesRoutes() {
   table_route(R"(/api/batch/([A-Za-z0-9]+))", &ViewCatalog::BatchJson);
   table_route(R"(/api/evolve/([A-Za-z0-9]+))", &ViewCatalog::EvolveJson);
   table_route(R"(/api/gap/([A-Za-z0-9]+))", &ViewCatalog::GapJson);
+  table_route(R"(/api/robot/([A-Za-z0-9]+))", &ViewCatalog::RobotJson);
   // The dashboard's links from a finished job to its replay.
   server_->Get("/api/replays", [this](const Request&, Response& response) {
     SendJson(response, {{"replays", catalog_->ReplaysJson()}});

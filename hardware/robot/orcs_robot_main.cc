@@ -11,6 +11,7 @@
 
 #include "hardware/emulator/servo_bus_emulator.h"
 #include "hardware/robot/odcp_source.h"
+#include "hardware/robot/robot_run_folder.h"
 #include "hardware/robot/robot_session.h"
 #include "model/core/json_node.h"
 #include "model/core/text_file.h"
@@ -63,6 +64,7 @@ struct Options {
   BamRig bam;               // what that log says of the rig
   std::string twin_out;     // the simulated twin's log (runs the twin)
   std::string twin_env;     // the twin's environment ("" = the default world)
+  std::string view;         // a folder orcs-view follows while the robot moves (runs the twin)
 };
 
 // Shows where the robot is and where the first pose takes it; true when the user agrees (or passed --yes).
@@ -118,7 +120,9 @@ int Run(const Options& o) {
   }
   // The twin runs for --twin-out, and for a controller, whose values it holds.
   std::unique_ptr<SimulatedTwin> twin;
-  if (!o.twin_out.empty() || !o.scenario.empty()) twin = std::make_unique<SimulatedTwin>(o.twin_env, map);
+  if (!o.twin_out.empty() || !o.scenario.empty() || !o.view.empty()) {
+    twin = std::make_unique<SimulatedTwin>(o.twin_env, map);
+  }
   std::unique_ptr<ControllerSource> controller;
   if (!o.scenario.empty()) {
     std::optional<nlohmann::json> genome;
@@ -139,8 +143,19 @@ int Run(const Options& o) {
   const std::string played = record   ? o.play
                              : editor ? "the ODCP editor's commands"
                                       : o.scenario + (o.genome.empty() ? "" : " with " + o.genome);
+  std::unique_ptr<RobotRunFolder> view;  // made now: a folder that cannot be written is said before anything moves
+  if (!o.view.empty()) {
+    nlohmann::json about = {{"map", o.map},
+                            {"played", played},
+                            {"port", o.dry_run ? "dry run" : o.emulate ? "emulated" : o.port},
+                            {"servo", map.servo.name},
+                            {"rate_hz", o.rate_hz}};
+    if (std::isfinite(source.duration())) about["duration_s"] = source.duration();
+    view = std::make_unique<RobotRunFolder>(o.view, map, o.twin_env, about);
+  }
   SessionOptions session_options;
   session_options.twin = twin.get();
+  if (view) session_options.on_row = [&](const RobotRow& row) { view->Add(row, twin.get()); };
   session_options.paced = !o.unpaced;
   session_options.rate_hz = o.rate_hz;
   session_options.deadline_streak = o.deadline_streak;
@@ -158,6 +173,7 @@ int Run(const Options& o) {
     std::cout << "orcs-robot odcp=" << editor->endpoint().ToString() << std::endl;
   }
   const RobotRun run = session.Play(source, g_interrupted);
+  if (view) view->Finish(run);
   if (!o.out.empty()) {
     AtomicFile file(o.out);
     file.stream() << FormatRobotLog(session.map(), run,
@@ -173,7 +189,7 @@ int Run(const Options& o) {
     file.stream() << FormatBamLog(session.map(), run, rig);
     file.Commit();
   }
-  if (twin) {
+  if (twin && !o.twin_out.empty()) {
     AtomicFile file(o.twin_out);
     file.stream() << FormatRobotLog(session.map(), run,
                                     {"map: " + o.map, "played: " + played,
@@ -182,8 +198,8 @@ int Run(const Options& o) {
                                      "twin: " + (run.twin_status.empty() ? "ran to the end" : run.twin_status)},
                                     LogSide::kTwin);
     file.Commit();
-    if (!run.twin_status.empty()) std::cerr << "orcs-robot: " << run.twin_status << "\n";
   }
+  if (twin && !run.twin_status.empty()) std::cerr << "orcs-robot: " << run.twin_status << "\n";
   const std::string ended = editor && editor->finished() ? "the editor disconnected" : "finished";
   std::cerr << "orcs-robot: " << (run.reason == StopReason::kFinished ? ended : "stopped: " + run.message)
             << "; torque off; " << run.rows.size() << " periods, " << run.clamped << " commands clamped to the limits, "
@@ -192,7 +208,8 @@ int Run(const Options& o) {
     std::cerr << "; bus: " << b->counts().instructions << " instructions, " << b->counts().timeouts << " timeouts, "
               << b->counts().checksum_errors << " checksum errors, " << b->counts().retries << " retries";
   }
-  std::cerr << (o.out.empty() ? "" : "; log " + o.out) << (o.twin_out.empty() ? "" : "; twin " + o.twin_out) << "\n";
+  std::cerr << (o.out.empty() ? "" : "; log " + o.out) << (o.twin_out.empty() ? "" : "; twin " + o.twin_out)
+            << (o.view.empty() ? "" : "; orcs-view " + o.view) << "\n";
   switch (run.reason) {
     case StopReason::kFinished: return kExitOk;
     case StopReason::kInterrupted: return kExitInterrupted;
@@ -246,6 +263,8 @@ int main(int argc, char** argv) {
   app.add_option("--bam-kp", o.bam.kp, "BAM log: the servo's firmware P gain during the run");
   app.add_option("--twin-out", o.twin_out, "run the simulated twin on the same commands, period by period, and write "
                  "its log here (the robot's rows, the twin's angles)");
+  app.add_option("--view", o.view, "keep a folder orcs-view follows while the robot moves: the robot posed by its "
+                 "measured angles and its simulated twin, recorded period by period (runs the twin)");
   app.add_option("--twin-env", o.twin_env, "the twin's environment (XML; default: the A-Series on the floor)")
       ->check(CLI::ExistingFile);
   app.add_option("--timeout-ms", o.timeout_ms, "wait this long for a servo's answer before asking again (default 20 "

@@ -234,6 +234,7 @@ RobotRun RobotSession::Play(CommandSource& source, const std::atomic<bool>& inte
       }
       if (row.time > last_period + 1e-9 || source.finished()) {  // the motion has ended: its last state is logged
         row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
+        if (options_.on_row) options_.on_row(row);
         run.rows.push_back(std::move(row));
         break;
       }
@@ -246,6 +247,7 @@ RobotRun RobotSession::Play(CommandSource& source, const std::atomic<bool>& inte
       row.command_delay = std::chrono::duration<double>(Clock::now() - due).count();
       SendGoals(command, torque);
       row.cycle = std::chrono::duration<double>(Clock::now() - began).count();
+      if (options_.on_row) options_.on_row(row);
       // The twin gets the same command for the same period, after the robot (it must never delay it).
       if (options_.twin) options_.twin->Advance(command, torque, 1.0 / options_.rate_hz);
       run.rows.push_back(std::move(row));

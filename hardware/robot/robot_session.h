@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -24,6 +25,8 @@
 
 namespace orcs::hardware {
 
+struct RobotRow;
+
 /// How a run is paced and when it gives up.
 struct SessionOptions {
   double rate_hz = 50.0;         ///< control rate, Hz: one command and one state read per period
@@ -31,6 +34,9 @@ struct SessionOptions {
   std::ostream* dry_run = nullptr;  ///< where a dry run prints what would be sent (no bus)
   SimulatedTwin* twin = nullptr;    ///< the simulated twin fed the same commands each period, or none
   bool paced = true;                ///< false: no waiting between periods (an emulated world advancing per command)
+  /// Called with each control period's row once its command went out (and with the last row), the twin still at
+  /// the row's time: what orcs-robot --view records. Runs in the control loop, after the robot's bus traffic.
+  std::function<void(const RobotRow&)> on_row;
 };
 
 /// Why a run ended.

@@ -45,6 +45,15 @@ void SimulatedTwin::StartAt(const std::vector<double>& angles) {
   simulation_->SetAgentJointAngles(agent_, all);
 }
 
+void SimulatedTwin::Pose(const std::vector<double>& angles, const std::vector<double>& goal) {
+  simulation_->Reset(0);
+  StartAt(angles);
+  SetJointSensors(angles);
+  for (std::size_t j = 0; j < joint_paths_.size(); ++j) {
+    simulation_->repository().Get(joint_paths_[j] + "DesiredAngle").Set(goal[j]);
+  }
+}
+
 void SimulatedTwin::Advance(const std::vector<double>& goal, const std::vector<double>& torque, double seconds) {
   if (!status_.empty()) return;
   VariableRepository& values = simulation_->repository();

@@ -34,6 +34,9 @@ class SimulatedTwin {
   void Advance(const std::vector<double>& goal, const std::vector<double>& torque, double seconds);
   /// The joints' simulated angles, degrees, in the map's order.
   std::vector<double> Angles() const;
+  /// Poses the model kinematically — no physics step: reset, the joints at `angles`, their sensors reading them, their
+  /// inputs `goal` (all degrees, the map's order). What orcs-robot --view records as the physical robot.
+  void Pose(const std::vector<double>& angles, const std::vector<double>& goal);
   /// Writes the robot's measured angles (degrees, the map's order) into the twin's joint sensors, for a
   /// controller that reads them (hardware/robot/command_source.h).
   void SetJointSensors(const std::vector<double>& angles);

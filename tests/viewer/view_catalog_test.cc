@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "model/core/error.h"
+#include "model/evaluation/recorder.h"
+#include "model/scene/world_setup.h"
 #include "tests/support/temp_dir.h"
 
 namespace orcs::viewer {
@@ -71,6 +75,48 @@ TEST_F(ViewCatalogTest, ABatchInProgressListsRecordingsAsTheyAppear) {
   batch = *catalog.BatchJson("b0");
   ASSERT_EQ(batch["jobs"].size(), 1u);
   EXPECT_TRUE(batch["jobs"][0]["recording"].is_string()) << batch.dump();
+}
+
+// orcs-robot --view: a folder whose recording grows while the robot moves is one item, its recordings read again as
+// they grow (up to the last complete frame), without a restart.
+TEST_F(ViewCatalogTest, ARobotRunIsFollowedAsItsRecordingGrows) {
+  dir_.Write("bend/robot_run.json", R"({"played": "waist_bend.csv", "joints": ["Waist"], "agent": "Humanoid"})");
+  WriteProgress("bend", "robot", "running");
+  scene::Simulation simulation;
+  scene::SetUpWorld(simulation, "", {}, {});
+  simulation.Reset(0);
+  evaluation::Recorder recorder(simulation, evaluation::RecordingSource{});
+  const auto steps = [&](int n) {
+    for (int i = 0; i < n; ++i) {
+      simulation.Step();
+      recorder.Sample();
+    }
+  };
+  steps(5);
+  std::ofstream file(dir_.PathOf("bend/robot.orcsrec"), std::ios::binary);
+  const auto append = [&](const std::string& bytes) {
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    file.flush();
+  };
+  append(recorder.TakeFlushed());
+  ViewCatalog catalog({dir_.PathOf("bend")});
+  ASSERT_EQ(Kinds(catalog), (std::vector<std::string>{"robot:bend", "recording:robot"}));
+  const nlohmann::json robot = *catalog.RobotJson("p0");
+  EXPECT_EQ(robot["robot"], "r0");
+  EXPECT_EQ(robot["twin"], nullptr) << "no twin.orcsrec yet";
+  EXPECT_EQ(robot["run"]["played"], "waist_bend.csv");
+  EXPECT_EQ(robot["progress"]["state"], "running");
+  EXPECT_EQ(catalog.Recording("r0")->frame_count(), 6);
+  EXPECT_FALSE(catalog.Recording("r0")->finished);
+  steps(7);
+  append(recorder.TakeFlushed());
+  EXPECT_EQ(catalog.Recording("r0")->frame_count(), 13) << "read again: the file grew";
+  EXPECT_GT((*catalog.RobotJson("p0"))["bytes"]["robot"].get<std::uint64_t>(), robot["bytes"]["robot"].get<std::uint64_t>());
+  steps(2);
+  append(recorder.Finish());
+  EXPECT_EQ(catalog.Recording("r0")->frame_count(), 15);
+  EXPECT_TRUE(catalog.Recording("r0")->finished);
+  EXPECT_FALSE(catalog.GapJson("p0").has_value()) << "an id of another kind";
 }
 
 TEST_F(ViewCatalogTest, AGapDiagnosisUnderWayHasNoReportYet) {

@@ -16,9 +16,12 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "hardware/dynamixel/dynamixel_bus.h"
 #include "hardware/emulator/servo_bus_emulator.h"
 #include "hardware/robot/joint_map.h"
+#include "model/evaluation/recording_reader.h"
 #include "model/identify/measured_run.h"
 #include "tests/support/background_process.h"
 #include "tests/support/process.h"
@@ -58,6 +61,11 @@ std::string Record(const std::vector<std::pair<double, double>>& waist_and_elbow
     text += "\n";
   }
   return text;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 std::string Write(const TempDir& dir, const std::string& name, const std::string& text) {
@@ -120,6 +128,48 @@ TEST(OrcsRobotTest, PlaysARecordOnTwentyOneServosAndLogsAMeasuredRunOrcsGapReads
   EXPECT_NE(twin.joint_angle.at("Waist"), run.joint_angle.at("Waist")) << "the twin's angles are its own";
   EXPECT_NEAR(twin.joint_angle.at("Waist").back(), 40.0, 3.0);
   EXPECT_NEAR(twin.joint_angle.at("Right/Elbow").back(), -60.0, 3.0);
+}
+
+// --view: the folder orcs-view follows holds the robot as measured and its twin, period by period — the same
+// angles as the two logs — and says how the run ended.
+TEST(OrcsRobotTest, TheViewFolderRecordsTheRobotAndItsTwinPeriodByPeriod) {
+  ServoBusEmulator emulator(KinematicBus(dynamixel::kAx12, AllIds(), 684.0));
+  TempDir dir;
+  const std::string record = Write(dir, "bend.csv", Record({{0, 0}, {20, -30}, {40, -60}, {40, -60}}, 200));
+  const std::string log = (dir.path() / "run.csv").string();
+  const std::string twin_log = (dir.path() / "twin.csv").string();
+  const std::string view = (dir.path() / "view").string();
+  const ProcessResult r = RunProcess({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play",
+                                      record, "--out", log, "--twin-out", twin_log, "--view", view, "--yes"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const identify::MeasuredRun run = identify::ReadMeasuredRun(log);
+  const identify::MeasuredRun twin = identify::ReadMeasuredRun(twin_log);
+  const evaluation::Recording robot_rec = evaluation::ReadRecording(view + "/robot.orcsrec");
+  const evaluation::Recording twin_rec = evaluation::ReadRecording(view + "/twin.orcsrec");
+  ASSERT_EQ(robot_rec.frame_count(), static_cast<int>(run.time.size())) << "a frame per control period";
+  ASSERT_EQ(twin_rec.frame_count(), static_cast<int>(run.time.size()));
+  const int robot_angle = robot_rec.FindChannel("/Sim/Humanoid/Right/Elbow/JointAngle");
+  const int robot_goal = robot_rec.FindChannel("/Sim/Humanoid/Right/Elbow/DesiredAngle");
+  const int twin_angle = twin_rec.FindChannel("/Sim/Humanoid/Right/Elbow/JointAngle");
+  ASSERT_GE(robot_angle, 0);
+  ASSERT_GE(robot_goal, 0);
+  ASSERT_GE(twin_angle, 0);
+  for (int f = 0; f < robot_rec.frame_count(); ++f) {
+    const auto row = static_cast<std::size_t>(f);
+    EXPECT_NEAR(robot_rec.times[row], run.time[row], 1e-9);
+    EXPECT_NEAR(robot_rec.value(f, robot_angle), run.joint_angle.at("Right/Elbow")[row], 1e-3) << "measured, frame " << f;
+    EXPECT_NEAR(robot_rec.value(f, robot_goal), run.desired_angle.at("Right/Elbow")[row], 1e-3) << "command, frame " << f;
+    EXPECT_NEAR(twin_rec.value(f, twin_angle), twin.joint_angle.at("Right/Elbow")[row], 1e-3) << "twin, frame " << f;
+  }
+  // The last frame holds where the record left the elbow.
+  EXPECT_NEAR(robot_rec.value(robot_rec.frame_count() - 1, robot_angle), -60.0, 0.5);
+  const nlohmann::json progress = nlohmann::json::parse(ReadFile(view + "/progress.json"));
+  EXPECT_EQ(progress["command"], "robot");
+  EXPECT_EQ(progress["state"], "finished");
+  EXPECT_EQ(progress["periods"], run.time.size());
+  const nlohmann::json about = nlohmann::json::parse(ReadFile(view + "/robot_run.json"));
+  EXPECT_EQ(about["played"], record);
+  EXPECT_EQ(about["joints"].size(), 21u);
 }
 
 TEST(OrcsRobotTest, ACommandBeyondAJointsLimitIsClampedAndNothingPastItIsSent) {

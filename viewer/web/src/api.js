@@ -71,7 +71,7 @@ export async function getChannels(rid, ids, frames) {
   const perRequest = Math.max(1, Math.min(1000, Math.floor(MAX_CHANNEL_VALUES / Math.max(frames, 1))));
   for (let start = 0; start < unique.length; start += perRequest) {
     const chunk = unique.slice(start, start + perRequest);
-    const data = await getFloat32(`/api/recording/${encodeURIComponent(rid)}/channels?ids=${chunk.join(',')}`);
+    const data = await getFloat32(`/api/recording/${encodeURIComponent(rid)}/channels?ids=${chunk.join(',')}&frames=${frames}`);
     const n = chunk.length ? Math.floor(data.length / chunk.length) : 0;
     if (n !== frames) throw new ApiError(`recording ${rid}: ${data.length} channel values for ${chunk.length} channels of ${frames} frames`);
     chunk.forEach((id, i) => out.set(id, data.subarray(i * n, (i + 1) * n)));

@@ -44,6 +44,10 @@ const state = {
   screenOf: (body) => world.screenOf(String(body)),
   addView: (spec) => addView(spec),
   removeView: (id) => removeView(id),
+  /** The shown run's frames and its overlay's (0 when none): a robot run's grow while the robot moves. */
+  get frames() { return rec ? rec.frames : 0; },
+  get overlayFrames() { return overlay ? overlay.frames : 0; },
+  get ghostBodies() { return world ? world.ghostBodies.length : 0; },
 };
 window.orcsView = state;
 onError((text) => state.errors.push(text));
@@ -185,6 +189,8 @@ function fillCompare() {
   const recs = (session.items || []).filter((i) => i.kind === 'recording');
   select.replaceChildren(el('option', { value: '' }, '— none —'),
     ...recs.map((i) => el('option', { value: i.id }, `${i.label || i.path || i.id}`)));
+  // A refreshed list (a run in progress grew) keeps naming the run overlaid.
+  if (overlay && [...select.options].some((o) => o.value === overlay.id)) select.value = overlay.id;
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -206,6 +212,7 @@ async function open(id) {
       case 'batch': await items.showBatch(id); break;
       case 'evolve': await items.showEvolve(id); break;
       case 'gap': await items.showGap(id); break;
+      case 'robot': await items.showRobot(id); break;
       case 'live': return true;
       default: showError(`unknown item kind "${item.kind}"`); return false;
     }
@@ -218,8 +225,16 @@ async function open(id) {
   return true;
 }
 
-/** Shows a recording; opts.overlay names a run to overlay (a gap's measured run). */
+/**
+ * Shows a recording; opts.overlay names a run to overlay (a gap's measured run, a robot's twin); opts.plot lists
+ * channels to plot when nothing is plotted; opts.follow: the same run again, grown (a robot run being written) —
+ * the camera and the time stay, or move to the newest frame when the last one was shown.
+ */
 async function openRecording(rid, opts = {}) {
+  const following = Boolean(opts.follow && rec && rec.id === rid);
+  const atEnd = following && drawnFrame >= rec.frames - 1;
+  const keptTime = simTime;
+  const wasPlaying = following && state.playing;
   let next;
   try {
     next = await Recording.load(rid, opts.label);
@@ -238,13 +253,14 @@ async function openRecording(rid, opts = {}) {
   if ($('toggle-contacts').checked) await rec.contacts().catch((e) => showError(e));
   const slider = $('tl-slider');
   slider.max = String(rec.frames - 1);
-  simTime = rec.times[0];
+  simTime = following ? (atEnd ? rec.times[rec.frames - 1] : keptTime) : rec.times[0];
   drawnFrame = -1;
-  applyFrame(0, true);
-  world.setPreset(renderMode ? 'follow' : world.preset || 'front');
+  applyFrame(rec.frameAt(simTime), true);
+  if (!following) world.setPreset(renderMode ? 'follow' : world.preset || 'front');
   fillTree();
   channelSearch();
   await plots.setPrimary(rec, true);
+  if (!plots.paths.length && Array.isArray(opts.plot) && opts.plot.length) await plots.addAll(opts.plot);
   overlay = null;
   world.clearGhost();
   $('compare').value = '';
@@ -254,6 +270,7 @@ async function openRecording(rid, opts = {}) {
   world.render();
   countRender();
   state.ready = true;
+  if (wasPlaying && !atEnd) play();
   return true;
 }
 

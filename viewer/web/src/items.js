@@ -30,12 +30,29 @@ function bestRun(kind, id, answer) {
     return { rid: best.recording, opts: { label: `${answer.name || id} · ${best.job} (best)` } };
   }
   if (kind === 'evolve' && answer.recording) return { rid: answer.recording, opts: { label: `${answer.name || id} · winner` } };
+  if (kind === 'robot') return robotRun(id, answer, 'robot');
   if (kind === 'gap') {
     const run = (Array.isArray(answer.runs) ? answer.runs : []).find((r) => r.simulated);
     if (!run) return null;
     return { rid: run.simulated, opts: { label: `${run.name} (simulated)`, overlay: run.measured || null, overlayLabel: `${run.name} (measured)` } };
   }
   return null;
+}
+
+/**
+ * A robot run (orcs-robot --view) to open: `main` 'robot' shows the robot as measured with its twin as the ghost,
+ * 'twin' the other way round; the first joint's measured and commanded angles are plotted (the twin's dashed).
+ */
+function robotRun(id, answer, main) {
+  const name = answer.name || id;
+  const other = main === 'robot' ? 'twin' : 'robot';
+  const rid = answer[main];
+  if (!rid) return null;
+  const role = { robot: 'robot (measured)', twin: 'twin (simulated)' };
+  const run = answer.run || {};
+  const joint = Array.isArray(run.joints) && run.joints.length ? run.joints[0] : null;
+  const plot = joint && run.agent ? [`/Sim/${run.agent}/${joint}/JointAngle`, `/Sim/${run.agent}/${joint}/DesiredAngle`] : [];
+  return { rid, opts: { label: `${name} · ${role[main]}`, overlay: answer[other] || null, overlayLabel: `${name} · ${role[other]}`, plot } };
 }
 
 /** Equal-width bins over `values` (finite numbers): {centres, counts, width}; null for fewer than two values. */
@@ -52,7 +69,7 @@ function histogram(values) {
 // Tick steps for axes that count (generations, jobs): no 0.2 of a generation.
 const WHOLE_STEPS = [1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000];
 
-const KIND_ICON = { recording: '▶', batch: '▦', evolve: '↗', gap: '≈', live: '●', broker: '⛁' };
+const KIND_ICON = { recording: '▶', batch: '▦', evolve: '↗', gap: '≈', robot: '⚙', live: '●', broker: '⛁' };
 
 export class Items {
   /** ctx: {open(id), openRecording(rid, opts), onProgress(progress or null), refreshSession()} */
@@ -64,6 +81,7 @@ export class Items {
     this.batchSort = { key: null, dir: -1 };
     this.followTimer = null;
     this.shownBody = '';        // the answer (without its progress) now drawn: redraw only when it changed
+    this.robotMain = 'robot';   // a robot run: which side the 3D view shows, 'robot' or 'twin' (the other the ghost)
   }
 
   setSession(session) {
@@ -98,6 +116,7 @@ export class Items {
   showBatch(id) { return this.show(id, 'batch', (answer) => this.renderBatch(id, answer)); }
   showEvolve(id) { return this.show(id, 'evolve', (answer) => this.renderEvolve(id, answer)); }
   showGap(id) { return this.show(id, 'gap', (answer) => this.renderGap(id, answer)); }
+  showRobot(id) { return this.show(id, 'robot', (answer) => this.renderRobot(id, answer)); }
 
   /** Asks for the item, draws it, and while its run is in progress asks again every second. `follow`: a
    * repeated ask, which is dropped when another item was opened meanwhile. */
@@ -117,9 +136,11 @@ export class Items {
       this.detail().hidden = false;
       this.detail().append(el('div', { id: 'run-progress' }));
       render(answer);
-      // Opened anew: the 3D view shows the item's best run at once rather than staying empty.
-      const best = same ? null : bestRun(kind, id, answer);
-      if (best) await this.ctx.openRecording(best.rid, best.opts);
+      // Opened anew: the 3D view shows the item's best run at once rather than staying empty. A robot run that grew
+      // is opened again where the reader is (following its newest frame when they were at the end).
+      const best = same ? (kind === 'robot' ? robotRun(id, answer, this.robotMain) : null) : bestRun(kind, id, answer);
+      if (!same) this.robotMain = 'robot';
+      if (best) await this.ctx.openRecording(best.rid, { ...best.opts, follow: same });
       const table = this.detail().querySelector('.table-wrap');
       if (table && scroll) table.scrollTop = scroll;  // a growing table keeps the reader's place
       if (same) this.ctx.refreshSession?.();  // recordings may have appeared: list them
@@ -154,6 +175,10 @@ export class Items {
     }
     if (kind === 'evolve' && typeof p.best_so_far === 'number' && p.state === 'running') {
       parts.push(`best ${fmt(p.best_so_far, 4)}, median ${fmt(p.median_so_far, 4)} in this generation so far`);
+    }
+    if (kind === 'robot') {
+      parts.push(`t = ${fmt(p.time_s ?? 0, 3)} s${typeof p.duration_s === 'number' ? ` of ${fmt(p.duration_s, 3)} s` : ''}, ${p.periods ?? 0} control periods`);
+      if (p.stop) parts.push(p.stop);
     }
     if (kind === 'gap') {
       if (typeof p.replays === 'number') parts.push(`${p.replays} replays`);
@@ -268,6 +293,24 @@ export class Items {
         { label: 'median', stroke: '#4ea1ff', width: 1.5 },
         { label: 'worst', stroke: '#ff6b81', width: 1, dash: [4, 3], points: { show: false }, show: gens.some((g) => g.worst !== undefined) }],
     }, [gens.map((g, i) => g.generation ?? i), gens.map((g) => g.best ?? null), gens.map((g) => g.median ?? null), gens.map((g) => g.worst ?? null)], plotDiv);
+  }
+
+  renderRobot(id, answer) {
+    const run = answer.run || {};
+    const open = (main) => {
+      const chosen = robotRun(id, answer, main);
+      if (!chosen) return;
+      this.robotMain = main;
+      this.ctx.openRecording(chosen.rid, chosen.opts);
+    };
+    put(this.detail(), el('h2', {}, `Robot: ${answer.name || id}`),
+      el('div', {}, 'played: ', el('b', {}, run.played || '?'), ` on ${(run.joints || []).length} ${run.servo || 'servos'}`,
+        ` at ${run.rate_hz ?? '?'} Hz (${run.port || '?'})`),
+      el('div', { class: 'muted' }, 'the robot as measured and its simulated twin, fed the same commands; the other one is the ghost, dashed in the plots'),
+      el('div', { id: 'robot-sides' },
+        el('button', { class: 'small', id: 'robot-show-robot', disabled: !answer.robot, onclick: () => open('robot') }, 'robot (measured)'),
+        ' ',
+        el('button', { class: 'small', id: 'robot-show-twin', disabled: !answer.twin, onclick: () => open('twin') }, 'twin (simulated)')));
   }
 
   renderGap(id, gap) {
