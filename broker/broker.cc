@@ -13,6 +13,7 @@
 #include <vector>
 #include <zmq_addon.hpp>
 
+#include "base/demand.h"
 #include "broker/broker_text.h"
 #include "net/envelope_check.h"
 #include "proto/envelope.h"
@@ -159,7 +160,7 @@ BrokerStats Broker::stats() const {
 }
 
 void Broker::Run() {
-  if (ran_) throw std::logic_error("Broker::Run called twice");
+  ORCS_DEMAND_MSG(!ran_, "Broker::Run called twice");
   ran_ = true;
   Clock::time_point next_tick = Clock::now() + options_.heartbeat_interval;
   std::vector<zmq::pollitem_t> items = {{worker_socket_.handle(), 0, ZMQ_POLLIN, 0},

@@ -19,7 +19,7 @@ std::string EscapeForLog(std::string_view line);
 void WriteLog(const std::function<void(std::string_view)>& sink, const std::string& line);
 /// The first `max_bytes` bytes of `text` (well-formed UTF-8, as every protobuf string the broker receives), fewer
 /// when that would cut a character in two: a cut character would not survive the client's UTF-8 check. (The same
-/// rule as model/core/text.h's Prefix, which the broker may not link: DESIGN.md.)
+/// rule as model/core/text.h's Prefix, which the broker may not link: docs/architecture.md.)
 std::string_view Utf8Prefix(std::string_view text, std::size_t max_bytes);
 /// "0x0080000001": a routing id for the log.
 std::string Hex(const std::string& bytes);

@@ -1,4 +1,4 @@
-# orcs_check_layering(): DESIGN.md's one dependency rule, checked at configure time for every top folder.
+# orcs_check_layering(): docs/architecture.md's one dependency rule, checked at configure time for every top folder.
 #
 # Each top folder may use itself and the folders listed for it below, nothing else of the project; some may not
 # use certain outside libraries at all (a broker runs on a head node with no physics; the model knows no wire).
@@ -9,16 +9,18 @@
 # tests/ and scripts/ are outside the rule: tests may use whatever they check.
 
 # folder → the other project folders it may use.
-set(_ORCS_LAYER_USES_proto   "")
-set(_ORCS_LAYER_USES_model   "")
-set(_ORCS_LAYER_USES_net     "proto")
-set(_ORCS_LAYER_USES_broker  "net;proto")
-set(_ORCS_LAYER_USES_worker  "model;net;proto")
-set(_ORCS_LAYER_USES_viewer  "model;net;proto;worker")  # worker/osp: the OSP-driven live mode (orcs-osp -gui)
-set(_ORCS_LAYER_USES_clients "model;net;proto;broker")
+# base/ (the always-on invariant check) is what every layer shares; it uses nothing of the project.
+set(_ORCS_LAYER_USES_base    "")
+set(_ORCS_LAYER_USES_proto   "base")
+set(_ORCS_LAYER_USES_model   "base")
+set(_ORCS_LAYER_USES_net     "base;proto")
+set(_ORCS_LAYER_USES_broker  "base;net;proto")
+set(_ORCS_LAYER_USES_worker  "base;model;net;proto")
+set(_ORCS_LAYER_USES_viewer  "base;model;net;proto;worker")  # worker/osp: the OSP-driven live mode (orcs-osp -gui)
+set(_ORCS_LAYER_USES_clients "base;model;net;proto;broker")
 # the servo bus: codecs and drivers, no wire; worker/osp's ODCP server fronts the robot for motion editors
-set(_ORCS_LAYER_USES_hardware "model;worker")
-set(_ORCS_LAYER_FOLDERS proto model net broker worker viewer clients hardware)
+set(_ORCS_LAYER_USES_hardware "base;model;worker")
+set(_ORCS_LAYER_FOLDERS base proto model net broker worker viewer clients hardware)
 
 # folder → outside libraries it may not use: a regex over link items, one over included headers.
 set(_ORCS_LAYER_PHYSICS_LINKS "^(PkgConfig::ODE|ODE::.*|.*libode.*|.*mujoco.*)$")
@@ -28,6 +30,10 @@ set(_ORCS_LAYER_WIRE_HEADERS "^(zmq\\.h|zmq\\.hpp|zmq_addon\\.hpp|google/protobu
 foreach(folder proto net broker)
   set(_ORCS_LAYER_FORBIDDEN_LINKS_${folder} "${_ORCS_LAYER_PHYSICS_LINKS}")
   set(_ORCS_LAYER_FORBIDDEN_HEADERS_${folder} "${_ORCS_LAYER_PHYSICS_HEADERS}")
+endforeach()
+foreach(folder base)  # the standard library only: neither physics nor the wire
+  set(_ORCS_LAYER_FORBIDDEN_LINKS_${folder} "${_ORCS_LAYER_PHYSICS_LINKS}|${_ORCS_LAYER_WIRE_LINKS}")
+  set(_ORCS_LAYER_FORBIDDEN_HEADERS_${folder} "${_ORCS_LAYER_PHYSICS_HEADERS}|${_ORCS_LAYER_WIRE_HEADERS}")
 endforeach()
 foreach(folder model hardware)
   set(_ORCS_LAYER_FORBIDDEN_LINKS_${folder} "${_ORCS_LAYER_WIRE_LINKS}")
@@ -70,7 +76,7 @@ function(_orcs_check_folder_links folder)
           get_target_property(dir "${item}" SOURCE_DIR)
           _orcs_top_folder("${dir}" top)
           if(NOT top STREQUAL "" AND NOT top IN_LIST allowed)
-            message(FATAL_ERROR "orcs layering: ${target} (${folder}/) links ${item} from ${top}/; DESIGN.md lets "
+            message(FATAL_ERROR "orcs layering: ${target} (${folder}/) links ${item} from ${top}/; docs/architecture.md lets "
                                 "${folder}/ use only: ${allowed}")
           endif()
           continue()
@@ -78,7 +84,7 @@ function(_orcs_check_folder_links folder)
       endif()
       if(NOT forbidden STREQUAL "" AND item MATCHES "${forbidden}")
         message(FATAL_ERROR "orcs layering: ${target} (${folder}/) links ${item}, which ${folder}/ may not use "
-                            "(DESIGN.md's dependency rule)")
+                            "(docs/architecture.md's dependency rule)")
       endif()
     endforeach()
   endforeach()
@@ -98,12 +104,12 @@ function(_orcs_check_folder_includes folder)
       endif()
       file(RELATIVE_PATH shown "${PROJECT_SOURCE_DIR}" "${source}")
       if(first IN_LIST _ORCS_LAYER_FOLDERS AND NOT first IN_LIST allowed)
-        message(FATAL_ERROR "orcs layering: ${shown} includes \"${header}\" from ${first}/; DESIGN.md lets "
+        message(FATAL_ERROR "orcs layering: ${shown} includes \"${header}\" from ${first}/; docs/architecture.md lets "
                             "${folder}/ use only: ${allowed}")
       endif()
       if(NOT forbidden STREQUAL "" AND header MATCHES "${forbidden}")
         message(FATAL_ERROR "orcs layering: ${shown} includes <${header}>, which ${folder}/ may not use "
-                            "(DESIGN.md's dependency rule)")
+                            "(docs/architecture.md's dependency rule)")
       endif()
     endforeach()
   endforeach()

@@ -1,5 +1,5 @@
 # orcs_check_links(TARGET ALLOWED name...): fails the configuration when TARGET links, directly or through any
-# library it links, something that is not in ALLOWED. Enforces DESIGN.md's one dependency rule where it matters
+# library it links, something that is not in ALLOWED. Enforces docs/architecture.md's one dependency rule where it matters
 # most: the broker and the worker's connection library link no ODE and nothing of model/.
 # Items are compared by target name; plain library files (e.g. /usr/lib/.../libzmq.so) by their base name.
 function(_orcs_collect_links item out_var)
@@ -49,7 +49,7 @@ function(orcs_check_links target)
       endif()
     endforeach()
     if(NOT ok)
-      message(FATAL_ERROR "${target} links ${item}, which DESIGN.md's dependency rule does not allow "
+      message(FATAL_ERROR "${target} links ${item}, which docs/architecture.md's dependency rule does not allow "
                           "(allowed: ${ARG_ALLOWED})")
     endif()
   endforeach()

@@ -12,7 +12,7 @@
 //   DIR/allowed_clients/*.pub          (broker) the public keys accepted on the client socket
 //
 // Lives beside the wire schema because the broker and the worker's connection both need it and neither may
-// include the other (DESIGN.md); it links only libzmq, not protobuf.
+// include the other (docs/architecture.md); it links only libzmq, not protobuf.
 #pragma once
 
 #include <filesystem>

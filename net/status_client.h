@@ -1,6 +1,6 @@
 // Asks a broker what it is doing (docs/protocol.md, "Status"): one STATUS_REQUEST on a fresh client connection,
 // one STATUS back. Used by `orcs-broker status`, by orcs-batch's "no worker is connected" hint and by orcs-view's
-// dashboard — here in net/, the layer all three may use (DESIGN.md), rather than in broker/. A status client registers nothing at the broker and sends no heartbeats; it keeps its connection
+// dashboard — here in net/, the layer all three may use (docs/architecture.md), rather than in broker/. A status client registers nothing at the broker and sends no heartbeats; it keeps its connection
 // open between requests, so a dashboard polling once a second opens one connection, not one a second.
 #pragma once
 

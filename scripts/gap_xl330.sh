@@ -6,14 +6,14 @@
 #
 #   scripts/gap_xl330.sh [DATA_DIR] [OUT_DIR] [WORKERS]
 #
-# DATA_DIR defaults to ../shared/data/xl330-pendulum, OUT_DIR to build/gap-xl330, WORKERS to the number of cores.
+# DATA_DIR defaults to scenarios/data/xl330-pendulum, OUT_DIR to build/gap-xl330, WORKERS to the number of cores.
 # GAP_OPTIONS passes more orcs-gap options (e.g. GAP_OPTIONS=--no-race). LOG_EXT=json reads BAM's JSON logs instead of
 # the CSVs (scripts/xl330_to_bam.py makes them; docs/gap_measured_data.md, "BAM's JSON logs").
 # Writes OUT_DIR/kp100_to_kp400/ and OUT_DIR/kp400_to_kp100/ (orcs-gap reports, with scripts/plot_gap.py's
 # plots), OUT_DIR/servo_gains.png and OUT_DIR/servo_gains.md. About 10 minutes per direction on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-data=${1:-../shared/data/xl330-pendulum}
+data=${1:-scenarios/data/xl330-pendulum}
 out=${2:-build/gap-xl330}
 workers=${3:-$(nproc 2>/dev/null || echo 2)}
 ext=${LOG_EXT:-csv}

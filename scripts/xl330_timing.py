@@ -10,7 +10,7 @@ goal had already acted before its reading ("until_row", orcs's own logs).
 
     scripts/xl330_timing.py [DATA_DIR]
 
-DATA_DIR defaults to ../shared/data/xl330-pendulum. Prints, per firmware gain, the RMS difference (PWM units)
+DATA_DIR defaults to scenarios/data/xl330-pendulum. Prints, per firmware gain, the RMS difference (PWM units)
 between the load column and P/256 × (goal of row k + shift − position of row k) over the rows with the torque on
 and neither value near the PWM limit.
 """
@@ -52,7 +52,7 @@ def squared_errors(path, gain, shift):
 
 
 def main():
-    data = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "../shared/data/xl330-pendulum")
+    data = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "scenarios/data/xl330-pendulum")
     print(f"RMS of load − P/256 × (goal − position) / {PULSE_DEG:.4f}°, PWM units (limit {PWM_LIMIT:.0f}):")
     for gain in (100, 400):
         paths = [data / f"{trajectory}_kp{gain}.csv" for trajectory in TRAJECTORIES]

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Turns the XL330 pendulum CSVs of ../shared/data/xl330-pendulum back into BAM's JSON logs (the format they were
+"""Turns the XL330 pendulum CSVs of scenarios/data/xl330-pendulum back into BAM's JSON logs (the format they were
 converted from: radians, one object with the rig's constants and `entries`), so that orcs-gap's BAM reader can be
 checked against the CSV reader on the same runs (docs/gap_measured_data.md, "BAM's JSON logs").
 
-    scripts/xl330_to_bam.py ../shared/data/xl330-pendulum/*.csv --out build/xl330-bam
+    scripts/xl330_to_bam.py scenarios/data/xl330-pendulum/*.csv --out build/xl330-bam
 
 Writes OUT/<name>.json per CSV. Python 3 standard library only.
 """

@@ -1,4 +1,4 @@
-// The one-machine default of `orcs-batch run` (DESIGN.md, "One machine"): a broker embedded in this process on
+// The one-machine default of `orcs-batch run` (docs/architecture.md, "One machine"): a broker embedded in this process on
 // loopback ephemeral ports, and N orcs-worker processes connected to it. Workers are processes, not threads, so
 // that they scale like on a cluster and one that crashes takes nothing else with it. Each is the leader of its own
 // process group, so that a terminal's Ctrl-C, which goes to this program's group, does not end them under the

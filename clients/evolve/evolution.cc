@@ -16,6 +16,7 @@
 #include <pagmo/algorithms/xnes.hpp>
 #include <sstream>
 
+#include "base/demand.h"
 #include "model/core/error.h"
 #include "model/core/random_stream.h"
 
@@ -53,7 +54,7 @@ pagmo::algorithm MakeAlgorithm(const EvolutionSettings& settings) {
     case Algorithm::kPsoGen:
       return pagmo::algorithm{pagmo::pso_gen(1, .7298, 2.05, 2.05, .5, 5u, 2u, 4u, true, seed)};
   }
-  throw std::logic_error("MakeAlgorithm: unknown algorithm");
+  ORCS_UNREACHABLE("MakeAlgorithm: an algorithm the settings' parser lets through");
 }
 
 void CheckResumable(Algorithm algorithm, const std::string& source) {
@@ -97,7 +98,7 @@ std::vector<double> Evolution::EvaluateBatch(const std::vector<pagmo::vector_dou
   for (const pagmo::vector_double& x : xs) genomes.push_back(GenomeOf(x));
   const std::uint64_t seed = GenerationSeed(settings_, evaluating_);
   const std::vector<Evaluation> evaluations = evaluate_(genomes, seed);
-  if (evaluations.size() != genomes.size()) throw std::logic_error("GenomeEvaluator: one evaluation per genome");
+  ORCS_DEMAND_MSG(evaluations.size() == genomes.size(), "GenomeEvaluator: one evaluation per genome");
   std::vector<double> objectives;
   for (std::size_t i = 0; i < evaluations.size(); ++i) {
     const Evaluation& e = evaluations[i];

@@ -1,9 +1,9 @@
 #include "model/aseries/accelerometer.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 
+#include "base/demand.h"
 #include "model/core/random_stream.h"
 
 namespace orcs::aseries {
@@ -31,7 +31,7 @@ void Reset(AccelerometerState& state, const AccelerometerBoard& board, const Eig
 std::array<double, 2> Measure(const AccelerometerParameters& parameters, const AccelerometerBoard& board,
                               AccelerometerState& state, const Eigen::Vector3d& host_position,
                               const Eigen::Quaterniond& host_rotation, double dt, RandomStream* noise) {
-  assert(dt > 0.0);
+  ORCS_DEMAND(dt > 0.0);
   constexpr int kCapacity = AccelerometerParameters::kMaxWindow;
 
   // 1. The sensor point in the world.

@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "base/demand.h"
 #include "model/aseries/per_motor_parameters.h"
 #include "model/aseries/value_range.h"
 #include "model/core/rotation.h"
@@ -187,10 +188,7 @@ void ASeriesAgent::MotorStage(physics::PhysicsWorld& world, double dt) {
 }
 
 void ASeriesAgent::SetPluginMotors(std::vector<std::unique_ptr<plugin::MotorModel>> models) {
-  if (!models.empty() && models.size() != motors_.size()) {
-    throw std::logic_error("SetPluginMotors: " + std::to_string(models.size()) + " models for " +
-                           std::to_string(motors_.size()) + " motors");
-  }
+  ORCS_DEMAND_MSG(models.empty() || models.size() == motors_.size(), "SetPluginMotors: one model per motor");
   for (std::size_t m = 0; m < motors_.size(); ++m) motors_[m].plugin = models.empty() ? nullptr : std::move(models[m]);
 }
 

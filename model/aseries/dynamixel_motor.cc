@@ -1,9 +1,9 @@
 #include "model/aseries/dynamixel_motor.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 
+#include "base/demand.h"
 #include "model/aseries/value_range.h"
 #include "model/core/random_stream.h"
 #include "model/core/rotation.h"
@@ -44,7 +44,7 @@ double OriginalFriction(const DynamixelParameters& parameters, double commanded_
 
 DynamixelCommand Update(const DynamixelParameters& parameters, DynamixelState& state, double angle_rad,
                         double desired_angle_deg, double desired_torque_raw, double dt, RandomStream* noise) {
-  assert(dt > 0.0);
+  ORCS_DEMAND(dt > 0.0);
   constexpr int kCapacity = DynamixelParameters::kMaxHistory;
 
   // 1–2. Joint angle and its finite-difference velocity (no wrap-around case: within ±150° angles never wrap).

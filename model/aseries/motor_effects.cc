@@ -1,9 +1,9 @@
 #include "model/aseries/motor_effects.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 
+#include "base/demand.h"
 #include "model/aseries/value_range.h"
 #include "model/core/error.h"
 #include "model/core/rotation.h"
@@ -155,7 +155,7 @@ void CheckEffectsFitServo(const ServoParameters& servo, const MotorEffects& effe
 EffectCommand UpdateWithEffects(const DynamixelParameters& parameters, const ServoParameters& servo,
                                 const MotorEffects& effects, DynamixelState& state, MotorEffectState& effect_state, const JointReading& joint,
                                 double desired_angle_deg, double desired_torque_raw, double dt, RandomStream* noise) {
-  assert(dt > 0.0);
+  ORCS_DEMAND(dt > 0.0);
   // Stages that change what the controller sees.
   if (effects.transport_delay) {
     PushCommand(effect_state, desired_angle_deg, desired_torque_raw);

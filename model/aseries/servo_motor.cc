@@ -1,9 +1,9 @@
 #include "model/aseries/servo_motor.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 
+#include "base/demand.h"
 #include "model/aseries/value_range.h"
 #include "model/core/rotation.h"
 
@@ -40,7 +40,7 @@ double ServoDuty(const ServoParameters& servo, double error, double error_integr
 
 ServoCommand ServoUpdate(const ServoParameters& servo, DynamixelState& state, double angle_rad, double rate,
                          double desired_angle_deg, double desired_torque_raw, double dt) {
-  assert(dt > 0.0);
+  ORCS_DEMAND(dt > 0.0);
   const double resistance = WindingResistance(servo);
   const double kt = std::max(servo.torque_constant, kTiny);
   const double ke = std::max(servo.back_emf_constant, kTiny);

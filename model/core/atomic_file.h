@@ -1,6 +1,6 @@
 // An output file that appears under its name only when complete: written to "<name>.tmp.<pid>.<n>" and renamed on
 // Commit(). Destroyed without Commit() (an error, an exception), the temporary file is removed, so a half-written
-// file never looks finished (DESIGN.md, "Errors and bad input").
+// file never looks finished (docs/architecture.md, "Errors and bad input").
 #pragma once
 
 #include <fstream>

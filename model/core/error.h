@@ -1,9 +1,10 @@
 // Errors of orcs: bad user input and failed runs.
 //
-// Every input is checked where it enters (DESIGN.md, "Errors and bad input"). An InputError names the
+// Every input is checked where it enters (docs/architecture.md, "Errors and bad input"). An InputError names the
 // source (a file, or a field of a message), the line where there is one, what was expected and what was
 // found, in one line: "scenarios/x.xml:12: object 'Box': attribute 'mass' expected a number, found 'abc'".
-// Internal invariants are checked with assert(); they are programming errors, not user errors.
+// Internal invariants are checked with ORCS_DEMAND (base/demand.h), in every build; they are programming errors, not
+// user errors (docs/architecture.md, "Errors and bad input").
 #pragma once
 
 #include <stdexcept>

@@ -1,6 +1,6 @@
 // Seeded random streams. A stream is derived from (seed, purpose, index) alone — never from time, never from
 // a global generator — so the same job draws the same numbers on any machine, in any order, at any worker
-// count (DESIGN.md, "Determinism"). Every distribution is computed here from raw 64-bit draws, because the
+// count (docs/architecture.md, "Determinism"). Every distribution is computed here from raw 64-bit draws, because the
 // standard library's distributions differ between implementations.
 #pragma once
 

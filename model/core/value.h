@@ -1,13 +1,12 @@
 // A typed value of the variable repository: bool, int, double, string, colour, 3-vector or quaternion.
 //
 // Every value parses and prints itself as a string, so value files, the OSP gateway, logs, sweeps and the
-// fitter all work on paths and strings alike (DESIGN.md). Observers hear about every change, and only about
+// fitter all work on paths and strings alike (docs/architecture.md). Observers hear about every change, and only about
 // changes (setting the same value again is silent), as in the original.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <cassert>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -16,6 +15,7 @@
 #include <utility>
 #include <variant>
 #include <vector>
+#include "base/demand.h"
 
 namespace orcs {
 
@@ -79,7 +79,7 @@ class Value {
     return *this;
   }
 
-  // Typed access; the type must match (asserted).
+  // Typed access; the type must match (ORCS_DEMAND).
   bool as_bool() const { return std::get<bool>(data_); }
   std::int64_t as_int() const { return std::get<std::int64_t>(data_); }
   double as_double() const { return std::get<double>(data_); }
@@ -88,7 +88,7 @@ class Value {
   const Eigen::Vector3d& as_vector3() const { return std::get<Eigen::Vector3d>(data_); }
   Eigen::Quaterniond as_quaternion() const;
 
-  /// Typed setters; notify observers when the value changes. The type must match (asserted).
+  /// Typed setters; notify observers when the value changes. The type must match (ORCS_DEMAND).
   void Set(bool value) { Assign(value); }
   void Set(int value) { Assign(static_cast<std::int64_t>(value)); }
   void Set(std::int64_t value) { Assign(value); }
@@ -126,7 +126,7 @@ class Value {
 template <typename T>
 void Value::Assign(T&& value) {
   using Stored = std::decay_t<T>;
-  assert(std::holds_alternative<Stored>(data_) && "Value::Set with the wrong type");
+  ORCS_DEMAND_MSG(std::holds_alternative<Stored>(data_), "Value::Set with the wrong type");
   Stored& stored = std::get<Stored>(data_);
   if (stored == value) return;
   stored = std::forward<T>(value);

@@ -1,8 +1,8 @@
 #include "model/core/variable_repository.h"
 
+#include "base/demand.h"
 #include "model/core/path_pattern.h"
 
-#include <cassert>
 
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -30,9 +30,9 @@ std::string OneLine(std::string_view text) {
 }  // namespace
 
 Value& VariableRepository::AddValue(std::string_view path, std::unique_ptr<Value> value) {
-  assert(!path.empty() && path.front() == '/' && "repository paths start with '/'");
+  ORCS_DEMAND_MSG(!path.empty() && path.front() == '/', "repository paths start with '/'");
   if (const int existing = IdOf(path); existing >= 0) {
-    assert(entries_[existing].value->type() == value->type() && "path registered twice with different types");
+    ORCS_DEMAND_MSG(entries_[existing].value->type() == value->type(), "path registered twice with different types");
     return *entries_[existing].value;
   }
   ids_.emplace(std::string(path), size());

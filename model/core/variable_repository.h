@@ -24,7 +24,7 @@ class VariableRepository {
 
   /// Registers a value at `path` (must start with '/'). If the path exists already with the same type, the
   /// existing value is kept and returned (first registration wins, as in the original); a different type
-  /// is a programming error (asserted).
+  /// is a programming error (ORCS_DEMAND).
   template <typename T>
   Value& Add(std::string_view path, T&& initial) {
     return AddValue(path, std::make_unique<Value>(std::forward<T>(initial)));

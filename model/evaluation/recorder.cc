@@ -3,8 +3,8 @@
 #include <utility>
 
 #include <bit>
-#include <cassert>
 
+#include "base/demand.h"
 #include "model/core/atomic_file.h"
 
 namespace orcs::evaluation {
@@ -31,7 +31,7 @@ Recorder::Recorder(const scene::Simulation& simulation, const RecordingSource& s
   out_ += text;
 
   const int ok = deflateInit(&stream_, Z_BEST_SPEED);
-  assert(ok == Z_OK && "zlib initialises");
+  ORCS_DEMAND_MSG(ok == Z_OK, "zlib initialises");
   (void)ok;
   values_.resize(layout_.channel_count());
   previous_.assign(layout_.channel_count(), 0);
@@ -43,7 +43,7 @@ Recorder::~Recorder() { deflateEnd(&stream_); }
 void Recorder::Sample() { SampleAt(simulation_.time()); }
 
 void Recorder::SampleAt(double time) {
-  assert(!finished_ && "Sample() after Finish()");
+  ORCS_DEMAND_MSG(!finished_, "Sample() after Finish()");
   layout_.ReadValues(values_.data());
   layout_.ReadContacts(contacts_);
   frame_.clear();
@@ -66,13 +66,13 @@ void Recorder::SampleAt(double time) {
 }
 
 std::string Recorder::TakeFlushed() {
-  assert(!finished_ && "TakeFlushed() after Finish()");
+  ORCS_DEMAND_MSG(!finished_, "TakeFlushed() after Finish()");
   Deflate(nullptr, 0, Z_SYNC_FLUSH);
   return std::exchange(out_, std::string());
 }
 
 std::string Recorder::Finish() {
-  assert(!finished_ && "Finish() twice");
+  ORCS_DEMAND_MSG(!finished_, "Finish() twice");
   Deflate(nullptr, 0, Z_FINISH);
   finished_ = true;
   return std::move(out_);
@@ -87,7 +87,7 @@ void Recorder::Deflate(const void* data, std::size_t size, int flush) {
     stream_.next_out = buffer;
     stream_.avail_out = sizeof buffer;
     status = deflate(&stream_, flush);
-    assert(status != Z_STREAM_ERROR && "zlib stream state intact");
+    ORCS_DEMAND_MSG(status != Z_STREAM_ERROR, "zlib stream state intact");
     out_.append(reinterpret_cast<const char*>(buffer), sizeof buffer - stream_.avail_out);
   } while (stream_.avail_out == 0 || (flush == Z_FINISH && status != Z_STREAM_END));
 }

@@ -1,9 +1,9 @@
 #include "model/evaluation/recording_layout.h"
 
-#include <cassert>
 #include <functional>
 #include <unordered_map>
 
+#include "base/demand.h"
 #include "model/core/rotation.h"
 
 namespace orcs::evaluation {
@@ -40,7 +40,7 @@ float ComponentOf(const Value& value, int component) {
     case ValueType::kString:
     case ValueType::kColor: break;
   }
-  assert(false && "only numeric values are channels");
+  ORCS_UNREACHABLE("only numeric values are channels");
   return 0.0f;
 }
 

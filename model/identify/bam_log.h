@@ -4,7 +4,7 @@
 // BAM's recorder writes one JSON object per run: the rig (`mass` kg, `length` m, `kp` firmware gain, `vin` V,
 // `motor`, `trajectory`, `dt` s) and `entries`, one object per control step with `timestamp` s, `position` rad,
 // `speed` rad/s, `load`, `input_volts` V, `temp` °C, `goal_position` rad and `torque_enable` (bool). orcs reads
-// such a log as the table the XL330 CSVs of ../shared/data are (the same logs converted to degrees): a comment
+// such a log as the table the XL330 CSVs of scenarios/data are (the same logs converted to degrees): a comment
 // line with the rig's constants, then the columns time_s, goal_deg, position_deg, speed_deg_s, load,
 // input_volts, temperature_c and torque_enable. A column mapping written for those CSVs therefore reads a BAM log
 // unchanged, and without one a BAM log is read through BamLogMapping().

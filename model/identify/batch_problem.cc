@@ -1,14 +1,15 @@
 #include "model/identify/batch_problem.h"
 
+#include "base/demand.h"
+
 #include <algorithm>
-#include <cassert>
 
 namespace orcs::identify {
 
 void GenerationCache::EvaluateRecorded() {
   if (recorded.empty()) return;
   const std::vector<double> objectives = evaluate(recorded);
-  assert(objectives.size() == recorded.size());
+  ORCS_DEMAND(objectives.size() == recorded.size());
   for (std::size_t i = 0; i < recorded.size(); ++i) known[recorded[i]] = objectives[i];
   recorded.clear();
 }
@@ -32,7 +33,7 @@ std::pair<pagmo::vector_double, pagmo::vector_double> BatchProblem::get_bounds()
 }
 
 std::vector<double> BatchProblem::Answer(const std::vector<pagmo::vector_double>& xs) const {
-  assert(cache_ && "BatchProblem used without a cache (Attach after loading)");
+  ORCS_DEMAND_MSG(cache_, "BatchProblem used without a cache (Attach after loading)");
   GenerationCache& cache = *cache_;
   for (const pagmo::vector_double& x : xs) {
     const bool asked = std::find(cache.recorded.begin(), cache.recorded.end(), x) != cache.recorded.end();

@@ -1,7 +1,6 @@
 #include "model/identify/model_fit.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -20,6 +19,7 @@
 #include <pagmo/population.hpp>
 #include <pagmo/problem.hpp>
 
+#include "base/demand.h"
 #include "model/identify/batch_problem.h"
 #include "model/identify/least_squares_polish.h"
 #include "model/core/text.h"
@@ -73,7 +73,7 @@ struct SwarmBatch {
   pagmo::vector_double operator()(const pagmo::problem& problem, const pagmo::vector_double& xs) const {
     FitWatch& w = *watch;
     const std::size_t n = problem.get_nx();
-    assert(xs.size() == w.particle_best.size() * n && "the swarm's batch is one point per particle");
+    ORCS_DEMAND_MSG(xs.size() == w.particle_best.size() * n, "the swarm's batch is one point per particle");
     for (std::size_t p = 0; p < w.particle_best.size(); ++p) {
       const auto first = xs.begin() + static_cast<std::ptrdiff_t>(p * n);
       const auto [entry, added] = w.bounds.emplace(pagmo::vector_double(first, first + static_cast<std::ptrdiff_t>(n)),
@@ -279,7 +279,7 @@ std::vector<FitOutcome> LocalStagesFrom(const ReplayObjective& objective, const 
 
 // One of several finished fits, with every fit's replays and local searches counted.
 FitOutcome Chosen(std::vector<FitOutcome> fits, std::size_t chosen) {
-  assert(chosen < fits.size());
+  ORCS_DEMAND(chosen < fits.size());
   int evaluations = 0;
   int local_starts = 0;
   for (const FitOutcome& fit : fits) {
@@ -294,7 +294,7 @@ FitOutcome Chosen(std::vector<FitOutcome> fits, std::size_t chosen) {
 
 // The best of several finished fits (the first of equals).
 FitOutcome BestOf(std::vector<FitOutcome> fits) {
-  assert(!fits.empty());
+  ORCS_DEMAND(!fits.empty());
   std::size_t best = 0;
   for (std::size_t i = 0; i < fits.size(); ++i) {
     if (fits[i].mse < fits[best].mse) best = i;
@@ -308,7 +308,7 @@ FitOutcome BestOf(std::vector<FitOutcome> fits) {
 // XL330 fitted on its kp400 runs has two minima 0.6 % apart, one keeping a Coulomb friction of 0.005 N·m near the
 // model's, the other dropping it to its bound, and only the first carries over to kp100 (24.9 against 27.1 mrad).
 FitOutcome LeastChangeOfTheBest(std::vector<FitOutcome> fits, const std::vector<FitParameter>& parameters) {
-  assert(!fits.empty());
+  ORCS_DEMAND(!fits.empty());
   double best_mse = std::numeric_limits<double>::infinity();
   for (const FitOutcome& fit : fits) best_mse = std::min(best_mse, fit.mse);
   pagmo::vector_double start;

@@ -1,10 +1,10 @@
 #include "model/identify/replay_objective.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 
+#include "base/demand.h"
 #include "model/core/text.h"
 
 namespace orcs::identify {
@@ -26,7 +26,7 @@ double ReplayObjective::RunBound(double bound, const ReplayRun& run) const {
 
 std::vector<double> ReplayObjective::Losses(const std::vector<std::vector<Override>>& points,
                                             const std::vector<double>& bounds) const {
-  assert(bounds.empty() || bounds.size() == points.size());
+  ORCS_DEMAND(bounds.empty() || bounds.size() == points.size());
   std::vector<ReplayRequest> requests;
   for (std::size_t p = 0; p < points.size(); ++p) {
     std::vector<Override> overrides = fixed_;

@@ -1,7 +1,6 @@
 #include "model/physics/physics_model.h"
 
 #include <array>
-#include <cassert>
 #include <charconv>
 #include <cmath>
 #include <numbers>
@@ -9,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "base/demand.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 #include "model/physics/material_table.h"
@@ -225,7 +225,7 @@ int PhysicsModel::FindJoint(std::string_view name) const {
 }
 
 bool PhysicsModel::contact_excluded(int body_a, int body_b) const {
-  assert(body_a >= 0 && body_a < body_count() && body_b >= 0 && body_b < body_count());
+  ORCS_DEMAND(body_a >= 0 && body_a < body_count() && body_b >= 0 && body_b < body_count());
   return excluded_[static_cast<std::size_t>(body_a) * body_count() + body_b];
 }
 

@@ -1,7 +1,8 @@
 #include "model/scene/agent_posing.h"
 
+#include "base/demand.h"
+
 #include <Eigen/Geometry>
-#include <cassert>
 #include <cstddef>
 #include <deque>
 
@@ -46,7 +47,7 @@ std::vector<int> Subtree(int node, const std::vector<std::vector<int>>& children
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     for (int child : children[bodies[i]]) bodies.push_back(child);
   }
-  for ([[maybe_unused]] int body : bodies) assert(body != world && "the static world never turns: root it there");
+  for ([[maybe_unused]] int body : bodies) ORCS_DEMAND_MSG(body != world, "the static world never turns: root it there");
   return bodies;
 }
 
@@ -57,7 +58,7 @@ int PosingRoot(const physics::PhysicsModel& physics, const aseries::ASeriesLayou
   const AgentGraph graph = GraphOf(physics, layout);
   if (!graph.edges[graph.world].empty()) return -1;
   const int root = morphology.FindBody(morphology.root_body);
-  assert(root >= 0 && "the morphology's root body is one of its bodies");
+  ORCS_DEMAND_MSG(root >= 0, "the morphology's root body is one of its bodies");
   return layout.bodies[root];
 }
 
@@ -78,7 +79,7 @@ std::vector<PosingJoint> PosingOrder(const physics::PhysicsModel& physics, const
     queue.pop_front();
     for (const Edge& edge : graph.edges[node]) {
       if (edge.joint == arrived_by[node]) continue;  // the way back to the parent
-      assert(!reached[edge.other] && "the agent's joints form a tree");
+      ORCS_DEMAND_MSG(!reached[edge.other], "the agent's joints form a tree");
       if (reached[edge.other]) continue;
       reached[edge.other] = true;
       arrived_by[edge.other] = edge.joint;
@@ -100,10 +101,10 @@ std::vector<PosingJoint> PosingOrder(const physics::PhysicsModel& physics, const
     hinge.proximal_body = parents[i] == graph.world ? -1 : parents[i];
     hinge.distal_bodies = Subtree(hinges[i].other, children, graph.world);
     hinge.sign = physics.joint_body1(hinge.joint) == hinges[i].other ? 1.0 : -1.0;
-    assert(hinge.motor >= 0 && "every motorised hinge of the agent is one of its motors");
+    ORCS_DEMAND_MSG(hinge.motor >= 0, "every motorised hinge of the agent is one of its motors");
     order.push_back(std::move(hinge));
   }
-  assert(order.size() == layout.motors.size() && "every motor is reached from the root");
+  ORCS_DEMAND_MSG(order.size() == layout.motors.size(), "every motor is reached from the root");
   return order;
 }
 

@@ -1,5 +1,6 @@
 #include "model/scene/scenario.h"
 
+#include "base/demand.h"
 #include "model/scene/environment_reader.h"
 
 #include <algorithm>
@@ -435,7 +436,7 @@ Json ResolveScenarioFile(const std::string& path) {
 }
 
 double AggregateFitness(std::vector<double> values, Aggregate aggregate, double quantile) {
-  if (values.empty()) throw std::logic_error("AggregateFitness: no values");
+  ORCS_DEMAND_MSG(!values.empty(), "AggregateFitness needs one value per parameter set");
   switch (aggregate) {
     case Aggregate::kMean: {
       double sum = 0.0;

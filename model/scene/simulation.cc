@@ -1,10 +1,10 @@
 #include "model/scene/simulation.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <stdexcept>
 
+#include "base/demand.h"
 #include "model/core/error.h"
 #include "model/core/rotation.h"
 #include "model/core/text.h"
@@ -137,7 +137,7 @@ void Simulation::RegisterMujocoValues() {
 }
 
 void Simulation::LoadEnvironment(const EnvironmentDescription& environment) {
-  assert(!built() && "LoadEnvironment() after Build()");
+  ORCS_DEMAND_MSG(!built(), "LoadEnvironment() after Build()");
   WorldModel::RegisterObjectValues(environment, repository_);
   for (const AgentDescription& agent : environment.agents) {  // for -ival
     aseries::ASeriesAgent::AddAgentParameters(repository_, agent.name, *WorldModel::MorphologyOf(agent));
@@ -147,13 +147,13 @@ void Simulation::LoadEnvironment(const EnvironmentDescription& environment) {
 }
 
 void Simulation::Build() {
-  assert(!built() && "Build() twice");
+  ORCS_DEMAND_MSG(!built(), "Build() twice");
   model_ = WorldModel::Compile(environment_, repository_);
   BindModel();
 }
 
 void Simulation::Attach(std::shared_ptr<const WorldModel> model) {
-  assert(!built() && "Attach() after Build()");
+  ORCS_DEMAND_MSG(!built(), "Attach() after Build()");
   WorldModel::RegisterObjectValues(model->environment(), repository_);
   // The repository says what the model was compiled from, so that a reset does not compile it back to the
   // environment's own values.
@@ -200,10 +200,9 @@ void Simulation::ApplyStructureChanges() {
     // A value that cannot be compiled throws here and leaves everything as it was: the next reset says so again.
     std::shared_ptr<const WorldModel> recompiled = WorldModel::Compile(model_->environment(), repository_);
     // Values change numbers, never the bodies and joints: the agents' indices into the world stay valid.
-    if (recompiled->physics()->body_count() != model_->physics()->body_count() ||
-        recompiled->physics()->joint_count() != model_->physics()->joint_count()) {
-      throw std::logic_error("Simulation: a structure value changed the world's bodies or joints");
-    }
+    ORCS_DEMAND_MSG(recompiled->physics()->body_count() == model_->physics()->body_count() &&
+                        recompiled->physics()->joint_count() == model_->physics()->joint_count(),
+                    "a structure value changed the world's bodies or joints");
     model_ = std::move(recompiled);
     for (std::size_t a = 0; a < agents_.size(); ++a) {
       agents_[a]->UpdateGeometry(model_->morphology(static_cast<int>(a)), model_->agents()[a]);
@@ -215,7 +214,7 @@ void Simulation::ApplyStructureChanges() {
 }
 
 void Simulation::KeepPoseAsStart(const std::string& name) {
-  assert(built() && "KeepPoseAsStart() before Build()");
+  ORCS_DEMAND_MSG(built(), "KeepPoseAsStart() before Build()");
   const std::vector<ObjectDescription>& objects = model_->environment().objects;
   if (std::none_of(objects.begin(), objects.end(), [&](const ObjectDescription& o) { return o.name == name; })) {
     throw InputError(name, 0, "no object of the environment has this name: only an object's pose can be kept as "
@@ -318,7 +317,7 @@ void Simulation::CheckEngineOnlyValues() const {
 }
 
 void Simulation::Reset(std::uint64_t seed) {
-  assert(built() && "Reset() before Build()");
+  ORCS_DEMAND_MSG(built(), "Reset() before Build()");
   if (structure_changed_) ApplyStructureChanges();
   if (repository_.Get(kEngine).as_string() != world_engine_) MakeWorld();
   world_->Reset();
@@ -338,7 +337,7 @@ void Simulation::Reset(std::uint64_t seed) {
 }
 
 SimulationStatus Simulation::Step() {
-  assert(built() && "Step() before Build()");
+  ORCS_DEMAND_MSG(built(), "Step() before Build()");
   if (status_ != SimulationStatus::kOk) return status_;
   events_.BeginStep();
   if (parameters_changed_) ReadParameters();  // may throw InputError for values set since the last step
@@ -383,7 +382,7 @@ void Simulation::PhysicsStage() {
 }
 
 void Simulation::MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_degrees) {
-  assert(built() && steps_ == 0 && "MoveAgent() right after Reset()");
+  ORCS_DEMAND_MSG(built() && steps_ == 0, "MoveAgent() right after Reset()");
   const Eigen::Vector3d pivot = model_->environment().agents[index].position;
   const Eigen::Quaterniond turn(Eigen::AngleAxisd(DegreesToRadians(yaw_degrees), Eigen::Vector3d::UnitY()));
   for (int body : model_->agents()[index].bodies) {
@@ -399,15 +398,14 @@ void Simulation::MoveAgent(int index, const Eigen::Vector3d& offset, double yaw_
 }
 
 void Simulation::SetAgentJointAngles(int index, const std::vector<double>& degrees) {
-  assert(built() && steps_ == 0 && "SetAgentJointAngles() right after Reset()");
+  ORCS_DEMAND_MSG(built() && steps_ == 0, "SetAgentJointAngles() right after Reset()");
   const aseries::ASeriesLayout& layout = model_->agents()[index];
   const aseries::ASeriesMorphology& morphology = model_->morphology(index);
-  assert(degrees.size() == layout.motors.size() && "one angle per motor");
+  ORCS_DEMAND_MSG(degrees.size() == layout.motors.size(), "one angle per motor");
   const physics::PhysicsModel& physics = *model_->physics();
   for (const PosingJoint& hinge : PosingOrder(physics, layout, PosingRoot(physics, layout, morphology))) {
     const double angle = degrees[hinge.motor];
-    assert(angle >= morphology.motors[hinge.motor].min_degrees && angle <= morphology.motors[hinge.motor].max_degrees &&
-           "within the motor's range");
+    ORCS_DEMAND_MSG(angle >= morphology.motors[hinge.motor].min_degrees && angle <= morphology.motors[hinge.motor].max_degrees, "within the motor's range");
     TurnHinge(hinge, DegreesToRadians(angle));
   }
   agents_[index]->Reset(*world_, seed());

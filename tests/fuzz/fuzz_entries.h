@@ -1,4 +1,4 @@
-// One entry function per kind of input orcs parses from outside (DESIGN.md, "Errors and bad input"). The libFuzzer
+// One entry function per kind of input orcs parses from outside (docs/architecture.md, "Errors and bad input"). The libFuzzer
 // targets (tests/fuzz/*_fuzz.cc) and the regression test (fuzz_regression_test.cc) call the same functions, so a
 // crash the fuzzer found stays fixed in the ordinary build.
 //

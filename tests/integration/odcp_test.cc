@@ -1,4 +1,4 @@
-// ODCP 1.0 over real UDP sockets on 127.0.0.1, spoken by a client written from ../shared/spec/osp.md alone:
+// ODCP 1.0 over real UDP sockets on 127.0.0.1, spoken by a client written from docs/spec/osp.md alone:
 // orcs-osp's per-agent servers (set motor words, step through OSP, read the angles back; bad datagrams),
 // orcs-sim --realtime -port, and orcs-sniffer, whose record replayed with orcs-sim -play is compared with the
 // replay of the motion that was sent.

@@ -1,4 +1,4 @@
-// orcs-osp driven over real UDP sockets on 127.0.0.1 by a client written from ../shared/spec/osp.md alone (its
+// orcs-osp driven over real UDP sockets on 127.0.0.1 by a client written from docs/spec/osp.md alone (its
 // own encoding below; nothing of the server's code): the handshake, agent overview and info, exclusive control,
 // lock-step stepping of two clients, values by id, an observed collision event, reset with a seed, silent
 // clients, communication reset, and every kind of bad datagram.

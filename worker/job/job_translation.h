@@ -1,5 +1,5 @@
 // Between wire jobs/results (proto orcs.v1) and the model's evaluation types: the one place where a worker
-// turns bytes into a scenario and an outcome back into bytes (DESIGN.md: model/ never sees protobuf).
+// turns bytes into a scenario and an outcome back into bytes (docs/architecture.md: model/ never sees protobuf).
 #pragma once
 
 #include "orcs/v1/job.pb.h"

@@ -1,4 +1,4 @@
-// The ODCP 1.0 server (../shared/spec/osp.md, docs/osp.md): direct, unsynchronised motor control of one agent
+// The ODCP 1.0 server (docs/spec/osp.md, docs/osp.md): direct, unsynchronised motor control of one agent
 // over UDP, as the original's motion editors and slider tools spoke it. One server per agent. It owns a
 // socket and answers each datagram at once to the address it came from:
 //   5 (connect)      → 6, int 15, int 1

@@ -1,4 +1,4 @@
-// The encoding shared by OSP 1.1 and ODCP 1.0 (../shared/spec/osp.md, "Encoding"): bytes, little-endian int32,
+// The encoding shared by OSP 1.1 and ODCP 1.0 (docs/spec/osp.md, "Encoding"): bytes, little-endian int32,
 // IEEE-754 binary32 floats sent as their bit pattern, NUL-terminated ASCII strings; at most 1024 bytes per
 // datagram. A reader never reads past the end: a short or malformed datagram is a MalformedDatagram, which the
 // servers answer as the protocol says or ignore, never a crash.

@@ -1,4 +1,4 @@
-// OSP 1.1 command codes (../shared/spec/osp.md, docs/osp.md): the first byte of every datagram.
+// OSP 1.1 command codes (docs/spec/osp.md, docs/osp.md): the first byte of every datagram.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// The OSP 1.1 server (../shared/spec/osp.md, docs/osp.md): old ORCS and NERD clients drive a live simulation
+// The OSP 1.1 server (docs/spec/osp.md, docs/osp.md): old ORCS and NERD clients drive a live simulation
 // step by step over UDP. One thread runs it (Run() until Stop()). It is a state machine of small handlers, one
 // per command (OnInit, OnEventId, ..., OnStep, OnTakeControl), plus a tick that drops silent clients.
 //

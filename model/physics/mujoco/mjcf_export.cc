@@ -3,13 +3,13 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "base/demand.h"
 #include "model/core/error.h"
 
 namespace orcs::physics {
@@ -152,7 +152,7 @@ Eigen::Matrix3d MainGeomInertia(const GeomDescription& geom, double mass) {
       break;
     }
     case Shape::kPlane:
-      assert(false && "PhysicsModel refuses a plane on a dynamic body");
+      ORCS_UNREACHABLE("PhysicsModel refuses a plane on a dynamic body");
       diagonal.setZero();
   }
   const Eigen::Matrix3d rotation = geom.rotation.normalized().toRotationMatrix();

@@ -5,7 +5,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
-#include <cassert>
 #include <list>
 #include <map>
 #include <cmath>
@@ -17,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/demand.h"
 #include "model/core/error.h"
 #include "model/physics/material_table.h"
 #include "model/physics/mujoco/mjcf_export.h"
@@ -102,7 +102,7 @@ std::shared_ptr<const mjModel> CompiledModel(const std::string& xml) {
 
 int Id(const mjModel* m, mjtObj type, const std::string& name) {
   const int id = mj_name2id(m, type, name.c_str());
-  if (id < 0) throw std::logic_error("generated MJCF lacks '" + name + "'");
+  ORCS_DEMAND_MSG(id >= 0, "the generated MJCF names every body, joint and geom it is asked for");
   return id;
 }
 
@@ -467,7 +467,7 @@ void MujocoWorld::RewriteContacts() {
     contact.position = Vec(con.pos);
     contact.normal = -Vec(con.frame);  // MuJoCo's normal points from geom1 to geom2; ours into geom1
     contact.depth = depth;
-    assert(!model_->contact_excluded(info1.body, info2.body) && "the compiled <exclude> list hides those pairs");
+    ORCS_DEMAND_MSG(!model_->contact_excluded(info1.body, info2.body), "the compiled <exclude> list hides those pairs");
     const ContactMaterial material =
         MaterialTable::Lookup(info1.material, info2.material, material_of_body_[info1.body],
                               material_of_body_[info2.body], p.custom1, p.custom2);

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cassert>
 #include <cmath>
 #include <cstdarg>
 #include <cstdint>
@@ -15,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/demand.h"
 #include "model/core/error.h"
 #include "model/physics/material_table.h"
 
@@ -117,7 +117,7 @@ dMass MainGeomMass(const GeomDescription& geom, double total_mass) {
       dMassSetCapsuleTotal(&mass, total_mass, 3, s.x(), s.y());  // 3: cylinder along the local z axis
       break;
     case Shape::kPlane:
-      assert(false && "PhysicsModel rejects planes on dynamic bodies");
+      ORCS_UNREACHABLE("PhysicsModel rejects planes on dynamic bodies");
       break;
   }
   if (!IsIdentity(geom.rotation)) {
@@ -742,7 +742,7 @@ StepStatus OdeWorld::CheckStability(const PhysicsParameters& p) const {
 }
 
 BodyState OdeWorld::body_state(int body) const {
-  assert(body >= 0 && body < model_->body_count());
+  ORCS_DEMAND(body >= 0 && body < model_->body_count());
   BodyState state;
   dBodyID id = bodies_[body];
   if (id == nullptr) {  // static: where the description put it, at rest
@@ -762,9 +762,9 @@ BodyState OdeWorld::body_state(int body) const {
 }
 
 void OdeWorld::SetBodyState(int body, const BodyState& state) {
-  assert(body >= 0 && body < model_->body_count());
+  ORCS_DEMAND(body >= 0 && body < model_->body_count());
   dBodyID id = bodies_[body];
-  assert(id != nullptr && "SetBodyState needs a dynamic body");
+  ORCS_DEMAND_MSG(id != nullptr, "SetBodyState needs a dynamic body");
   if (id == nullptr) return;
   dBodySetPosition(id, state.position.x(), state.position.y(), state.position.z());
   dQuaternion q;
@@ -775,17 +775,17 @@ void OdeWorld::SetBodyState(int body, const BodyState& state) {
 }
 
 double OdeWorld::joint_angle(int joint) const {
-  assert(joint >= 0 && joint < model_->joint_count());
+  ORCS_DEMAND(joint >= 0 && joint < model_->joint_count());
   return IsHinge(joint) ? dJointGetHingeAngle(joints_[joint]) : 0.0;
 }
 
 double OdeWorld::joint_rate(int joint) const {
-  assert(joint >= 0 && joint < model_->joint_count());
+  ORCS_DEMAND(joint >= 0 && joint < model_->joint_count());
   return IsHinge(joint) ? dJointGetHingeAngleRate(joints_[joint]) : 0.0;
 }
 
 double OdeWorld::joint_motor_torque(int joint) const {
-  assert(joint >= 0 && joint < model_->joint_count());
+  ORCS_DEMAND(joint >= 0 && joint < model_->joint_count());
   dJointID motor = motors_[joint];
   if (motor == nullptr) return 0.0;
   dVector3 axis;
@@ -795,9 +795,9 @@ double OdeWorld::joint_motor_torque(int joint) const {
 }
 
 void OdeWorld::SetJointMotor(int joint, double velocity, double max_torque) {
-  assert(joint >= 0 && joint < model_->joint_count());
+  ORCS_DEMAND(joint >= 0 && joint < model_->joint_count());
   dJointID motor = motors_[joint];
-  assert(motor != nullptr && "SetJointMotor needs a motorised hinge");
+  ORCS_DEMAND_MSG(motor != nullptr, "SetJointMotor needs a motorised hinge");
   if (motor == nullptr) return;
   dJointSetAMotorParam(motor, dParamVel, velocity);
   dJointSetAMotorParam(motor, dParamFMax, std::max(0.0, max_torque));  // a negative limit means none
@@ -806,24 +806,24 @@ void OdeWorld::SetJointMotor(int joint, double velocity, double max_torque) {
 }
 
 void OdeWorld::SetJointFriction(int joint, double max_torque) {
-  assert(joint >= 0 && joint < model_->joint_count());
-  assert(IsHinge(joint) && "SetJointFriction needs a hinge");
+  ORCS_DEMAND(joint >= 0 && joint < model_->joint_count());
+  ORCS_DEMAND_MSG(IsHinge(joint), "SetJointFriction needs a hinge");
   if (!IsHinge(joint)) return;
   dJointSetHingeParam(joints_[joint], dParamFMax, std::max(0.0, max_torque));
   motor_rows_[joint].friction = std::max(0.0, max_torque);
 }
 
 void OdeWorld::AddJointTorque(int joint, double torque) {
-  assert(joint >= 0 && joint < model_->joint_count());
-  assert(IsHinge(joint) && "AddJointTorque needs a hinge");
+  ORCS_DEMAND(joint >= 0 && joint < model_->joint_count());
+  ORCS_DEMAND_MSG(IsHinge(joint), "AddJointTorque needs a hinge");
   if (!IsHinge(joint)) return;
   dJointAddHingeTorque(joints_[joint], torque);  // ODE clears body torques after each step
 }
 
 void OdeWorld::SetJointMotorCompliance(int joint, double compliance) {
-  assert(joint >= 0 && joint < model_->joint_count());
+  ORCS_DEMAND(joint >= 0 && joint < model_->joint_count());
   dJointID motor = motors_[joint];
-  assert(motor != nullptr && "SetJointMotorCompliance needs a motorised hinge");
+  ORCS_DEMAND_MSG(motor != nullptr, "SetJointMotorCompliance needs a motorised hinge");
   if (motor == nullptr) return;
   const double cfm = compliance > 0.0 ? compliance : kMotorCfm;
   dJointSetAMotorParam(motor, dParamCFM, cfm);
@@ -831,9 +831,9 @@ void OdeWorld::SetJointMotorCompliance(int joint, double compliance) {
 }
 
 void OdeWorld::AddBodyInertia(int body, const Eigen::Vector3d& axis_in_body, double inertia) {
-  assert(body >= 0 && body < model_->body_count());
+  ORCS_DEMAND(body >= 0 && body < model_->body_count());
   dBodyID id = bodies_[body];
-  assert(id != nullptr && "AddBodyInertia needs a dynamic body");
+  ORCS_DEMAND_MSG(id != nullptr, "AddBodyInertia needs a dynamic body");
   if (id == nullptr || !(inertia > 0.0)) return;
   const Eigen::Vector3d a = axis_in_body.normalized();
   dMass mass;

@@ -34,7 +34,7 @@ struct ExpectedJoint {
   double max_deg;
 };
 
-// ../shared/spec/aseries.md, 4c: the 21 motors in order with their stops.
+// docs/spec/aseries.md, 4c: the 21 motors in order with their stops.
 const std::vector<ExpectedJoint> kASeriesJoints{
     {"Waist", 0, 150},
     {"Right/ShoulderYaw", -150, 150},

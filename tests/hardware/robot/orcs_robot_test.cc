@@ -342,7 +342,7 @@ TEST(OrcsRobotTest, BamsFormatIsRefusedForAManyJointMapBeforeAnythingMoves) {
 }
 
 
-// ---- A motion editor's ODCP 1.0 (../shared/spec/osp.md), spoken from the spec alone: int32 little-endian words,
+// ---- A motion editor's ODCP 1.0 (docs/spec/osp.md), spoken from the spec alone: int32 little-endian words,
 // w ↔ n = −1 + 2w/1023, angle 150·n degrees, torque w/1023. ----
 using Bytes = std::vector<std::uint8_t>;
 

@@ -19,7 +19,7 @@ using test_support::InputErrorOf;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-// Twelve rows of a real XL330 log (../shared/data/xl330-pendulum/sin_time_square_kp400.csv, from t = 2.99 s,
+// Twelve rows of a real XL330 log (scenarios/data/xl330-pendulum/sin_time_square_kp400.csv, from t = 2.99 s,
 // times counted from there), the last one limp: BAM's log converted to degrees.
 constexpr const char* kXl330Csv =
     "# XL330 pendulum log: motor=xl330 load_mass_kg=0.49 load_distance_m=0.1 firmware_kp=400 supply_v=7.4 dt_s=0.005 "

@@ -535,7 +535,7 @@ MeasuredRun RunOf(const std::string& source, const std::string& agent, double st
 // ---------------------------------------------------------------------------------------------------------
 // The servo's firmware gain (docs/gap_measured_data.md, "The firmware gain")
 
-// The head of a real XL330 log (../shared/data/xl330-pendulum/lift_and_drop_kp100.csv), two rows.
+// The head of a real XL330 log (scenarios/data/xl330-pendulum/lift_and_drop_kp100.csv), two rows.
 constexpr const char* kXl330Log =
     "# XL330 pendulum log: motor=xl330 load_mass_kg=0.49 load_distance_m=0.1 firmware_kp=100 supply_v=7.4 dt_s=0.005 "
     "trajectory=lift_and_drop\n"

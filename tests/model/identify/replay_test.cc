@@ -18,7 +18,7 @@ namespace {
 
 constexpr const char* kXl330Model = ORCS_SOURCE_DIR "/scenarios/gap/xl330/model.val";
 
-// Two rows of an XL330 log (../shared/data/xl330-pendulum), the second one warmer and on a sagging supply.
+// Two rows of an XL330 log (scenarios/data/xl330-pendulum), the second one warmer and on a sagging supply.
 constexpr const char* kLog =
     "# XL330 pendulum log: motor=xl330 firmware_kp=400\n"
     "time_s,goal_deg,position_deg,speed_deg_s,load,input_volts,temperature_c,torque_enable\n"
