@@ -25,6 +25,7 @@
 #include <vector>
 #include <zmq.hpp>
 
+#include "base/input_error.h"
 #include "orcs/v1/broker.pb.h"
 #include "net/curve_keys.h"
 #include "net/dealer_connection.h"
@@ -72,9 +73,9 @@ struct BatchClientStats {
 
 /// The broker's error: no broker answering, the broker lost for good, a rejected submission. Once a client has
 /// thrown one, every later Submit() and Next() throws it again: make a new client.
-class BatchClientError : public std::runtime_error {
+class BatchClientError : public InputError {  // bad input (no broker answering, a refused batch): exit 2
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 /// A client's connection to the broker, for one batch. All public functions are thread-safe.

@@ -98,7 +98,7 @@ std::string StatusText(const v1::Status& status, const std::string& endpoint) {
       << Fixed(status.jobs_per_second(), 2) << " jobs/s over the last minute; " << status.workers_lost()
       << " workers lost, " << status.crashes() << " crashes so far\n";
   if (status.workers() == 0) {
-    out << "no worker is connected: start one with `orcs-worker --broker " << status.worker_endpoint() << "`\n";
+    out << "no worker is connected: start one with `orcs-worker --connect " << status.worker_endpoint() << "`\n";
   } else {
     out << "\n" << WorkerTable(status);
   }

@@ -276,22 +276,12 @@ int Execute(const BatchOptions& given) {
 int main(int argc, char** argv) {
   const orcs::batch::ParsedBatchOptions parsed = orcs::batch::ParseBatchOptions(argc, argv);
   if (parsed.exit_code >= 0) return parsed.exit_code;
-  try {
-    return orcs::batch::Execute(parsed.options);
-  } catch (const orcs::batch::Interrupted& error) {  // what says how to resume has been printed where it was caught
-    std::cerr << "orcs-batch: " << error.what() << "\n";
-    return orcs::batch::kExitInterrupted;
-  } catch (const orcs::InputError& error) {
-    std::cerr << "orcs-batch: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const orcs::net::CurveKeyError& error) {  // a missing or malformed key file: bad input
-    std::cerr << "orcs-batch: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const orcs::broker::BatchClientError& error) {
-    std::cerr << "orcs-batch: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const std::exception& error) {
-    std::cerr << "orcs-batch: " << error.what() << "\n";
-    return orcs::cli::kExitRunFailed;
-  }
+  return orcs::cli::RunProgram("orcs-batch", [&] {
+    try {
+      return orcs::batch::Execute(parsed.options);
+    } catch (const orcs::batch::Interrupted& error) {  // how to resume has been printed where it was caught
+      std::cerr << "orcs-batch: " << error.what() << "\n";
+      return orcs::batch::kExitInterrupted;
+    }
+  });
 }

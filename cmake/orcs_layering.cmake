@@ -115,9 +115,27 @@ function(_orcs_check_folder_includes folder)
   endforeach()
 endfunction()
 
+# Inside a top folder: a sub-folder that must not call back into its user (no circles between file pairs). Fails
+# the configuration naming the file when one of `subfolder`'s files includes a header matching `pattern`.
+function(_orcs_forbid_includes subfolder pattern why)
+  file(GLOB_RECURSE sources "${PROJECT_SOURCE_DIR}/${subfolder}/*.h" "${PROJECT_SOURCE_DIR}/${subfolder}/*.cc")
+  foreach(source IN LISTS sources)
+    file(STRINGS "${source}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
+    foreach(line IN LISTS includes)
+      string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([^\"]*)\".*$" "\\1" header "${line}")
+      if(header MATCHES "${pattern}")
+        file(RELATIVE_PATH shown "${PROJECT_SOURCE_DIR}" "${source}")
+        message(FATAL_ERROR "orcs layering: ${shown} includes \"${header}\": ${why}")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
 function(orcs_check_layering)
   foreach(folder IN LISTS _ORCS_LAYER_FOLDERS)
     _orcs_check_folder_links(${folder})
     _orcs_check_folder_includes(${folder})
   endforeach()
+  _orcs_forbid_includes(worker/osp "^worker/(sim|job)/"
+                        "orcs-sim uses the OSP/ODCP servers, so worker/osp/ never uses worker/sim/ or worker/job/ (what both need lives in worker/)")
 endfunction()

@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include "base/near_names.h"
+
 namespace orcs::cli {
 
 std::vector<std::string> NormaliseSingleDashOptions(int argc, const char* const* argv,
@@ -21,6 +23,49 @@ std::vector<std::string> NormaliseSingleDashOptions(int argc, const char* const*
   return arguments;
 }
 
+namespace {
+
+// The (sub)command the command line reached: "orcs-batch sweep" for an error inside sweep's options.
+const CLI::App& ActiveCommand(const CLI::App& app, std::string& name) {
+  name = app.get_name();
+  const CLI::App* at = &app;
+  for (std::vector<CLI::App*> chosen = at->get_subcommands(); !chosen.empty(); chosen = at->get_subcommands()) {
+    at = chosen.back();
+    name += " " + at->get_name();
+  }
+  return *at;
+}
+
+}  // namespace
+
+std::string NearestOption(const CLI::App& command, std::string_view mistyped) {
+  std::vector<std::string> names;
+  for (const CLI::Option* option : command.get_options()) {
+    for (const std::string& name : option->get_lnames()) names.push_back(name);
+  }
+  const std::vector<std::string> near = NearNames(mistyped, names, 1);
+  return near.empty() ? "" : "--" + near.front();
+}
+
+std::string ParseErrorLine(const CLI::App& app, const CLI::ParseError& error, const std::vector<std::string>& arguments) {
+  std::string name;
+  const CLI::App& command = ActiveCommand(app, name);
+  std::string hint;
+  // An option the command does not have ("--job 3"): the nearest one it has.
+  for (std::size_t i = 1; i < arguments.size() && hint.empty(); ++i) {
+    const std::string& argument = arguments[i];
+    if (!argument.starts_with("--") || argument.size() < 3) continue;
+    const std::string mistyped = argument.substr(2, argument.find('=') - 2);
+    bool known = false;
+    for (const CLI::Option* option : command.get_options()) known = known || option->check_lname(mistyped);
+    for (const CLI::Option* option : app.get_options()) known = known || option->check_lname(mistyped);
+    if (known) continue;
+    const std::string nearest = NearestOption(command, mistyped);
+    if (!nearest.empty()) hint = "; did you mean " + nearest + "?";
+  }
+  return app.get_name() + ": " + error.what() + hint + " (see " + name + " --help)";
+}
+
 int ParseArguments(CLI::App& app, int argc, const char* const* argv, const std::vector<std::string_view>& long_names,
                    const std::function<void()>& validate) {
   const std::vector<std::string> arguments = NormaliseSingleDashOptions(argc, argv, long_names);
@@ -33,7 +78,7 @@ int ParseArguments(CLI::App& app, int argc, const char* const* argv, const std::
     std::cout << app.help();
     return kExitOk;
   } catch (const CLI::ParseError& error) {
-    std::cerr << app.get_name() << ": " << error.what() << " (see " << app.get_name() << " --help)\n";
+    std::cerr << ParseErrorLine(app, error, arguments) << "\n";
     return kExitBadInput;
   }
   return -1;

@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "base/run_program.h"  // kExitOk, kExitRunFailed, kExitBadInput; RunProgram
+
 namespace orcs::cli {
 
 /// The original simulator took single-dash long options (-env, -val, -ival, -play, -port); CLI11 reads them
@@ -21,6 +23,15 @@ std::vector<std::string> NormaliseSingleDashOptions(int argc, const char* const*
 int ParseArguments(CLI::App& app, int argc, const char* const* argv, const std::vector<std::string_view>& long_names,
                    const std::function<void()>& validate = {});
 
+/// The long option of `command` nearest to `mistyped` (a name without its dashes) — a letter or two off, or a
+/// name it begins ("job" → "--jobs") — as "--name"; "" when none is near. For "did you mean" in ParseArguments, whose
+/// one line also names the subcommand's own help ("see orcs-batch sweep --help").
+std::string NearestOption(const CLI::App& command, std::string_view mistyped);
+
+/// The one line a command-line error prints: "NAME: what[; did you mean --jobs?] (see NAME [SUBCOMMAND] --help)",
+/// naming the help of the subcommand the line reached. `arguments` are the command line's words, argv[0] first.
+std::string ParseErrorLine(const CLI::App& app, const CLI::ParseError& error, const std::vector<std::string>& arguments);
+
 /// A number from `min` to `max`. Unlike CLI::Range it refuses NaN ("--time-limit nan" passes every comparison),
 /// and "inf" where the range is finite; the message names what was expected and what was found.
 CLI::Validator NumberIn(double min, double max);
@@ -33,9 +44,5 @@ CLI::Validator Seed(std::uint64_t max = UINT64_MAX);
 /// ipc://PATH or inproc://NAME. "--broker nonsense" is bad input (exit 2), found before anything starts.
 CLI::Validator Endpoint();
 
-/// Exit codes of every orcs program.
-constexpr int kExitOk = 0;
-constexpr int kExitRunFailed = 1;  ///< the input was fine, the run was not (unstable physics, failed jobs)
-constexpr int kExitBadInput = 2;   ///< bad input: one line on stderr names the file, line or field
 
 }  // namespace orcs::cli

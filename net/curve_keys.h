@@ -21,13 +21,15 @@
 #include <string>
 #include <zmq.hpp>
 
+#include "base/input_error.h"
+
 namespace orcs::net {
 
 /// A key file that is missing, unreadable or malformed, a folder that lacks one, keys that do not fit together, or
 /// a libzmq without CURVE. what() is one line naming the file.
-class CurveKeyError : public std::runtime_error {
+class CurveKeyError : public InputError {  // bad input: every program says it and exits 2
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 /// One CURVE key pair, each key in Z85 text.

@@ -89,7 +89,9 @@ def build_figure(rows, title):
               label="generation median")
     axes.plot([r["generation"] for r in band], [r["best"] for r in band], "o", color="tab:blue", ms=3, zorder=3,
               label="generation best")
-    axes.step(generations, [r["best_so_far"] for r in rows], where="post", color="tab:red", lw=2,
+    # Centred on each generation ("mid"): the last generation's value has a level of its own, so a gain in it shows
+    # (with "post" the line ended in a bare rise at the last generation, its gain easily missed at the axis' edge).
+    axes.step(generations, [r["best_so_far"] for r in rows], where="mid", color="tab:red", lw=2,
               label="best so far")
     axes.set_xlabel("generation")
     axes.set_ylabel("fitness (higher is better)")

@@ -23,6 +23,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 
 import matplotlib
 
@@ -154,6 +155,11 @@ def label_categories(axis, categories):
         axis.set_xticklabels(categories)
 
 
+def wrapped(title, figure):
+    """The title in lines that fit the figure's width (about 9 characters an inch at the default size)."""
+    return "\n".join(textwrap.wrap(title, max(30, int(9 * figure.get_figwidth()))))
+
+
 def sweep_title(report, folder):
     """The scenario's name (robustness.json's title), else the folder's name."""
     title = (report or {}).get("title")
@@ -176,16 +182,20 @@ def build_grid_figure(params, rows, report, folder=None):
         for x, y in zip(xs, ys):
             by_value.setdefault(x, []).append(y)
         values = sorted(by_value)
-        axis.plot(values, [sum(by_value[v]) / len(by_value[v]) for v in values], "-", color="C3",
-                  label="mean over the other parameters")
+        # With one parameter there are no others: the line joins each value's mean over its repeats.
+        joined = "mean over the other parameters" if len(params) > 1 else (
+            "mean at each value" if repeats > 1 else "the grid points joined")
+        axis.plot(values, [sum(by_value[v]) / len(by_value[v]) for v in values], "-", color="C3", label=joined)
         label_categories(axis, categories)
         axis.set_xlabel(parameter_label(param))
         axis.set_ylabel(FITNESS_LABEL)
         axis.grid(True, alpha=0.3)
-    figure.suptitle(f"{sweep_title(report, folder)}: fitness across {len(rows)} grid points "
-                    f"({len(rows) - len(ok_rows)} without an ok run)")
+    # Wrapped to the figure's width: a one-parameter figure is 4.5 inches wide, and a long scenario name was cut.
+    title = (f"{sweep_title(report, folder)}: fitness across {len(rows)} grid points "
+             f"({len(rows) - len(ok_rows)} without an ok run)")
+    figure.suptitle(wrapped(title, figure))
     figure.tight_layout()
-    legend_below(figure, axes[0], columns=2)
+    legend_below(figure, axes[0], columns=2 if len(params) > 1 else 1)  # one narrow panel: one column
     return figure
 
 
@@ -247,8 +257,8 @@ def build_lhs_figure(params, rows, report, folder=None):
     bars.set_ylabel("first-order index S")
     bars.set_title("first-order sensitivity of the fitness", fontsize="medium")
     bars.grid(True, axis="y", alpha=0.3)
-    figure.suptitle(f"{sweep_title(report, folder)}: fitness over {len(rows)} Latin hypercube samples "
-                    f"({len(rows) - len(ok_rows)} without an ok run)")
+    figure.suptitle(wrapped(f"{sweep_title(report, folder)}: fitness over {len(rows)} Latin hypercube samples "
+                            f"({len(rows) - len(ok_rows)} without an ok run)", figure))
     figure.tight_layout()
     legend_below(figure, axes[:panels], columns=5)
     return figure

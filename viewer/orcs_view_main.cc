@@ -80,14 +80,7 @@ int Serve(const ViewOptions& options) {
 int main(int argc, char** argv) {
   const orcs::viewer::ParsedViewOptions parsed = orcs::viewer::ParseViewOptions(argc, argv);
   if (parsed.exit_code >= 0) return parsed.exit_code;
-  try {
-    if (parsed.options.render) return orcs::viewer::RenderClip(parsed.options);
-    return orcs::viewer::Serve(parsed.options);
-  } catch (const orcs::InputError& error) {
-    std::cerr << "orcs-view: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const std::exception& error) {
-    std::cerr << "orcs-view: internal error: " << error.what() << "\n";
-    return orcs::cli::kExitRunFailed;
-  }
+  return orcs::cli::RunProgram("orcs-view", [&] {
+    return parsed.options.render ? orcs::viewer::RenderClip(parsed.options) : orcs::viewer::Serve(parsed.options);
+  });
 }

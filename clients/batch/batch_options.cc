@@ -239,7 +239,7 @@ ParsedBatchOptions ParseBatchOptions(int argc, const char* const* argv) {
     std::cout << app.help("", CLI::AppFormatMode::All);
     parsed.exit_code = cli::kExitOk;
   } catch (const CLI::ParseError& error) {
-    std::cerr << "orcs-batch: " << error.what() << " (see orcs-batch --help)\n";
+    std::cerr << cli::ParseErrorLine(app, error, std::vector<std::string>(argv, argv + argc)) << "\n";
     parsed.exit_code = cli::kExitBadInput;
   }
   return parsed;

@@ -20,7 +20,20 @@ namespace fs = std::filesystem;
 struct Run {
   std::vector<std::string> order;                         ///< job ids in the file's order
   std::unordered_map<std::string, JobFigures> jobs;        ///< by id
+  std::unordered_map<std::string, std::string> key_of;     ///< id → what the job ran (MatchKey), "" when unknown
 };
+
+// What a job ran, whatever its id: its seed, which genome and which sweep point — ids are zero-padded by the batch's
+// size ("job-03" of 8 jobs, "job-003" of 100), so the same seeds in two runs of different sizes share no id.
+// "" when the line has no seed (results of another program).
+std::string MatchKey(const nlohmann::json& line) {
+  if (!line.contains("seed") || !line["seed"].is_number_integer()) return "";
+  std::string key = "seed " + line["seed"].dump();
+  for (const char* field : {"genome_index", "params"}) {
+    if (line.contains(field)) key += std::string(" ") + field + " " + line[field].dump();
+  }
+  return key;
+}
 
 JobFigures FiguresOf(const nlohmann::json& line, const std::string& file, int number,
                      std::vector<std::string>& term_names) {
@@ -61,6 +74,7 @@ Run ReadRun(const std::string& file, std::vector<std::string>& term_names) {
     const std::string id = line["id"].get<std::string>();
     if (run.jobs.count(id) != 0) throw InputError(file, number, "job " + text::Quote(id) + " appears twice");
     run.jobs.emplace(id, FiguresOf(line, file, number, term_names));
+    run.key_of.emplace(id, MatchKey(line));
     run.order.push_back(id);
   }
   return run;
@@ -115,16 +129,33 @@ RunComparison CompareRuns(const std::string& a, const std::string& b) {
   comparison.b_path = ResultsFileOf(b);
   const Run run_a = ReadRun(comparison.a_path, comparison.terms);
   const Run run_b = ReadRun(comparison.b_path, comparison.terms);
+  // By what each job ran where every line says it and no two jobs of a run ran the same; by id otherwise.
+  const auto keyed = [](const Run& run, std::unordered_map<std::string, std::string>& ids) {
+    for (const std::string& id : run.order) {
+      const std::string& key = run.key_of.at(id);
+      if (key.empty() || !ids.emplace(key, id).second) return false;
+    }
+    return true;
+  };
+  std::unordered_map<std::string, std::string> a_ids, b_ids;  // key → id
+  const bool by_key = keyed(run_a, a_ids) && keyed(run_b, b_ids);
+  comparison.matched_by = by_key ? "seed and genome" : "job id";
+  const auto partner = [&](const Run& run, const std::unordered_map<std::string, std::string>& other_ids,
+                           const Run& other, const std::string& id) -> std::string {
+    if (!by_key) return other.jobs.count(id) != 0 ? id : "";
+    const auto found = other_ids.find(run.key_of.at(id));
+    return found == other_ids.end() ? "" : found->second;
+  };
   for (const std::string& id : run_a.order) {
-    const auto in_b = run_b.jobs.find(id);
-    if (in_b == run_b.jobs.end()) {
+    const std::string in_b = partner(run_a, b_ids, run_b, id);
+    if (in_b.empty()) {
       comparison.only_a.push_back(id);
     } else {
-      comparison.common.push_back({id, run_a.jobs.at(id), in_b->second});
+      comparison.common.push_back({in_b == id ? id : id + " = " + in_b, run_a.jobs.at(id), run_b.jobs.at(in_b)});
     }
   }
   for (const std::string& id : run_b.order) {
-    if (run_a.jobs.count(id) == 0) comparison.only_b.push_back(id);
+    if (partner(run_b, a_ids, run_a, id).empty()) comparison.only_b.push_back(id);
   }
   return comparison;
 }
@@ -153,7 +184,8 @@ std::string ComparisonText(const RunComparison& comparison, double tolerance) {
     }
   }
   out << "orcs-batch: A = " << comparison.a_path << ", B = " << comparison.b_path << "\n";
-  out << "orcs-batch: " << comparison.common.size() << " jobs in both, " << changed << " changed"
+  out << "orcs-batch: " << comparison.common.size() << " jobs in both (matched by " << comparison.matched_by << "), "
+      << changed << " changed"
       << (tolerance > 0 ? " by more than " + text::FormatDouble(tolerance) : " (any bit)") << "; "
       << comparison.only_a.size() << " only in A, " << comparison.only_b.size() << " only in B\n";
   if (largest != nullptr) {

@@ -20,7 +20,7 @@ struct JobFigures {
 
 /// A job in both runs.
 struct JobChange {
-  std::string job;  ///< its id
+  std::string job;  ///< its id ("job-03 = job-003" when the two runs name it differently)
   JobFigures a;     ///< in the first run
   JobFigures b;     ///< in the second
 };
@@ -31,12 +31,15 @@ struct RunComparison {
   std::vector<std::string> only_a;      ///< job ids only in the first run
   std::vector<std::string> only_b;      ///< job ids only in the second
   std::vector<std::string> terms;       ///< every term name, in first-seen order
+  std::string matched_by;               ///< "seed and genome", or "job id" where a line lacks its seed
 };
 
 /// The results file of `path`: the file itself, or a folder's results.jsonl (its .partial while a batch runs).
 std::string ResultsFileOf(const std::string& path);
 
-/// Reads both runs. Throws InputError naming the file and line of a line that is not a result.
+/// Reads both runs and pairs their jobs by what they ran — seed, genome index, sweep point (ids are zero-padded by
+/// the batch's size, so the same seeds in an 8-job and a 16-job run share no id) — or by id where a line has no seed
+/// or two jobs of a run ran the same. Throws InputError naming the file and line of a line that is not a result.
 RunComparison CompareRuns(const std::string& a, const std::string& b);
 
 /// Whether the job's status, fitness or a term differs by more than `tolerance` (0: any bit differs).

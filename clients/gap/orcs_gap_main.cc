@@ -319,16 +319,5 @@ int main(int argc, char** argv) {
     std::cerr << "orcs-gap: --islands turns the race off (it would judge the candidates before any island runs); "
                  "--race keeps it\n";
   }
-  try {
-    return synth->parsed() ? Synth(o) : Diagnose(o);
-  } catch (const orcs::InputError& error) {
-    std::cerr << "orcs-gap: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const orcs::broker::BatchClientError& error) {
-    std::cerr << "orcs-gap: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const std::exception& error) {
-    std::cerr << "orcs-gap: " << error.what() << "\n";
-    return orcs::cli::kExitRunFailed;
-  }
+  return orcs::cli::RunProgram("orcs-gap", [&] { return synth->parsed() ? Synth(o) : Diagnose(o); });
 }

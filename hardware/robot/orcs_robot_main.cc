@@ -9,23 +9,24 @@
 #include <filesystem>
 #include <iostream>
 
+#include "base/run_program.h"
 #include "hardware/emulator/servo_bus_emulator.h"
 #include "hardware/robot/odcp_source.h"
 #include "hardware/robot/robot_run_folder.h"
 #include "hardware/robot/robot_session.h"
-#include "model/core/json_node.h"
-#include "model/core/text_file.h"
 #include "hardware/robot/simulated_shafts.h"
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
+#include "model/core/json_node.h"
 #include "model/core/text.h"
+#include "model/core/text_file.h"
 
 namespace orcs::hardware {
 namespace {
 
-constexpr int kExitOk = 0;
-constexpr int kExitRunFailed = 1;   // the bus or a servo stopped the run (torque off)
-constexpr int kExitBadInput = 2;    // a bad map, record or option: one line names it
+using cli::kExitBadInput;   // a bad map, record or option: one line names it
+using cli::kExitOk;
+using cli::kExitRunFailed;  // the bus or a servo stopped the run (torque off)
 constexpr int kExitInterrupted = 130;  // Ctrl-C (torque off)
 constexpr double kOdcpSessionSeconds = 600.0;  // an ODCP session's bound without --duration (its log is in memory)
 
@@ -295,16 +296,12 @@ int main(int argc, char** argv) {
     return orcs::hardware::kExitBadInput;
   }
   orcs::hardware::InstallInterruptHandler();
-  try {
-    return orcs::hardware::Run(o);
-  } catch (const orcs::InputError& error) {
-    std::cerr << "orcs-robot: " << error.what() << "\n";
-    return orcs::hardware::kExitBadInput;
-  } catch (const orcs::dynamixel::BusError& error) {  // before the run: the torque was never turned on
-    std::cerr << "orcs-robot: stopped before the run: " << error.what() << "; the torque was not turned on\n";
-    return orcs::hardware::kExitRunFailed;
-  } catch (const std::exception& error) {
-    std::cerr << "orcs-robot: internal error: " << error.what() << "\n";
-    return orcs::hardware::kExitRunFailed;
-  }
+  return orcs::cli::RunProgram("orcs-robot", [&] {
+    try {
+      return orcs::hardware::Run(o);
+    } catch (const orcs::dynamixel::BusError& error) {  // before the run: the torque was never turned on
+      std::cerr << "orcs-robot: stopped before the run: " << error.what() << "; the torque was not turned on\n";
+      return orcs::hardware::kExitRunFailed;
+    }
+  });
 }

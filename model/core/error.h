@@ -1,4 +1,4 @@
-// Errors of orcs: bad user input and failed runs.
+// Errors of orcs: bad user input (InputError, base/input_error.h, here for the model's files) and failed runs.
 //
 // Every input is checked where it enters (docs/architecture.md, "Errors and bad input"). An InputError names the
 // source (a file, or a field of a message), the line where there is one, what was expected and what was
@@ -10,33 +10,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "base/input_error.h"  // InputError: every layer's, the broker's too
+
 namespace orcs {
-
-/// Bad input from a user: a file, a command-line option, a message. Command-line programs print what()
-/// and exit with code 2.
-class InputError : public std::runtime_error {
- public:
-  /// @param source  file name or field path the problem is in ("" when there is none).
-  /// @param line    1-based line number, or 0 when the source has no lines.
-  /// @param what    the problem, naming what was expected and what was found.
-  InputError(std::string source, int line, const std::string& what)
-      : std::runtime_error(Format(source, line, what)), source_(std::move(source)), line_(line) {}
-
-  explicit InputError(const std::string& what) : InputError("", 0, what) {}
-
-  const std::string& source() const { return source_; }
-  int line() const { return line_; }
-
- private:
-  static std::string Format(const std::string& source, int line, const std::string& what) {
-    if (source.empty()) return what;
-    if (line <= 0) return source + ": " + what;
-    return source + ":" + std::to_string(line) + ": " + what;
-  }
-
-  std::string source_;
-  int line_ = 0;
-};
 
 /// The physics engine reported an error (ODE's error or debug handler fired). The world that raised it is
 /// no longer usable; the run ends with an error status instead of the process aborting.

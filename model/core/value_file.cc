@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "base/near_names.h"
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
@@ -99,13 +100,37 @@ void ValueFile::Apply(const std::string& file, VariableRepository& repository) {
   ApplyAssignments(Read(file), repository);
 }
 
+namespace {
+
+// Every path of the repository, for "did you mean".
+std::vector<std::string> PathsOf(const VariableRepository& repository) {
+  std::vector<std::string> paths;
+  paths.reserve(static_cast<std::size_t>(repository.size()));
+  for (int id = 0; id < repository.size(); ++id) paths.push_back(repository.path(id));
+  return paths;
+}
+
+}  // namespace
+
 IgnoredValues ValueFile::Apply(const std::string& file, VariableRepository& repository, UnknownPaths unknown) {
   std::vector<ValueAssignment> assignments = Read(file);
   IgnoredValues ignored;
+  std::vector<std::string> paths;  // the repository's, once a path is unknown
   if (unknown == UnknownPaths::kIgnore) {
     std::erase_if(assignments, [&](const ValueAssignment& assignment) {
       if (repository.Find(assignment.path) != nullptr) return false;
-      (IsOriginalGuiPath(assignment.path) ? ignored.original : ignored.unknown).push_back(assignment);
+      if (IsOriginalGuiPath(assignment.path)) {
+        ignored.original.push_back(assignment);
+      } else {
+        // Only the first few are named in the warning: only those are worth the search.
+        std::string near;
+        if (ignored.unknown.size() < IgnoredValues::kNamed) {
+          if (paths.empty()) paths = PathsOf(repository);
+          near = DidYouMean(assignment.path, paths, 2);
+        }
+        ignored.unknown_near.push_back(near);
+        ignored.unknown.push_back(assignment);
+      }
       return true;
     });
   }
@@ -127,21 +152,22 @@ bool IsOriginalGuiPath(std::string_view path) {
 void IgnoredValues::Add(const IgnoredValues& more) {
   original.insert(original.end(), more.original.begin(), more.original.end());
   unknown.insert(unknown.end(), more.unknown.begin(), more.unknown.end());
+  unknown_near.insert(unknown_near.end(), more.unknown_near.begin(), more.unknown_near.end());
 }
 
 std::string IgnoredValues::Warning() const {
-  constexpr std::size_t kNamed = 5;  // paths named in the line; the rest are counted
-  const auto name = [](const std::vector<ValueAssignment>& list) {
+  const auto name = [](const std::vector<ValueAssignment>& list, const std::vector<std::string>* near = nullptr) {
     std::string out;
     for (std::size_t i = 0; i < list.size() && i < kNamed; ++i) {
       out += (i > 0 ? ", " : "") + list[i].path + " (" + list[i].file + ":" + std::to_string(list[i].line) + ")";
+      if (near != nullptr && i < near->size() && !(*near)[i].empty()) out += (*near)[i].substr(1, (*near)[i].size() - 2);
     }
     if (list.size() > kNamed) out += " and " + std::to_string(list.size() - kNamed) + " more";
     return out;
   };
   std::string line = "warning: ignored " + std::to_string(original.size() + unknown.size()) + " value(s) orcs has no use for";
   if (!original.empty()) line += "; of the original's GUI, cameras or plug-ins: " + name(original);
-  if (!unknown.empty()) line += "; unknown to orcs: " + name(unknown);
+  if (!unknown.empty()) line += "; unknown to orcs: " + name(unknown, &unknown_near);
   return line + " (--strict refuses a file with such values)";
 }
 
@@ -150,7 +176,9 @@ void ValueFile::ApplyAssignments(const std::vector<ValueAssignment>& assignments
   for (const ValueAssignment& assignment : assignments) {
     const Value* value = repository.Find(assignment.path);
     if (value == nullptr) {
-      throw InputError(assignment.file, assignment.line, "unknown repository path " + text::Quote(assignment.path));
+      throw InputError(assignment.file, assignment.line,
+                       "unknown repository path " + text::Quote(assignment.path) +
+                           DidYouMean(assignment.path, PathsOf(repository), 3));
     }
     if (const std::string expected = value->CheckString(assignment.value); !expected.empty()) {
       throw InputError(assignment.file, assignment.line,

@@ -37,6 +37,8 @@ enum class UnknownPaths {
 struct IgnoredValues {
   std::vector<ValueAssignment> original;  ///< paths under a prefix of the original's GUI (IsOriginalGuiPath)
   std::vector<ValueAssignment> unknown;   ///< every other path the repository lacks
+  std::vector<std::string> unknown_near;  ///< per unknown path: " (did you mean '...'?)", or "" (searched for a file's first kNamed only)
+  static constexpr std::size_t kNamed = 5;  ///< paths the warning names; the rest are counted
   bool empty() const { return original.empty() && unknown.empty(); }
   void Add(const IgnoredValues& more);
   /// One line for stderr: how many were ignored, each path with its file and line (the first few), and the fix.

@@ -855,12 +855,22 @@ void CheckDisjoint(const std::vector<std::string>& fit_paths, const std::vector<
 
 control::KeyframeRecord CommandsAsRecord(const MeasuredRun& run, const std::vector<std::string>& motor_order) {
   std::vector<std::pair<const std::vector<double>*, const std::vector<double>*>> inputs;
+  const auto commanded = std::count_if(motor_order.begin(), motor_order.end(), [&](const std::string& motor) {
+    return run.desired_angle.count(motor) != 0 && run.desired_torque.count(motor) != 0;
+  });
   for (const std::string& motor : motor_order) {
     const auto angle = run.desired_angle.find(motor);
     const auto torque = run.desired_torque.find(motor);
     if (angle == run.desired_angle.end() || torque == run.desired_torque.end()) {
       const char* missing = angle == run.desired_angle.end() ? "DesiredAngle" : "DesiredTorque";
-      throw InputError(run.source, 0, "no column '" + MotorColumn(run.agent, motor, missing) + "'");
+      // A replay drives every motor of the agent: say how to give the ones the log lacks.
+      throw InputError(run.source, 0,
+                       "no column '" + MotorColumn(run.agent, motor, missing) + "': a replay drives every motor of " +
+                           run.agent + ", and the run commands " + std::to_string(commanded) + " of its " +
+                           std::to_string(motor_order.size()) + " motors; log the others' commands, or give each in "
+                           "the column mapping as constants, e.g. {\"motor\": \"" + motor +
+                           "\", \"desired_angle\": {\"constant\": 0}, \"desired_torque\": {\"constant\": 1}} "
+                           "(docs/gap_measured_data.md)");
     }
     inputs.emplace_back(&angle->second, &torque->second);
   }

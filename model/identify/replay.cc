@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "base/near_names.h"
 #include "model/control/keyframe_record.h"
 #include "model/evaluation/recorder.h"
 #include "model/core/error.h"
@@ -51,16 +52,28 @@ void CheckRunFitsRig(const Rig& rig, const MeasuredRun& run) {
                      "'");
   }
   if (std::abs(run.step - rig.step) > 1e-9) {
+    // What to change: the log's rows, or the rig's step (a whole number of simulation steps per row).
+    const double ratio = run.step / rig.step;
+    const std::string fix =
+        std::abs(ratio - std::round(ratio)) < 1e-6 && ratio > 1.5
+            ? "; log a row every " + text::FormatDouble(rig.step) + " s, or make the rig's row the log's: a --model value "
+              "file with /Simulation/IterationsPerStep=" + text::FormatDouble(std::round(ratio)) + " (" +
+              text::FormatDouble(std::round(ratio)) + " steps of " + text::FormatDouble(rig.step) +
+              " s a row, IterationsPerStep being 1 now; docs/gap_measured_data.md)"
+            : "; log a row every " + text::FormatDouble(rig.step) + " s (resample the log), or give the rig the log's step: "
+              "a --model value file with /Simulation/TimeStepSize=" + text::FormatDouble(run.step) +
+              " and /Simulation/IterationsPerStep=1 (docs/gap_measured_data.md)";
     throw InputError(run.source + ": column 'time': steps of " + text::FormatDouble(run.step) +
                      " s, but the rig simulates steps of " + text::FormatDouble(rig.step) +
-                     " s (/Simulation/TimeStepSize × /Simulation/IterationsPerStep)");
+                     " s (/Simulation/TimeStepSize × /Simulation/IterationsPerStep)" + fix);
   }
   for (const std::string& motor : run.motors) {
     bool known = false;
     for (const std::string& rig_motor : rig.motors) known = known || rig_motor == motor;
     if (!known) {
       throw InputError(run.source + ": column '" + ColumnPath(run, motor, "JointAngle") + "': agent '" + rig.agent +
-                       "' of " + rig.environment_name + " has no motor " + text::Quote(motor));
+                       "' of " + rig.environment_name + " has no motor " + text::Quote(motor) +
+                       DidYouMean(motor, rig.motors));
     }
   }
 }
@@ -148,7 +161,13 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
   simulation.Build();
   ValueFile::ApplyAssignments(model, simulation.repository());
   const int index = simulation.FindAgent(agent);
-  if (index < 0) throw InputError(rig.environment_name + ": no agent " + text::Quote(agent) + " (the runs' agent)");
+  if (index < 0) {
+    // The pendulum rig's agent is "Pendulum": its runs on the default rig are the commonest slip.
+    const std::string hint = options.kind != "pendulum" && agent == "Pendulum"
+                                 ? "; the runs are a pendulum rig's: add --rig pendulum"
+                                 : "; give the runs' environment with --env, or --rig pendulum for a pendulum";
+    throw InputError(rig.environment_name + ": no agent " + text::Quote(agent) + " (the runs' agent)" + hint);
+  }
   for (const auto& motor : simulation.model().morphology(index).motors) {
     rig.motors.push_back(motor.name);
     rig.motor_ranges.push_back({motor.min_degrees, motor.max_degrees});

@@ -11,6 +11,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -160,6 +161,25 @@ TEST_F(BrokerStatusTest, ABatchWithoutWorkersSaysSoKeepsWaitingAndCompletesWhenO
   int lines = 0;
   for (std::string line; std::getline(results, line);) lines += line.empty() ? 0 : 1;
   EXPECT_EQ(lines, 2);
+}
+
+// A newcomer's paper cut (issue 52): with no worker the status suggested `orcs-worker --broker …`, which answers
+// "--connect is required". The command it suggests now is run as it is printed, and a worker joins.
+TEST_F(BrokerStatusTest, WithNoWorkerItSuggestsACommandThatStartsOneAsPrinted) {
+  const test_support::ProcessResult text = RunProcess({kBin + "orcs-broker", "status", "--broker", clients_});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  const std::size_t open = text.out.find("start one with `");
+  ASSERT_NE(open, std::string::npos) << text.out;
+  const std::size_t from = open + std::string("start one with `").size();
+  const std::string command = text.out.substr(from, text.out.find('`', from) - from);
+  std::vector<std::string> argv;
+  std::istringstream words(command);
+  for (std::string word; words >> word;) argv.push_back(word);
+  ASSERT_EQ(argv.front(), "orcs-worker") << command;
+  argv.front() = kBin + "orcs-worker";
+  BackgroundProcess worker(argv);
+  const Json status = AwaitStatus([](const Json& s) { return s.value("workers", 0) == 1; });
+  EXPECT_EQ(status.value("workers", 0), 1) << "`" << command << "` did not start a worker: " << worker.err();
 }
 
 TEST_F(BrokerStatusTest, NoBrokerAtTheEndpointIsOneLineAndExit1WithinTheTimeout) {

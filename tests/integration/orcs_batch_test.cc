@@ -174,14 +174,14 @@ TEST_F(OrcsBatchTest, RunOnMujocoNamesTheEngineAndAJobReplaysWithOrcsSimOnIt) {
   // unchanged. Exit 1 and 0, as diff's.
   const ProcessResult compared = Batch({"compare", Out("m"), Out("o"), "--out", Out("cmp")});
   EXPECT_EQ(compared.exit_code, 1) << compared.err;
-  EXPECT_THAT(compared.out, HasSubstr("1 jobs in both, 1 changed (any bit); 1 only in A, 0 only in B"));
+  EXPECT_THAT(compared.out, HasSubstr("1 jobs in both (matched by seed and genome), 1 changed (any bit); 1 only in A, 0 only in B"));
   EXPECT_THAT(compared.out, HasSubstr("job-0: fitness "));
   EXPECT_THAT(compared.out, HasSubstr("job-1: only in A"));
   EXPECT_EQ(dir_.Read(Out("cmp") + "/compare.png").substr(1, 3), "PNG");
   EXPECT_THAT(dir_.Read(Out("cmp") + "/compare.csv"), HasSubstr("job-0,ok,ok,"));
   const ProcessResult same = Batch({"compare", Out("o"), Out("o") + "/results.jsonl", "--out", Out("cmp"), "--no-plot"});
   EXPECT_EQ(same.exit_code, 0) << same.err;
-  EXPECT_THAT(same.out, HasSubstr("1 jobs in both, 0 changed"));
+  EXPECT_THAT(same.out, HasSubstr("1 jobs in both (matched by seed and genome), 0 changed"));
 }
 
 TEST_F(OrcsBatchTest, BadInputStopsBeforeAnythingRunsWithTheFileNamed) {

@@ -54,6 +54,20 @@ class EvolutionPlotTest(TempDirTest):
                                                 "best so far"])
         self.assertEqual(legends_covering_axes(figure), [])
 
+    def test_the_best_so_far_shows_the_last_generations_gain(self):
+        # The last generation improves on the one before: its level must be drawn, not a bare rise at the edge.
+        rows = self.module.read_history(os.path.join(self.folder, "fitness.csv"))
+        figure = self.module.build_figure(rows, "a title")
+        figure.canvas.draw()
+        line = next(l for l in figure.axes[0].get_lines() if l.get_label() == "best so far")
+        vertices = line.get_path().vertices
+        last_generation, last_best = rows[-1]["generation"], rows[-1]["best_so_far"]
+        self.assertGreater(last_best, rows[-2]["best_so_far"], "the input gains in its last generation")
+        level = [(x, y) for x, y in vertices if y == last_best]
+        self.assertGreaterEqual(max(x for x, _ in level) - min(x for x, _ in level), 0.5,
+                                "the last value holds for half a generation or more")
+        self.assertEqual(max(x for x, _ in level), last_generation)
+
     def test_the_default_title_names_the_scenario_and_algorithm(self):
         self.assertEqual(self.module.default_title(self.folder),
                          "rock-oscillator: fitness per generation (cmaes, 6 genomes per generation)")
@@ -126,6 +140,27 @@ class SweepPlotTest(TempDirTest):
         # Without robustness.json (an older sweep) the folder names it.
         figure = self.module.build_grid_figure(params, rows, None, folder)
         self.assertTrue(figure._suptitle.get_text().startswith("grid: fitness across 6 grid points"))
+
+    def test_a_one_parameter_sweep_says_what_its_line_is_and_its_title_fits(self):
+        # Issue 52's paper cut: the legend said "mean over the other parameters" with no other parameter, and a long
+        # scenario name ran off both ends of the 4.5-inch figure.
+        self.write("one/sweep.csv", "/AngularMotor/PID/Proportional,fitness,min_fitness,max_fitness,ok,jobs\n"
+                                    "10,-0.5,-0.6,-0.4,2,2\n20,-0.3,-0.35,-0.2,2,2\n30,-0.4,-0.5,-0.3,2,2\n")
+        long_name = "a-rather-long-scenario-name-for-the-swing-oscillator-robustness"
+        self.write("one/robustness.json", json.dumps({"title": long_name, "sampling": "grid"}))
+        folder = os.path.join(self.dir, "one")
+        params, rows = self.module.read_sweep(os.path.join(folder, "sweep.csv"))
+        figure = self.module.build_grid_figure(params, rows, self.module.read_report(folder), folder)
+        self.assertEqual(sorted(legend_texts(figure)), ["grid point: mean over its repeats, bar min … max",
+                                                        "mean at each value"])
+        figure.canvas.draw()
+        renderer = figure.canvas.get_renderer()
+        page = figure.bbox
+        for artist in [figure._suptitle] + [legend for legend in figure.legends]:
+            box = artist.get_window_extent(renderer)
+            self.assertTrue(page.x0 <= box.x0 and box.x1 <= page.x1, f"{artist} runs off the figure: {box} of {page}")
+        self.assertIn(long_name.split("-")[0], figure._suptitle.get_text())
+        self.assertEqual(legends_covering_axes(figure), [])
 
     def test_a_hypercube_sweep_names_the_sensitivities_and_keeps_its_legend_off_the_data(self):
         csv_text, report = lhs_files()

@@ -17,7 +17,7 @@
 #include "worker/osp/osp_gateway.h"
 #include "worker/osp/protocol_values.h"
 #include "worker/view_launch.h"
-#include "worker/sim/played_records.h"
+#include "worker/played_records.h"
 #include "model/scene/world_setup.h"
 
 namespace {
@@ -52,7 +52,7 @@ int Serve(const OspOptions& options) {
                               options.strict ? orcs::UnknownPaths::kRefuse : orcs::UnknownPaths::kIgnore);
   if (!ignored.empty()) std::cerr << "orcs-osp: " << ignored.Warning() << "\n";
   simulation.Reset(0);
-  std::vector<orcs::control::KeyframePlayer> players = orcs::sim::MakePlayers(options.play, simulation, "orcs-osp");
+  std::vector<orcs::control::KeyframePlayer> players = orcs::MakePlayers(options.play, simulation, "orcs-osp");
   std::unique_ptr<orcs::osp::EpisodeRecorder> recorder;
   if (!options.record.empty()) {
     recorder = std::make_unique<orcs::osp::EpisodeRecorder>(
@@ -150,13 +150,5 @@ int main(int argc, char** argv) {
     return exit_code;
   }
   if (options.gui) return LaunchGui(argv[0], options);
-  try {
-    return Serve(options);
-  } catch (const orcs::InputError& error) {
-    std::cerr << "orcs-osp: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const std::exception& error) {
-    std::cerr << "orcs-osp: internal error: " << error.what() << "\n";
-    return orcs::cli::kExitRunFailed;
-  }
+  return orcs::cli::RunProgram("orcs-osp", [&] { return Serve(options); });
 }

@@ -94,13 +94,5 @@ int main(int argc, char** argv) {
   if (const int exit_code = orcs::cli::ParseArguments(app, argc, argv, {"port"}); exit_code >= 0) {
     return exit_code;
   }
-  try {
-    return Sniff(options);
-  } catch (const orcs::InputError& error) {
-    std::cerr << "orcs-sniffer: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const std::exception& error) {
-    std::cerr << "orcs-sniffer: internal error: " << error.what() << "\n";
-    return orcs::cli::kExitRunFailed;
-  }
+  return orcs::cli::RunProgram("orcs-sniffer", [&] { return Sniff(options); });
 }

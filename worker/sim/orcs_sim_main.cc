@@ -24,7 +24,7 @@
 #include "net/cli_style.h"
 #include "worker/osp/protocol_values.h"
 #include "worker/sim/gui_launch.h"
-#include "worker/sim/played_records.h"
+#include "worker/played_records.h"
 #include "worker/sim/realtime.h"
 #include "worker/sim/scenario_run.h"
 #include "worker/sim/sim_options.h"
@@ -223,15 +223,9 @@ int Run(const SimOptions& options) {
 int main(int argc, char** argv) {
   const orcs::sim::ParsedOptions parsed = orcs::sim::ParseSimOptions(argc, argv);
   if (parsed.exit_code >= 0) return parsed.exit_code;
-  try {
+  return orcs::cli::RunProgram("orcs-sim", [&] {
     if (parsed.options.gui) return orcs::sim::LaunchGui(argv[0], parsed.options);
     if (!parsed.options.scenario.empty()) return orcs::sim::RunScenario(parsed.options);
     return orcs::sim::Run(parsed.options);
-  } catch (const orcs::InputError& error) {
-    std::cerr << "orcs-sim: " << error.what() << "\n";
-    return orcs::cli::kExitBadInput;
-  } catch (const std::exception& error) {
-    std::cerr << "orcs-sim: internal error: " << error.what() << "\n";
-    return orcs::cli::kExitRunFailed;
-  }
+  });
 }

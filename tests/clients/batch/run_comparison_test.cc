@@ -44,11 +44,36 @@ TEST_F(RunComparisonTest, MatchesJobsByIdAndTellsWhatChanged) {
   EXPECT_EQ(comparison.terms, (std::vector<std::string>{"distance", "energy"}));
 
   const std::string text = ComparisonText(comparison, 0.0);
-  EXPECT_THAT(text, HasSubstr("3 jobs in both, 2 changed (any bit); 0 only in A, 1 only in B"));
+  EXPECT_THAT(text, HasSubstr("3 jobs in both (matched by job id), 2 changed (any bit); 0 only in A, 1 only in B"));
   EXPECT_THAT(text, HasSubstr("j1: fitness 2 → 2.0000001 (+1e-07);"));
   EXPECT_THAT(text, HasSubstr("j2: status ok → timeout; fitness 3 → —;"));
   EXPECT_THAT(text, HasSubstr("j3: only in B"));
-  EXPECT_THAT(ComparisonText(comparison, 1e-6), HasSubstr("3 jobs in both, 1 changed by more than 1e-06"));
+  EXPECT_THAT(ComparisonText(comparison, 1e-6), HasSubstr("3 jobs in both (matched by job id), 1 changed by more than 1e-06"));
+}
+
+// A newcomer's paper cut (issue 52): ids are zero-padded by the batch's size, so the same seeds in an 8-job and a
+// 16-job run shared no id ("0 jobs in both"). Jobs are matched by what they ran.
+TEST_F(RunComparisonTest, TheSameSeedsInRunsOfDifferentSizesAreTheSameJobs) {
+  const std::string eight = dir_.Write("eight.jsonl",
+      R"({"id":"job-0","seed":11,"genome_index":0,"status":"ok","fitness":1.0})" "\n"
+      R"({"id":"job-1","seed":12,"genome_index":0,"status":"ok","fitness":2.0})" "\n");
+  const std::string sixteen = dir_.Write("sixteen.jsonl",
+      R"({"id":"job-01","seed":12,"genome_index":0,"status":"ok","fitness":2.5})" "\n"
+      R"({"id":"job-00","seed":11,"genome_index":0,"status":"ok","fitness":1.0})" "\n"
+      R"({"id":"job-02","seed":13,"genome_index":0,"status":"ok","fitness":3.0})" "\n");
+  const RunComparison comparison = CompareRuns(eight, sixteen);
+  EXPECT_EQ(comparison.matched_by, "seed and genome");
+  ASSERT_EQ(comparison.common.size(), 2u);
+  EXPECT_EQ(comparison.common[0].job, "job-0 = job-00");
+  EXPECT_FALSE(Changed(comparison.common[0], 0.0));
+  EXPECT_EQ(comparison.common[1].job, "job-1 = job-01");
+  EXPECT_TRUE(Changed(comparison.common[1], 0.0));
+  EXPECT_EQ(comparison.only_b, std::vector<std::string>{"job-02"});
+  EXPECT_THAT(ComparisonText(comparison, 0.0), HasSubstr("2 jobs in both (matched by seed and genome), 1 changed"));
+  // Another genome with the same seed is another job.
+  const std::string other = dir_.Write("other.jsonl",
+      R"({"id":"job-0","seed":11,"genome_index":1,"status":"ok","fitness":1.0})" "\n");
+  EXPECT_TRUE(CompareRuns(eight, other).common.empty());
 }
 
 TEST_F(RunComparisonTest, TheCsvHasEveryCommonJobWithItsDifferences) {

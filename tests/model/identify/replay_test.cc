@@ -109,11 +109,43 @@ TEST(ReplayTest, ARowIsTheStepTimesItsIterationsSoSubStepsReplayTheLogsTimeBase)
                                          "(/Simulation/TimeStepSize × /Simulation/IterationsPerStep)"),
               std::string::npos)
         << e.what();
+    // It says what to change (issue 52's paper cut) — and what it says works, below.
+    EXPECT_NE(std::string(e.what()).find("a --model value file with /Simulation/IterationsPerStep=5"), std::string::npos)
+        << e.what();
   }
   model.push_back({"/Simulation/IterationsPerStep", "5", "sub-steps", 0});
   const Rig rig = MakeRig(options, "Pendulum", model);
   EXPECT_DOUBLE_EQ(rig.step, 0.005);
   EXPECT_NO_THROW(MakeReplayRun(rig, run, model));
+}
+
+// A newcomer's paper cuts (issue 52): a motor name that is not the rig's lists the near ones, and pendulum runs on
+// the default rig say to add --rig pendulum.
+TEST(ReplayTest, AMismatchBetweenRunsAndRigSaysWhatToChange) {
+  const std::vector<ValueAssignment> model;
+  const Rig aseries = MakeRig(RigOptions{}, "Humanoid", model);
+  const MeasuredRun hip = ParseMeasuredRun(
+      "# columns: time,/Sim/Humanoid/Right/Hip/DesiredAngle,/Sim/Humanoid/Right/Hip/DesiredTorque,"
+      "/Sim/Humanoid/Right/Hip/JointAngle\n0,0,1,0\n0.01,1,1,0.5\n",
+      "hip.csv");
+  try {
+    MakeReplayRun(aseries, hip, model);
+    ADD_FAILURE() << "a motor the A-Series lacks";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no motor 'Right/Hip' (did you mean 'Right/HipYaw', 'Right/HipRoll' or "
+                                         "'Right/HipPitch'?)"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    MakeRig(RigOptions{}, "Pendulum", model);
+    ADD_FAILURE() << "the default rig has no pendulum";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no agent 'Pendulum' (the runs' agent); the runs are a pendulum rig's: add "
+                                         "--rig pendulum"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

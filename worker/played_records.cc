@@ -1,4 +1,4 @@
-#include "worker/sim/played_records.h"
+#include "worker/played_records.h"
 
 #include <algorithm>
 #include <iostream>
@@ -7,7 +7,7 @@
 #include "model/core/error.h"
 #include "model/core/text.h"
 
-namespace orcs::sim {
+namespace orcs {
 namespace {
 
 std::string AgentNames(scene::Simulation& simulation) {
@@ -43,4 +43,4 @@ std::vector<control::KeyframePlayer> MakePlayers(const std::vector<std::pair<std
   return players;
 }
 
-}  // namespace orcs::sim
+}  // namespace orcs
