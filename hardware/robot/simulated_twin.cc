@@ -1,5 +1,6 @@
 #include "hardware/robot/simulated_twin.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "model/core/error.h"
@@ -34,12 +35,14 @@ SimulatedTwin::~SimulatedTwin() = default;
 
 void SimulatedTwin::StartAt(const std::vector<double>& angles) {
   // Hinge angles are relative to the initial pose, as the robot's are to the map's zero; joints the map leaves
-  // out stay at 0.
+  // out stay at 0. A real servo reads a hair past the model's hinge stop now and then (its zero is not the model's
+  // to the tick): the pose is clamped to the stops, which the model can hold.
   const std::vector<std::string>& motors = simulation_->agent(agent_).motor_names();
+  const std::vector<aseries::MorphologyMotor>& stops = simulation_->model().morphology(agent_).motors;
   std::vector<double> all(motors.size(), 0.0);
   for (std::size_t j = 0; j < joints_.size(); ++j) {
     for (std::size_t m = 0; m < motors.size(); ++m) {
-      if (motors[m] == joints_[j]) all[m] = angles[j];
+      if (motors[m] == joints_[j]) all[m] = std::clamp(angles[j], stops[m].min_degrees, stops[m].max_degrees);
     }
   }
   simulation_->SetAgentJointAngles(agent_, all);
