@@ -8,6 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "base/log_sink.h"
+
 namespace orcs::broker {
 
 /// How a broker binds and paces itself.
@@ -40,7 +42,7 @@ struct BrokerOptions {
   /// libraries always give a limit derived from the simulated duration; this covers other clients.
   double default_time_limit_seconds = 3600;
   /// Where log lines (one event each, no newline) go; empty = stderr, prefixed "orcs-broker: ".
-  std::function<void(std::string_view)> log;
+  LogSink log;
   /// Folder of CURVE keys (docs/security.md): broker.key, broker.pub, allowed_workers/*.pub, allowed_clients/*.pub.
   /// Set: both sockets are CURVE servers that accept only the allowed keys of their side. "" = plain TCP.
   std::string curve_keys;

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "base/log_sink.h"
+
 namespace orcs::broker {
 
 std::string EscapeForLog(std::string_view line) {
@@ -26,13 +28,8 @@ std::string EscapeForLog(std::string_view line) {
   return text;
 }
 
-void WriteLog(const std::function<void(std::string_view)>& sink, const std::string& line) {
-  const std::string text = EscapeForLog(line);
-  if (sink) {
-    sink(text);
-  } else {
-    std::cerr << "orcs-broker: " << text << std::endl;
-  }
+void WriteLog(const LogSink& sink, const std::string& line) {
+  WriteLogLine(sink, "orcs-broker", EscapeForLog(line));
 }
 
 std::string_view Utf8Prefix(std::string_view text, std::size_t max_bytes) {

@@ -8,6 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "base/log_sink.h"
+
 namespace orcs::broker {
 
 /// Bytes of one log line, escapes included; a longer line is cut.
@@ -16,7 +18,7 @@ inline constexpr std::size_t kMaxLogLine = 2000;
 /// The line with control characters and invalid bytes as \xNN, cut at kMaxLogLine bytes.
 std::string EscapeForLog(std::string_view line);
 /// Writes one escaped log line to `sink`, or to stderr prefixed "orcs-broker: " when `sink` is empty.
-void WriteLog(const std::function<void(std::string_view)>& sink, const std::string& line);
+void WriteLog(const LogSink& sink, const std::string& line);
 /// The first `max_bytes` bytes of `text` (well-formed UTF-8, as every protobuf string the broker receives), fewer
 /// when that would cut a character in two: a cut character would not survive the client's UTF-8 check. (The same
 /// rule as model/core/text.h's Prefix, which the broker may not link: docs/architecture.md.)

@@ -4,7 +4,7 @@
 // use a running broker; `resolve` prints a scenario with its files inlined; `regress` runs a suite against its
 // baseline (docs/regress.md). Every input is checked before anything is submitted. Exit 0 when every job ran ok
 // (regress: every case passed), 1 when some failed, 2 on bad input or when no broker answers, 130 when Ctrl-C or
-// SIGTERM stopped it (clients/batch/interrupt.h; it says how to resume).
+// SIGTERM stopped it (clients/runtime/interrupt.h; it says how to resume).
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,28 +15,30 @@
 #include <thread>
 #include <unordered_set>
 
-#include "broker/client.h"
-#include "net/status_client.h"
-#include "clients/batch/batch_input.h"
 #include "clients/batch/batch_manifest.h"
-#include "clients/batch/interrupt.h"
-#include "clients/batch/plot_script.h"
-#include "clients/batch/progress_file.h"
-#include "clients/batch/run_comparison.h"
 #include "clients/batch/batch_options.h"
-#include "clients/batch/batch_session.h"
 #include "clients/batch/latin_hypercube.h"
-#include "clients/batch/local_cluster.h"
 #include "clients/batch/robustness_report.h"
+#include "clients/batch/run_comparison.h"
 #include "clients/batch/sweep_grid.h"
 #include "clients/batch/sweep_report.h"
 #include "clients/evolve/evolve_command.h"
 #include "clients/regress/regress_plan.h"
-#include "net/curve_keys.h"
+#include "clients/runtime/batch_client.h"
+#include "clients/runtime/batch_input.h"
+#include "clients/runtime/batch_session.h"
+#include "clients/runtime/interrupt.h"
+#include "clients/runtime/local_cluster.h"
+#include "clients/runtime/plot_script.h"
+#include "clients/runtime/progress_file.h"
 #include "model/core/error.h"
 #include "net/cli_style.h"
+#include "net/curve_keys.h"
+#include "net/status_client.h"
 
 namespace orcs::batch {
+using namespace runtime;  // orcs-batch is built on the client runtime (clients/runtime/)
+
 namespace {
 
 // Everything decided before anything runs.
@@ -119,12 +121,12 @@ const char* CommandName(Command command) {
 
 // Runs the session against `endpoint`; prints the summary (and, for a sweep, the table).
 int RunAgainst(const std::string& endpoint, const BatchOptions& options, const Plan& plan, ResultsWriter& writer) {
-  broker::BatchClientOptions client_options;
+  runtime::BatchClientOptions client_options;
   client_options.endpoint = endpoint;
   client_options.curve_keys = options.curve_keys;
   client_options.heartbeat_interval = std::chrono::milliseconds(std::lround(options.heartbeat_seconds * 1000.0));
   client_options.batch_size = plan.source->size();  // the broker's status shows progress and time left
-  broker::BatchClient client(client_options);
+  runtime::BatchClient client(client_options);
   // Counts run over the whole batch (RunSession counts a resumed batch's earlier results too); the rate over
   // this session's.
   ProgressDisplay progress(std::cerr, plan.source->size(), isatty(STDERR_FILENO) != 0, ProgressDisplay::Clock::now());
@@ -249,7 +251,7 @@ int Execute(const BatchOptions& given) {
   if (resuming) kept_bytes = PlanResume(plan);
   ResultsWriter writer(plan.out, resuming ? ResultsWriter::Start::kResume : ResultsWriter::Start::kNew, kept_bytes);
   if (!resuming && !plan.regress) WriteBatchManifest(plan.out, options, plan.input, plan.genomes);
-  // From here on the folder can be resumed: Ctrl-C stops in order, a second one at once (clients/batch/interrupt.h).
+  // From here on the folder can be resumed: Ctrl-C stops in order, a second one at once (clients/runtime/interrupt.h).
   SetInterruptHint(plan.regress ? "orcs-batch: stopped at once (a second Ctrl-C); regress has no --resume: run the "
                                   "same command again"
                                 : "orcs-batch: stopped at once (a second Ctrl-C); continue with: " +
@@ -274,14 +276,12 @@ int Execute(const BatchOptions& given) {
 }  // namespace orcs::batch
 
 int main(int argc, char** argv) {
-  const orcs::batch::ParsedBatchOptions parsed = orcs::batch::ParseBatchOptions(argc, argv);
-  if (parsed.exit_code >= 0) return parsed.exit_code;
-  return orcs::cli::RunProgram("orcs-batch", [&] {
+  return orcs::cli::RunProgram("orcs-batch", orcs::batch::ParseBatchOptions(argc, argv), [](const auto& options) {
     try {
-      return orcs::batch::Execute(parsed.options);
-    } catch (const orcs::batch::Interrupted& error) {  // how to resume has been printed where it was caught
+      return orcs::batch::Execute(options);
+    } catch (const orcs::runtime::Interrupted& error) {  // how to resume has been printed where it was caught
       std::cerr << "orcs-batch: " << error.what() << "\n";
-      return orcs::batch::kExitInterrupted;
+      return orcs::runtime::kExitInterrupted;
     }
   });
 }

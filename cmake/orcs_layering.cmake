@@ -116,8 +116,26 @@ function(_orcs_check_folder_includes folder)
 endfunction()
 
 # Inside a top folder: a sub-folder that must not call back into its user (no circles between file pairs). Fails
-# the configuration naming the file when one of `subfolder`'s files includes a header matching `pattern`.
-function(_orcs_forbid_includes subfolder pattern why)
+# the configuration naming the culprit when one of `subfolder`'s files includes a header whose path matches
+# `pattern`, or (where the sub-folder defines targets of its own) one of its targets links a project target defined
+# in a folder matching it.
+# The folder of a target's first source file, relative to the project (clients/CMakeLists.txt defines orcs_batch
+# from batch/*.cc: its folder is clients/batch).
+function(_orcs_target_folder target out_var)
+  get_target_property(dir ${target} SOURCE_DIR)
+  get_target_property(sources ${target} SOURCES)
+  if(sources)
+    list(GET sources 0 first)
+    if(NOT IS_ABSOLUTE "${first}")
+      set(first "${dir}/${first}")
+    endif()
+    get_filename_component(dir "${first}" DIRECTORY)
+  endif()
+  file(RELATIVE_PATH rel "${PROJECT_SOURCE_DIR}" "${dir}")
+  set(${out_var} "${rel}" PARENT_SCOPE)
+endfunction()
+
+function(_orcs_forbid_uses subfolder pattern why)
   file(GLOB_RECURSE sources "${PROJECT_SOURCE_DIR}/${subfolder}/*.h" "${PROJECT_SOURCE_DIR}/${subfolder}/*.cc")
   foreach(source IN LISTS sources)
     file(STRINGS "${source}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
@@ -129,6 +147,25 @@ function(_orcs_forbid_includes subfolder pattern why)
       endif()
     endforeach()
   endforeach()
+  if(NOT EXISTS "${PROJECT_SOURCE_DIR}/${subfolder}/CMakeLists.txt")
+    return()
+  endif()
+  _orcs_targets_under("${PROJECT_SOURCE_DIR}/${subfolder}" targets)
+  foreach(target IN LISTS targets)
+    set(found "")
+    _orcs_collect_links(${target} found)
+    foreach(item IN LISTS found)
+      if(TARGET "${item}")
+        get_target_property(imported "${item}" IMPORTED)
+        if(NOT imported)
+          _orcs_target_folder(${item} rel)
+          if("${rel}/" MATCHES "${pattern}")
+            message(FATAL_ERROR "orcs layering: ${target} (${subfolder}/) links ${item} from ${rel}/: ${why}")
+          endif()
+        endif()
+      endif()
+    endforeach()
+  endforeach()
 endfunction()
 
 function(orcs_check_layering)
@@ -136,6 +173,10 @@ function(orcs_check_layering)
     _orcs_check_folder_links(${folder})
     _orcs_check_folder_includes(${folder})
   endforeach()
-  _orcs_forbid_includes(worker/osp "^worker/(sim|job)/"
-                        "orcs-sim uses the OSP/ODCP servers, so worker/osp/ never uses worker/sim/ or worker/job/ (what both need lives in worker/)")
+  _orcs_forbid_uses(worker/osp "^worker/(sim|job)/"
+                    "orcs-sim uses the OSP/ODCP servers, so worker/osp/ never uses worker/sim/ or worker/job/ (what both need lives in worker/)")
+  _orcs_forbid_uses(clients/runtime "^clients/(batch|evolve|gap|regress)/"
+                    "the client runtime is what every client program shares, so it never uses a client's own code (docs/architecture.md)")
+  _orcs_forbid_uses(clients/gap "^clients/(batch|evolve|regress)/"
+                    "orcs-gap is a program of its own on the client runtime (clients/runtime/), not on orcs-batch's commands")
 endfunction()

@@ -1,5 +1,5 @@
 // The reconnecting DEALER connection both peers of the broker use (docs/protocol.md, "Heartbeats and liveness"):
-// BatchClient (broker/client.h) and WorkerConnection (worker/broker_connection.h). It owns what the two have in
+// BatchClient (clients/runtime/batch_client.h) and WorkerConnection (worker/broker_connection.h). It owns what the two have in
 // common — the socket and its options, CURVE and the handshake monitor, connecting again, the heartbeat clock,
 // the broker's liveness, polling with a deadline and a wake-up, raw frames in and out, and the log lines about
 // silence and dropped messages — and knows nothing of the messages: each side builds and reads its own envelopes

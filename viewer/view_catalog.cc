@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 constexpr std::uintmax_t kMaxTableBytes = 256u << 20;  // results.jsonl, fitness.csv, report.json
 constexpr const char* kRecordingExtension = ".orcsrec";
-constexpr const char* kProgressFile = "progress.json";  // clients/batch/progress_file.h
+constexpr const char* kProgressFile = "progress.json";  // clients/runtime/progress_file.h
 
 bool IsFile(const fs::path& path) {
   std::error_code error;

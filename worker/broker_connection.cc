@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/log_sink.h"
 #include "net/envelope_check.h"
 #include "proto/envelope.h"
 
@@ -77,17 +78,12 @@ WorkerConnection::WorkerConnection(WorkerConnectionOptions options)
       revoked_fd_(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)) {
   if (revoked_fd_ < 0) throw std::runtime_error(std::string("WorkerConnection: eventfd: ") + std::strerror(errno));
   wanted_credit_ = options_.credit;
-  io_thread_ = std::thread([this] { IoLoop(); });
+  io_thread_ = std::jthread([this](std::stop_token stop) { IoLoop(stop); });
 }
 
 WorkerConnection::~WorkerConnection() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  job_arrived_.notify_all();
-  dealer_.Wake();
-  io_thread_.join();
+  io_thread_.request_stop();  // its stop callback wakes the poll; it says goodbye and ends
+  io_thread_.join();          // before the eventfd closes (the destructor's body runs before members go)
   ::close(revoked_fd_);
 }
 
@@ -150,17 +146,15 @@ WorkerConnectionStats WorkerConnection::stats() const {
 }
 
 void WorkerConnection::Log(const std::string& line) const {
-  if (options_.log) {
-    options_.log(line);
-  } else {
-    std::cerr << "orcs-worker: " << line << std::endl;
-  }
+  WriteLogLine(options_.log, "orcs-worker", line);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
 // The I/O thread
 
-void WorkerConnection::IoLoop() {
+void WorkerConnection::IoLoop(std::stop_token stop) {
+  stop_ = stop;
+  const std::stop_callback wake_on_stop(stop, [this] { dealer_.Wake(); });
   try {
     Serve();
   } catch (const std::exception& error) {
@@ -169,7 +163,6 @@ void WorkerConnection::IoLoop() {
     std::unique_lock lock(mutex_);
     failure_ = failure;
     job_arrived_.notify_all();
-    job_arrived_.wait(lock, [this] { return stopping_; });  // stay until the destructor joins
   }
 }
 
@@ -205,7 +198,7 @@ bool WorkerConnection::SendOutbox(std::deque<v1::Result>& sending) {
   {
     std::lock_guard lock(mutex_);
     sending.swap(outbox_);
-    stopping = stopping_;
+    stopping = stop_.stop_requested();
     wanted_credit = wanted_credit_;
   }
   for (v1::Result& result : sending) {

@@ -25,12 +25,14 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <stop_token>
 #include <thread>
 #include <zmq.hpp>
 
-#include "orcs/v1/broker.pb.h"
+#include "base/log_sink.h"
 #include "net/curve_keys.h"
 #include "net/dealer_connection.h"
+#include "orcs/v1/broker.pb.h"
 
 namespace orcs::worker {
 
@@ -54,7 +56,7 @@ struct WorkerConnectionOptions {
   /// The broker silent for this many heartbeat intervals → a new connection and READY again.
   int liveness = 5;
   /// Where log lines (connection events, one per line, no newline) go; empty = stderr, prefixed "orcs-worker: ".
-  std::function<void(std::string_view)> log;
+  LogSink log;
   /// Folder of CURVE keys (docs/security.md): the worker's worker.key and worker.pub and the broker's broker.pub.
   /// Set: the connection is encrypted and the broker must allow worker.pub. "" = plain TCP.
   std::string curve_keys;
@@ -118,7 +120,7 @@ class WorkerConnection {
   /// What a message from the broker meant to the I/O loop.
   enum class Heard { kNothing, kAlive, kReconnected };
 
-  void IoLoop();
+  void IoLoop(std::stop_token stop);
   void Serve();
   /// One turn of Serve(); false when the connection is stopping.
   bool ServeOnce();
@@ -142,6 +144,7 @@ class WorkerConnection {
   net::DealerConnection dealer_;
 
   // Owned by the I/O thread.
+  std::stop_token stop_;                     ///< the destructor asks the I/O thread to say goodbye and end
   v1::BrokerToWorker in_;                    ///< the message being read, reused
   int announced_credit_ = 0;                 ///< the credit of the last READY on this connection
   std::uint64_t jobs_at_last_heartbeat_ = 0;  ///< stats_.jobs_received when the last heartbeat left
@@ -151,7 +154,6 @@ class WorkerConnection {
   std::condition_variable job_arrived_;
   std::deque<v1::Job> jobs_;       ///< received, not yet taken
   std::deque<v1::Result> outbox_;  ///< given to SendResult, not yet sent
-  bool stopping_ = false;
   std::string failure_;  ///< why the I/O thread stopped, when it failed
   WorkerConnectionStats stats_;
   int in_hand_ = 0;                           ///< jobs NextJob handed out whose result has not been given yet
@@ -166,7 +168,7 @@ class WorkerConnection {
   std::set<std::uint64_t> revoked_in_hand_;
   const int revoked_fd_;  ///< eventfd: see revoked_fd()
 
-  std::thread io_thread_;  ///< last: starts after everything above exists
+  std::jthread io_thread_;  ///< last: starts after everything above exists
 };
 
 }  // namespace orcs::worker

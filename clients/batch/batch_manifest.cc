@@ -8,6 +8,8 @@
 #include "model/core/text_file.h"
 
 namespace orcs::batch {
+using runtime::Genome;
+using runtime::ScenarioInput;
 namespace {
 
 namespace fs = std::filesystem;

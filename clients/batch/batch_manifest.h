@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
 #include "clients/batch/batch_options.h"
+#include "clients/runtime/batch_input.h"
 
 namespace orcs::batch {
 
@@ -18,8 +18,8 @@ inline constexpr const char* kManifestFile = "batch.json";
 
 /// Writes DIR/batch.json (atomically) for a batch started with `options`, whose resolved scenario and genomes
 /// are those given. Throws InputError when it cannot be written.
-void WriteBatchManifest(const std::string& folder, const BatchOptions& options, const ScenarioInput& input,
-                        const std::vector<Genome>& genomes);
+void WriteBatchManifest(const std::string& folder, const BatchOptions& options, const runtime::ScenarioInput& input,
+                        const std::vector<runtime::Genome>& genomes);
 
 /// `given` (with --resume DIR) completed by DIR/batch.json's job settings. Throws InputError naming batch.json for
 /// a missing or malformed manifest, and naming the option for one that contradicts it ("--jobs 50: the batch
@@ -28,6 +28,6 @@ BatchOptions ResumedOptions(const BatchOptions& given);
 
 /// Throws InputError naming the file when the scenario (as resolved) or the genomes differ from the manifest's:
 /// resuming would mix the jobs of two batches.
-void CheckResumedInputs(const std::string& folder, const ScenarioInput& input, const std::vector<Genome>& genomes);
+void CheckResumedInputs(const std::string& folder, const runtime::ScenarioInput& input, const std::vector<runtime::Genome>& genomes);
 
 }  // namespace orcs::batch

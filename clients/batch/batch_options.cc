@@ -4,13 +4,14 @@
 #include <iostream>
 #include <limits>
 
-#include "clients/batch/batch_input.h"
+#include "clients/runtime/batch_input.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 #include "model/scene/engine_names.h"
 #include "net/cli_style.h"
 
 namespace orcs::batch {
+using runtime::ParseJobSelection;
 namespace {
 
 // --time-limit: 115 days at most (a job may carry up to evaluation::kMaxJobTimeLimitSeconds).

@@ -7,6 +7,8 @@
 #include "model/core/random_stream.h"
 
 namespace orcs::batch {
+using runtime::SweepPoint;
+using runtime::SweepValue;
 namespace {
 
 // Fisher–Yates with the stream's unbiased integers: stratum of each sample.

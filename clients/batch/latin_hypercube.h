@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
 #include "clients/batch/sweep_grid.h"
+#include "clients/runtime/batch_input.h"
 
 namespace orcs::batch {
 
@@ -18,7 +18,7 @@ namespace orcs::batch {
 /// others' values as they were. A numeric axis's values lie in [low, high]; stratum s of N is
 /// [low + s·(high−low)/N, low + (s+1)·(high−low)/N). Throws InputError when a path is swept twice, `samples` is
 /// outside 1..max_points, or a categorical axis has more values than there are samples.
-std::vector<SweepPoint> LatinHypercube(const std::vector<SweepAxis>& axes, int samples, std::uint64_t seed,
+std::vector<runtime::SweepPoint> LatinHypercube(const std::vector<SweepAxis>& axes, int samples, std::uint64_t seed,
                                        int max_points = 1000000);
 
 }  // namespace orcs::batch

@@ -12,6 +12,8 @@
 #include "model/scene/scenario.h"
 
 namespace orcs::batch {
+using runtime::SweepPoint;
+using runtime::SweepValue;
 namespace {
 
 using Json = nlohmann::ordered_json;

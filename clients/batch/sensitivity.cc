@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 namespace orcs::batch {
+using runtime::SweepValue;
 namespace {
 
 std::string Number(double value) {

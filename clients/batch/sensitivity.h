@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
+#include "clients/runtime/batch_input.h"
 
 namespace orcs::batch {
 
@@ -40,6 +40,6 @@ int DefaultBinCount(std::size_t samples);
 /// (same length, finite). Numbers go into `bins` bins of equal count in increasing order, except that equal values
 /// never straddle two bins (so a grid's value is one bin when there are no more values than bins); categories are
 /// one bin each. Throws std::invalid_argument when the lengths differ.
-Sensitivity FirstOrderSensitivity(const std::vector<SweepValue>& x, const std::vector<double>& y, int bins);
+Sensitivity FirstOrderSensitivity(const std::vector<runtime::SweepValue>& x, const std::vector<double>& y, int bins);
 
 }  // namespace orcs::batch

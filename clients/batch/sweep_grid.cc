@@ -9,6 +9,8 @@
 #include "model/physics/material_table.h"
 
 namespace orcs::batch {
+using runtime::SweepPoint;
+using runtime::SweepValue;
 namespace {
 
 constexpr int kMaxSteps = 10000;

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
+#include "clients/runtime/batch_input.h"
 
 namespace orcs::batch {
 
@@ -28,7 +28,7 @@ struct SweepAxis {
   /// The i-th value, 0 ≤ i < steps; the last is exactly `high`.
   double ValueAt(int i) const;
   /// The i-th grid value as a point carries it: ValueAt(i), or the i-th category.
-  SweepValue GridValue(int i) const;
+  runtime::SweepValue GridValue(int i) const;
 };
 
 /// Parses one --param. For the grid "PATH=LOW:HIGH:STEPS"; for a Latin hypercube "PATH=LOW:HIGH"; for either a list
@@ -44,6 +44,6 @@ void CheckDistinctPaths(const std::vector<SweepAxis>& axes);
 
 /// Every combination of the axes' values, the first axis varying slowest. Throws InputError when a path is
 /// swept twice or the grid exceeds `max_points`.
-std::vector<SweepPoint> SweepGrid(const std::vector<SweepAxis>& axes, std::size_t max_points = 1000000);
+std::vector<runtime::SweepPoint> SweepGrid(const std::vector<SweepAxis>& axes, std::size_t max_points = 1000000);
 
 }  // namespace orcs::batch

@@ -11,6 +11,10 @@
 #include "model/core/text.h"
 
 namespace orcs::batch {
+using runtime::JobSource;
+using runtime::PlannedJob;
+using runtime::PlannedJobList;
+using runtime::SweepPoint;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

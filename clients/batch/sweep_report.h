@@ -5,15 +5,15 @@
 #include <string>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
 #include "clients/batch/sweep_grid.h"
+#include "clients/runtime/batch_input.h"
 #include "orcs/v1/result.pb.h"
 
 namespace orcs::batch {
 
 /// One grid point's outcome.
 struct SweepRow {
-  SweepPoint point;        ///< the swept values
+  runtime::SweepPoint point;        ///< the swept values
   int jobs = 0;            ///< repeats submitted
   int ok = 0;              ///< repeats that ran ok
   double fitness = 0.0;    ///< mean fitness of the ok repeats (NaN when none)
@@ -22,10 +22,10 @@ struct SweepRow {
 };
 
 /// Collects the results (job ids "point-NNNN-rR" as PlanSweepJobs made them) into one row per point.
-std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const std::vector<PlannedJob>& jobs,
+std::vector<SweepRow> SweepRows(const std::vector<runtime::SweepPoint>& points, const std::vector<runtime::PlannedJob>& jobs,
                                 const std::vector<v1::Result>& results);
 /// The same for the jobs of a source (SweepJobSource), made one at a time.
-std::vector<SweepRow> SweepRows(const std::vector<SweepPoint>& points, const JobSource& jobs,
+std::vector<SweepRow> SweepRows(const std::vector<runtime::SweepPoint>& points, const runtime::JobSource& jobs,
                                 const std::vector<v1::Result>& results);
 
 /// A fixed-width table: one column per axis (its path's last two parts), then fitness, min, max, ok/jobs.

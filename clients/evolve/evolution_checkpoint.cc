@@ -92,7 +92,7 @@ void CheckFingerprint(const std::string& file, const nlohmann::ordered_json& fou
 
 }  // namespace
 
-nlohmann::ordered_json Fingerprint(const batch::ScenarioInput& input, const EvolutionSettings& settings) {
+nlohmann::ordered_json Fingerprint(const runtime::ScenarioInput& input, const EvolutionSettings& settings) {
   nlohmann::ordered_json bounds = nlohmann::ordered_json::array();
   for (const GeneBounds& b : settings.bounds) bounds.push_back({b.low, b.high});
   nlohmann::ordered_json fingerprint = {{"scenario", input.scenario.name},

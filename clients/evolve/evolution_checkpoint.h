@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
 #include "clients/evolve/evolution.h"
 #include "clients/evolve/evolution_settings.h"
+#include "clients/runtime/batch_input.h"
 
 namespace orcs::evolve {
 
@@ -34,7 +34,7 @@ nlohmann::ordered_json ReadCheckpointSettings(const std::string& folder);
 
 /// What must not change for a run to be resumed: the scenario's name and a digest of its resolved content, the
 /// algorithm, population, seed, sigma, bounds and start genome. (Not the generations or validation seeds.)
-nlohmann::ordered_json Fingerprint(const batch::ScenarioInput& input, const EvolutionSettings& settings);
+nlohmann::ordered_json Fingerprint(const runtime::ScenarioInput& input, const EvolutionSettings& settings);
 
 /// The checkpoint of `evolution` now.
 EvolutionCheckpoint CheckpointOf(const Evolution& evolution, nlohmann::ordered_json fingerprint,

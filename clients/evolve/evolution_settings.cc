@@ -5,8 +5,8 @@
 
 #include "model/control/controller_factory.h"
 #include "model/core/error.h"
-#include "model/core/random_stream.h"
 #include "model/core/json_node.h"
+#include "model/core/random_stream.h"
 #include "model/evaluation/evaluation.h"
 
 namespace orcs::evolve {
@@ -49,7 +49,7 @@ std::vector<GeneBounds> ReadBounds(const JsonNode& node, std::size_t genes) {
 }
 
 // The number of genes: the length of the flat genome the scenario's controller takes.
-std::size_t GenomeLength(const batch::ScenarioInput& input) {
+std::size_t GenomeLength(const runtime::ScenarioInput& input) {
   const control::ControlTarget target = evaluation::ControlTargetOf(input.scenario);
   const int length = control::CheckController(input.scenario.controller, target, input.path);
   if (length <= 0) {
@@ -108,7 +108,7 @@ void ApplyOverrides(const EvolutionOverrides& overrides, EvolutionSettings& sett
   if (overrides.fresh_sets) settings.fresh_sets = true;
 }
 
-void CheckPopulation(const batch::ScenarioInput& input, const EvolutionSettings& settings) {
+void CheckPopulation(const runtime::ScenarioInput& input, const EvolutionSettings& settings) {
   const int minimum = MinimumPopulation(settings.algorithm);
   if (settings.population < minimum || settings.population > 100000) {
     throw InputError(input.path + ": population " + std::to_string(settings.population) + " (field " +
@@ -118,7 +118,7 @@ void CheckPopulation(const batch::ScenarioInput& input, const EvolutionSettings&
 }
 
 // The scenario's "genome" becomes the first individual; it must be flat and inside the bounds.
-std::vector<double> ReadStart(const batch::ScenarioInput& input, const std::vector<GeneBounds>& bounds) {
+std::vector<double> ReadStart(const runtime::ScenarioInput& input, const std::vector<GeneBounds>& bounds) {
   const nlohmann::json& genome = input.scenario.genome;
   if (genome.is_null()) return {};
   const JsonNode node(genome, "genome", input.path);
@@ -158,7 +158,7 @@ int MinimumPopulation(Algorithm algorithm) {
   return 2;
 }
 
-EvolutionSettings ReadEvolutionSettings(const batch::ScenarioInput& input, const EvolutionOverrides& overrides) {
+EvolutionSettings ReadEvolutionSettings(const runtime::ScenarioInput& input, const EvolutionOverrides& overrides) {
   const nlohmann::json& section = input.scenario.evolution;
   if (section.is_null()) {
     throw InputError(input.path +

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
+#include "clients/runtime/batch_input.h"
 
 namespace orcs::evolve {
 
@@ -60,6 +60,6 @@ int MinimumPopulation(Algorithm algorithm);
 /// scenario's controller's free slots). Throws InputError naming the scenario file and field (or the option):
 /// a missing section or bounds, bounds of the wrong length or with low ≥ high, an unknown algorithm, a population
 /// below the algorithm's minimum, a start genome outside its bounds.
-EvolutionSettings ReadEvolutionSettings(const batch::ScenarioInput& input, const EvolutionOverrides& overrides);
+EvolutionSettings ReadEvolutionSettings(const runtime::ScenarioInput& input, const EvolutionOverrides& overrides);
 
 }  // namespace orcs::evolve

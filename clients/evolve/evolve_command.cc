@@ -11,18 +11,18 @@
 #include <memory>
 #include <thread>
 
-#include "clients/batch/batch_input.h"
-#include "clients/batch/interrupt.h"
-#include "clients/batch/job_runner.h"
-#include "clients/batch/local_cluster.h"
-#include "clients/batch/plot_script.h"
-#include "clients/batch/progress_display.h"
-#include "clients/batch/progress_file.h"
-#include "clients/batch/results_writer.h"
 #include "clients/evolve/evolution.h"
 #include "clients/evolve/evolution_checkpoint.h"
 #include "clients/evolve/evolution_report.h"
 #include "clients/evolve/evolution_settings.h"
+#include "clients/runtime/batch_input.h"
+#include "clients/runtime/interrupt.h"
+#include "clients/runtime/job_runner.h"
+#include "clients/runtime/local_cluster.h"
+#include "clients/runtime/plot_script.h"
+#include "clients/runtime/progress_display.h"
+#include "clients/runtime/progress_file.h"
+#include "clients/runtime/results_writer.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 
@@ -45,7 +45,7 @@ EvolutionOverrides OverridesOf(const batch::BatchOptions& options) {
 
 // --resume DIR continues in DIR (the command line refuses --out with it); otherwise --out DIR, by default
 // runs/<scenario name>-evolve.
-std::string OutputFolder(const batch::BatchOptions& options, const batch::ScenarioInput& input) {
+std::string OutputFolder(const batch::BatchOptions& options, const runtime::ScenarioInput& input) {
   if (!options.resume.empty()) {
     return options.resume;
   }
@@ -58,18 +58,18 @@ std::string OutputFolder(const batch::BatchOptions& options, const batch::Scenar
   return folder;
 }
 
-batch::Genome GenomeJson(const std::vector<double>& genes, const std::string& source) {
+runtime::Genome GenomeJson(const std::vector<double>& genes, const std::string& source) {
   return {nlohmann::json(genes), source, 0};
 }
 
 // One job per genome, all with one seed (the generation's): every genome of a generation meets the same parameter
 // sets (a fair comparison).
-std::vector<v1::Job> JobsOf(const batch::ScenarioInput& input, const std::vector<std::vector<double>>& genomes,
+std::vector<v1::Job> JobsOf(const runtime::ScenarioInput& input, const std::vector<std::vector<double>>& genomes,
                             std::uint64_t seed, double time_limit_seconds) {
-  std::vector<batch::Genome> list;
+  std::vector<runtime::Genome> list;
   for (const std::vector<double>& genes : genomes) list.push_back(GenomeJson(genes, "evolve"));
   std::vector<v1::Job> jobs;
-  for (batch::PlannedJob& planned : batch::PlanRunJobs(input, list, {seed, 1, time_limit_seconds})) {
+  for (runtime::PlannedJob& planned : runtime::PlanRunJobs(input, list, {seed, 1, time_limit_seconds})) {
     planned.job.clear_record();  // a scenario's "record": true is for batches; evolve records only its winner
     planned.job.clear_record_set();
     jobs.push_back(std::move(planned.job));
@@ -78,14 +78,14 @@ std::vector<v1::Job> JobsOf(const batch::ScenarioInput& input, const std::vector
 }
 
 // Checks the scenario's jobs as a worker would (world, parameter sets, controller, fitness) before any is sent.
-void CheckBeforeSubmitting(const batch::ScenarioInput& input, const EvolutionSettings& settings,
+void CheckBeforeSubmitting(const runtime::ScenarioInput& input, const EvolutionSettings& settings,
                            double time_limit_seconds) {
   std::vector<double> genes = settings.start;
   if (genes.empty()) {
     for (const GeneBounds& b : settings.bounds) genes.push_back(0.5 * (b.low + b.high));
   }
-  const std::vector<batch::Genome> genomes = {GenomeJson(genes, "evolution.bounds")};
-  batch::CheckJobs(input, genomes, batch::PlanRunJobs(input, genomes, {settings.seed, 1, time_limit_seconds}));
+  const std::vector<runtime::Genome> genomes = {GenomeJson(genes, "evolution.bounds")};
+  runtime::CheckJobs(input, genomes, runtime::PlanRunJobs(input, genomes, {settings.seed, 1, time_limit_seconds}));
 }
 
 // Four significant digits, as the generation lines print fitness.
@@ -101,7 +101,7 @@ std::string Short(double value) {
 class GenerationProgress {
  public:
   /// `shown`: on stderr; `file`: progress.json, kept up to date whether shown or not.
-  GenerationProgress(bool shown, int generations, batch::ProgressFile& file)
+  GenerationProgress(bool shown, int generations, runtime::ProgressFile& file)
       : shown_(shown), generations_(generations), file_(file) {
     file_.Set("generations", generations_);
   }
@@ -112,15 +112,15 @@ class GenerationProgress {
   void Start(std::size_t jobs) {
     fitness_.clear();
     ok_ = failed_ = 0;
-    display_ = std::make_unique<batch::ProgressDisplay>(shown_ ? std::cerr : discard_, jobs,
+    display_ = std::make_unique<runtime::ProgressDisplay>(shown_ ? std::cerr : discard_, jobs,
                                                         shown_ && isatty(STDERR_FILENO) != 0,
-                                                        batch::ProgressDisplay::Clock::now());
+                                                        runtime::ProgressDisplay::Clock::now());
     display_->SetLabel("generation " + std::to_string(generation_) + "/" + std::to_string(generations_) + ": ");
     display_->WriteTo(&file_);
     file_.Set("generation", generation_);
     file_.Set("best_so_far", nullptr);
     file_.Set("median_so_far", nullptr);
-    const auto now = batch::ProgressDisplay::Clock::now();
+    const auto now = runtime::ProgressDisplay::Clock::now();
     file_.Merge(display_->StatusJson(0, 0, now));  // the page shows the generation from its start
     file_.Update(now, true);
   }
@@ -139,7 +139,7 @@ class GenerationProgress {
       file_.Set("best_so_far", sorted.back());
       file_.Set("median_so_far", sorted[sorted.size() / 2]);
     }
-    display_->Update(ok_, failed_, batch::ProgressDisplay::Clock::now());
+    display_->Update(ok_, failed_, runtime::ProgressDisplay::Clock::now());
   }
   /// Ctrl-C: the generation under way (if one is) will not end; its progress line gives way to a line saying so.
   void Abandon() {
@@ -155,9 +155,9 @@ class GenerationProgress {
         std::cerr << line << "\n";
       }
     }
-    if (display_) file_.Merge(display_->StatusJson(ok_, failed_, batch::ProgressDisplay::Clock::now()));
+    if (display_) file_.Merge(display_->StatusJson(ok_, failed_, runtime::ProgressDisplay::Clock::now()));
     file_.Set("last_generation", generation_);  // fitness.csv holds generations 0 to this
-    file_.Update(batch::ProgressDisplay::Clock::now(), true);
+    file_.Update(runtime::ProgressDisplay::Clock::now(), true);
     display_.reset();
     ++generation_;
   }
@@ -165,15 +165,15 @@ class GenerationProgress {
  private:
   const bool shown_;
   const int generations_;
-  batch::ProgressFile& file_;
+  runtime::ProgressFile& file_;
   std::ostream discard_{nullptr};  ///< where an unshown display writes: nowhere
   int generation_ = 0;
-  std::unique_ptr<batch::ProgressDisplay> display_;
+  std::unique_ptr<runtime::ProgressDisplay> display_;
   std::vector<double> fitness_;
   std::size_t ok_ = 0, failed_ = 0;
 };
 
-GenomeEvaluator BrokerEvaluator(batch::JobRunner& runner, const batch::ScenarioInput& input, double time_limit_seconds,
+GenomeEvaluator BrokerEvaluator(runtime::JobRunner& runner, const runtime::ScenarioInput& input, double time_limit_seconds,
                                 GenerationProgress& progress) {
   return [&runner, &input, time_limit_seconds, &progress](const std::vector<std::vector<double>>& genomes,
                                                           std::uint64_t seed) {
@@ -188,9 +188,9 @@ GenomeEvaluator BrokerEvaluator(batch::JobRunner& runner, const batch::ScenarioI
   };
 }
 
-batch::RunnerOptions RunnerOptionsOf(const batch::BatchOptions& options, const std::string& folder,
+runtime::RunnerOptions RunnerOptionsOf(const batch::BatchOptions& options, const std::string& folder,
                                      const std::atomic<bool>* stop) {
-  batch::RunnerOptions runner;
+  runtime::RunnerOptions runner;
   runner.stop = stop;
   runner.broker = options.broker;
   runner.workers = options.workers;
@@ -249,7 +249,7 @@ void SaveGeneration(const std::string& folder, const Evolution& evolution, const
 // DIR/best/: the winner once more with the seed it was scored with (its logs and its recording, best/recordings/winner.orcsrec for
 // orcs-view, of parameter set 0; it must give the same fitness, bit for bit: recording changes no bits) and on
 // `validate` fresh seeds (how it fares on parameter sets it never met). Returns false when the replay differs.
-bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, const EvolutionSettings& settings,
+bool WriteWinner(runtime::JobRunner& runner, const runtime::ScenarioInput& input, const EvolutionSettings& settings,
                  const Champion& champion, double time_limit_seconds, const std::string& folder) {
   std::vector<v1::Job> jobs = JobsOf(input, {champion.genome}, champion.seed, time_limit_seconds);
   jobs.front().set_record(true);
@@ -260,7 +260,7 @@ bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, co
     jobs.push_back(std::move(more.front()));
   }
   std::vector<v1::Result> results = runner.Run(std::move(jobs));
-  batch::ResultsWriter writer((fs::path(folder) / "best").string());
+  runtime::ResultsWriter writer((fs::path(folder) / "best").string());
   std::vector<double> validation;
   for (std::size_t i = 0; i < results.size(); ++i) {
     results[i].set_job_id(i == 0 ? "winner" : "validate-" + std::to_string(i));
@@ -293,7 +293,7 @@ bool WriteWinner(batch::JobRunner& runner, const batch::ScenarioInput& input, co
 int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   if (given.resume.empty() && given.scenario.empty()) throw InputError("evolve: the scenario file is required");
   const batch::BatchOptions options = given.resume.empty() ? given : WithCheckpointSettings(given);
-  const batch::ScenarioInput input = batch::LoadScenario(options.scenario, options.engine);
+  const runtime::ScenarioInput input = runtime::LoadScenario(options.scenario, options.engine);
   const EvolutionSettings settings = ReadEvolutionSettings(input, OverridesOf(options));
   const std::string folder = OutputFolder(options, input);
   const nlohmann::ordered_json fingerprint = Fingerprint(input, settings);
@@ -307,22 +307,22 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
   CheckBeforeSubmitting(input, settings, options.time_limit_seconds);
   fs::create_directories(folder);
 
-  // Ctrl-C from here on (clients/batch/interrupt.h): the generation under way is abandoned — a checkpoint holds
+  // Ctrl-C from here on (clients/runtime/interrupt.h): the generation under way is abandoned — a checkpoint holds
   // only whole generations, and the resume runs that one again, to the same bits — and the command says how to
   // continue; a second Ctrl-C exits at once.
-  const std::string resume = batch::ShellCommand(batch::ResumeCommandLine(options, folder));
+  const std::string resume = runtime::ShellCommand(batch::ResumeCommandLine(options, folder));
   const auto hint_resume = [&] {
-    batch::SetInterruptHint("orcs-batch: stopped at once (a second Ctrl-C); continue with: " + resume);
+    runtime::SetInterruptHint("orcs-batch: stopped at once (a second Ctrl-C); continue with: " + resume);
   };
   if (checkpoint) {
     hint_resume();
   } else {
-    batch::SetInterruptHint("orcs-batch: stopped at once (a second Ctrl-C) in generation 0, before the first "
+    runtime::SetInterruptHint("orcs-batch: stopped at once (a second Ctrl-C) in generation 0, before the first "
                             "checkpoint: nothing to resume; run the same command again");
   }
 
-  batch::JobRunner runner(RunnerOptionsOf(options, folder, stop));
-  batch::ProgressFile file(folder, "evolve");
+  runtime::JobRunner runner(RunnerOptionsOf(options, folder, stop));
+  runtime::ProgressFile file(folder, "evolve");
   GenerationProgress progress(!options.quiet, settings.generations, file);
   Evolution evolution(settings, BrokerEvaluator(runner, input, options.time_limit_seconds, progress));
   if (!options.quiet) {
@@ -344,7 +344,7 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
       std::cerr << "orcs-batch: interrupted (Ctrl-C or SIGTERM) after generation " << evolution.generation()
                 << abandoned << "; continue with: " << resume << "\n";
     }
-    return batch::kExitInterrupted;
+    return runtime::kExitInterrupted;
   };
   try {
     if (checkpoint) {
@@ -364,7 +364,7 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
       SaveGeneration(folder, evolution, fingerprint, run);
       progress.Finish(GenerationLine(evolution.history().back(), settings.generations));
     }
-  } catch (const batch::Interrupted&) {
+  } catch (const runtime::Interrupted&) {
     return interrupted(" (generation " + std::to_string(evolution.generation() + 1) +
                        ", under way, is abandoned: the resume runs it again, to the same bits)");
   }
@@ -375,14 +375,14 @@ int RunEvolve(const batch::BatchOptions& given, const std::atomic<bool>* stop) {
     return 1;
   }
   file.Set("label", "replaying the winner");
-  file.Update(batch::ProgressDisplay::Clock::now(), true);
+  file.Update(runtime::ProgressDisplay::Clock::now(), true);
   bool reproducible = false;
   try {
     reproducible = WriteWinner(runner, input, settings, evolution.champion(), options.time_limit_seconds, folder);
-  } catch (const batch::Interrupted&) {
+  } catch (const runtime::Interrupted&) {
     return interrupted(", the last, while its winner was replayed (the resume replays it)");
   }
-  if (!options.no_plot) batch::RunPlotScript("plot_evolution.py", {folder}, std::cout);  // fitness.png
+  if (!options.no_plot) runtime::RunPlotScript("plot_evolution.py", {folder}, std::cout);  // fitness.png
   file.Set("label", nullptr);
   file.Finish("finished");
   std::cout << "orcs-batch: best genome in " << (fs::path(folder) / "best_genome.json").string()

@@ -13,9 +13,9 @@
 namespace orcs::evolve {
 
 /// Runs the command. Exit 0 when the run finished (or had nothing left to do), 1 when the winner did not replay to
-/// its fitness, batch::kExitInterrupted when `stop` was set (Ctrl-C: clients/batch/interrupt.h, whose handlers the
+/// its fitness, runtime::kExitInterrupted when `stop` was set (Ctrl-C: clients/runtime/interrupt.h, whose handlers the
 /// caller installs): the generation under way is abandoned and the resume command printed. Throws InputError for bad input (before anything is submitted),
-/// broker::BatchClientError when the broker is lost.
+/// runtime::BatchClientError when the broker is lost.
 int RunEvolve(const batch::BatchOptions& options, const std::atomic<bool>* stop);
 
 }  // namespace orcs::evolve

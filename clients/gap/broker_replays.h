@@ -1,5 +1,5 @@
 // orcs-gap's replays as jobs: the gap workflow's ReplayEvaluator (model/identify/replay_evaluator.h) on top of a
-// batch::JobEvaluator, the broker in use. Each replay is one ordinary scenario job whose fitness term
+// runtime::JobEvaluator, the broker in use. Each replay is one ordinary scenario job whose fitness term
 // "measured_error" is the replay's RMS error; its log carries the simulated joint angles and motor torques.
 #pragma once
 
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "clients/batch/job_evaluator.h"
+#include "clients/runtime/job_evaluator.h"
 #include "model/identify/replay_evaluator.h"
 #include "orcs/v1/job.pb.h"
 
@@ -18,14 +18,14 @@ namespace orcs::gap {
 
 class BrokerReplays : public identify::ReplayEvaluator {
  public:
-  explicit BrokerReplays(batch::JobEvaluator& jobs) : jobs_(jobs) {}
+  explicit BrokerReplays(runtime::JobEvaluator& jobs) : jobs_(jobs) {}
 
   std::vector<identify::ReplayOutcome> Replay(const std::vector<identify::ReplayRequest>& requests) override;
   std::uint64_t replays_run() const override { return jobs_.jobs_run(); }
   std::uint64_t replays_stopped_early() const override { return stopped_early_; }
 
  private:
-  batch::JobEvaluator& jobs_;
+  runtime::JobEvaluator& jobs_;
   std::atomic<std::uint64_t> stopped_early_{0};
 };
 

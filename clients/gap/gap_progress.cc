@@ -21,31 +21,22 @@ std::string Elapsed(double seconds) {
 }  // namespace
 
 GapProgress::GapProgress(std::ostream& out, std::function<std::uint64_t()> replays_run,
-                         std::chrono::milliseconds interval, batch::ProgressFile* file, std::string score_unit)
+                         std::chrono::milliseconds interval, runtime::ProgressFile* file, std::string score_unit)
     : out_(out),
       replays_run_(std::move(replays_run)),
       interval_(interval),
       start_(std::chrono::steady_clock::now()),
       score_unit_(std::move(score_unit)),
       file_(file) {
-  ticker_ = std::thread([this] { Tick(); });
-}
-
-GapProgress::~GapProgress() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  stop_.notify_all();
-  ticker_.join();
+  ticker_ = std::jthread([this](std::stop_token stop) { Tick(stop); });
 }
 
 // Wakes once a second for the progress file, and prints the status line every `interval_`.
-void GapProgress::Tick() {
+void GapProgress::Tick(std::stop_token stop) {
   const auto wake = std::min<std::chrono::milliseconds>(interval_, std::chrono::seconds(1));
   auto next_line = std::chrono::steady_clock::now() + interval_;
   std::unique_lock lock(mutex_);
-  while (!stop_.wait_for(lock, wake, [this] { return stopping_; })) {
+  while (!tick_.wait_for(lock, stop, wake, [&stop] { return stop.stop_requested(); })) {
     lock.unlock();
     const std::uint64_t replays = replays_run_();
     const bool line_due = std::chrono::steady_clock::now() >= next_line;

@@ -11,10 +11,11 @@
 #include <mutex>
 #include <ostream>
 #include <set>
+#include <stop_token>
 #include <string>
 #include <thread>
 
-#include "clients/batch/progress_file.h"
+#include "clients/runtime/progress_file.h"
 #include "model/identify/gap_diagnosis.h"
 
 namespace orcs::gap {
@@ -27,10 +28,9 @@ class GapProgress {
   /// "holdout_rms_deg", "score"}]}.
   /// `score_unit` names the scores' unit: "deg²" for the squared loss, "deg" for the absolute one.
   GapProgress(std::ostream& out, std::function<std::uint64_t()> replays_run,
-              std::chrono::milliseconds interval = std::chrono::seconds(10), batch::ProgressFile* file = nullptr,
+              std::chrono::milliseconds interval = std::chrono::seconds(10), runtime::ProgressFile* file = nullptr,
               std::string score_unit = "deg²");
-  /// Stops the periodic lines.
-  ~GapProgress();
+  /// Stops the periodic lines (ticker_, a jthread: asked to stop and joined first, being the last member).
   GapProgress(const GapProgress&) = delete;
   GapProgress& operator=(const GapProgress&) = delete;
 
@@ -41,7 +41,7 @@ class GapProgress {
   std::string StatusLine();
 
  private:
-  void Tick();
+  void Tick(std::stop_token stop);
   /// Brings the progress file up to date; with mutex_ held.
   void WriteFile(std::uint64_t replays);
 
@@ -50,16 +50,15 @@ class GapProgress {
   const std::chrono::milliseconds interval_;
   const std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
-  std::condition_variable stop_;
+  std::condition_variable_any tick_;  ///< waits out the interval; woken at once by a stop request
   std::set<std::string> running_;  ///< fits under way
   std::string best_;               ///< the best-scored candidate so far ("" = none yet)
   double best_score_ = 0;          ///< its score, in score_unit_
   const std::string score_unit_;   ///< "deg²" or "deg"
   int finished_ = 0;               ///< fits done
-  bool stopping_ = false;
-  batch::ProgressFile* file_;      ///< progress.json, or nullptr
+  runtime::ProgressFile* file_;    ///< progress.json, or nullptr
   nlohmann::json fits_ = nlohmann::json::array();  ///< the finished fits, for the file
-  std::thread ticker_;             ///< last: starts once everything above exists
+  std::jthread ticker_;            ///< last: starts once everything above exists, stops before it goes
 };
 
 }  // namespace orcs::gap

@@ -9,19 +9,19 @@
 #include <iostream>
 #include <optional>
 
-#include "clients/batch/interrupt.h"
-#include "clients/batch/job_runner.h"
 #include "clients/gap/broker_replays.h"
-#include "model/identify/gap_diagnosis.h"
 #include "clients/gap/gap_progress.h"
 #include "clients/gap/gap_report.h"
 #include "clients/gap/synthetic_runs.h"
-#include "model/identify/effect_catalogue.h"
-#include "model/identify/probe_motion.h"
+#include "clients/runtime/interrupt.h"
+#include "clients/runtime/job_runner.h"
 #include "model/control/keyframe_record.h"
 #include "model/core/atomic_file.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
+#include "model/identify/effect_catalogue.h"
+#include "model/identify/gap_diagnosis.h"
+#include "model/identify/probe_motion.h"
 #include "model/scene/engine_names.h"
 #include "net/cli_style.h"
 
@@ -194,23 +194,23 @@ int Diagnose(const GapOptions& o) {
   options.candidates = o.effects;
   options.synth_command = SynthCommand(o);
   std::filesystem::create_directories(o.out);
-  batch::RunnerOptions runner_options;
+  runtime::RunnerOptions runner_options;
   runner_options.broker = o.broker;
   runner_options.workers = o.workers;
   runner_options.log_path = (std::filesystem::path(o.out) / "workers.log").string();
-  // Ctrl-C (clients/batch/interrupt.h): every fit's wait stops within 200 ms and the diagnosis is abandoned. It
+  // Ctrl-C (clients/runtime/interrupt.h): every fit's wait stops within 200 ms and the diagnosis is abandoned. It
   // has no resume: it starts over.
-  runner_options.stop = &batch::InterruptFlag();
-  batch::SetInterruptHint("orcs-gap: stopped at once (a second Ctrl-C); a diagnosis has no resume: run the same "
+  runner_options.stop = &runtime::InterruptFlag();
+  runtime::SetInterruptHint("orcs-gap: stopped at once (a second Ctrl-C); a diagnosis has no resume: run the same "
                           "command again");
-  batch::CatchInterrupts();
-  batch::JobRunner runner(runner_options);
+  runtime::CatchInterrupts();
+  runtime::JobRunner runner(runner_options);
   std::cerr << "orcs-gap: " << fit.size() << " fit run(s), " << holdout.size() << " held-out run(s); "
             << (o.broker.empty() ? std::to_string(runner.local_workers()) + " local workers" : "broker " + o.broker)
             << "\n";
   BrokerReplays replays(runner);
   std::optional<Diagnosis> result;
-  batch::ProgressFile file(o.out, "gap");
+  runtime::ProgressFile file(o.out, "gap");
   {
     GapProgress progress(std::cerr, [&runner] { return runner.jobs_run(); }, std::chrono::seconds(10), &file,
                          options.loss == Loss::kAbsolute ? "deg" : "deg²");
@@ -219,11 +219,11 @@ int Diagnose(const GapOptions& o) {
     };
     try {
       result = Diagnose(replays, rig, fit, holdout, model, options);
-    } catch (const batch::Interrupted&) {
+    } catch (const runtime::Interrupted&) {
       file.Finish("interrupted");
       std::cerr << "orcs-gap: interrupted (Ctrl-C or SIGTERM): the diagnosis is abandoned and no report is written "
                    "to " << o.out << "; orcs-gap has no resume: run the same command again\n";
-      return batch::kExitInterrupted;
+      return runtime::kExitInterrupted;
     }
   }
   const Diagnosis& diagnosis = *result;

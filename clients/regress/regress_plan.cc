@@ -23,9 +23,9 @@ void AddOverride(v1::Job& job, const Override& value) {
 }
 
 // The case's job: its scenario, genome and seed, its values as overrides; id = the case's name.
-batch::PlannedJob CaseJob(const SuiteCase& entry) {
-  const batch::JobSettings settings{entry.seed, 1, 0.0};
-  batch::PlannedJob planned = batch::PlanRunJobs(entry.scenario, {entry.genome}, settings).front();
+runtime::PlannedJob CaseJob(const SuiteCase& entry) {
+  const runtime::JobSettings settings{entry.seed, 1, 0.0};
+  runtime::PlannedJob planned = runtime::PlanRunJobs(entry.scenario, {entry.genome}, settings).front();
   planned.job.set_job_id(entry.name);
   for (const Override& value : entry.values) AddOverride(planned.job, value);
   planned.extra = {{"case", entry.name}, {"seed", entry.seed}};
@@ -44,9 +44,9 @@ void NoteRedrawnPaths(const SuiteCase& entry, const std::vector<Override>& sets,
 }
 
 // Checks the case's job as a worker would; an error is prefixed with the case.
-void CheckCaseJob(const Suite& suite, const SuiteCase& entry, const batch::PlannedJob& planned) {
+void CheckCaseJob(const Suite& suite, const SuiteCase& entry, const runtime::PlannedJob& planned) {
   try {
-    batch::CheckJobs(entry.scenario, {entry.genome}, {planned});
+    runtime::CheckJobs(entry.scenario, {entry.genome}, {planned});
   } catch (const InputError& error) {
     throw InputError(suite.path, 0, "case " + text::Quote(entry.name) + " (" + entry.field + "): " + error.what());
   }
@@ -113,7 +113,7 @@ RegressPlan PlanRegression(const batch::BatchOptions& options, std::ostream& not
   plan.update_baseline = options.update_baseline;
   plan.junit_path = options.junit;
   for (const SuiteCase& entry : plan.suite.cases) {
-    batch::PlannedJob planned = CaseJob(entry);
+    runtime::PlannedJob planned = CaseJob(entry);
     // The engine is part of what a baseline records (ODE, the default, adds nothing: older baselines still match).
     if (engine != "ODE") AddOverride(planned.job, {"/Simulation/Engine", engine});
     plan.fingerprints.push_back(JobFingerprint(planned.job));
@@ -131,7 +131,7 @@ RegressPlan PlanRegression(const batch::BatchOptions& options, std::ostream& not
   return plan;
 }
 
-int ReportRegression(const RegressPlan& plan, const batch::BatchSummary& summary, const std::string& results_path,
+int ReportRegression(const RegressPlan& plan, const runtime::BatchSummary& summary, const std::string& results_path,
                      std::ostream& out) {
   std::map<std::string, const v1::Result*> results;
   for (const v1::Result& result : summary.results) results[result.job_id()] = &result;

@@ -1,7 +1,7 @@
 // `orcs-batch regress` (docs/regress.md) before and after its batch: the plan — the suite read, one job per case,
 // every input and the baseline checked before anything is submitted — and the report — each result compared with
 // its baseline, the table on stdout, the JUnit file, or the baseline recorded anew. The batch itself runs through
-// the session code every orcs-batch command shares (clients/batch/batch_session.h).
+// the session code every orcs-batch command shares (clients/runtime/batch_session.h).
 #pragma once
 
 #include <ostream>
@@ -9,11 +9,11 @@
 #include <utility>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
 #include "clients/batch/batch_options.h"
-#include "clients/batch/batch_session.h"
 #include "clients/regress/baseline.h"
 #include "clients/regress/suite.h"
+#include "clients/runtime/batch_input.h"
+#include "clients/runtime/batch_session.h"
 
 namespace orcs::regress {
 
@@ -25,7 +25,7 @@ struct RegressPlan {
   bool update_baseline = false;           ///< --update-baseline: record the baseline from this run
   std::string junit_path;                 ///< --junit FILE.xml ("" = none)
   std::vector<std::string> fingerprints;  ///< per case, JobFingerprint of its job without --set's overrides
-  std::vector<batch::PlannedJob> jobs;    ///< per case, in suite order: job id = case name, --set's overrides last
+  std::vector<runtime::PlannedJob> jobs;    ///< per case, in suite order: job id = case name, --set's overrides last
 };
 
 /// Parses --set's "PATH=VALUE" (PATH starting with '/', VALUE not empty). Throws InputError "--set 'text': ...".
@@ -40,7 +40,7 @@ RegressPlan PlanRegression(const batch::BatchOptions& options, std::ostream& not
 /// Compares each case's result with its baseline (or, with --update-baseline, writes the baseline when every case
 /// ran ok), prints the table and a summary line to `out`, writes the JUnit file when asked. Returns the exit
 /// code: 0 every case passed (or the baseline was written), 1 a regression, a failed job or a missing result.
-int ReportRegression(const RegressPlan& plan, const batch::BatchSummary& summary, const std::string& results_path,
+int ReportRegression(const RegressPlan& plan, const runtime::BatchSummary& summary, const std::string& results_path,
                      std::ostream& out);
 
 }  // namespace orcs::regress

@@ -44,16 +44,16 @@ std::string BesideSuite(const std::string& suite_path, const std::string& name) 
   return (fs::path(suite_path).parent_path() / name).lexically_normal().string();
 }
 
-batch::Genome ReadGenome(const JsonNode& node, const std::string& suite_path) {
+runtime::Genome ReadGenome(const JsonNode& node, const std::string& suite_path) {
   if (node.value().is_string()) {
     const std::string text = node.value().get<std::string>();
     if (!text.starts_with("@") || text.size() == 1) node.Fail("a genome (an array, a network object or \"@FILE\")");
-    return batch::ParseGenomeOption("@" + BesideSuite(suite_path, text.substr(1)));
+    return runtime::ParseGenomeOption("@" + BesideSuite(suite_path, text.substr(1)));
   }
   if (!node.value().is_array() && !node.value().is_object()) {
     node.Fail("a genome (an array, a network object or \"@FILE\")");
   }
-  return batch::Genome{node.value(), suite_path + " field " + text::Quote(node.path()), 0};
+  return runtime::Genome{node.value(), suite_path + " field " + text::Quote(node.path()), 0};
 }
 
 // "values": written as a scenario's "values" are, keyed by repository paths.
@@ -69,10 +69,10 @@ std::vector<std::pair<std::string, std::string>> ReadValues(const JsonNode& node
 }
 
 // The scenario of a case; its errors keep the scenario's own file and field, prefixed by the case.
-batch::ScenarioInput ReadCaseScenario(const JsonNode& node, const std::string& suite_path, const std::string& name) {
+runtime::ScenarioInput ReadCaseScenario(const JsonNode& node, const std::string& suite_path, const std::string& name) {
   const std::string file = node.String("a scenario file name");
   try {
-    return batch::LoadScenario(BesideSuite(suite_path, file));
+    return runtime::LoadScenario(BesideSuite(suite_path, file));
   } catch (const InputError& error) {
     throw InputError(suite_path, 0, "field " + text::Quote(node.path()) + " of case " + text::Quote(name) + ": " + error.what());
   }
@@ -103,7 +103,7 @@ SuiteCase ReadCase(const JsonNode& node, const Suite& suite) {
   entry.field = node.path();
   entry.name = ReadCaseName(node);
   entry.scenario = ReadCaseScenario(node.At("scenario"), suite.path, entry.name);
-  entry.genome = node.Has("genome") ? ReadGenome(node.At("genome"), suite.path) : batch::DefaultGenome(entry.scenario);
+  entry.genome = node.Has("genome") ? ReadGenome(node.At("genome"), suite.path) : runtime::DefaultGenome(entry.scenario);
   if (node.Has("seed")) entry.seed = node.At("seed").Unsigned("a seed (an integer ≥ 0)");
   if (node.Has("values")) entry.values = ReadValues(node.At("values"));
   entry.tolerance = node.Has("tolerance") ? ReadTolerance(node.At("tolerance"), suite.tolerance) : suite.tolerance;

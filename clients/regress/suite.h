@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "clients/batch/batch_input.h"
+#include "clients/runtime/batch_input.h"
 
 namespace orcs::regress {
 
@@ -24,8 +24,8 @@ struct Tolerance {
 struct SuiteCase {
   std::string name;               ///< unique in the suite: the job id, the JUnit test case, the baseline key
   std::string field;              ///< where it is in the suite file, e.g. "cases[2]", for messages
-  batch::ScenarioInput scenario;  ///< "scenario": loaded and resolved (the path is relative to the suite)
-  batch::Genome genome;           ///< "genome" inline or "@FILE"; else the scenario's "genome"; else empty
+  runtime::ScenarioInput scenario;  ///< "scenario": loaded and resolved (the path is relative to the suite)
+  runtime::Genome genome;           ///< "genome" inline or "@FILE"; else the scenario's "genome"; else empty
   std::uint64_t seed = 1;         ///< "seed": the job's seed
   /// "values": repository path → value text (numbers round-trip, booleans T/F), applied as the job's overrides
   std::vector<std::pair<std::string, std::string>> values;

@@ -88,7 +88,7 @@ struct FitOutcome {
 /// after its best point has converged), then the local stages — a compass search and a Levenberg–Marquardt polish on
 /// the residuals — from several of the best distinct points at once; a parameter that ends at a bound is
 /// re-searched beyond it where its range can widen; the confidence intervals of the best (least_squares_polish.h).
-/// Passes on what the evaluator throws (orcs-gap's: broker::BatchClientError when the broker is lost).
+/// Passes on what the evaluator throws (orcs-gap's: runtime::BatchClientError when the broker is lost).
 FitOutcome Fit(const ReplayObjective& objective, const std::vector<FitParameter>& parameters,
                const FitOptions& options);
 

@@ -16,9 +16,9 @@
 
 #include "broker/broker.h"
 #include "broker/broker_core.h"
-#include "broker/client.h"
-#include "net/status_client.h"
+#include "clients/runtime/batch_client.h"
 #include "net/curve_keys.h"
+#include "net/status_client.h"
 #include "proto/envelope.h"
 #include "worker/broker_connection.h"
 
@@ -136,11 +136,11 @@ void BM_BrokerDispatchEmptyJobs(benchmark::State& state) {
   {
     EchoWorker a(broker.worker_endpoint(), "a", credit, short_job_credit, curve_keys);
     EchoWorker b(broker.worker_endpoint(), "b", credit, short_job_credit, curve_keys);
-    broker::BatchClientOptions client_options;
+    runtime::BatchClientOptions client_options;
     client_options.endpoint = broker.client_endpoint();
     client_options.curve_keys = curve_keys;
     if (state.range(4) != 0) client_options.batch_id = "b";
-    broker::BatchClient client(client_options);
+    runtime::BatchClient client(client_options);
     StatusPoller poller(broker.client_endpoint(), curve_keys, static_cast<int>(state.range(5)));
 
     int batch = 0;

@@ -15,8 +15,8 @@
 namespace orcs::test_support {
 namespace {
 
-using broker::BatchClient;
-using broker::BatchClientError;
+using runtime::BatchClient;
+using runtime::BatchClientError;
 using broker::BrokerStats;
 using std::chrono::milliseconds;
 using ::testing::HasSubstr;
@@ -566,7 +566,7 @@ TEST(Broker, RejectsAMalformedSubmitWithAnErrorAndQueuesNothing) {
 
 TEST(Broker, BatchOfAnotherClientCannotBeJoined) {
   BrokerThread broker(TestBrokerOptions());
-  broker::BatchClientOptions options = TestClientOptions(broker.client_endpoint());
+  runtime::BatchClientOptions options = TestClientOptions(broker.client_endpoint());
   options.batch_id = "shared-name";
   BatchClient owner(options);
   owner.Submit({MakeJob("job-0", 0)});

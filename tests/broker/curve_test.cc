@@ -17,8 +17,8 @@ namespace orcs::test_support {
 namespace {
 
 namespace fs = std::filesystem;
-using broker::BatchClient;
-using broker::BatchClientError;
+using runtime::BatchClient;
+using runtime::BatchClientError;
 using net::CurveKeyPair;
 using std::chrono::milliseconds;
 using ::testing::AllOf;
@@ -99,8 +99,8 @@ class CurveTest : public ::testing::Test {
     options.curve_keys = keys.string();
     return options;
   }
-  broker::BatchClientOptions ClientOptions(BrokerThread& broker, const fs::path& keys) {
-    broker::BatchClientOptions options = TestClientOptions(broker.client_endpoint(), &peer_log_);
+  runtime::BatchClientOptions ClientOptions(BrokerThread& broker, const fs::path& keys) {
+    runtime::BatchClientOptions options = TestClientOptions(broker.client_endpoint(), &peer_log_);
     options.curve_keys = keys.string();
     options.connect_timeout = kRefusedConnectTimeout;
     return options;
@@ -194,7 +194,7 @@ TEST_F(CurveTest, ClientWithoutCurveCannotSubmitOrReceive) {
   EXPECT_EQ(broker.stats().clients, 0);
   EXPECT_EQ(broker.stats().handshakes_refused, 0u);  // it never got as far as showing a key
 
-  broker::BatchClientOptions options = ClientOptions(broker, cluster());
+  runtime::BatchClientOptions options = ClientOptions(broker, cluster());
   options.curve_keys.clear();
   BatchClient client(options);
   const Clock::time_point start = Clock::now();
@@ -336,7 +336,7 @@ TEST_F(CurveTest, MissingKeysAreClearErrorsNamingTheFile) {
   worker::WorkerConnectionOptions worker_options = TestWorkerOptions("tcp://127.0.0.1:1", "w", 2);
   worker_options.curve_keys = stranger().string();
   EXPECT_THROW(worker::WorkerConnection connection(worker_options), net::CurveKeyError);
-  broker::BatchClientOptions client_options = TestClientOptions("tcp://127.0.0.1:1");
+  runtime::BatchClientOptions client_options = TestClientOptions("tcp://127.0.0.1:1");
   client_options.curve_keys = (dir_.path() / "nowhere").string();
   try {
     BatchClient client(client_options);

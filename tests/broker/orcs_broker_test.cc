@@ -54,7 +54,7 @@ TEST(OrcsBroker, AnnouncesItsEndpointsServesAndStopsCleanlyOnSigterm) {
   ASSERT_TRUE(endpoints.has_value());
   {
     EchoWorker worker(TestWorkerOptions(endpoints->workers, "w", 2));
-    broker::BatchClient client(TestClientOptions(endpoints->clients));
+    runtime::BatchClient client(TestClientOptions(endpoints->clients));
     client.Submit(MakeJobs(20));
     std::set<std::string> ids;
     for (const v1::Result& result : Collect(client, 20)) {
@@ -110,7 +110,7 @@ TEST(OrcsBroker, WorkersAndClientsLiveThroughABrokerKilledAndStartedAgain) {
   ASSERT_TRUE(first.has_value());
   LogLines log;
   EchoWorker worker(TestWorkerOptions(first->workers, "w", 2, &log), milliseconds(10));
-  broker::BatchClient client(TestClientOptions(first->clients, &log));
+  runtime::BatchClient client(TestClientOptions(first->clients, &log));
   client.Submit(MakeJobs(40));
   std::vector<v1::Result> results = Collect(client, 5);
   ASSERT_EQ(results.size(), 5u);

@@ -51,8 +51,8 @@ worker::WorkerConnectionOptions TestWorkerOptions(const std::string& endpoint, c
   return options;
 }
 
-broker::BatchClientOptions TestClientOptions(const std::string& endpoint, LogLines* log) {
-  broker::BatchClientOptions options;
+runtime::BatchClientOptions TestClientOptions(const std::string& endpoint, LogLines* log) {
+  runtime::BatchClientOptions options;
   options.endpoint = endpoint;
   options.heartbeat_interval = kTestHeartbeat;
   options.liveness = kTestLiveness;
@@ -215,7 +215,7 @@ std::optional<v1::BrokerToWorker> NextNonHeartbeat(RawPeer& worker, std::chrono:
   return std::nullopt;
 }
 
-std::vector<v1::Result> Collect(broker::BatchClient& client, std::size_t count, std::chrono::milliseconds limit) {
+std::vector<v1::Result> Collect(runtime::BatchClient& client, std::size_t count, std::chrono::milliseconds limit) {
   std::vector<v1::Result> results;
   const Clock::time_point deadline = Clock::now() + limit;
   while (results.size() < count && Clock::now() < deadline) {

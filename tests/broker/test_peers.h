@@ -17,9 +17,9 @@
 #include <zmq.hpp>
 
 #include "broker/broker.h"
-#include "broker/client.h"
-#include "orcs/v1/broker.pb.h"
+#include "clients/runtime/batch_client.h"
 #include "net/curve_keys.h"
+#include "orcs/v1/broker.pb.h"
 #include "worker/broker_connection.h"
 
 namespace orcs::test_support {
@@ -48,7 +48,7 @@ broker::BrokerOptions TestBrokerOptions(LogLines* log = nullptr);
 worker::WorkerConnectionOptions TestWorkerOptions(const std::string& endpoint, const std::string& name, int credit,
                                                   LogLines* log = nullptr);
 /// A batch client of `endpoint` with the test heartbeat and short timeouts, logging into `log`.
-broker::BatchClientOptions TestClientOptions(const std::string& endpoint, LogLines* log = nullptr);
+runtime::BatchClientOptions TestClientOptions(const std::string& endpoint, LogLines* log = nullptr);
 
 /// Polls `condition` every 2 ms until it holds or `limit` has passed; returns whether it held.
 bool WaitFor(const std::function<bool()>& condition, std::chrono::milliseconds limit = std::chrono::seconds(10));
@@ -142,7 +142,7 @@ std::optional<v1::BrokerToWorker> NextNonHeartbeat(RawPeer& worker,
                                                    std::chrono::milliseconds limit = std::chrono::seconds(5));
 
 /// Takes results from `client` until `count` have come or `limit` has passed.
-std::vector<v1::Result> Collect(broker::BatchClient& client, std::size_t count,
+std::vector<v1::Result> Collect(runtime::BatchClient& client, std::size_t count,
                                 std::chrono::milliseconds limit = std::chrono::seconds(20));
 
 }  // namespace orcs::test_support

@@ -23,7 +23,7 @@
 #include <thread>
 #include <vector>
 
-#include "broker/client.h"
+#include "clients/runtime/batch_client.h"
 #include "tests/support/background_process.h"
 #include "tests/support/batch_collector.h"
 #include "tests/support/broker_process.h"

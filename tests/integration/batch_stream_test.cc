@@ -11,12 +11,23 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "clients/batch/batch_session.h"
+#include "clients/runtime/batch_session.h"
 #include "tests/support/background_process.h"
 #include "tests/support/broker_process.h"
 #include "tests/support/temp_dir.h"
 
 namespace orcs::batch {
+using runtime::BatchSummary;
+using runtime::Genome;
+using runtime::JobSource;
+using runtime::LoadScenario;
+using runtime::ProgressDisplay;
+using runtime::ReadGenomes;
+using runtime::ResultsWriter;
+using runtime::RunJobSource;
+using runtime::RunSession;
+using runtime::ScenarioInput;
+using runtime::SessionOptions;
 namespace {
 
 using std::chrono::milliseconds;
@@ -55,12 +66,12 @@ class BatchStreamTest : public ::testing::Test {
   // Runs the batch through the broker with `window_jobs`; returns results.jsonl's lines by id (failing on a
   // repeated id) and the client's counters.
   std::map<std::string, nlohmann::json> Run(const JobSource& source, std::size_t window_jobs, const std::string& out,
-                                            broker::BatchClientStats& stats) {
-    broker::BatchClientOptions options;
+                                            runtime::BatchClientStats& stats) {
+    runtime::BatchClientOptions options;
     options.endpoint = clients_;
     options.heartbeat_interval = milliseconds(100);
     options.log = [](std::string_view) {};
-    broker::BatchClient client(options);
+    runtime::BatchClient client(options);
     ResultsWriter writer((dir_.path() / out).string());
     std::ostringstream discard;
     ProgressDisplay progress(discard, source.size(), false, ProgressDisplay::Clock::now());
@@ -91,8 +102,8 @@ class BatchStreamTest : public ::testing::Test {
 
 TEST_F(BatchStreamTest, ABatchTwentyWindowsLongComesBackCompleteOnceEachWithTheBitsOfTheWholeBatch) {
   const RunJobSource source(input_, genomes_, {.seed = 1, .repeats = 80});  // 160 jobs
-  broker::BatchClientStats streamed_stats;
-  broker::BatchClientStats whole_stats;
+  runtime::BatchClientStats streamed_stats;
+  runtime::BatchClientStats whole_stats;
   const std::map<std::string, nlohmann::json> streamed = Run(source, 8, "streamed", streamed_stats);
   const std::map<std::string, nlohmann::json> whole = Run(source, source.size(), "whole", whole_stats);
   EXPECT_LE(streamed_stats.max_outstanding, 8u);

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "broker/client.h"
+#include "clients/runtime/batch_client.h"
 #include "model/scene/scenario.h"
 #include "tests/support/background_process.h"
 #include "tests/support/broker_process.h"
@@ -83,11 +83,11 @@ TEST_F(BrokerRestartIntegrationTest, BrokerKilledTwiceDuringABatchEveryResultArr
     workers.push_back(std::make_unique<BackgroundProcess>(std::vector<std::string>{
         kBin + "orcs-worker", "--connect", workers_, "--heartbeat", "0.1", "--id", id}));
   }
-  broker::BatchClientOptions options;
+  runtime::BatchClientOptions options;
   options.endpoint = clients_;
   options.heartbeat_interval = milliseconds(100);
   options.reconnect_timeout = milliseconds(60000);
-  broker::BatchClient client(options);
+  runtime::BatchClient client(options);
   client.Submit(Batch());
 
   std::map<std::string, v1::Result> results;

@@ -4,17 +4,17 @@
 #include <optional>
 #include <utility>
 
-#include "broker/client.h"
+#include "clients/runtime/batch_client.h"
 
 namespace orcs::test_support {
 
 CollectedBatch CollectBatch(const std::string& endpoint, std::vector<v1::Job> jobs, std::chrono::seconds limit,
                             const std::function<void(int answered)>& on_result) {
   constexpr std::chrono::milliseconds kPoll{100};
-  broker::BatchClientOptions options;
+  runtime::BatchClientOptions options;
   options.endpoint = endpoint;
   options.heartbeat_interval = kPoll;
-  broker::BatchClient client(options);
+  runtime::BatchClient client(options);
   const std::size_t count = jobs.size();
   client.Submit(std::move(jobs));
   CollectedBatch batch;

@@ -16,7 +16,7 @@ namespace {
 
 class ViewCatalogTest : public ::testing::Test {
  protected:
-  /// A progress.json as clients/batch/progress_file.h writes it.
+  /// A progress.json as clients/runtime/progress_file.h writes it.
   void WriteProgress(const std::string& folder, const std::string& command, const std::string& state,
                      const std::string& broker_batch = "") {
     nlohmann::json progress = {{"format", "orcs-progress"}, {"version", 1}, {"command", command}, {"state", state}};

@@ -188,7 +188,7 @@ TEST(WorkerConnection, HeartbeatsKeepALongJobAlive) {
   BrokerThread broker(TestBrokerOptions());
   // Each job takes three times as long as the broker waits for a silent worker.
   EchoWorker worker(TestWorkerOptions(broker.worker_endpoint(), "slow", 1), milliseconds(1500));
-  broker::BatchClient client(TestClientOptions(broker.client_endpoint()));
+  runtime::BatchClient client(TestClientOptions(broker.client_endpoint()));
   client.Submit({MakeJob("long", 4)});
   std::optional<v1::Result> result = client.Next(milliseconds(10000));
   ASSERT_TRUE(result.has_value());
@@ -211,7 +211,7 @@ TEST(WorkerConnection, ServesANewBrokerStartedOnTheSamePort) {
 
   BrokerThread second(same_ports);
   ASSERT_TRUE(WaitFor([&] { return second.stats().workers == 1; }));
-  broker::BatchClient client(TestClientOptions(second.client_endpoint()));
+  runtime::BatchClient client(TestClientOptions(second.client_endpoint()));
   client.Submit({MakeJob("after", 5), MakeJob("restart", 6)});
   EXPECT_EQ(Collect(client, 2).size(), 2u);
   EXPECT_EQ(worker.jobs_done(), 2);
@@ -275,7 +275,7 @@ TEST(WorkerConnection, RaisedCreditFallsBackWhenNoJobComesForAHeartbeat) {
   LogLines log;
   BrokerThread broker(TestBrokerOptions(&log));
   EchoWorker worker(TestWorkerOptions(broker.worker_endpoint(), "quick", 2, &log));
-  broker::BatchClient client(TestClientOptions(broker.client_endpoint()));
+  runtime::BatchClient client(TestClientOptions(broker.client_endpoint()));
   std::vector<v1::Job> jobs;
   for (int i = 0; i < 200; ++i) jobs.push_back(MakeJob("job-" + std::to_string(i), static_cast<std::uint64_t>(i)));
   client.Submit(std::move(jobs));

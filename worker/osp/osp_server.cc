@@ -1,5 +1,6 @@
 #include "worker/osp/osp_server.h"
 
+#include "base/log_sink.h"
 #include "worker/osp/protocol_values.h"
 
 #include <poll.h>
@@ -55,11 +56,7 @@ OspServerStats OspServer::stats() const {
 }
 
 void OspServer::Log(const std::string& line) const {
-  if (options_.log) {
-    options_.log(line);
-  } else {
-    std::cerr << "orcs-osp: " << line << "\n";
-  }
+  WriteLogLine(options_.log, "orcs-osp", line);
 }
 
 void OspServer::Run() {

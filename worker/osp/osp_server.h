@@ -23,6 +23,7 @@
 #include <string_view>
 #include <vector>
 
+#include "base/log_sink.h"
 #include "model/scene/simulation.h"
 #include "worker/osp/agent_interface.h"
 #include "worker/osp/osp_datagram.h"
@@ -47,7 +48,7 @@ struct OspServerOptions {
   /// port costs a few lines, as on the handler ports (docs/osp.md, "Malformed datagrams").
   std::chrono::milliseconds server_log_summary_interval{10000};
   /// Where log lines go (one event each, no newline); empty = stderr, prefixed "orcs-osp: ".
-  std::function<void(std::string_view)> log;
+  LogSink log;
   /// Called before each step with the simulated time (s), before the clients' inputs are written, so that
   /// what it writes (the -play records) a client's finite inputs override. Empty = nothing.
   std::function<void(double time)> before_step;

@@ -1,6 +1,6 @@
 """BatchClient: a client's connection to an orcs broker, in Python (docs/protocol.md, "Client conversation").
 
-It behaves on the wire as the C++ BatchClient (broker/client.h) does: one DEALER socket, one frame per message,
+It behaves on the wire as the C++ BatchClient (clients/runtime/batch_client.h) does: one DEALER socket, one frame per message,
 SUBMITs of at most about 4 MiB, a HEARTBEAT every interval while jobs are outstanding, a new connection and a
 resubmission of every job still without a result when the broker is silent for liveness × heartbeat or says
 DISCONNECT, and each job's first result handed out once (later duplicates are dropped). A background I/O thread

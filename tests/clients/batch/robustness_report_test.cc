@@ -11,6 +11,7 @@
 #include "tests/support/temp_dir.h"
 
 namespace orcs::batch {
+using runtime::SweepValue;
 namespace {
 
 using ::testing::HasSubstr;

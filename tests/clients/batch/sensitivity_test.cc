@@ -12,6 +12,8 @@
 #include "clients/batch/latin_hypercube.h"
 
 namespace orcs::batch {
+using runtime::SweepPoint;
+using runtime::SweepValue;
 namespace {
 
 std::vector<SweepValue> Numbers(const std::vector<double>& values) { return {values.begin(), values.end()}; }

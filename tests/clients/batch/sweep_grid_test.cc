@@ -7,6 +7,8 @@
 #include "tests/support/input_error_of.h"
 
 namespace orcs::batch {
+using runtime::SweepPoint;
+using runtime::SweepValue;
 namespace {
 
 using test_support::InputErrorOf;

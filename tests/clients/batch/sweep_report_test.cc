@@ -11,6 +11,8 @@
 #include "tests/support/temp_dir.h"
 
 namespace orcs::batch {
+using runtime::PlannedJob;
+using runtime::SweepPoint;
 namespace {
 
 using ::testing::HasSubstr;

@@ -12,9 +12,9 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "clients/batch/batch_input.h"
 #include "clients/evolve/evolution.h"
 #include "clients/evolve/evolution_settings.h"
+#include "clients/runtime/batch_input.h"
 #include "tests/support/input_error_of.h"
 #include "tests/support/temp_dir.h"
 
@@ -60,7 +60,7 @@ std::uint64_t Bits(double value) { return std::bit_cast<std::uint64_t>(value); }
 class EvolutionCheckpointTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    input_ = batch::LoadScenario(dir_.Write("hips.json", HipsScenario()));
+    input_ = runtime::LoadScenario(dir_.Write("hips.json", HipsScenario()));
     settings_ = ReadEvolutionSettings(input_, {});
     folder_ = dir_.PathOf("run");
     std::filesystem::create_directories(folder_);
@@ -84,7 +84,7 @@ class EvolutionCheckpointTest : public ::testing::Test {
   }
 
   TempDir dir_;
-  batch::ScenarioInput input_;
+  runtime::ScenarioInput input_;
   EvolutionSettings settings_;
   std::string folder_;
 };
@@ -147,14 +147,14 @@ TEST_F(EvolutionCheckpointTest, AFolderWithoutACheckpointIsNamed) {
 
 TEST_F(EvolutionCheckpointTest, AnotherScenarioIsRefusedNamingBoth) {
   RunAndCheckpoint();
-  const batch::ScenarioInput other = batch::LoadScenario(dir_.Write("other.json", HipsScenario("other")));
+  const runtime::ScenarioInput other = runtime::LoadScenario(dir_.Write("other.json", HipsScenario("other")));
   const std::string renamed =
       InputErrorOf([&] { ReadCheckpoint(folder_, Fingerprint(other, ReadEvolutionSettings(other, {}))); });
   EXPECT_THAT(renamed, AllOf(HasSubstr(Checkpoint()), HasSubstr("written for scenario 'hips'"),
                              HasSubstr("not for 'other'"), HasSubstr("other.json")));
 
   // The same name, other content (a longer duration): the digests differ, and both are named.
-  const batch::ScenarioInput longer = batch::LoadScenario(dir_.Write("longer.json", HipsScenario("hips", 0.2)));
+  const runtime::ScenarioInput longer = runtime::LoadScenario(dir_.Write("longer.json", HipsScenario("hips", 0.2)));
   const nlohmann::ordered_json fingerprint = Fingerprint(longer, ReadEvolutionSettings(longer, {}));
   const std::string old_digest = Fingerprint(input_, settings_)["scenario_digest"];
   const std::string new_digest = fingerprint["scenario_digest"];
@@ -164,7 +164,7 @@ TEST_F(EvolutionCheckpointTest, AnotherScenarioIsRefusedNamingBoth) {
                     HasSubstr("longer.json, digest " + new_digest)));
 
   // The same scenario given by another path is fine.
-  const batch::ScenarioInput copy = batch::LoadScenario(dir_.Write("copy/hips.json", HipsScenario()));
+  const runtime::ScenarioInput copy = runtime::LoadScenario(dir_.Write("copy/hips.json", HipsScenario()));
   EXPECT_NO_THROW(ReadCheckpoint(folder_, Fingerprint(copy, settings_)));
 }
 

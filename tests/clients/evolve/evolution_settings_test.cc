@@ -10,8 +10,8 @@
 #include <pagmo/problem.hpp>
 #include <string>
 
-#include "clients/batch/batch_input.h"
 #include "clients/evolve/evolution.h"
+#include "clients/runtime/batch_input.h"
 #include "tests/support/input_error_of.h"
 #include "tests/support/temp_dir.h"
 
@@ -38,14 +38,14 @@ std::string HipsScenario(const std::string& more) {
 
 class EvolutionSettingsTest : public ::testing::Test {
  protected:
-  batch::ScenarioInput Load(const std::string& more) {
-    return batch::LoadScenario(dir_.Write("hips.json", HipsScenario(more)));
+  runtime::ScenarioInput Load(const std::string& more) {
+    return runtime::LoadScenario(dir_.Write("hips.json", HipsScenario(more)));
   }
   EvolutionSettings Read(const std::string& more, const EvolutionOverrides& overrides = {}) {
     return ReadEvolutionSettings(Load(more), overrides);
   }
   std::string ErrorOf(const std::string& more, const EvolutionOverrides& overrides = {}) {
-    const batch::ScenarioInput input = Load(more);
+    const runtime::ScenarioInput input = Load(more);
     return InputErrorOf([&] { ReadEvolutionSettings(input, overrides); });
   }
   TempDir dir_;
@@ -208,7 +208,7 @@ TEST_F(EvolutionSettingsTest, AControllerWithoutGenesCannotBeEvolved) {
                                R"(/scenarios/examples/pendulum_quarter.csv", "weight": -1}]},
   "evolution": {"bounds": [0, 1]}
 })";
-  const batch::ScenarioInput input = batch::LoadScenario(dir_.Write("keyframes.json", scenario));
+  const runtime::ScenarioInput input = runtime::LoadScenario(dir_.Write("keyframes.json", scenario));
   EXPECT_THAT(InputErrorOf([&] { ReadEvolutionSettings(input, {}); }),
               AllOf(HasSubstr("keyframes.json"), HasSubstr("field 'controller'"), HasSubstr("no free genes")));
 }

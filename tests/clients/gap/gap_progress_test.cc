@@ -68,8 +68,8 @@ TEST(GapProgressTest, ScoresCarryTheLosssUnit) {
 TEST(GapProgressTest, KeepsProgressJsonUpToDateForThePage) {
   test_support::TempDir dir;
   std::ostringstream out;
-  batch::ProgressFile file(dir.path().string(), "gap");
-  const auto written = [&] { return nlohmann::json::parse(dir.Read(batch::kProgressFile)); };
+  runtime::ProgressFile file(dir.path().string(), "gap");
+  const auto written = [&] { return nlohmann::json::parse(dir.Read(runtime::kProgressFile)); };
   {
     GapProgress progress(out, [] { return std::uint64_t{42}; }, std::chrono::hours(1), &file);
     progress.OnFit("Backlash", nullptr);

@@ -53,8 +53,8 @@ class RegressPlanTest : public ::testing::Test {
     options_.update_baseline = false;
   }
   // A summary with one ok result per case, fitness and a term from `fitness`.
-  static batch::BatchSummary Summary(const RegressPlan& plan, const std::vector<double>& fitness) {
-    batch::BatchSummary summary;
+  static runtime::BatchSummary Summary(const RegressPlan& plan, const std::vector<double>& fitness) {
+    runtime::BatchSummary summary;
     summary.seconds = 2.0;
     for (std::size_t i = 0; i < fitness.size(); ++i) {
       v1::Result result;
@@ -185,7 +185,7 @@ TEST_F(RegressPlanTest, ReportsPassAndRegressionWithExitCodesAndJUnit) {
 TEST_F(RegressPlanTest, RecordsTheBaselineOnlyWhenEveryCaseRanOk) {
   options_.update_baseline = true;
   const RegressPlan plan = Plan();
-  batch::BatchSummary summary = Summary(plan, {1.0, 2.0});
+  runtime::BatchSummary summary = Summary(plan, {1.0, 2.0});
   summary.results[1].set_status(v1::Result::UNSTABLE_PHYSICS);
   std::ostringstream failed;
   EXPECT_EQ(ReportRegression(plan, summary, "r.jsonl", failed), 1);
