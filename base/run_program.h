@@ -18,4 +18,12 @@ constexpr int kExitBadInput = 2;   ///< bad input: one line on stderr names the 
 /// with the torque off) are its body's to catch first.
 int RunProgram(std::string_view program, const std::function<int()>& body);
 
+/// The same, after the command line: a `parsed` with an exit_code ≥ 0 (help printed, or the command-line error
+/// said) ends the program with it; otherwise `body(parsed.options)` runs under the guard.
+template <typename Parsed, typename Body>
+int RunProgram(std::string_view program, const Parsed& parsed, Body body) {
+  if (parsed.exit_code >= 0) return parsed.exit_code;
+  return RunProgram(program, [&] { return body(parsed.options); });
+}
+
 }  // namespace orcs::cli

@@ -74,7 +74,7 @@ LiveSession::LiveSession(const LiveOptions& options) : options_(options) {
     return;
   }
   Publish();
-  thread_ = std::thread([this] { Loop(); });
+  thread_ = std::jthread([this](std::stop_token stop) { Loop(stop); });
 }
 
 // The gateway binds its sockets here, so that a port in use is an InputError from the constructor; then its
@@ -105,7 +105,7 @@ void LiveSession::StartOsp() {
   gateway_->AddService(command_service_.get());
   osp_endpoint_ = gateway_->server().endpoint().ToString();
   Publish();
-  thread_ = std::thread([this] { gateway_->Run(); });
+  thread_ = std::jthread([this] { gateway_->Run(); });  // stopped by gateway_->Stop()
 }
 
 std::string LiveSession::Title() const {
@@ -148,13 +148,9 @@ void LiveSession::OnOspReset() {
 }
 
 LiveSession::~LiveSession() {
-  {
-    std::lock_guard lock(command_mutex_);
-    stopping_ = true;
-  }
-  command_posted_.notify_all();
+  thread_.request_stop();  // wakes Loop()'s waits
   if (gateway_) gateway_->Stop();
-  thread_.join();
+  thread_.join();  // before the log, the recorder and the simulation go
   if (logger_) logger_->Finish();
   recorder_.reset();  // writes the last episode, before the gateway and the simulation go
   if (wake_fd_ >= 0) close(wake_fd_);
@@ -178,11 +174,11 @@ auto LiveSession::OnSimulationThread(Task task) -> decltype(task()) {
 
 // The stepping thread: carries out commands, runs while running_ (paced to the wall clock in real time), does
 // single steps on request, and publishes a frame after each slice.
-void LiveSession::Loop() {
+void LiveSession::Loop(std::stop_token stop) {
   std::unique_lock lock(command_mutex_);
-  while (!stopping_) {
+  while (!stop.stop_requested()) {
     RunCommands(lock);
-    if (stopping_) break;
+    if (stop.stop_requested()) break;
     if (logger_) {
       lock.unlock();
       CheckLogger();
@@ -198,11 +194,11 @@ void LiveSession::Loop() {
       continue;
     }
     if (!running_ || !ok) {
-      const auto woken = [this] { return stopping_ || !commands_.empty() || pending_steps_ > 0 || running_; };
+      const auto woken = [this] { return !commands_.empty() || pending_steps_ > 0 || running_; };
       if (logger_) {
-        command_posted_.wait_for(lock, kLoggerCheck, woken);  // a paused log still ends when control lapses
+        command_posted_.wait_for(lock, stop, kLoggerCheck, woken);  // a paused log still ends when control lapses
       } else {
-        command_posted_.wait(lock, woken);
+        command_posted_.wait(lock, stop, woken);
       }
       if (!running_ || simulation_.status() != scene::SimulationStatus::kOk) continue;
     }
@@ -212,7 +208,7 @@ void LiveSession::Loop() {
       const Clock::time_point due =
           run_start_wall_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(ahead));
       if (Clock::now() < due) {
-        command_posted_.wait_until(lock, due, [this] { return stopping_ || !commands_.empty() || !running_; });
+        command_posted_.wait_until(lock, stop, due, [this] { return !commands_.empty() || !running_; });
         continue;
       }
       lock.unlock();

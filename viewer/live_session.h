@@ -14,6 +14,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <stop_token>
 #include <thread>
 #include <vector>
 
@@ -122,7 +123,7 @@ class LiveSession {
   /// that thread touches the simulation, and a request never waits for more than one slice of steps.
   template <typename Task>
   auto OnSimulationThread(Task task) -> decltype(task());
-  void Loop();
+  void Loop(std::stop_token stop);
   // --osp: the gateway's thread runs instead of Loop(); these are its hooks.
   void StartOsp();
   void OnOspCommands();
@@ -160,12 +161,11 @@ class LiveSession {
 
   // Commands for the stepping thread, and whether it should run.
   std::mutex command_mutex_;
-  std::condition_variable command_posted_;
+  std::condition_variable_any command_posted_;  // also woken by the destructor's stop request
   std::vector<std::function<void()>> commands_;
   bool running_ = false;
   bool realtime_ = true;
   int pending_steps_ = 0;
-  bool stopping_ = false;
 
   // The newest frame, for the pages.
   std::mutex frame_mutex_;
@@ -187,7 +187,7 @@ class LiveSession {
   std::string token_;
   std::chrono::steady_clock::time_point token_seen_;
 
-  std::thread thread_;
+  std::jthread thread_;  // last: the stepping thread (Loop) or, with --osp, the gateway's
 };
 
 /// Whether `file` is a plain file name [A-Za-z0-9_.-]{1,64} ending in `extension` (".val", ".csv").

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "model/core/error.h"
+#include "net/cli_style.h"
 #include "viewer/broker_watch.h"
 #include "viewer/clip_renderer.h"
 #include "viewer/live_session.h"
@@ -13,7 +14,6 @@
 #include "viewer/view_options.h"
 #include "viewer/view_server.h"
 #include "viewer/web_assets.h"
-#include "net/cli_style.h"
 
 namespace orcs::viewer {
 namespace {
@@ -78,9 +78,7 @@ int Serve(const ViewOptions& options) {
 }  // namespace orcs::viewer
 
 int main(int argc, char** argv) {
-  const orcs::viewer::ParsedViewOptions parsed = orcs::viewer::ParseViewOptions(argc, argv);
-  if (parsed.exit_code >= 0) return parsed.exit_code;
-  return orcs::cli::RunProgram("orcs-view", [&] {
-    return parsed.options.render ? orcs::viewer::RenderClip(parsed.options) : orcs::viewer::Serve(parsed.options);
+  return orcs::cli::RunProgram("orcs-view", orcs::viewer::ParseViewOptions(argc, argv), [](const auto& options) {
+    return options.render ? orcs::viewer::RenderClip(options) : orcs::viewer::Serve(options);
   });
 }

@@ -7,10 +7,10 @@
 
 #include "base/near_names.h"
 #include "model/control/keyframe_record.h"
-#include "model/evaluation/recorder.h"
 #include "model/core/error.h"
 #include "model/core/text.h"
 #include "model/core/text_file.h"
+#include "model/evaluation/recorder.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/scenario.h"
 #include "model/scene/simulation.h"
@@ -178,26 +178,31 @@ Rig MakeRig(const RigOptions& options, const std::string& agent, const std::vect
   return rig;
 }
 
-std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignment>& model,
-                                const std::vector<std::string>& paths) {
+namespace {
+
+// The rig's repository under `model`, each of `paths` read by `read` (a value → T).
+template <typename T, typename Read>
+std::vector<T> ReadModel(const Rig& rig, const std::vector<ValueAssignment>& model,
+                         const std::vector<std::string>& paths, Read read) {
   scene::Simulation simulation;
   simulation.LoadEnvironment(EnvironmentOf(rig));
   simulation.Build();
   ValueFile::ApplyAssignments(model, simulation.repository());
-  std::vector<double> values;
-  for (const std::string& path : paths) values.push_back(simulation.repository().Get(path).as_double());
+  std::vector<T> values;
+  for (const std::string& path : paths) values.push_back(read(simulation.repository().Get(path)));
   return values;
+}
+
+}  // namespace
+
+std::vector<double> ModelValues(const Rig& rig, const std::vector<ValueAssignment>& model,
+                                const std::vector<std::string>& paths) {
+  return ReadModel<double>(rig, model, paths, [](const auto& value) { return value.as_double(); });
 }
 
 std::vector<bool> ModelSwitches(const Rig& rig, const std::vector<ValueAssignment>& model,
                                 const std::vector<std::string>& paths) {
-  scene::Simulation simulation;
-  simulation.LoadEnvironment(EnvironmentOf(rig));
-  simulation.Build();
-  ValueFile::ApplyAssignments(model, simulation.repository());
-  std::vector<bool> switches;
-  for (const std::string& path : paths) switches.push_back(simulation.repository().Get(path).as_bool());
-  return switches;
+  return ReadModel<bool>(rig, model, paths, [](const auto& value) { return value.as_bool(); });
 }
 
 bool UsesServo(const Rig& rig, const std::vector<ValueAssignment>& model) {

@@ -37,6 +37,7 @@
 #include "model/aseries/dynamixel_motor.h"
 #include "model/aseries/value_range.h"
 #include "model/physics/material_table.h"
+#include "model/physics/ode/ode_joints.h"
 #include "model/physics/physics_model.h"
 #include "model/physics/physics_parameters.h"
 #include "model/scene/simulation.h"
@@ -202,9 +203,7 @@ class RawOdeASeries {
     dBodyID body1 = bodies_[model_->joint_body1(j)];
     dBodyID body2 = bodies_[model_->joint_body2(j)];  // every A-Series joint joins two robot bodies
     if (joint.type == physics::JointType::kFixed) {
-      dJointID fixed = dJointCreateFixed(world_, nullptr);
-      dJointAttach(fixed, body1, body2);
-      dJointSetFixed(fixed);
+      physics::CreateFixedJoint(world_, body1, body2);
       return;
     }
     const double hold_torque = DefaultHoldTorque();
@@ -218,15 +217,7 @@ class RawOdeASeries {
       dJointSetAMotorParam(motor, dParamFMax, hold_torque);
       dJointSetAMotorParam(motor, dParamCFM, 1e-5);  // /ODEJoint/MotorCFM
     }
-    dJointID hinge = dJointCreateHinge(world_, nullptr);
-    dJointAttach(hinge, body1, body2);
-    dJointSetHingeAnchor(hinge, joint.anchor.x(), joint.anchor.y(), joint.anchor.z());
-    dJointSetHingeAxis(hinge, joint.axis.x(), joint.axis.y(), joint.axis.z());
-    if (joint.limited) {
-      dJointSetHingeParam(hinge, dParamLoStop, joint.lo);
-      dJointSetHingeParam(hinge, dParamHiStop, joint.hi);
-    }
-    dJointSetHingeParam(hinge, dParamVel, 0.0);
+    dJointID hinge = physics::CreateHinge(world_, body1, body2, joint);
     dJointSetHingeParam(hinge, dParamFMax,
                         hold_ == Hold::kHingeMotor ? hold_torque : aseries::DynamixelParameters{}.static_friction);
   }

@@ -21,14 +21,14 @@
 #include "model/physics/mujoco/mjcf_export.h"
 #include "model/scene/environment_reader.h"
 #include "model/scene/simulation.h"
+#include "model/scene/world_setup.h"
 #include "net/cli_style.h"
 #include "worker/osp/protocol_values.h"
-#include "worker/sim/gui_launch.h"
 #include "worker/played_records.h"
+#include "worker/sim/gui_launch.h"
 #include "worker/sim/realtime.h"
 #include "worker/sim/scenario_run.h"
 #include "worker/sim/sim_options.h"
-#include "model/scene/world_setup.h"
 
 namespace orcs::sim {
 namespace {
@@ -221,11 +221,9 @@ int Run(const SimOptions& options) {
 }  // namespace orcs::sim
 
 int main(int argc, char** argv) {
-  const orcs::sim::ParsedOptions parsed = orcs::sim::ParseSimOptions(argc, argv);
-  if (parsed.exit_code >= 0) return parsed.exit_code;
-  return orcs::cli::RunProgram("orcs-sim", [&] {
-    if (parsed.options.gui) return orcs::sim::LaunchGui(argv[0], parsed.options);
-    if (!parsed.options.scenario.empty()) return orcs::sim::RunScenario(parsed.options);
-    return orcs::sim::Run(parsed.options);
+  return orcs::cli::RunProgram("orcs-sim", orcs::sim::ParseSimOptions(argc, argv), [&](const auto& options) {
+    if (options.gui) return orcs::sim::LaunchGui(argv[0], options);
+    if (!options.scenario.empty()) return orcs::sim::RunScenario(options);
+    return orcs::sim::Run(options);
   });
 }

@@ -17,6 +17,7 @@
 #include "base/demand.h"
 #include "model/core/error.h"
 #include "model/physics/material_table.h"
+#include "model/physics/ode/ode_joints.h"
 
 namespace orcs::physics {
 namespace {
@@ -386,26 +387,13 @@ void OdeWorld::BuildJoint(int j) {
   dBodyID body2 = b2 >= 0 ? bodies_[b2] : nullptr;  // nullptr attaches to the static world
 
   if (joint.type == JointType::kFixed) {
-    dJointID fixed = dJointCreateFixed(world_, nullptr);
-    dJointAttach(fixed, body1, body2);
-    dJointSetFixed(fixed);  // keeps the current relative pose
-    joints_[j] = fixed;
+    joints_[j] = CreateFixedJoint(world_, body1, body2);
     return;
   }
   // The original creates the motor before the hinge; the order fixes ODE's row order, so keep it.
   if (joint.motorised) motors_[j] = BuildMotor(j, body1, body2, joint.axis);
-  dJointID hinge = dJointCreateHinge(world_, nullptr);
-  dJointAttach(hinge, body1, body2);
-  dJointSetHingeAnchor(hinge, joint.anchor.x(), joint.anchor.y(), joint.anchor.z());
-  dJointSetHingeAxis(hinge, joint.axis.x(), joint.axis.y(), joint.axis.z());
-  if (joint.limited) {
-    dJointSetHingeParam(hinge, dParamLoStop, joint.lo);
-    dJointSetHingeParam(hinge, dParamHiStop, joint.hi);
-  }
   // The hinge's own motor is the joint friction: a brake towards zero rate, off until SetJointFriction.
-  dJointSetHingeParam(hinge, dParamVel, 0.0);
-  dJointSetHingeParam(hinge, dParamFMax, 0.0);
-  joints_[j] = hinge;
+  joints_[j] = CreateHinge(world_, body1, body2, joint);
 }
 
 // A one-axis angular motor about the hinge axis, fixed in body 1: it constrains the same relative rate
