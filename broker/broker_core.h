@@ -123,8 +123,8 @@ class BrokerCore {
     /// claimed, or orphaned by a silent client within its grace period (claim_deadline).
     std::string client;
     std::string client_id;   ///< the owning client's name (Submit.client_id), stable across its reconnections
-    /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. "" = not yet known
-    /// (a batch restored from the journal, which does not record keys): the first client to claim it sets it.
+    /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. Restored from the journal
+    /// (Restore), never changed by a claim. "" = opened without CURVE: then any key holding the token may submit.
     std::string client_key;
     std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
     std::unordered_map<std::string, JobRecord> jobs;  ///< its jobs without a result yet, by job id
