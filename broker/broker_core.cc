@@ -83,6 +83,10 @@ void BrokerCore::RegisterWorker(const std::string& worker, const v1::Ready& read
                 : "worker " + record.name + " sent READY again; credit now ") +
       std::to_string(record.credit) +
       (ready.credit() > record.credit ? " (asked for " + std::to_string(ready.credit()) + "; --max-credit)" : ""));
+  if (record.in_ready_list && record.holding.size() >= record.credit) {  // a lower credit it already uses up
+    ready_workers_.remove(worker);
+    record.in_ready_list = false;
+  }
   MakeReady(worker, record);
 }
 

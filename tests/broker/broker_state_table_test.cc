@@ -596,17 +596,21 @@ TEST_F(StateTableWorker, W03_Registered_ReadyAgain_CreditReplaced) {
 
 // Pins a flaw (reported with issue 52, item 5): a worker still on the ready list when it lowers its credit to what
 // it holds or less stays on the list and gets one more JOB than its new credit allows.
-TEST_F(StateTableWorker, W04_RegisteredFree_ReadyAgainWithCreditAtMostItsHolding_OneMoreJob) {
+TEST_F(StateTableWorker, W04_RegisteredFree_ReadyAgainWithCreditAtMostItsHolding_Full) {
   Submit("c", "b", {Job("j0"), Job("j1"), Job("j2")});
   Ready("w", 2);
   Dispatch();
   ASSERT_EQ(transport_.Jobs("w").size(), 2u);
   AnswerNth("w", 0);  // holding 1 of 2: on the ready list
-  Ready("w", 1);
+  Ready("w", 1);      // holding 1 of 1: full, off the list
+  Dispatch();
+  EXPECT_EQ(transport_.Jobs("w").size(), 2u) << "no JOB beyond the new credit";
+  EXPECT_EQ(WorkerEntry("w-name")->holding(), 1u);
+  EXPECT_EQ(WorkerEntry("w-name")->credit(), 1u);
+  AnswerNth("w", 1);  // holding 0 of 1: free again, j2 goes to it
   Dispatch();
   EXPECT_EQ(transport_.Jobs("w").size(), 3u);
-  EXPECT_EQ(WorkerEntry("w-name")->holding(), 2u);
-  EXPECT_EQ(WorkerEntry("w-name")->credit(), 1u);
+  EXPECT_EQ(WorkerEntry("w-name")->holding(), 1u);
 }
 
 TEST_F(StateTableWorker, W05_RegisteredFree_Dispatch_HoldsOneMore) {
