@@ -15,6 +15,7 @@
 
 #include "broker/broker_core.h"
 #include "broker/broker_journal.h"
+#include "tests/broker/recording_transport.h"
 #include "proto/envelope.h"
 #include "tests/support/temp_dir.h"
 
@@ -27,81 +28,6 @@ using std::chrono::seconds;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::IsEmpty;
-
-// Keeps what the core sends; a send to a peer in `gone` fails, as a ROUTER's does once the peer's connection closed.
-class Transport final : public broker::BrokerTransport {
- public:
-  bool SendToWorker(const std::string& worker, const v1::BrokerToWorker& message) override {
-    if (gone.count(worker) != 0) return false;
-    to_workers.emplace_back(worker, message);
-    return true;
-  }
-  bool SendToClient(const std::string& client, const v1::BrokerToClient& message) override {
-    if (gone.count(client) != 0) return false;
-    to_clients.emplace_back(client, message);
-    return true;
-  }
-
-  std::vector<v1::Job> Jobs(const std::string& worker) const {
-    std::vector<v1::Job> jobs;
-    for (const auto& [peer, message] : to_workers) {
-      if (peer == worker && message.has_job()) jobs.push_back(message.job());
-    }
-    return jobs;
-  }
-  std::vector<std::string> JobIds(const std::string& worker) const {
-    std::vector<std::string> ids;
-    for (const v1::Job& job : Jobs(worker)) ids.push_back(job.job_id());
-    return ids;
-  }
-  std::vector<std::string> WorkerDisconnects(const std::string& worker) const {
-    std::vector<std::string> reasons;
-    for (const auto& [peer, message] : to_workers) {
-      if (peer == worker && message.has_disconnect()) reasons.push_back(message.disconnect().reason());
-    }
-    return reasons;
-  }
-  std::vector<v1::Revoke> Revokes(const std::string& worker) const {
-    std::vector<v1::Revoke> revokes;
-    for (const auto& [peer, message] : to_workers) {
-      if (peer == worker && message.has_revoke()) revokes.push_back(message.revoke());
-    }
-    return revokes;
-  }
-  std::vector<v1::Result> Results(const std::string& client) const {
-    std::vector<v1::Result> results;
-    for (const auto& [peer, message] : to_clients) {
-      if (peer == client && message.has_result()) results.push_back(message.result());
-    }
-    return results;
-  }
-  v1::BrokerToClient LastToClient(const std::string& client) const {
-    for (auto entry = to_clients.rbegin(); entry != to_clients.rend(); ++entry) {
-      if (entry->first == client) return entry->second;
-    }
-    return {};
-  }
-  v1::BrokerToWorker LastToWorker(const std::string& worker) const {
-    for (auto entry = to_workers.rbegin(); entry != to_workers.rend(); ++entry) {
-      if (entry->first == worker) return entry->second;
-    }
-    return {};
-  }
-
-  std::vector<std::pair<std::string, v1::BrokerToWorker>> to_workers;
-  std::vector<std::pair<std::string, v1::BrokerToClient>> to_clients;
-  std::set<std::string> gone;
-};
-
-const std::string kToken(16, '\x42');  // every test batch's owner token
-
-v1::Job Job(const std::string& id, double time_limit_seconds = 0) {
-  v1::Job job;
-  job.set_protocol_version(kProtocolVersion);
-  job.set_job_id(id);
-  job.set_time_limit_seconds(time_limit_seconds);
-  return job;
-}
 
 // A core with BrokerOptions' defaults — heartbeat 1 s, liveness 5, 3 losses, 3 crashes, credit capped at 16, a
 // silent client's batches kept 60 s — and the peers' messages as one-line calls. Worker "w" is named "w-name",
@@ -231,7 +157,7 @@ class Harness {
     return false;
   }
 
-  Transport transport_;
+  RecordingTransport transport_;
   std::vector<std::string> log_;
   BrokerCore::TimePoint now_ = BrokerCore::TimePoint{} + std::chrono::hours(1);
   BrokerCore core_;
@@ -653,7 +579,7 @@ TEST_F(StateTableWorker, W08_Registered_RefusedResult_Unchanged) {
   Answer("v", transport_.Jobs("w").at(0));
   EXPECT_EQ(Stats().results_refused, 1u);
   EXPECT_EQ(Stats().workers, 2);
-  EXPECT_THAT(transport_.WorkerDisconnects("v"), IsEmpty());
+  EXPECT_THAT(transport_.Disconnects("v"), IsEmpty());
   EXPECT_EQ(WorkerEntry("v-name")->holding(), 0u);
   EXPECT_EQ(WorkerEntry("w-name")->holding(), 1u);
 }
@@ -665,7 +591,7 @@ TEST_F(StateTableWorker, W09_Unknown_Result_RefusedAndToldToReconnect) {
   Answer("stranger", forged);
   EXPECT_EQ(Stats().results_refused, 1u);
   EXPECT_EQ(Stats().workers, 0);
-  EXPECT_THAT(transport_.WorkerDisconnects("stranger"), ElementsAre("unknown worker: connect again and send READY"));
+  EXPECT_THAT(transport_.Disconnects("stranger"), ElementsAre("unknown worker: connect again and send READY"));
   EXPECT_EQ(Stats().queued, 1u);
 }
 
@@ -688,7 +614,7 @@ TEST_F(StateTableWorker, W10_Registered_Heartbeat_LivenessRenewed) {
 TEST_F(StateTableWorker, W11_Unknown_Heartbeat_ToldToReconnect) {
   WorkerHeartbeat("stranger");
   EXPECT_EQ(Stats().workers, 0);
-  EXPECT_THAT(transport_.WorkerDisconnects("stranger"), ElementsAre("unknown worker: connect again and send READY"));
+  EXPECT_THAT(transport_.Disconnects("stranger"), ElementsAre("unknown worker: connect again and send READY"));
 }
 
 TEST_F(StateTableWorker, W12_Registered_Disconnect_Gone) {
@@ -720,7 +646,7 @@ TEST_F(StateTableWorker, W14_Registered_SilentForItsLiveness_Lost) {
   EXPECT_EQ(Stats().workers, 0);
   EXPECT_EQ(Stats().workers_lost, 1u);
   EXPECT_TRUE(Logged("worker w-name lost: silent for 5.0 s"));
-  EXPECT_THAT(transport_.WorkerDisconnects("w"), IsEmpty());
+  EXPECT_THAT(transport_.Disconnects("w"), IsEmpty());
 }
 
 TEST_F(StateTableWorker, W15_Registered_HeartbeatSendFails_Lost) {
@@ -745,7 +671,7 @@ TEST_F(StateTableWorker, W16_Registered_HeldJobPastItsLease_LostAndToldToReconne
   EXPECT_EQ(Stats().leases_expired, 1u);
   EXPECT_EQ(Stats().workers_lost, 1u);
   EXPECT_EQ(Stats().queued, 1u);
-  EXPECT_THAT(transport_.WorkerDisconnects("w"),
+  EXPECT_THAT(transport_.Disconnects("w"),
               ElementsAre("held job b/j0 past its lease (time limit 1.0 s, leased for 8.5 s): connect again and send "
                           "READY"));
 }
@@ -776,7 +702,7 @@ TEST_F(StateTableWorker, W18_Registered_Tick_Heartbeat) {
 TEST_F(StateTableWorker, W19_Registered_BrokerStops_Disconnect) {
   Ready("w", 1);
   core_.SayGoodbye();
-  EXPECT_THAT(transport_.WorkerDisconnects("w"), ElementsAre("broker shutting down"));
+  EXPECT_THAT(transport_.Disconnects("w"), ElementsAre("broker shutting down"));
 }
 
 // ---------------------------------------------------------------------------------------------------------------
