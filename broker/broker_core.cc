@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "base/demand.h"
 #include "broker/broker_text.h"
 #include "proto/envelope.h"
 #include "proto/secure_random.h"
@@ -129,7 +130,7 @@ std::string BrokerCore::LeaseProblem(const std::string& worker, const v1::Result
            "jobs went elsewhere)";
   }
   if (record == nullptr) return "for a job the broker does not know (its batch ended or never existed)";
-  if (record->state == JobState::kFinished) return "for a job that has its result already";
+  ORCS_DEMAND_MSG(record->state != JobState::kFinished, "a finished job's record goes with its result");
   if (record->state != JobState::kDispatched || record->worker != worker) {
     return "for a job not leased to this connection";
   }

@@ -6,6 +6,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "base/demand.h"
 #include "broker/broker_core.h"
 #include "broker/broker_text.h"
 #include "proto/envelope.h"
@@ -199,7 +200,8 @@ bool BrokerCore::AcceptJob(const std::string& client, const std::string& batch_i
   if (inserted) NoteJobHeld();
   JobRecord& record = entry->second;
   record.batch = &batch;
-  if (!inserted && record.state != JobState::kFinished) return false;
+  ORCS_DEMAND_MSG(inserted || record.state != JobState::kFinished, "a finished job's record goes with its result");
+  if (!inserted) return false;  // queued or running already: the SUBMIT repeats it
   if (ResendHeldResult(client, batch, job.job_id()) ||
       (journal_ && ResendStoredResult(client, batch_id, job.job_id()))) {
     if (inserted) {  // finished records are not kept (FinishJob): the journal has it
