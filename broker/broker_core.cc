@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "base/demand.h"
 #include "broker/broker_text.h"
 #include "proto/envelope.h"
 #include "proto/secure_random.h"
@@ -65,6 +66,10 @@ void BrokerCore::OnWorkerReady(const std::string& worker, const v1::Ready& ready
                     std::to_string(kMaxIdBytes) + ")");
     return;
   }
+  RegisterWorker(worker, ready);
+}
+
+void BrokerCore::RegisterWorker(const std::string& worker, const v1::Ready& ready) {
   auto [entry, inserted] = workers_.try_emplace(worker);
   Worker& record = entry->second;
   record.name = ready.worker_id().empty() ? Hex(worker) : ready.worker_id();
@@ -79,6 +84,10 @@ void BrokerCore::OnWorkerReady(const std::string& worker, const v1::Ready& ready
                 : "worker " + record.name + " sent READY again; credit now ") +
       std::to_string(record.credit) +
       (ready.credit() > record.credit ? " (asked for " + std::to_string(ready.credit()) + "; --max-credit)" : ""));
+  if (record.in_ready_list && record.holding.size() >= record.credit) {  // a lower credit it already uses up
+    ready_workers_.remove(worker);
+    record.in_ready_list = false;
+  }
   MakeReady(worker, record);
 }
 
@@ -94,19 +103,22 @@ void BrokerCore::OnWorkerResult(const std::string& worker, v1::Result& result) {
     RefuseResult(worker, result, problem);
     return;
   }
-  // The answer to the lease this connection holds: one credit back, and the job ends or is retried.
+  AcceptResult(worker, key, *record, result);
+}
+
+void BrokerCore::AcceptResult(const std::string& worker, const JobKey& key, JobRecord& record, v1::Result& result) {
   Worker& holder = workers_.at(worker);
-  NoteWorkerResult(holder, key, *record, result.status());
+  NoteWorkerResult(holder, key, record, result.status());
   in_flight_count_ -= holder.holding.erase(key);
   if (holder.holding.empty()) holder.busy_until = now_;
   MakeReady(worker, holder);
-  record->lease = 0;
+  record.lease = 0;
   if (result.worker_id().empty()) result.set_worker_id(holder.name);
   Batch& batch = batches_.at(key.first);
   if (result.status() == v1::Result::CRASHED) {
-    OnJobCrashed(worker, key.first, batch, *record, result);
+    RequeueOrPoisonCrashedJob(worker, key.first, batch, record, result);
   } else {
-    FinishJob(batch, *record, result);
+    FinishJob(batch, record, result);
   }
 }
 
@@ -118,7 +130,7 @@ std::string BrokerCore::LeaseProblem(const std::string& worker, const v1::Result
            "jobs went elsewhere)";
   }
   if (record == nullptr) return "for a job the broker does not know (its batch ended or never existed)";
-  if (record->state == JobState::kFinished) return "for a job that has its result already";
+  ORCS_DEMAND_MSG(record->state != JobState::kFinished, "a finished job's record goes with its result");
   if (record->state != JobState::kDispatched || record->worker != worker) {
     return "for a job not leased to this connection";
   }
@@ -139,7 +151,7 @@ void BrokerCore::RefuseResult(const std::string& worker, const v1::Result& resul
   if (workers_.count(worker) == 0) TellWorkerToReconnect(worker, "unknown worker: connect again and send READY");
 }
 
-void BrokerCore::OnJobCrashed(const std::string& worker, const std::string& batch_id, Batch& batch,
+void BrokerCore::RequeueOrPoisonCrashedJob(const std::string& worker, const std::string& batch_id, Batch& batch,
                               JobRecord& record, v1::Result& result) {
   ++counters_.crashes;
   ++record.crashes;
@@ -177,7 +189,7 @@ void BrokerCore::OnWorkerHeartbeat(const std::string& worker, const v1::Heartbea
 void BrokerCore::OnWorkerDisconnect(const std::string& worker, const v1::Disconnect& disconnect) {
   if (workers_.count(worker) == 0) return;
   // A worker that says goodbye did not die of its jobs: they go back to the queue without counting a loss.
-  LoseWorker(worker, "left (" + disconnect.reason() + ")", false);
+  DropWorker(worker, "left (" + disconnect.reason() + ")", false);
 }
 
 void BrokerCore::TellWorkerToReconnect(const std::string& worker, const std::string& why) {
@@ -193,10 +205,10 @@ void BrokerCore::TellWorkerToReconnect(const std::string& worker, const std::str
 void BrokerCore::OnTick(TimePoint now) {
   Advance(now);
   SendHeartbeats();
-  PurgeLostWorkers();
+  LoseSilentWorkers();
   ExpireLeases();
-  PurgeLostClients();
-  PurgeUnclaimedBatches();
+  OrphanSilentClients();
+  DropUnclaimedBatches();
 }
 
 // A heartbeat that cannot be sent means the peer's connection is gone: it is lost now, not after its liveness.
@@ -217,7 +229,7 @@ void BrokerCore::SendHeartbeats() {
   for (const auto& [client, record] : clients_) {
     if (!transport_.SendToClient(client, to_client)) gone_clients.push_back(client);
   }
-  for (const std::string& worker : gone_workers) LoseWorker(worker, "connection closed", true);
+  for (const std::string& worker : gone_workers) DropWorker(worker, "connection closed", true);
   for (const std::string& client : gone_clients) DropClient(client, "connection closed", true);
 }
 
@@ -227,12 +239,12 @@ BrokerCore::Clock::duration BrokerCore::LivenessFor(std::uint32_t declared_ms) c
   return std::max<Clock::duration>(options_.heartbeat_interval, declared) * options_.liveness;
 }
 
-void BrokerCore::PurgeLostWorkers() {
+void BrokerCore::LoseSilentWorkers() {
   std::vector<std::pair<std::string, Clock::duration>> silent;
   for (const auto& [worker, record] : workers_) {
     if (record.expiry <= now_) silent.emplace_back(worker, record.liveness_period);
   }
-  for (const auto& [worker, period] : silent) LoseWorker(worker, "silent for " + Seconds(period), true);
+  for (const auto& [worker, period] : silent) DropWorker(worker, "silent for " + Seconds(period), true);
 }
 
 void BrokerCore::ExpireLeases() {
@@ -244,7 +256,7 @@ void BrokerCore::ExpireLeases() {
   for (const auto& [worker_id, why] : overdue) {
     ++counters_.leases_expired;
     TellWorkerToReconnect(worker_id, why + ": connect again and send READY");
-    LoseWorker(worker_id, why, true);
+    DropWorker(worker_id, why, true);
   }
 }
 
@@ -293,9 +305,9 @@ void BrokerCore::Dispatch(TimePoint now) {
     const std::string worker_id = std::move(*chosen);
     ready_workers_.erase(chosen);
     workers_.at(worker_id).in_ready_list = false;
-    if (!SendJob(key, record, worker_id)) {
+    if (!LeaseJob(key, record, worker_id)) {
       Enqueue(key.first, record, true);  // never reached the worker: no loss for the job
-      LoseWorker(worker_id, "connection closed", true);
+      DropWorker(worker_id, "connection closed", true);
     }
   }
   // Back to the front of the queue, in their order.
@@ -333,7 +345,7 @@ std::list<std::string>::iterator BrokerCore::ReadyWorkerFor(const JobRecord& rec
   return ready_workers_.begin();
 }
 
-bool BrokerCore::SendJob(const JobKey& key, JobRecord& record, const std::string& worker_id) {
+bool BrokerCore::LeaseJob(const JobKey& key, JobRecord& record, const std::string& worker_id) {
   Worker& worker = workers_.at(worker_id);
   record.job.set_attempt(static_cast<std::uint32_t>(record.losses));
   record.lease = proto::SecureRandomToken();  // unguessable: only the holder can answer for the job
@@ -361,31 +373,37 @@ void BrokerCore::MakeReady(const std::string& worker_id, Worker& worker) {
   worker.in_ready_list = true;
 }
 
-void BrokerCore::LoseWorker(const std::string& worker_id, const std::string& reason, bool counts_as_loss) {
+void BrokerCore::DropWorker(const std::string& worker_id, const std::string& reason, bool lost) {
   auto entry = workers_.find(worker_id);
   if (entry == workers_.end()) return;
   const Worker worker = std::move(entry->second);
   workers_.erase(entry);
   in_flight_count_ -= worker.holding.size();
-  if (counts_as_loss) ++counters_.workers_lost;
+  if (lost) ++counters_.workers_lost;
+  const auto [requeued, failed] = RequeueHeldJobs(worker_id, worker, reason, lost);
+  std::string line = "worker " + worker.name + (lost ? " lost: " : " ") + reason;
+  if (requeued > 0) line += "; " + std::to_string(requeued) + " jobs back to the queue";
+  if (failed > 0) line += "; " + std::to_string(failed) + " jobs failed with WORKER_LOST";
+  Log(line);
+}
+
+std::pair<int, int> BrokerCore::RequeueHeldJobs(const std::string& worker_id, const Worker& worker,
+                                                const std::string& reason, bool lost) {
   int requeued = 0;
   int failed = 0;
   // Back to the front of the queue, keeping their order among themselves.
   for (auto key = worker.holding.rbegin(); key != worker.holding.rend(); ++key) {
     JobRecord* record = FindJob(*key);
     if (record == nullptr || record->state != JobState::kDispatched || record->worker != worker_id) continue;
-    if (counts_as_loss) {
+    if (lost) {
       ++record->losses;
       record->lost_by += (record->lost_by.empty() ? "" : ", ") + worker.name;
     }
-    const bool back = RequeueOrFail(batches_.at(key->first), *record, key->first, reason);
+    const bool back = RequeueOrFailLostJob(batches_.at(key->first), *record, key->first, reason);
     requeued += back ? 1 : 0;
     failed += back ? 0 : 1;
   }
-  std::string line = "worker " + worker.name + (counts_as_loss ? " lost: " : " ") + reason;
-  if (requeued > 0) line += "; " + std::to_string(requeued) + " jobs back to the queue";
-  if (failed > 0) line += "; " + std::to_string(failed) + " jobs failed with WORKER_LOST";
-  Log(line);
+  return {requeued, failed};
 }
 
 // The batch's leases end here, not when their results would come: the workers' credit is free for other batches at
@@ -417,7 +435,7 @@ void BrokerCore::RevokeLeases(Batch& batch, const std::string& reason) {
 }
 
 // A job that lost max_worker_losses workers fails rather than taking down worker after worker.
-bool BrokerCore::RequeueOrFail(Batch& batch, JobRecord& record, const std::string& batch_id,
+bool BrokerCore::RequeueOrFailLostJob(Batch& batch, JobRecord& record, const std::string& batch_id,
                                const std::string& reason) {
   if (record.losses >= options_.max_worker_losses) {
     FailJob(batch, record, v1::Result::WORKER_LOST,

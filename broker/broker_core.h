@@ -4,9 +4,11 @@
 // at the end of each turn, always with the current time; the core never reads a clock nor touches a socket. What
 // it says to peers goes through a BrokerTransport, whose sends may fail as a ROUTER's do (the peer is gone).
 //
-// A state machine of small named handlers, one per incoming message kind and one per clock duty, in the style of
-// ZeroMQ's Majordomo broker. Implemented in broker_core.cc (workers, leases, dispatch) and broker_core_jobs.cc
-// (clients, batches, the queue, the journal).
+// A state machine written down as tables in docs/protocol.md ("The broker's state machine": a job, a worker, a
+// client and its batches; one row per transition). The On...() entry points are the table's events; the private
+// functions they call are its actions, each named after the transition it performs, as in ZeroMQ's Malamute.
+// tests/broker/broker_state_table_test.cc walks every row. Implemented in broker_core.cc (workers, leases,
+// dispatch) and broker_core_jobs.cc (clients, batches, the queue, the journal).
 #pragma once
 
 #include <chrono>
@@ -121,8 +123,8 @@ class BrokerCore {
     /// claimed, or orphaned by a silent client within its grace period (claim_deadline).
     std::string client;
     std::string client_id;   ///< the owning client's name (Submit.client_id), stable across its reconnections
-    /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. "" = not yet known
-    /// (a batch restored from the journal, which does not record keys): the first client to claim it sets it.
+    /// With CURVE, the owning client's public key (Z85); only it may submit to the batch. Restored from the journal
+    /// (Restore), never changed by a claim. "" = opened without CURVE: then any key holding the token may submit.
     std::string client_key;
     std::string owner_token;  ///< Submit.owner_token of the SUBMIT that opened it: later SUBMITs must match
     std::unordered_map<std::string, JobRecord> jobs;  ///< its jobs without a result yet, by job id
@@ -181,13 +183,17 @@ class BrokerCore {
 
   // Worker messages (broker_core.cc).
   void OnWorkerReady(const std::string& worker, const v1::Ready& ready);
+  /// unknown → registered on a READY, or a registered worker's credit replaced on READY again.
+  void RegisterWorker(const std::string& worker, const v1::Ready& ready);
   void OnWorkerResult(const std::string& worker, v1::Result& result);
+  /// The answer to the lease `worker` holds on `record`: its credit back, then the job finishes or is retried.
+  void AcceptResult(const std::string& worker, const JobKey& key, JobRecord& record, v1::Result& result);
   /// Why `result` is not the answer to a lease `worker` holds, or "" when it is.
   std::string LeaseProblem(const std::string& worker, const v1::Result& result, const JobRecord* record) const;
   void RefuseResult(const std::string& worker, const v1::Result& result, const std::string& why);
   /// A CRASHED result for a pending job: retried at the front of the queue, or finished as poisonous.
-  void OnJobCrashed(const std::string& worker, const std::string& batch_id, Batch& batch, JobRecord& record,
-                    v1::Result& result);
+  void RequeueOrPoisonCrashedJob(const std::string& worker, const std::string& batch_id, Batch& batch,
+                                 JobRecord& record, v1::Result& result);
   void OnWorkerHeartbeat(const std::string& worker, const v1::Heartbeat& heartbeat);
   void OnWorkerDisconnect(const std::string& worker, const v1::Disconnect& disconnect);
   /// Tells a connection the broker does not know (or no longer knows) to start over: `why` says what it did.
@@ -198,7 +204,8 @@ class BrokerCore {
   /// How long a peer that heartbeats every `declared_ms` (0 = not said) may be silent: `liveness` times the longer
   /// of its interval and the broker's, the declared one capped at kMaxPeerHeartbeat.
   Clock::duration LivenessFor(std::uint32_t declared_ms) const;
-  void PurgeLostWorkers();
+  /// Workers silent past their liveness period are lost.
+  void LoseSilentWorkers();
   /// Workers holding a job past its lease's deadline are lost (their jobs go elsewhere) and told to reconnect.
   void ExpireLeases();
   /// Why `worker` is overdue on one of its leases, or "" when it is not.
@@ -211,14 +218,21 @@ class BrokerCore {
   std::list<std::string>::iterator FirstReadyWorker();
   std::list<std::string>::iterator ReadyWorkerFor(const JobRecord& record);
   /// Sends the job to the chosen worker under a new lease; false when the send failed (the worker is then lost).
-  bool SendJob(const JobKey& key, JobRecord& record, const std::string& worker_id);
+  bool LeaseJob(const JobKey& key, JobRecord& record, const std::string& worker_id);
   void MakeReady(const std::string& worker_id, Worker& worker);
-  void LoseWorker(const std::string& worker, const std::string& reason, bool counts_as_loss);
+  /// Forgets a worker; its held jobs go back to the queue (RequeueHeldJobs). `lost`: it vanished (silent,
+  /// connection closed, lease overdue) rather than said goodbye, so each of its jobs counts one more loss.
+  void DropWorker(const std::string& worker, const std::string& reason, bool lost);
+  /// The jobs a dropped worker held: to the front of the queue, or failed with WORKER_LOST at their last loss.
+  /// Returns how many were requeued and how many failed.
+  std::pair<int, int> RequeueHeldJobs(const std::string& worker_id, const Worker& worker, const std::string& reason,
+                                      bool lost);
   /// Takes the batch's running jobs off their workers' accounts (their credit is free at once) and tells each worker
   /// to drop them (REVOKE with `reason`): the batch ended early and nobody waits for their results.
   void RevokeLeases(Batch& batch, const std::string& reason);
   /// After losing a worker: back to the queue, or failed with WORKER_LOST; true when requeued.
-  bool RequeueOrFail(Batch& batch, JobRecord& record, const std::string& batch_id, const std::string& reason);
+  bool RequeueOrFailLostJob(Batch& batch, JobRecord& record, const std::string& batch_id,
+                            const std::string& reason);
 
   // Client messages (broker_core_jobs.cc).
   void OnClientSubmit(const std::string& client, const std::string& client_key, v1::Submit& submit);
@@ -227,17 +241,29 @@ class BrokerCore {
   void RejectSubmit(const std::string& client, const std::string& batch_id, const std::string& problem);
   /// The submitted batch, opened for this client or moved to this connection of its owner.
   Batch& ClaimBatch(const std::string& client, const std::string& client_key, const v1::Submit& submit);
+  /// (none) → owned: a SUBMIT names a batch the broker does not have.
+  void OpenBatch(const std::string& client, const std::string& client_key, const v1::Submit& submit, Batch& batch);
+  /// orphaned or unclaimed → owned: its owner is back (a SUBMIT with its token).
+  void ReclaimBatch(const std::string& client, const v1::Submit& submit, Batch& batch);
+  /// owned by one connection → owned by another: its owner reconnected.
+  void MoveBatch(const std::string& client, const v1::Submit& submit, Batch& batch);
   /// Queues one submitted job (or resends its stored result); true when it was accepted anew.
   bool AcceptJob(const std::string& client, const std::string& batch_id, Batch& batch, v1::Job& job);
   void OnClientHeartbeat(const std::string& client, const v1::Heartbeat& heartbeat);
+  /// Tells a connection the broker does not know (or no longer knows) to connect again and submit.
+  void TellClientToReconnect(const std::string& client);
   void OnClientCancel(const std::string& client, const v1::Cancel& cancel);
   /// Whether `client` owns `batch`, or owned it until it fell silent and the batch is still orphaned.
   bool OwnedOrOrphanedBy(const Batch& batch, const std::string& client) const;
   void OnClientDisconnect(const std::string& client, const v1::Disconnect& disconnect);
+  /// A connection forgotten as silent says goodbye: the batches it left orphaned go now, not after their grace.
+  void DropOrphanedBatches(const std::string& former_client, const std::string& reason);
   /// Answers a STATUS_REQUEST (broker_core_status.cc).
   void OnClientStatusRequest(const std::string& client, const std::string& client_key);
-  void PurgeLostClients();
-  void PurgeUnclaimedBatches();
+  /// Clients silent past their liveness period are forgotten; their batches wait for them (OrphanClient).
+  void OrphanSilentClients();
+  /// Orphaned or restored batches whose owner did not come back by their claim deadline are dropped.
+  void DropUnclaimedBatches();
 
   // The journal (broker_core_jobs.cc).
   void RestoreJob(JournalJob&& stored, std::uint64_t& in_flight);

@@ -6,6 +6,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "base/demand.h"
 #include "broker/broker_core.h"
 #include "broker/broker_text.h"
 #include "proto/envelope.h"
@@ -153,29 +154,42 @@ BrokerCore::Batch& BrokerCore::ClaimBatch(const std::string& client, const std::
   auto [batch_entry, new_batch] = batches_.try_emplace(batch_id);
   Batch& batch = batch_entry->second;
   if (new_batch) {
-    batch.client = client;
-    batch.client_id = submit.client_id();
-    batch.client_key = client_key;
-    batch.owner_token = submit.owner_token();
-    batch.opened_at = now_;
-    if (journal_) journal_->AddBatch(batch_id, submit.client_id(), submit.owner_token(), client_key);
-    Log("client " + submit.client_id() + " opened batch " + batch_id);
+    OpenBatch(client, client_key, submit, batch);
   } else if (batch.client.empty()) {
-    batch.former_client.clear();
-    batch.client = client;
-    batch.client_id = submit.client_id();
-    ++counters_.batches_reclaimed;
-    Log("client " + submit.client_id() + " claimed batch " + batch_id + " back");
+    ReclaimBatch(client, submit, batch);
   } else if (batch.client != client) {
-    // The same client on a new connection (it reconnected): results go to the new one from now on.
-    auto previous = clients_.find(batch.client);
-    if (previous != clients_.end()) previous->second.batches.erase(batch_id);
-    batch.client = client;
-    batch.client_id = submit.client_id();
-    Log("batch " + batch_id + " of client " + submit.client_id() + " moved to its new connection");
+    MoveBatch(client, submit, batch);
   }
   client_entry->second.batches.insert(batch_id);
   return batch;
+}
+
+void BrokerCore::OpenBatch(const std::string& client, const std::string& client_key, const v1::Submit& submit,
+                           Batch& batch) {
+  batch.client = client;
+  batch.client_id = submit.client_id();
+  batch.client_key = client_key;
+  batch.owner_token = submit.owner_token();
+  batch.opened_at = now_;
+  if (journal_) journal_->AddBatch(submit.batch_id(), submit.client_id(), submit.owner_token(), client_key);
+  Log("client " + submit.client_id() + " opened batch " + submit.batch_id());
+}
+
+void BrokerCore::ReclaimBatch(const std::string& client, const v1::Submit& submit, Batch& batch) {
+  batch.former_client.clear();
+  batch.client = client;
+  batch.client_id = submit.client_id();
+  ++counters_.batches_reclaimed;
+  Log("client " + submit.client_id() + " claimed batch " + submit.batch_id() + " back");
+}
+
+// The same client on a new connection (it reconnected): results go to the new one from now on.
+void BrokerCore::MoveBatch(const std::string& client, const v1::Submit& submit, Batch& batch) {
+  auto previous = clients_.find(batch.client);
+  if (previous != clients_.end()) previous->second.batches.erase(submit.batch_id());
+  batch.client = client;
+  batch.client_id = submit.client_id();
+  Log("batch " + submit.batch_id() + " of client " + submit.client_id() + " moved to its new connection");
 }
 
 // A job already pending stays as it is. A finished one submitted again (its client never saw the result, e.g. it
@@ -186,7 +200,8 @@ bool BrokerCore::AcceptJob(const std::string& client, const std::string& batch_i
   if (inserted) NoteJobHeld();
   JobRecord& record = entry->second;
   record.batch = &batch;
-  if (!inserted && record.state != JobState::kFinished) return false;
+  ORCS_DEMAND_MSG(inserted || record.state != JobState::kFinished, "a finished job's record goes with its result");
+  if (!inserted) return false;  // queued or running already: the SUBMIT repeats it
   if (ResendHeldResult(client, batch, job.job_id()) ||
       (journal_ && ResendStoredResult(client, batch_id, job.job_id()))) {
     if (inserted) {  // finished records are not kept (FinishJob): the journal has it
@@ -218,10 +233,14 @@ void BrokerCore::OnClientHeartbeat(const std::string& client, const v1::Heartbea
     return;
   }
   // After a broker restart a client's socket reconnects by itself: tell it to start over and submit again.
+  TellClientToReconnect(client);
+}
+
+void BrokerCore::TellClientToReconnect(const std::string& client) {
   v1::BrokerToClient reply;
   reply.set_protocol_version(kProtocolVersion);
   reply.mutable_disconnect()->set_reason("unknown client: connect again and submit the outstanding jobs");
-  transport_.SendToClient(client, reply);
+  transport_.SendToClient(client, reply);  // a failure changes nothing: the broker holds nothing of it
 }
 
 void BrokerCore::OnClientCancel(const std::string& client, const v1::Cancel& cancel) {
@@ -238,14 +257,16 @@ void BrokerCore::OnClientDisconnect(const std::string& client, const v1::Disconn
     DropClient(client, "left (" + disconnect.reason() + ")", false);
     return;
   }
-  // A connection the broker forgot as silent says goodbye: the batches it left orphaned go now, not after the grace.
+  DropOrphanedBatches(client, disconnect.reason());
+}
+
+void BrokerCore::DropOrphanedBatches(const std::string& former_client, const std::string& reason) {
   std::vector<std::string> orphaned;
   for (const auto& [batch_id, batch] : batches_) {
-    if (batch.client.empty() && batch.former_client == client) orphaned.push_back(batch_id);
+    if (batch.client.empty() && batch.former_client == former_client) orphaned.push_back(batch_id);
   }
   for (const std::string& batch_id : orphaned) {
-    Log("client " + batches_.at(batch_id).client_id + " left (" + disconnect.reason() + "); dropped its batch " +
-        batch_id);
+    Log("client " + batches_.at(batch_id).client_id + " left (" + reason + "); dropped its batch " + batch_id);
     DropBatch(batch_id, "batch " + batch_id + " ended: its client left");
   }
 }
@@ -254,7 +275,7 @@ bool BrokerCore::OwnedOrOrphanedBy(const Batch& batch, const std::string& client
   return batch.client == client || (batch.client.empty() && batch.former_client == client);
 }
 
-void BrokerCore::PurgeLostClients() {
+void BrokerCore::OrphanSilentClients() {
   std::vector<std::pair<std::string, Clock::duration>> silent;
   for (const auto& [client, record] : clients_) {
     if (record.expiry <= now_) silent.emplace_back(client, record.liveness_period);
@@ -262,7 +283,7 @@ void BrokerCore::PurgeLostClients() {
   for (const auto& [client, period] : silent) OrphanClient(client, "silent for " + Seconds(period));
 }
 
-void BrokerCore::PurgeUnclaimedBatches() {
+void BrokerCore::DropUnclaimedBatches() {
   std::vector<std::string> unclaimed;
   for (const auto& [batch_id, batch] : batches_) {
     if (batch.client.empty() && batch.claim_deadline <= now_) unclaimed.push_back(batch_id);

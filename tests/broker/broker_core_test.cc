@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "broker/broker_journal.h"
+#include "tests/broker/recording_transport.h"
 #include "proto/envelope.h"
 #include "tests/support/temp_dir.h"
 
@@ -24,76 +25,6 @@ using proto::kProtocolVersion;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 using ::testing::HasSubstr;
-
-// The seam's test double: keeps every message the core sends, and fails sends to peers marked gone, as a ROUTER
-// socket does once a peer's connection has closed.
-class RecordingTransport final : public broker::BrokerTransport {
- public:
-  bool SendToWorker(const std::string& worker, const v1::BrokerToWorker& message) override {
-    if (gone.count(worker) != 0) return false;
-    to_workers.emplace_back(worker, message);
-    return true;
-  }
-  bool SendToClient(const std::string& client, const v1::BrokerToClient& message) override {
-    if (gone.count(client) != 0) return false;
-    to_clients.emplace_back(client, message);
-    return true;
-  }
-
-  /// The JOBs sent to `worker`, in order.
-  std::vector<v1::Job> Jobs(const std::string& worker) const {
-    std::vector<v1::Job> jobs;
-    for (const auto& [peer, message] : to_workers) {
-      if (peer == worker && message.has_job()) jobs.push_back(message.job());
-    }
-    return jobs;
-  }
-  /// The DISCONNECT reasons sent to `worker`, in order.
-  std::vector<std::string> Disconnects(const std::string& worker) const {
-    std::vector<std::string> reasons;
-    for (const auto& [peer, message] : to_workers) {
-      if (peer == worker && message.has_disconnect()) reasons.push_back(message.disconnect().reason());
-    }
-    return reasons;
-  }
-  /// The RESULTs sent to `client`, in order.
-  std::vector<v1::Result> Results(const std::string& client) const {
-    std::vector<v1::Result> results;
-    for (const auto& [peer, message] : to_clients) {
-      if (peer == client && message.has_result()) results.push_back(message.result());
-    }
-    return results;
-  }
-  /// The last message sent to `client`.
-  v1::BrokerToClient LastToClient(const std::string& client) const {
-    for (auto entry = to_clients.rbegin(); entry != to_clients.rend(); ++entry) {
-      if (entry->first == client) return entry->second;
-    }
-    return {};
-  }
-
-  /// The last message sent to `worker`.
-  v1::BrokerToWorker LastToWorker(const std::string& worker) const {
-    for (auto entry = to_workers.rbegin(); entry != to_workers.rend(); ++entry) {
-      if (entry->first == worker) return entry->second;
-    }
-    return {};
-  }
-
-  std::vector<std::pair<std::string, v1::BrokerToWorker>> to_workers;  ///< (routing id, message), in order
-  std::vector<std::pair<std::string, v1::BrokerToClient>> to_clients;  ///< (routing id, message), in order
-  std::set<std::string> gone;  ///< routing ids whose connection is closed: sends to them fail
-};
-
-const std::string kToken(16, '\x42');  // the owner token of every test batch
-
-v1::Job Job(const std::string& id, double time_limit_seconds = 0) {
-  v1::Job job;
-  job.set_protocol_version(kProtocolVersion);
-  job.set_job_id(id);
-  job.set_time_limit_seconds(time_limit_seconds);
-  return job;
-}
 
 // A core, its transport, its log and its clock, with the peers' messages as one-line calls. The options are
 // BrokerOptions' defaults: heartbeat 1 s, liveness 5 (a peer silent for 5 s is lost), 3 losses, 3 crashes.
