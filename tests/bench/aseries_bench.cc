@@ -237,19 +237,8 @@ class RawOdeASeries {
     for (int i = 0; i < found; ++i) {
       const dContactGeom& point = points_[i];
       if (std::abs(point.depth) < p.min_contact_depth) continue;
-      dContact contact{};
-      contact.surface.mode = dContactBounce | dContactSoftERP | dContactSoftCFM | dContactSlip1 | dContactSlip2 |
-                             dContactApprox1 | dContactMu2;
-      contact.surface.mu = Friction(point, body1, body2, pair.material);
-      contact.surface.mu2 = contact.surface.mu;
-      contact.surface.bounce = pair.material.restitution;
-      contact.surface.bounce_vel = p.min_bouncing_velocity;
-      contact.surface.soft_erp = p.soft_erp;
-      contact.surface.soft_cfm = p.soft_cfm;
-      contact.surface.slip1 = p.contact_slip;
-      contact.surface.slip2 = p.contact_slip;
-      contact.geom = point;
-      dJointAttach(dJointCreateContact(world_, contacts_, &contact), body1, body2);
+      physics::CreateContactJoint(world_, contacts_, point, body1, body2, Friction(point, body1, body2, pair.material),
+                                  pair.material, p);
       ++contact_joints_;
     }
   }

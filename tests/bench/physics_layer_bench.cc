@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "model/physics/ode/ode_joints.h"
 #include "model/physics/ode/ode_world.h"
 #include "model/physics/physics_model.h"
 
@@ -157,19 +158,8 @@ class RawOdeStack {
     const PhysicsParameters p;
     for (int k = 0; k < n; ++k) {
       if (std::abs(points_[k].depth) < p.min_contact_depth || neighbours) continue;
-      dContact contact{};
-      contact.surface.mode = dContactBounce | dContactSoftERP | dContactSoftCFM | dContactSlip1 | dContactSlip2 |
-                             dContactApprox1 | dContactMu2;
-      contact.surface.mu = floor_pair ? kAbsPvc : BoxBoxFriction(points_[k], b1, b2, p.static_friction_speed);
-      contact.surface.mu2 = contact.surface.mu;
-      contact.surface.bounce = kRestitution;
-      contact.surface.bounce_vel = p.min_bouncing_velocity;
-      contact.surface.soft_erp = p.soft_erp;
-      contact.surface.soft_cfm = p.soft_cfm;
-      contact.surface.slip1 = p.contact_slip;
-      contact.surface.slip2 = p.contact_slip;
-      contact.geom = points_[k];
-      dJointAttach(dJointCreateContact(world_, contacts_, &contact), b1, b2);
+      const double mu = floor_pair ? kAbsPvc : BoxBoxFriction(points_[k], b1, b2, p.static_friction_speed);
+      physics::CreateContactJoint(world_, contacts_, points_[k], b1, b2, mu, {.restitution = kRestitution}, p);
     }
   }
 

@@ -12,10 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "broker/broker_journal.h"
-#include "tests/broker/recording_transport.h"
 #include "proto/envelope.h"
-#include "tests/support/temp_dir.h"
+#include "tests/broker/core_harness.h"
+#include "tests/broker/recording_transport.h"
 
 namespace orcs::test_support {
 namespace {
@@ -25,127 +24,6 @@ using proto::kProtocolVersion;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 using ::testing::HasSubstr;
-
-// A core, its transport, its log and its clock, with the peers' messages as one-line calls. The options are
-// BrokerOptions' defaults: heartbeat 1 s, liveness 5 (a peer silent for 5 s is lost), 3 losses, 3 crashes.
-class Harness {
- public:
-  /// `curve`: the core believes CURVE is on (it only looks at whether a key folder is named), and clients'
-  /// keys are what Submit() and the status are given.
-  /// `heartbeat`: the broker's interval (liveness stays 5).
-  explicit Harness(broker::BrokerJournal* journal = nullptr, bool curve = false,
-                   std::chrono::milliseconds heartbeat = std::chrono::seconds(1))
-      : core_(Options(curve, heartbeat), transport_, journal) {}
-
-  broker::BrokerOptions Options(bool curve, std::chrono::milliseconds heartbeat) {
-    broker::BrokerOptions options;
-    options.log = [this](std::string_view line) { log_.emplace_back(line); };
-    if (curve) options.curve_keys = "keys";
-    options.heartbeat_interval = heartbeat;
-    return options;
-  }
-
-  /// The heartbeat interval READY, SUBMIT and HEARTBEAT declare from now on, ms (0 = not said).
-  void Declare(std::uint32_t heartbeat_ms) { declared_ms_ = heartbeat_ms; }
-
-  void Advance(std::chrono::steady_clock::duration by) { now_ += by; }
-
-  void Ready(const std::string& worker, int credit, const std::string& host = "") {
-    v1::WorkerToBroker message;
-    message.set_protocol_version(kProtocolVersion);
-    message.mutable_ready()->set_host(host);
-    message.mutable_ready()->set_worker_id(worker + "-name");
-    message.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
-    message.mutable_ready()->set_heartbeat_ms(declared_ms_);
-    core_.OnWorkerMessage(worker, message, now_);
-  }
-  void WorkerHeartbeat(const std::string& worker) {
-    v1::WorkerToBroker message;
-    message.set_protocol_version(kProtocolVersion);
-    message.mutable_heartbeat()->set_interval_ms(declared_ms_);
-    core_.OnWorkerMessage(worker, message, now_);
-  }
-  void ClientHeartbeat(const std::string& client) {
-    v1::ClientToBroker message;
-    message.mutable_heartbeat()->set_interval_ms(declared_ms_);
-    ClientSays(client, message);
-  }
-  void Answer(const std::string& worker, const v1::Job& job, v1::Result::Status status = v1::Result::OK,
-              const std::string& text = "") {
-    v1::WorkerToBroker message;
-    message.set_protocol_version(kProtocolVersion);
-    v1::Result& result = *message.mutable_result();
-    result.set_protocol_version(kProtocolVersion);
-    result.set_batch_id(job.batch_id());
-    result.set_job_id(job.job_id());
-    result.set_lease(job.lease());
-    result.set_status(status);
-    result.set_message(text);
-    result.set_fitness(1.5);
-    core_.OnWorkerMessage(worker, message, now_);
-  }
-  void Submit(const std::string& client, const std::string& batch, const std::vector<v1::Job>& jobs,
-              const std::string& token = kToken, std::uint64_t batch_size = 0, const std::string& key = "") {
-    v1::ClientToBroker message;
-    message.set_protocol_version(kProtocolVersion);
-    v1::Submit& submit = *message.mutable_submit();
-    submit.set_batch_id(batch);
-    submit.set_client_id(client + "-name");
-    submit.set_owner_token(token);
-    for (const v1::Job& job : jobs) *submit.add_jobs() = job;
-    submit.set_batch_size(batch_size);
-    submit.set_heartbeat_ms(declared_ms_);
-    core_.OnClientMessage(client, key, message, now_);
-  }
-  void ClientSays(const std::string& client, v1::ClientToBroker message) {
-    message.set_protocol_version(kProtocolVersion);
-    core_.OnClientMessage(client, "", message, now_);
-  }
-  /// The STATUS a STATUS_REQUEST from connection `asker` with CURVE key `key` is answered with.
-  v1::Status AskStatus(const std::string& asker, const std::string& key = "") {
-    v1::ClientToBroker message;
-    message.set_protocol_version(kProtocolVersion);
-    message.mutable_status_request();
-    core_.OnClientMessage(asker, key, message, now_);
-    const v1::BrokerToClient answer = transport_.LastToClient(asker);
-    EXPECT_TRUE(answer.has_status());
-    return answer.status();
-  }
-  void Dispatch() { core_.Dispatch(now_); }
-  void Tick() { core_.OnTick(now_); }
-
-  // `n` seconds, one at a time, with worker "w" and client "c" heartbeating each second, then the clock duties.
-  void PassSecondsWithEveryoneAlive(int n) {
-    for (int second = 0; second < n; ++second) {
-      Advance(std::chrono::seconds(1));
-      WorkerHeartbeat("w");
-      ClientHeartbeat("c");
-      Tick();
-    }
-  }
-  // `n` seconds, one at a time, with worker "w" heartbeating each second and the clients silent (stopped), then the
-  // clock duties.
-  void PassSecondsWithTheClientSilent(int n) {
-    for (int second = 0; second < n; ++second) {
-      Advance(std::chrono::seconds(1));
-      WorkerHeartbeat("w");
-      Tick();
-    }
-  }
-  broker::BrokerStats Stats() const { return core_.Stats(); }
-  bool Logged(const std::string& needle) const {
-    for (const std::string& line : log_) {
-      if (line.find(needle) != std::string::npos) return true;
-    }
-    return false;
-  }
-
-  RecordingTransport transport_;
-  std::vector<std::string> log_;
-  BrokerCore::TimePoint now_ = BrokerCore::TimePoint{} + std::chrono::hours(1);  ///< the made-up clock
-  std::uint32_t declared_ms_ = 0;  ///< Declare()
-  BrokerCore core_;
-};
 
 class BrokerCoreTest : public ::testing::Test, protected Harness {};
 
@@ -287,26 +165,6 @@ TEST_F(BrokerCoreTest, AWorkerThatSaysGoodbyeGivesItsJobsBackWithoutALoss) {
   Ready("v", 1);
   Dispatch();
   EXPECT_EQ(transport_.Jobs("v").at(0).attempt(), 0u);
-}
-
-TEST_F(BrokerCoreTest, AJobThatLosesThreeWorkersFailsWithWorkerLost) {
-  Submit("c", "b", {Job("j0")});
-  for (const std::string worker : {"w1", "w2", "w3"}) {
-    Ready(worker, 1);
-    Dispatch();
-    ASSERT_EQ(transport_.Jobs(worker).size(), 1u);
-    transport_.gone.insert(worker);  // its connection closes: the next heartbeat to it fails
-    Advance(seconds(1));
-    Tick();
-  }
-  const std::vector<v1::Result> results = transport_.Results("c");
-  ASSERT_EQ(results.size(), 1u);
-  EXPECT_EQ(results[0].status(), v1::Result::WORKER_LOST);
-  EXPECT_THAT(results[0].message(), HasSubstr("lost 3 workers while running (w1-name, w2-name, w3-name)"));
-  EXPECT_EQ(results[0].worker_id(), "w3-name");
-  EXPECT_EQ(results[0].attempts(), 3u);
-  EXPECT_EQ(Stats().workers_lost, 3u);
-  EXPECT_EQ(Stats().jobs_requeued, 2u);
 }
 
 TEST_F(BrokerCoreTest, ACrashedJobIsRetriedOnAWorkerItHasNotCrashedAndIsPoisonousAtTheThirdCrash) {
@@ -525,63 +383,6 @@ TEST_F(BrokerCoreFastTest, TheBrokersHeartbeatsSayItsPace) {
   Tick();
   EXPECT_EQ(transport_.LastToClient("c").heartbeat().interval_ms(), 100u);
   EXPECT_EQ(transport_.LastToWorker("w").heartbeat().interval_ms(), 100u);
-}
-
-// A journal written by one core, read back by a second one on the same file (a restarted broker).
-class BrokerCoreJournalTest : public ::testing::Test {
- protected:
-  TempDir dir_;
-  const std::string path_ = dir_.PathOf("journal.db");
-};
-
-TEST_F(BrokerCoreJournalTest, ARestoredCoreQueuesUnfinishedJobsInFlightFirstAndResendsStoredResults) {
-  {
-    broker::BrokerJournal journal(path_);
-    Harness before(&journal);
-    before.Submit("c", "b", {Job("j0"), Job("j1"), Job("j2")});
-    before.Ready("w", 2);
-    before.Dispatch();  // j0 and j1 in flight
-    before.Answer("w", before.transport_.Jobs("w").at(0));
-  }
-  broker::BrokerJournal journal(path_);
-  Harness after(&journal);
-  after.core_.Restore(after.now_);
-  EXPECT_EQ(after.Stats().batches, 1);
-  EXPECT_EQ(after.Stats().jobs_restored, 2u);
-  EXPECT_EQ(after.Stats().results_restored, 1u);
-  EXPECT_EQ(after.Stats().queued, 2u);
-  // The client comes back on a new connection and resubmits everything: j0's stored result comes back at once,
-  // j1 and j2 are pending already.
-  after.Submit("c2", "b", {Job("j0"), Job("j1"), Job("j2")});
-  const std::vector<v1::Result> resent = after.transport_.Results("c2");
-  ASSERT_EQ(resent.size(), 1u);
-  EXPECT_EQ(resent[0].job_id(), "j0");
-  EXPECT_EQ(after.Stats().results_resent, 1u);
-  EXPECT_EQ(after.Stats().jobs_accepted, 0u);
-  after.Ready("v", 1);
-  after.Dispatch();
-  ASSERT_EQ(after.transport_.Jobs("v").size(), 1u);
-  EXPECT_EQ(after.transport_.Jobs("v")[0].job_id(), "j1");  // the one in flight when the broker stopped
-  EXPECT_EQ(after.transport_.Jobs("v")[0].attempt(), 0u);
-}
-
-TEST_F(BrokerCoreJournalTest, ARestoredBatchNobodyClaimsIsDroppedAfterTwoLivenessPeriods) {
-  {
-    broker::BrokerJournal journal(path_);
-    Harness before(&journal);
-    before.Submit("c", "b", {Job("j0")});
-  }
-  broker::BrokerJournal journal(path_);
-  Harness after(&journal);
-  after.core_.Restore(after.now_);
-  after.Advance(seconds(9));
-  after.Tick();
-  EXPECT_EQ(after.Stats().batches, 1);
-  after.Advance(seconds(1));
-  after.Tick();
-  EXPECT_EQ(after.Stats().batches, 0);
-  EXPECT_EQ(after.Stats().batches_unclaimed, 1u);
-  EXPECT_EQ(after.Stats().queued, 0u);
 }
 
 // ---------------------------------------------------------------------------------------------------------------

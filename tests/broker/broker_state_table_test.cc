@@ -15,8 +15,9 @@
 
 #include "broker/broker_core.h"
 #include "broker/broker_journal.h"
-#include "tests/broker/recording_transport.h"
 #include "proto/envelope.h"
+#include "tests/broker/core_harness.h"
+#include "tests/broker/recording_transport.h"
 #include "tests/support/temp_dir.h"
 
 namespace orcs::test_support {
@@ -28,140 +29,6 @@ using std::chrono::seconds;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::IsEmpty;
-
-// A core with BrokerOptions' defaults — heartbeat 1 s, liveness 5, 3 losses, 3 crashes, credit capped at 16, a
-// silent client's batches kept 60 s — and the peers' messages as one-line calls. Worker "w" is named "w-name",
-// client "c" "c-name".
-class Harness {
- public:
-  explicit Harness(broker::BrokerJournal* journal = nullptr) : core_(Options(), transport_, journal) {}
-
-  broker::BrokerOptions Options() {
-    broker::BrokerOptions options;
-    options.log = [this](std::string_view line) { log_.emplace_back(line); };
-    return options;
-  }
-
-  // Worker messages.
-  void WorkerSays(const std::string& worker, v1::WorkerToBroker message) {
-    message.set_protocol_version(kProtocolVersion);
-    core_.OnWorkerMessage(worker, message, now_);
-  }
-  void Ready(const std::string& worker, int credit) { ReadyAs(worker, worker + "-name", credit); }
-  void ReadyAs(const std::string& worker, const std::string& name, int credit) {
-    v1::WorkerToBroker message;
-    message.mutable_ready()->set_worker_id(name);
-    message.mutable_ready()->set_credit(static_cast<std::uint32_t>(credit));
-    WorkerSays(worker, message);
-  }
-  void WorkerHeartbeat(const std::string& worker, std::uint32_t interval_ms = 0) {
-    v1::WorkerToBroker message;
-    message.mutable_heartbeat()->set_interval_ms(interval_ms);
-    WorkerSays(worker, message);
-  }
-  void WorkerDisconnect(const std::string& worker, const std::string& reason) {
-    v1::WorkerToBroker message;
-    message.mutable_disconnect()->set_reason(reason);
-    WorkerSays(worker, message);
-  }
-  void Answer(const std::string& worker, const v1::Job& job, v1::Result::Status status = v1::Result::OK,
-              const std::string& text = "") {
-    v1::WorkerToBroker message;
-    v1::Result& result = *message.mutable_result();
-    result.set_protocol_version(kProtocolVersion);
-    result.set_batch_id(job.batch_id());
-    result.set_job_id(job.job_id());
-    result.set_lease(job.lease());
-    result.set_status(status);
-    result.set_message(text);
-    result.set_fitness(1.5);
-    WorkerSays(worker, message);
-  }
-  /// Answers the n-th JOB sent to `worker`.
-  void AnswerNth(const std::string& worker, std::size_t n, v1::Result::Status status = v1::Result::OK,
-                 const std::string& text = "") {
-    Answer(worker, transport_.Jobs(worker).at(n), status, text);
-  }
-
-  // Client messages.
-  void ClientSays(const std::string& client, v1::ClientToBroker message) {
-    message.set_protocol_version(kProtocolVersion);
-    core_.OnClientMessage(client, "", message, now_);
-  }
-  void Submit(const std::string& client, const std::string& batch, const std::vector<v1::Job>& jobs,
-              const std::string& token = kToken) {
-    SubmitAs(client, client + "-name", batch, jobs, token);
-  }
-  void SubmitAs(const std::string& client, const std::string& name, const std::string& batch,
-                const std::vector<v1::Job>& jobs, const std::string& token = kToken) {
-    v1::ClientToBroker message;
-    v1::Submit& submit = *message.mutable_submit();
-    submit.set_batch_id(batch);
-    submit.set_client_id(name);
-    submit.set_owner_token(token);
-    for (const v1::Job& job : jobs) *submit.add_jobs() = job;
-    ClientSays(client, message);
-  }
-  void ClientHeartbeat(const std::string& client) {
-    v1::ClientToBroker message;
-    message.mutable_heartbeat();
-    ClientSays(client, message);
-  }
-  void Cancel(const std::string& client, const std::string& batch) {
-    v1::ClientToBroker message;
-    message.mutable_cancel()->set_batch_id(batch);
-    ClientSays(client, message);
-  }
-  void ClientDisconnect(const std::string& client, const std::string& reason) {
-    v1::ClientToBroker message;
-    message.mutable_disconnect()->set_reason(reason);
-    ClientSays(client, message);
-  }
-
-  // The clock.
-  void Advance(std::chrono::steady_clock::duration by) { now_ += by; }
-  void Dispatch() { core_.Dispatch(now_); }
-  void Tick() { core_.OnTick(now_); }
-  /// `n` seconds, one at a time: the `alive` workers and clients heartbeat each second, then the clock's duties run.
-  void Pass(int n, const std::vector<std::string>& alive_workers, const std::vector<std::string>& alive_clients) {
-    for (int second = 0; second < n; ++second) {
-      Advance(seconds(1));
-      for (const std::string& worker : alive_workers) WorkerHeartbeat(worker);
-      for (const std::string& client : alive_clients) ClientHeartbeat(client);
-      Tick();
-    }
-  }
-
-  // What the core shows.
-  broker::BrokerStats Stats() const { return core_.Stats(); }
-  /// The status entry of the worker named `name`, or none when it is not registered.
-  std::optional<v1::WorkerStatus> WorkerEntry(const std::string& name) const {
-    const v1::Status status = core_.Status("", now_);
-    for (const v1::WorkerStatus& worker : status.worker_list()) {
-      if (worker.worker_id() == name) return worker;
-    }
-    return std::nullopt;
-  }
-  /// The status entry of batch `batch`, or none when the broker does not have it.
-  std::optional<v1::BatchStatus> BatchEntry(const std::string& batch) const {
-    const v1::Status status = core_.Status("", now_);
-    for (const v1::BatchStatus& entry : status.batch_list()) {
-      if (entry.batch_id() == batch) return entry;
-    }
-    return std::nullopt;
-  }
-  bool Logged(const std::string& needle) const {
-    for (const std::string& line : log_) {
-      if (line.find(needle) != std::string::npos) return true;
-    }
-    return false;
-  }
-
-  RecordingTransport transport_;
-  std::vector<std::string> log_;
-  BrokerCore::TimePoint now_ = BrokerCore::TimePoint{} + std::chrono::hours(1);
-  BrokerCore core_;
-};
 
 class StateTableJob : public ::testing::Test, protected Harness {};
 class StateTableWorker : public ::testing::Test, protected Harness {};
@@ -392,7 +259,9 @@ TEST_F(StateTableJob, J13_RunningOnW_WorkerLostAtTheLimit_FinishedWorkerLost) {
   EXPECT_EQ(results[0].status(), v1::Result::WORKER_LOST);
   EXPECT_EQ(results[0].message(),
             "lost 3 workers while running (w1-name, w2-name, w3-name); the last one: connection closed");
+  EXPECT_EQ(results[0].worker_id(), "w3-name");
   EXPECT_EQ(results[0].attempts(), 3u);
+  EXPECT_EQ(Stats().workers_lost, 3u);
   EXPECT_EQ(Stats().jobs_requeued, 2u);
   EXPECT_EQ(Stats().jobs_held, 0u);
 }
@@ -462,15 +331,19 @@ TEST_F(StateTableJournal, J18_InTheJournal_Restore_Queued) {
   broker::BrokerJournal journal(path_);
   Harness after(&journal);
   after.core_.Restore(after.now_);
+  EXPECT_EQ(after.Stats().batches, 1);
   EXPECT_EQ(after.Stats().jobs_restored, 2u);
   EXPECT_EQ(after.Stats().results_restored, 1u);
   EXPECT_EQ(after.Stats().queued, 2u);
-  after.Submit("c2", "b", {Job("j0"), Job("j1"), Job("j2")});  // its client is back
+  after.Submit("c2", "b", {Job("j0"), Job("j1"), Job("j2")});  // its client is back, on a new connection
+  ASSERT_EQ(after.transport_.Results("c2").size(), 1u);  // j0's stored result at once (row J02)
+  EXPECT_EQ(after.transport_.Results("c2")[0].job_id(), "j0");
+  EXPECT_EQ(after.Stats().results_resent, 1u);
+  EXPECT_EQ(after.Stats().jobs_accepted, 0u);  // j1 and j2 were pending already
   after.Ready("v", 2);
   after.Dispatch();
   EXPECT_THAT(after.transport_.JobIds("v"), ElementsAre("j1", "j2"));  // in flight first
-  ASSERT_EQ(after.transport_.Results("c2").size(), 1u);  // j0's stored result (row J02)
-  EXPECT_EQ(after.transport_.Results("c2")[0].job_id(), "j0");
+  EXPECT_EQ(after.transport_.Jobs("v")[0].attempt(), 0u);
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -1000,6 +873,7 @@ TEST_F(StateTableJournal, B13_InTheJournal_Restore_Unclaimed) {
   after.Tick();
   EXPECT_EQ(after.Stats().batches, 0);
   EXPECT_EQ(after.Stats().batches_unclaimed, 1u);
+  EXPECT_EQ(after.Stats().queued, 0u);
 }
 
 TEST_F(StateTableBatch, B14_OwnedByC_LastJobFinishes_StaysOwned) {

@@ -24,11 +24,6 @@ namespace {
 
 static_assert(sizeof(dReal) == sizeof(double), "orcs needs ODE in double precision");
 
-// Contact surface of every contact joint (spec/aseries.md §8): bounce, soft ERP/CFM, slip in both friction
-// directions, friction pyramid, separate μ2.
-constexpr int kContactMode = dContactBounce | dContactSoftERP | dContactSoftCFM | dContactSlip1 | dContactSlip2 |
-                             dContactApprox1 | dContactMu2;
-
 // Angular motor constants of the original (/ODEJoint/..., spec/aseries.md §6a, §8).
 constexpr double kMotorCfm = 1e-5;
 constexpr double kMotorStopErp = 0.2;
@@ -512,20 +507,8 @@ double OdeWorld::ChooseFriction(const dContactGeom& point, dBodyID b1, dBodyID b
 }
 
 void OdeWorld::AddContactJoint(const dContactGeom& point, dBodyID b1, dBodyID b2, const ContactMaterial& material) {
-  const PhysicsParameters& p = *parameters_;
-  dContact contact{};
-  contact.surface.mode = kContactMode;
-  contact.surface.mu = ChooseFriction(point, b1, b2, material);
-  contact.surface.mu2 = contact.surface.mu;
-  contact.surface.bounce = material.restitution;
-  contact.surface.bounce_vel = p.min_bouncing_velocity;
-  contact.surface.soft_erp = p.soft_erp;
-  contact.surface.soft_cfm = p.soft_cfm;
-  contact.surface.slip1 = p.contact_slip;
-  contact.surface.slip2 = p.contact_slip;
-  contact.geom = point;
-  dJointID joint = dJointCreateContact(world_, contact_group_, &contact);
-  dJointAttach(joint, b1, b2);
+  CreateContactJoint(world_, contact_group_, point, b1, b2, ChooseFriction(point, b1, b2, material), material,
+                     *parameters_);
 }
 
 // A motorised hinge carries two constraint rows on the same axis: the angular motor (rate v, |torque| ≤ τ, CFM c1)
