@@ -16,6 +16,9 @@ let tmp, robot, server, browser, page, folder;
 
 before(async () => {
   tmp = await tempDir();
+  // The browser first: on two loaded cores it can take longer to start than the robot's 10 s run, which must still
+  // be under way when the page first shows it.
+  browser = await launchBrowser();
   folder = path.join(tmp.dir, 'bend-on-robot');
   // The emulated servos are orcs's simulation with a hidden 100 ms delay, which the twin lacks: the two part visibly.
   const hidden = path.join(tmp.dir, 'hidden_delay.val');
@@ -32,7 +35,6 @@ before(async () => {
   await until(() => existsSync(path.join(folder, 'robot.orcsrec')) || ended(), 20_000, 'the first flush');
   assert.ok(!ended(), `orcs-robot ended early: ${robot.stderrText()}`);
   server = await startServer([folder]);
-  browser = await launchBrowser();
   page = await openPage(browser, server.url);
 });
 
@@ -61,7 +63,7 @@ test('the page follows the robot and its twin while the robot moves, and to the 
   assert.match(await page.locator('#run-progress').textContent(), /robot running/);
   // Live: without a reload, more of the run arrives while the robot still moves (a flush every 0.5 s, a look every s).
   const grown = await until(async () => { const s = await shown(); return s.frames >= first.frames + 25 && s; }, 20_000,
-    'the run grown in the page');
+    `the run grown in the page (first shown at ${first.frames} frames)`);
   assert.equal(grown.progress, 'running', 'grown while the robot was still moving');
   // The end: the run's every control period, in the page as on disk.
   const ended = await robot.exited;

@@ -94,6 +94,17 @@ std::vector<std::int64_t> GoalWrites(const std::vector<AppliedWrite>& writes, st
   return goals;
 }
 
+// Waits, bounded, until the emulator has applied a goal write to servo `id` ("playing" is said before the first
+// period's write reaches the bus); false when the process ends or the time is up first.
+bool AwaitGoalWrite(BackgroundProcess& process, const ServoBusEmulator& emulator, std::uint8_t id) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (!GoalWrites(emulator.writes(), id).empty()) return true;
+    if (process.Wait(std::chrono::milliseconds(10))) return !GoalWrites(emulator.writes(), id).empty();
+  }
+  return false;
+}
+
 // The program has ended; its last packets (torque off) may still be in the terminal's buffer: awaited, bounded.
 bool AllTorqueOff(const ServoBusEmulator& emulator) {
   return emulator.AwaitAllTorqueOff(std::chrono::seconds(10));
@@ -231,7 +242,7 @@ TEST(OrcsRobotTest, CtrlCTurnsTheTorqueOffWithinOneControlPeriod) {
   const std::string record = Write(dir, "long.csv", Record({{0, 0}, {30, 0}, {60, 0}}, 5000));
   BackgroundProcess robot({kRobot, "--map", kMap, "--port", emulator.port(), "--timeout-ms", "250", "--play", record, "--yes"}, true);
   ASSERT_TRUE(AwaitErr(robot, "playing")) << robot.err();
-  ASSERT_FALSE(GoalWrites(emulator.writes(), 1).empty()) << "it has been sending goals";
+  ASSERT_TRUE(AwaitGoalWrite(robot, emulator, 1)) << "it has been sending goals\n" << robot.err();
   const std::size_t goals_before = GoalWrites(emulator.writes(), 1).size();
   robot.SignalGroup(SIGINT);
   const std::optional<ProcessResult> r = robot.Wait(std::chrono::seconds(20));
